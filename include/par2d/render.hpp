@@ -1,0 +1,66 @@
+// Rendering entry point: irradiance of a scene into a caller-provided float RGB image.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+
+#include "par2d/isa.hpp"
+#include "par2d/scene.hpp"
+#include "par2d/status.hpp"
+
+namespace par2d {
+
+enum class Backend {
+  automatic,  // the fastest path this CPU supports (the SIMD path where there is one)
+  simd,       // the vectorized tiled path at RenderOptions::isa (or the default ISA)
+  scalar,     // the reference: double precision, exact trigonometry, one pixel at a time
+  raycast,    // brute force: `rays` stratified directions per sample, first hit decides
+};
+
+// "auto", "simd", "scalar", "raycast".
+const char* backend_name(Backend backend) noexcept;
+std::optional<Backend> parse_backend(const char* name) noexcept;
+
+struct RenderOptions {
+  // Which path computes the image. Default: automatic.
+  Backend backend = Backend::automatic;
+  // Worker threads; 0 means all hardware threads. Values above the hardware
+  // thread count times 4 are capped there. Negative is an error. Default: 0.
+  int threads = 0;
+  // Samples per pixel in a fixed stratified pattern (see sample_offset); 1 is the
+  // pixel center. 1 .. 256. Default: 1.
+  int spp = 1;
+  // Directions per sample for Backend::raycast. 1 .. 1<<20. Default: 1024.
+  int rays = 1024;
+  // Forces the SIMD instruction set (capped at what the CPU supports). Empty: the
+  // PAR2D_ISA environment variable if set, else the best the CPU has. Default: empty.
+  std::optional<Isa> isa;
+  // Per-tile culling of lights and occluders that cannot matter (issue: scale).
+  // Only switch off to measure what culling saves; the image is the same. Default: true.
+  bool culling = true;
+};
+
+// A float RGB image owned by the caller. Pixel (i, j) channel c lives at
+// data[j * row_stride + 3 * i + c]; row 0 is the top row. `row_stride` counts
+// floats and must be at least 3 * width.
+struct ImageView {
+  float* data = nullptr;
+  int width = 0;
+  int height = 0;
+  std::ptrdiff_t row_stride = 0;
+};
+
+// Offset inside the pixel, in [0, 1)^2 pixel units, of sample k of `spp` (a
+// stratified rank-1 lattice; spp = 1 gives the center (0.5, 0.5)).
+void sample_offset(int k, int spp, double& dx, double& dy) noexcept;
+
+// Renders the linear irradiance E of `scene` (SPEC.md section 1) into `image`,
+// whose size must equal the scene's width and height. Validates the scene and the
+// arguments first; on failure the image content is unspecified and a status says why.
+Status render(const Scene& scene, const RenderOptions& options, const ImageView& image);
+
+// The ISA the SIMD path would use for these options on this CPU (scalar when the
+// backend is scalar or raycast).
+Isa resolved_isa(const RenderOptions& options) noexcept;
+
+}  // namespace par2d

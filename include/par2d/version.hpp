@@ -1,0 +1,10 @@
+// Library version.
+#pragma once
+
+#define PAR2D_VERSION_MAJOR 0
+#define PAR2D_VERSION_MINOR 1
+#define PAR2D_VERSION_PATCH 0
+
+namespace par2d {
+inline constexpr const char* kVersion = "0.1.0";
+}
