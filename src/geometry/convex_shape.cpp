@@ -1,0 +1,350 @@
+// Exact double-precision geometry of convex shapes: the reference every faster path is held to.
+#include "geometry/convex_shape.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace par2d::detail {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// SPEC.md section 3: a turn this small relative to its edges counts as straight.
+constexpr double kStraightTurn = 1e-9;
+
+double wrap_angle(double a) noexcept {  // into (-pi, pi]
+  while (a > kPi) a -= kTwoPi;
+  while (a <= -kPi) a += kTwoPi;
+  return a;
+}
+
+double point_segment_distance(Vec2 p, Vec2 a, Vec2 b, Vec2* closest = nullptr) noexcept {
+  const Vec2 ab = b - a;
+  const double len2 = dot(ab, ab);
+  double s = len2 > 0.0 ? dot(p - a, ab) / len2 : 0.0;
+  s = std::clamp(s, 0.0, 1.0);
+  const Vec2 q = a + s * ab;
+  if (closest) *closest = q;
+  return length(p - q);
+}
+
+// Whether closed segments [a,b] and [c,d] share a point.
+bool segments_intersect(Vec2 a, Vec2 b, Vec2 c, Vec2 d) noexcept {
+  const double d1 = cross(b - a, c - a), d2 = cross(b - a, d - a);
+  const double d3 = cross(d - c, a - c), d4 = cross(d - c, b - c);
+  if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))
+    return true;
+  auto on_segment = [](Vec2 p, Vec2 q, Vec2 r) {  // r collinear with pq: within its box?
+    return std::min(p.x, q.x) <= r.x && r.x <= std::max(p.x, q.x) && std::min(p.y, q.y) <= r.y &&
+           r.y <= std::max(p.y, q.y);
+  };
+  return (d1 == 0 && on_segment(a, b, c)) || (d2 == 0 && on_segment(a, b, d)) ||
+         (d3 == 0 && on_segment(c, d, a)) || (d4 == 0 && on_segment(c, d, b));
+}
+
+// Number of edges of the shape's core (the convex hull of its vertices).
+int core_edge_count(const ConvexShape& s) noexcept {
+  const int n = static_cast<int>(s.vertices.size());
+  return n >= 3 ? n : n - 1;  // segment: one edge; point (circle center): none
+}
+
+void core_edge(const ConvexShape& s, int i, Vec2& a, Vec2& b) noexcept {
+  const int n = static_cast<int>(s.vertices.size());
+  a = s.vertices[i];
+  b = s.vertices[(i + 1) % n];
+}
+
+bool core_contains(const ConvexShape& s, Vec2 p) noexcept {
+  const int n = static_cast<int>(s.vertices.size());
+  if (n < 3) return false;  // points and segments have no interior; distance covers them
+  for (int i = 0; i < n; ++i) {
+    if (cross(s.vertices[(i + 1) % n] - s.vertices[i], p - s.vertices[i]) < 0.0) return false;
+  }
+  return true;
+}
+
+// Distance from p to the shape's core, and the closest core point.
+double point_core_distance(const ConvexShape& s, Vec2 p, Vec2& closest) noexcept {
+  if (s.vertices.size() == 1) {
+    closest = s.vertices[0];
+    return length(p - closest);
+  }
+  if (core_contains(s, p)) {
+    closest = p;
+    return 0.0;
+  }
+  double best = kInfinity;
+  for (int i = 0, n = core_edge_count(s); i < n; ++i) {
+    Vec2 a, b, q;
+    core_edge(s, i, a, b);
+    const double d = point_segment_distance(p, a, b, &q);
+    if (d < best) {
+      best = d;
+      closest = q;
+    }
+  }
+  return best;
+}
+
+// Distance between the cores of two shapes with the closest points (pa on a, pb on b).
+double core_distance(const ConvexShape& a, const ConvexShape& b, Vec2& pa, Vec2& pb) noexcept {
+  for (int i = 0, n = core_edge_count(a); i < n; ++i) {
+    Vec2 a0, a1;
+    core_edge(a, i, a0, a1);
+    for (int j = 0, m = core_edge_count(b); j < m; ++j) {
+      Vec2 b0, b1;
+      core_edge(b, j, b0, b1);
+      if (segments_intersect(a0, a1, b0, b1)) {
+        pa = pb = a0;
+        return 0.0;
+      }
+    }
+  }
+  double best = kInfinity;
+  for (Vec2 v : a.vertices) {
+    Vec2 q;
+    const double d = point_core_distance(b, v, q);
+    if (d < best) best = d, pa = v, pb = q;
+  }
+  for (Vec2 v : b.vertices) {
+    Vec2 q;
+    const double d = point_core_distance(a, v, q);
+    if (d < best) best = d, pa = q, pb = v;
+  }
+  return best;
+}
+
+// Ray x + t*dir against the closed segment [a, b]; +infinity when it misses.
+double ray_segment(Vec2 x, Vec2 dir, Vec2 a, Vec2 b) noexcept {
+  const Vec2 e = b - a, w = a - x;
+  const double denom = cross(dir, e);
+  if (denom != 0.0) {
+    const double t = cross(w, e) / denom;
+    const double s = cross(w, dir) / denom;
+    return (t >= 0.0 && s >= 0.0 && s <= 1.0) ? t : kInfinity;
+  }
+  if (cross(w, dir) != 0.0) return kInfinity;  // parallel, not on the ray's line
+  const double ta = dot(a - x, dir), tb = dot(b - x, dir);
+  if (ta <= 0.0 && tb >= 0.0) return 0.0;  // x lies on the segment
+  if (tb <= 0.0 && ta >= 0.0) return 0.0;
+  const double t = std::min(ta, tb);
+  return t >= 0.0 ? t : kInfinity;
+}
+
+void circle_segment_points(Vec2 c, double r, Vec2 a, Vec2 b, std::vector<Vec2>& out) {
+  const Vec2 d = b - a, f = a - c;
+  const double qa = dot(d, d), qb = 2.0 * dot(f, d), qc = dot(f, f) - r * r;
+  const double disc = qb * qb - 4.0 * qa * qc;
+  if (qa == 0.0 || disc < 0.0) return;
+  const double root = std::sqrt(disc);
+  for (double s : {(-qb - root) / (2.0 * qa), (-qb + root) / (2.0 * qa)}) {
+    if (s >= 0.0 && s <= 1.0) out.push_back(a + s * d);
+  }
+}
+
+void segment_segment_points(Vec2 a, Vec2 b, Vec2 c, Vec2 d, std::vector<Vec2>& out) {
+  const Vec2 e = b - a, f = d - c;
+  const double denom = cross(e, f);
+  if (denom != 0.0) {
+    const double s = cross(c - a, f) / denom, t = cross(c - a, e) / denom;
+    if (s >= 0.0 && s <= 1.0 && t >= 0.0 && t <= 1.0) out.push_back(a + s * e);
+    return;
+  }
+  if (cross(c - a, e) != 0.0) return;  // parallel lines apart
+  // Collinear: the shared piece's end points are those end points lying on the other segment.
+  const double len2 = dot(e, e);
+  for (Vec2 p : {c, d}) {
+    const double s = dot(p - a, e) / len2;
+    if (s >= 0.0 && s <= 1.0) out.push_back(p);
+  }
+  const double flen2 = dot(f, f);
+  for (Vec2 p : {a, b}) {
+    const double t = dot(p - c, f) / flen2;
+    if (t >= 0.0 && t <= 1.0) out.push_back(p);
+  }
+}
+
+}  // namespace
+
+double length(Vec2 a) noexcept { return std::hypot(a.x, a.y); }
+
+ConvexShape make_convex_shape(const Shape& shape) {
+  ConvexShape s;
+  if (const auto* circle = std::get_if<Circle>(&shape)) {
+    s.kind = ShapeKind::circle;
+    s.vertices = {circle->center};
+    s.radius = circle->radius;
+  } else if (const auto* segment = std::get_if<Segment>(&shape)) {
+    s.kind = ShapeKind::segment;
+    s.vertices = {segment->a, segment->b};
+  } else {
+    s.kind = ShapeKind::polygon;
+    std::vector<Vec2> v;
+    for (Vec2 p : std::get<Polygon>(shape).vertices) {
+      if (v.empty() || p.x != v.back().x || p.y != v.back().y) v.push_back(p);
+    }
+    while (v.size() > 1 && v.front().x == v.back().x && v.front().y == v.back().y) v.pop_back();
+    double area2 = 0.0;
+    for (size_t i = 0; i < v.size(); ++i) area2 += cross(v[i], v[(i + 1) % v.size()]);
+    if (area2 < 0.0) std::reverse(v.begin(), v.end());
+    // Drop straight turns until none is left (each removal can straighten a neighbour).
+    for (bool removed = true; removed && v.size() > 3;) {
+      removed = false;
+      for (size_t i = 0; i < v.size() && v.size() > 3; ++i) {
+        const Vec2 prev = v[(i + v.size() - 1) % v.size()], next = v[(i + 1) % v.size()];
+        const Vec2 e1 = v[i] - prev, e2 = next - v[i];
+        if (std::abs(cross(e1, e2)) <= kStraightTurn * length(e1) * length(e2)) {
+          v.erase(v.begin() + static_cast<std::ptrdiff_t>(i));
+          removed = true;
+          --i;
+        }
+      }
+    }
+    s.vertices = std::move(v);
+  }
+  s.bounds_min = {kInfinity, kInfinity};
+  s.bounds_max = {-kInfinity, -kInfinity};
+  Vec2 sum{0.0, 0.0};
+  for (Vec2 p : s.vertices) {
+    s.bounds_min = {std::min(s.bounds_min.x, p.x - s.radius), std::min(s.bounds_min.y, p.y - s.radius)};
+    s.bounds_max = {std::max(s.bounds_max.x, p.x + s.radius), std::max(s.bounds_max.y, p.y + s.radius)};
+    sum = sum + p;
+  }
+  s.centroid = (1.0 / static_cast<double>(s.vertices.size())) * sum;
+  return s;
+}
+
+bool contains(const ConvexShape& s, Vec2 x) noexcept {
+  switch (s.kind) {
+    case ShapeKind::circle: {
+      const Vec2 d = x - s.vertices[0];
+      return dot(d, d) <= s.radius * s.radius;
+    }
+    case ShapeKind::segment: {
+      const Vec2 a = s.vertices[0], b = s.vertices[1];
+      return cross(b - a, x - a) == 0.0 && dot(x - a, b - a) >= 0.0 && dot(x - b, a - b) >= 0.0;
+    }
+    case ShapeKind::polygon: return core_contains(s, x);
+  }
+  return false;
+}
+
+double ray_entry(const ConvexShape& s, Vec2 x, Vec2 dir) noexcept {
+  switch (s.kind) {
+    case ShapeKind::circle: {
+      const Vec2 m = x - s.vertices[0];
+      const double c = dot(m, m) - s.radius * s.radius;
+      if (c <= 0.0) return 0.0;
+      const double b = dot(m, dir);
+      const double disc = b * b - c;
+      if (b > 0.0 || disc < 0.0) return kInfinity;  // pointing away, or passing by
+      return -b - std::sqrt(disc);
+    }
+    case ShapeKind::segment: return ray_segment(x, dir, s.vertices[0], s.vertices[1]);
+    case ShapeKind::polygon: {
+      if (core_contains(s, x)) return 0.0;
+      double t = kInfinity;
+      const size_t n = s.vertices.size();
+      for (size_t i = 0; i < n; ++i) t = std::min(t, ray_segment(x, dir, s.vertices[i], s.vertices[(i + 1) % n]));
+      return t;
+    }
+  }
+  return kInfinity;
+}
+
+AngularSpan angular_span(const ConvexShape& s, Vec2 x) noexcept {
+  AngularSpan span;
+  if (contains(s, x)) {
+    span.full = true;
+    span.start = -kPi;
+    span.width = kTwoPi;
+    return span;
+  }
+  if (s.kind == ShapeKind::circle) {
+    const Vec2 d = s.vertices[0] - x;
+    const double half = std::asin(std::min(1.0, s.radius / length(d)));
+    span.start = wrap_angle(std::atan2(d.y, d.x) - half);
+    span.width = 2.0 * half;
+    return span;
+  }
+  // Outside a convex shape every vertex lies within less than pi of the direction to an
+  // interior point, so angles relative to that direction order the vertices exactly.
+  const Vec2 ref = s.centroid - x;
+  double lo = 0.0, hi = 0.0;
+  for (Vec2 v : s.vertices) {
+    const Vec2 d = v - x;
+    const double a = std::atan2(cross(ref, d), dot(ref, d));
+    lo = std::min(lo, a);
+    hi = std::max(hi, a);
+  }
+  span.start = wrap_angle(std::atan2(ref.y, ref.x) + lo);
+  span.width = hi - lo;
+  return span;
+}
+
+double shape_distance(const ConvexShape& a, const ConvexShape& b) noexcept {
+  Vec2 pa, pb;
+  return std::max(0.0, core_distance(a, b, pa, pb) - a.radius - b.radius);
+}
+
+std::optional<Line> separating_line(const ConvexShape& positive, const ConvexShape& negative) noexcept {
+  Vec2 pn, pp;  // closest core points on `negative` and `positive`
+  const double core = core_distance(negative, positive, pn, pp);
+  if (!(core - negative.radius - positive.radius > 0.0)) return std::nullopt;
+  const Vec2 n = (1.0 / core) * (pp - pn);
+  // The perpendicular bisector of the closest points of two disjoint convex sets separates them.
+  const Vec2 on_negative = pn + negative.radius * n;
+  const Vec2 on_positive = pp - positive.radius * n;
+  return Line{n, dot(n, 0.5 * (on_negative + on_positive))};
+}
+
+void boundary_intersections(const ConvexShape& a, const ConvexShape& b, std::vector<Vec2>& out) {
+  const bool a_circle = a.kind == ShapeKind::circle, b_circle = b.kind == ShapeKind::circle;
+  if (a_circle && b_circle) {
+    const Vec2 c0 = a.vertices[0], c1 = b.vertices[0];
+    const Vec2 d = c1 - c0;
+    const double dist = length(d);
+    const double r0 = a.radius, r1 = b.radius;
+    if (dist == 0.0 || dist > r0 + r1 || dist < std::abs(r0 - r1)) return;
+    const double along = (dist * dist + r0 * r0 - r1 * r1) / (2.0 * dist);
+    const double h = std::sqrt(std::max(0.0, r0 * r0 - along * along));
+    const Vec2 u = (1.0 / dist) * d, perp{-u.y, u.x};
+    const Vec2 mid = c0 + along * u;
+    out.push_back(mid + h * perp);
+    out.push_back(mid - h * perp);
+    return;
+  }
+  if (a_circle || b_circle) {
+    const ConvexShape& circle = a_circle ? a : b;
+    const ConvexShape& other = a_circle ? b : a;
+    for (int i = 0, n = core_edge_count(other); i < n; ++i) {
+      Vec2 e0, e1;
+      core_edge(other, i, e0, e1);
+      circle_segment_points(circle.vertices[0], circle.radius, e0, e1, out);
+    }
+    return;
+  }
+  for (int i = 0, n = core_edge_count(a); i < n; ++i) {
+    Vec2 a0, a1;
+    core_edge(a, i, a0, a1);
+    for (int j = 0, m = core_edge_count(b); j < m; ++j) {
+      Vec2 b0, b1;
+      core_edge(b, j, b0, b1);
+      segment_segment_points(a0, a1, b0, b1, out);
+    }
+  }
+}
+
+double boundary_distance(const ConvexShape& s, Vec2 x) noexcept {
+  if (s.kind == ShapeKind::circle) return std::abs(length(x - s.vertices[0]) - s.radius);
+  double best = kInfinity;
+  for (int i = 0, n = core_edge_count(s); i < n; ++i) {
+    Vec2 a, b;
+    core_edge(s, i, a, b);
+    best = std::min(best, point_segment_distance(x, a, b));
+  }
+  return best;
+}
+
+}  // namespace par2d::detail

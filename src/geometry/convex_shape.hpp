@@ -1,0 +1,78 @@
+// Canonical convex shapes in double precision and the exact scalar geometry every path shares:
+// containment, ray entry distance, angular span seen from a point, separation of two shapes.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "par2d/scene.hpp"
+
+namespace par2d::detail {
+
+inline constexpr double kPi = 3.14159265358979323846;
+inline constexpr double kTwoPi = 2.0 * kPi;
+
+inline Vec2 operator+(Vec2 a, Vec2 b) noexcept { return {a.x + b.x, a.y + b.y}; }
+inline Vec2 operator-(Vec2 a, Vec2 b) noexcept { return {a.x - b.x, a.y - b.y}; }
+inline Vec2 operator*(double s, Vec2 a) noexcept { return {s * a.x, s * a.y}; }
+inline double dot(Vec2 a, Vec2 b) noexcept { return a.x * b.x + a.y * b.y; }
+// Pseudo-cross product: > 0 when b is counter-clockwise of a in a y-up frame
+// (clockwise on screen, where y points down).
+inline double cross(Vec2 a, Vec2 b) noexcept { return a.x * b.y - a.y * b.x; }
+double length(Vec2 a) noexcept;
+
+enum class ShapeKind : std::uint8_t { polygon, circle, segment };
+
+// A validated shape in canonical form. Polygons have positive signed area (cross of
+// consecutive edges > 0), no repeated and no collinear vertices. A segment keeps its two
+// end points in `vertices`; a circle keeps its center there and its radius in `radius`.
+// Every kind is thus "convex hull of `vertices`, grown by `radius`".
+struct ConvexShape {
+  ShapeKind kind = ShapeKind::polygon;
+  std::vector<Vec2> vertices;
+  double radius = 0.0;
+  Vec2 bounds_min, bounds_max;  // axis-aligned bounding box
+  Vec2 centroid;                // an interior point (vertex mean; the center for circles)
+};
+
+// Canonical form of a shape that passed validate_scene.
+ConvexShape make_convex_shape(const Shape& shape);
+
+// Whether x lies in the closed shape.
+bool contains(const ConvexShape& shape, Vec2 x) noexcept;
+
+// t_S(theta) of SPEC.md section 1 along the unit direction `dir`: 0 when x is in the
+// shape, +infinity when the ray misses it.
+double ray_entry(const ConvexShape& shape, Vec2 x, Vec2 dir) noexcept;
+
+// The set of directions in which the shape is seen from x: the arc
+// [start, start + width] (radians, start in (-pi, pi]). `full` (width 2*pi) when x is in
+// the shape. Outside a convex shape the arc is narrower than pi.
+struct AngularSpan {
+  double start = 0.0;
+  double width = 0.0;
+  bool full = false;
+};
+AngularSpan angular_span(const ConvexShape& shape, Vec2 x) noexcept;
+
+// Distance between the closed shapes (0 when they intersect or touch).
+double shape_distance(const ConvexShape& a, const ConvexShape& b) noexcept;
+
+// A line n.p = c with n a unit vector that strictly separates two disjoint shapes:
+// n.p > c on all of `positive`, n.p < c on all of `negative`. Empty when they touch or
+// overlap.
+struct Line {
+  Vec2 normal;
+  double offset = 0.0;
+};
+std::optional<Line> separating_line(const ConvexShape& positive, const ConvexShape& negative) noexcept;
+
+// Points where the boundaries of two shapes meet (for shapes that overlap). Where
+// boundaries share a piece of line, the end points of the shared piece.
+void boundary_intersections(const ConvexShape& a, const ConvexShape& b, std::vector<Vec2>& out);
+
+// Smallest distance from x to the shape's boundary.
+double boundary_distance(const ConvexShape& shape, Vec2 x) noexcept;
+
+}  // namespace par2d::detail

@@ -1,0 +1,201 @@
+// Brute-force ray caster: exact ray/shape distances, stratified directions (the check on PAR).
+//
+// Deliberately shares no code with src/geometry: it is what the PAR renderer is
+// tested against, so a bug in the shared tangent/interval code must not hide here.
+#include "raycast/raycast_renderer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace par2d::detail {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kTwoPi = 6.283185307179586476925286766559;
+
+Vec2 sub(Vec2 a, Vec2 b) noexcept { return {a.x - b.x, a.y - b.y}; }
+double dot(Vec2 a, Vec2 b) noexcept { return a.x * b.x + a.y * b.y; }
+double cross(Vec2 a, Vec2 b) noexcept { return a.x * b.y - a.y * b.x; }
+
+// Smallest t >= 0 with x + t*d on the closed segment [a, b], or +inf.
+double ray_segment(Vec2 x, Vec2 d, Vec2 a, Vec2 b) noexcept {
+  const Vec2 e = sub(b, a);
+  const Vec2 w = sub(a, x);
+  const double denom = cross(d, e);
+  if (denom == 0.0) {
+    // Parallel: only a collinear segment can be hit, and then at its nearer end
+    // (or at t = 0 when x lies on it).
+    if (cross(w, d) != 0.0) return kInf;
+    double ta = dot(w, d);
+    double tb = dot(sub(b, x), d);
+    if (ta > tb) std::swap(ta, tb);
+    if (tb < 0.0) return kInf;
+    return ta <= 0.0 ? 0.0 : ta;
+  }
+  const double t = cross(w, e) / denom;
+  const double s = cross(w, d) / denom;
+  if (t < 0.0 || s < 0.0 || s > 1.0) return kInf;
+  return t;
+}
+
+}  // namespace
+
+RaycastRenderer::RayShape RaycastRenderer::make_shape(const Shape& shape) {
+  RayShape s;
+  double bound_radius = 0.0;
+  if (const auto* circle = std::get_if<Circle>(&shape)) {
+    s.kind = Kind::circle;
+    s.p0 = circle->center;
+    s.radius2 = circle->radius * circle->radius;
+    s.bound_center = circle->center;
+    bound_radius = circle->radius;
+  } else if (const auto* segment = std::get_if<Segment>(&shape)) {
+    s.kind = Kind::segment;
+    s.p0 = segment->a;
+    s.p1 = segment->b;
+    s.bound_center = {0.5 * (segment->a.x + segment->b.x), 0.5 * (segment->a.y + segment->b.y)};
+    bound_radius = 0.5 * std::hypot(segment->b.x - segment->a.x, segment->b.y - segment->a.y);
+  } else {
+    const auto& poly = std::get<Polygon>(shape);
+    s.kind = Kind::polygon;
+    s.first = static_cast<std::uint32_t>(vertices_.size());
+    s.count = static_cast<std::uint32_t>(poly.vertices.size());
+    // Centered at the bounding box middle; relative coordinates keep the shoelace sum
+    // accurate for polygons far from the origin.
+    double x0 = kInf, y0 = kInf, x1 = -kInf, y1 = -kInf;
+    for (const Vec2& v : poly.vertices) {
+      x0 = std::min(x0, v.x);
+      y0 = std::min(y0, v.y);
+      x1 = std::max(x1, v.x);
+      y1 = std::max(y1, v.y);
+    }
+    s.bound_center = {0.5 * (x0 + x1), 0.5 * (y0 + y1)};
+    double area2 = 0.0;
+    for (std::size_t i = 0; i < poly.vertices.size(); ++i) {
+      const Vec2 a = sub(poly.vertices[i], s.bound_center);
+      const Vec2 b = sub(poly.vertices[(i + 1) % poly.vertices.size()], s.bound_center);
+      area2 += cross(a, b);
+      bound_radius = std::max(bound_radius, std::hypot(a.x, a.y));
+    }
+    s.orientation = area2 >= 0.0 ? 1.0 : -1.0;
+    vertices_.insert(vertices_.end(), poly.vertices.begin(), poly.vertices.end());
+  }
+  // Inflated so that rounding in the early-out can never skip a real (grazing) hit.
+  bound_radius = bound_radius * (1.0 + 1e-7) + 1e-300;
+  s.bound_radius2 = bound_radius * bound_radius;
+  return s;
+}
+
+RaycastRenderer::RaycastRenderer(const Scene& validated_scene) {
+  std::size_t vertex_count = 0;
+  for (const auto& l : validated_scene.lights)
+    if (const auto* p = std::get_if<Polygon>(&l.shape)) vertex_count += p->vertices.size();
+  for (const auto& o : validated_scene.occluders)
+    if (const auto* p = std::get_if<Polygon>(&o.shape)) vertex_count += p->vertices.size();
+  vertices_.reserve(vertex_count);
+  for (const auto& o : validated_scene.occluders) occluders_.push_back(make_shape(o.shape));
+  for (const auto& l : validated_scene.lights) {
+    lights_.push_back(make_shape(l.shape));
+    emission_.push_back({l.intensity * l.color[0], l.intensity * l.color[1], l.intensity * l.color[2]});
+  }
+}
+
+bool RaycastRenderer::contains(const RayShape& s, Vec2 x) const noexcept {
+  switch (s.kind) {
+    case Kind::circle: {
+      const Vec2 m = sub(x, s.p0);
+      return dot(m, m) <= s.radius2;
+    }
+    case Kind::segment: {
+      const Vec2 e = sub(s.p1, s.p0);
+      const Vec2 w = sub(x, s.p0);
+      if (cross(e, w) != 0.0) return false;
+      const double u = dot(e, w);
+      return u >= 0.0 && u <= dot(e, e);
+    }
+    case Kind::polygon: {
+      // Closed convex polygon = intersection of the closed inner half-planes of its
+      // edges; zero-length edges (repeated vertices) constrain nothing.
+      const Vec2* v = vertices_.data() + s.first;
+      for (std::uint32_t i = 0; i < s.count; ++i) {
+        const Vec2 a = v[i];
+        const Vec2 b = v[i + 1 == s.count ? 0 : i + 1];
+        if (cross(sub(b, a), sub(x, a)) * s.orientation < 0.0) return false;
+      }
+      return true;
+    }
+  }
+  return false;
+}
+
+double RaycastRenderer::hit_distance(const RayShape& s, Vec2 x, Vec2 d, double limit) const noexcept {
+  // Early-out on the bounding circle when x is outside it: a ray that points away,
+  // passes beside it, or enters it no nearer than `limit` cannot give a useful hit.
+  const Vec2 m = sub(s.bound_center, x);
+  const double mm = dot(m, m);
+  if (mm > s.bound_radius2) {
+    const double b = dot(m, d);
+    if (b <= 0.0) return kInf;
+    const double perp = cross(m, d);  // accurate even when mm >> bound_radius2
+    const double perp2 = perp * perp;
+    if (perp2 > s.bound_radius2) return kInf;
+    const double t_enter = b - std::sqrt(s.bound_radius2 - perp2);
+    if (t_enter > limit * (1.0 + 1e-9)) return kInf;
+  }
+  switch (s.kind) {
+    case Kind::circle: {
+      const Vec2 mc = sub(s.p0, x);
+      const double c = dot(mc, mc) - s.radius2;
+      if (c <= 0.0) return 0.0;
+      const double b = dot(mc, d);
+      if (b <= 0.0) return kInf;
+      const double perp = cross(mc, d);
+      const double disc = s.radius2 - perp * perp;
+      if (disc < 0.0) return kInf;
+      // (|m|^2 - r^2) / (b + sqrt(disc)) = b - sqrt(disc) without the cancellation.
+      return c / (b + std::sqrt(disc));
+    }
+    case Kind::segment:
+      return ray_segment(x, d, s.p0, s.p1);
+    case Kind::polygon: {
+      if (contains(s, x)) return 0.0;
+      // From outside a convex polygon the first boundary point is the first hit.
+      const Vec2* v = vertices_.data() + s.first;
+      double t = kInf;
+      for (std::uint32_t i = 0; i < s.count; ++i)
+        t = std::min(t, ray_segment(x, d, v[i], v[i + 1 == s.count ? 0 : i + 1]));
+      return t;
+    }
+  }
+  return kInf;
+}
+
+Rgb RaycastRenderer::irradiance(Vec2 x, int rays, double jitter) const noexcept {
+  Rgb sum{0.0, 0.0, 0.0};
+  if (rays <= 0 || lights_.empty()) return sum;
+  // Inside a closed occluder t_occ = 0 in every direction and no light is visible.
+  for (const RayShape& o : occluders_) {
+    const Vec2 m = sub(o.bound_center, x);
+    if (dot(m, m) <= o.bound_radius2 && contains(o, x)) return sum;
+  }
+  const double step = kTwoPi / rays;
+  for (int k = 0; k < rays; ++k) {
+    const double theta = step * (k + jitter);
+    const Vec2 d{std::cos(theta), std::sin(theta)};
+    double t_occ = kInf;
+    for (const RayShape& o : occluders_) t_occ = std::min(t_occ, hit_distance(o, x, d, t_occ));
+    // Lights do not block each other: every light in front of the first occluder counts.
+    for (std::size_t l = 0; l < lights_.size(); ++l) {
+      if (hit_distance(lights_[l], x, d, t_occ) < t_occ) {
+        sum[0] += emission_[l][0];
+        sum[1] += emission_[l][1];
+        sum[2] += emission_[l][2];
+      }
+    }
+  }
+  const double inv = 1.0 / rays;
+  return {sum[0] * inv, sum[1] * inv, sum[2] * inv};
+}
+
+}  // namespace par2d::detail

@@ -1,0 +1,32 @@
+// The table of compiled tile kernels, one entry per ISA, and the SIMD render driver.
+#pragma once
+
+#include <cstddef>
+
+#include "par2d/isa.hpp"
+#include "par2d/render.hpp"
+#include "render/prepared_scene.hpp"
+#include "simd/tile_work.hpp"
+
+namespace par2d::detail {
+
+struct KernelSet {
+  Isa isa;
+  int lanes;
+  void (*render_tile)(const TileWork& work, float* scratch, TileResult& out) noexcept;
+  // Kernel-level hooks for tests: per lane, the measure of the union of `count` intervals
+  // (lo/hi hold pow2(count) * lanes floats, lane-minor, and are sorted in place), of
+  // [0, reach0], padded with `width`; and the vector atan2 over `lanes` values.
+  void (*union_measure)(float* lo, float* hi, std::size_t count, const float* width, const float* reach0,
+                        float* out) noexcept;
+  void (*atan2)(const float* y, const float* x, float* out) noexcept;
+};
+
+// The kernels for `isa`, or null for Isa::scalar (the scalar path is the reference renderer).
+const KernelSet* kernels_for(Isa isa) noexcept;
+
+// Renders with the tile kernel of `isa` (which the CPU must support).
+void render_simd(const PreparedScene& scene, const RenderOptions& options, Isa isa, int threads,
+                 const ImageView& image);
+
+}  // namespace par2d::detail

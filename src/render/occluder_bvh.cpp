@@ -1,0 +1,326 @@
+// Binned-SAH BVH build and separating-axis queries for occluder gathering, plus the convex hull helper.
+#include "render/occluder_bvh.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace par2d::detail {
+
+namespace {
+
+constexpr uint32_t kNoParent = std::numeric_limits<uint32_t>::max();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+constexpr Aabb kEmptyBox{kInf, kInf, -kInf, -kInf};
+
+inline void grow(Aabb& a, const Aabb& b) noexcept {
+  a.min_x = std::min(a.min_x, b.min_x);
+  a.min_y = std::min(a.min_y, b.min_y);
+  a.max_x = std::max(a.max_x, b.max_x);
+  a.max_y = std::max(a.max_y, b.max_y);
+}
+
+inline void grow(Aabb& a, Vec2 p) noexcept {
+  a.min_x = std::min(a.min_x, p.x);
+  a.min_y = std::min(a.min_y, p.y);
+  a.max_x = std::max(a.max_x, p.x);
+  a.max_y = std::max(a.max_y, p.y);
+}
+
+// Half the perimeter, the 2D SAH measure: a random line hits a convex set with probability
+// proportional to its perimeter. Halves are taken first so that boxes spanning +-1e308 stay finite.
+inline double half_perimeter(const Aabb& b) noexcept {
+  return (0.5 * b.max_x - 0.5 * b.min_x) + (0.5 * b.max_y - 0.5 * b.min_y);
+}
+
+inline bool boxes_overlap(const Aabb& a, const Aabb& b) noexcept {
+  return a.min_x <= b.max_x && b.min_x <= a.max_x && a.min_y <= b.max_y && b.min_y <= a.max_y;
+}
+
+inline double cross(Vec2 o, Vec2 a, Vec2 b) noexcept {
+  return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+}
+
+// One separating-axis candidate: a unit normal and the hull's extent along it.
+struct Axis {
+  double nx, ny, lo, hi;
+};
+
+// Axis of hull edge i -> i+1 (unit length, so projections keep the coordinates' magnitude and
+// neither overflow for huge nor underflow for tiny scenes). Returns false for a zero-length edge,
+// which separates nothing.
+inline bool edge_axis(const Vec2* hull, int count, int i, Axis& axis) noexcept {
+  const Vec2 a = hull[i];
+  const Vec2 b = hull[(i + 1) % count];
+  const double len = std::hypot(b.x - a.x, b.y - a.y);
+  if (!(len > 0.0) || !std::isfinite(len)) return false;
+  axis.nx = (a.y - b.y) / len;
+  axis.ny = (b.x - a.x) / len;
+  axis.lo = kInf;
+  axis.hi = -kInf;
+  for (int k = 0; k < count; ++k) {
+    const double p = axis.nx * hull[k].x + axis.ny * hull[k].y;
+    axis.lo = std::min(axis.lo, p);
+    axis.hi = std::max(axis.hi, p);
+  }
+  return true;
+}
+
+// Picks the box corner that minimises / maximises the projection. Each term is monotone in the
+// box's extent even after rounding, so a parent box never projects inside its child's interval:
+// that is what makes pruning exact with respect to the per-item test.
+inline bool axis_separates(const Axis& a, const Aabb& b) noexcept {
+  const double lo = a.nx * (a.nx >= 0.0 ? b.min_x : b.max_x) + a.ny * (a.ny >= 0.0 ? b.min_y : b.max_y);
+  const double hi = a.nx * (a.nx >= 0.0 ? b.max_x : b.min_x) + a.ny * (a.ny >= 0.0 ? b.max_y : b.min_y);
+  return hi < a.lo || lo > a.hi;
+}
+
+// The query hull with its axes computed once. Hulls with more edges than fit here still get
+// exact answers: the extra axes are only skipped for inner nodes (conservative) and computed on
+// the fly for items.
+class ConvexQuery {
+ public:
+  static constexpr int kMaxCachedAxes = 32;
+
+  ConvexQuery(const Vec2* hull, int count) noexcept : hull_(hull), count_(count) {
+    bounds_ = kEmptyBox;
+    for (int i = 0; i < count; ++i) grow(bounds_, hull[i]);
+    edges_ = count < 2 ? 0 : (count == 2 ? 1 : count);
+    const int cached = std::min(edges_, kMaxCachedAxes);
+    for (int i = 0; i < cached; ++i) {
+      if (edge_axis(hull, count, i, axes_[axis_count_])) ++axis_count_;
+    }
+  }
+
+  const Aabb& bounds() const noexcept { return bounds_; }
+
+  // May report a node the hull misses, never the reverse.
+  bool may_touch(const Aabb& b) const noexcept {
+    if (!boxes_overlap(b, bounds_)) return false;
+    for (int i = 0; i < axis_count_; ++i) {
+      if (axis_separates(axes_[i], b)) return false;
+    }
+    return true;
+  }
+
+  bool touches(const Aabb& b) const noexcept {
+    if (!may_touch(b)) return false;
+    for (int i = kMaxCachedAxes; i < edges_; ++i) {
+      Axis axis;
+      if (edge_axis(hull_, count_, i, axis) && axis_separates(axis, b)) return false;
+    }
+    return true;
+  }
+
+ private:
+  const Vec2* hull_;
+  int count_;
+  int edges_ = 0;
+  int axis_count_ = 0;
+  Aabb bounds_;
+  Axis axes_[kMaxCachedAxes];
+};
+
+inline double axis_of(Vec2 c, int axis) noexcept { return axis == 0 ? c.x : c.y; }
+
+// 0.5*a + 0.5*b rather than (a+b)/2: stays finite for boxes near +-DBL_MAX.
+inline Vec2 centroid(const Aabb& b) noexcept {
+  return {0.5 * b.min_x + 0.5 * b.max_x, 0.5 * b.min_y + 0.5 * b.max_y};
+}
+
+}  // namespace
+
+std::vector<Vec2> convex_hull(std::vector<Vec2> points) {
+  auto less = [](Vec2 a, Vec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); };
+  std::sort(points.begin(), points.end(), less);
+  points.erase(std::unique(points.begin(), points.end(),
+                           [](Vec2 a, Vec2 b) { return a.x == b.x && a.y == b.y; }),
+               points.end());
+  const size_t n = points.size();
+  if (n <= 2) return points;
+  std::vector<Vec2> hull(2 * n);
+  size_t k = 0;
+  // Lower chain then upper chain; popping on cross <= 0 drops collinear points.
+  for (size_t i = 0; i < n; ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+    hull[k++] = points[i];
+  }
+  for (size_t i = n - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+    hull[k++] = points[i];
+  }
+  hull.resize(k - 1);  // the last point repeats the first
+  return hull;
+}
+
+void OccluderBvh::build(const std::vector<Aabb>& boxes) {
+  nodes_.clear();
+  items_.clear();
+  item_boxes_.clear();
+  tasks_.clear();
+  refs_.clear();
+  const size_t n = boxes.size();
+  if (n == 0) return;
+  if (n >= kNoParent) throw std::length_error("OccluderBvh: too many boxes");
+
+  refs_.resize(n);
+  for (size_t i = 0; i < n; ++i) refs_[i] = {boxes[i], static_cast<uint32_t>(i)};
+  nodes_.reserve(2 * n - 1);  // a binary tree with n or fewer leaves
+
+  // Explicit pre-order: the left task is pushed last so it is built right after its parent, and
+  // the right task patches its index into the parent when it starts.
+  tasks_.push_back({0, static_cast<uint32_t>(n), kNoParent, 0});
+  while (!tasks_.empty()) {
+    const BuildTask task = tasks_.back();
+    tasks_.pop_back();
+    const auto index = static_cast<uint32_t>(nodes_.size());
+    if (task.parent != kNoParent) nodes_[task.parent].offset = index;
+
+    Aabb bounds = kEmptyBox;
+    Aabb centroid_bounds = kEmptyBox;
+    for (uint32_t i = task.begin; i < task.end; ++i) {
+      grow(bounds, refs_[i].box);
+      grow(centroid_bounds, centroid(refs_[i].box));
+    }
+    const uint32_t count = task.end - task.begin;
+    if (count <= kLeafSize) {
+      nodes_.push_back({bounds, task.begin, count});
+      continue;
+    }
+    nodes_.push_back({bounds, 0, 0});
+    const uint32_t mid = split(task.begin, task.end, centroid_bounds, task.depth);
+    tasks_.push_back({mid, task.end, index, task.depth + 1});
+    tasks_.push_back({task.begin, mid, kNoParent, task.depth + 1});
+  }
+
+  items_.resize(n);
+  item_boxes_.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    items_[i] = refs_[i].index;
+    item_boxes_[i] = refs_[i].box;
+  }
+}
+
+// Returns the split point of items_[begin, end), reordered; both sides are non-empty.
+uint32_t OccluderBvh::split(uint32_t begin, uint32_t end, const Aabb& cb, int depth) {
+  const uint32_t count = end - begin;
+  // Halved extents stay finite whatever the (finite) coordinates.
+  const double ext_x = 0.5 * cb.max_x - 0.5 * cb.min_x;
+  const double ext_y = 0.5 * cb.max_y - 0.5 * cb.min_y;
+  const int axis = ext_y > ext_x ? 1 : 0;
+  const double extent = axis == 0 ? ext_x : ext_y;
+  const double low = 0.5 * (axis == 0 ? cb.min_x : cb.min_y);
+  BuildRef* first = refs_.data() + begin;
+  BuildRef* last = refs_.data() + end;
+  const uint32_t half = begin + count / 2;
+
+  // All centroids equal (e.g. identical boxes): any split is as good; halving bounds the depth.
+  if (!(extent > 0.0)) return half;
+
+  auto median_split = [&]() {
+    std::nth_element(first, refs_.data() + half, last, [&](const BuildRef& a, const BuildRef& b) {
+      return axis_of(centroid(a.box), axis) < axis_of(centroid(b.box), axis);
+    });
+    return half;
+  };
+  const double scale = kBins / extent;
+  // Below kSahDepth, or when binning cannot resolve the extent (denormal), median splits keep the
+  // tree within kMaxDepth.
+  if (depth >= kSahDepth || !std::isfinite(scale)) return median_split();
+
+  auto bin_of = [&](const BuildRef& ref) {
+    const double t = (0.5 * axis_of(centroid(ref.box), axis) - low) * scale;
+    // t >= 0 up to rounding; the clamp also maps the maximum (t == kBins) into the last bin.
+    return std::clamp(static_cast<int>(t), 0, kBins - 1);
+  };
+
+  uint32_t bin_count[kBins] = {};
+  Aabb bin_box[kBins];
+  std::fill(bin_box, bin_box + kBins, kEmptyBox);
+  for (const BuildRef* it = first; it != last; ++it) {
+    const int b = bin_of(*it);
+    ++bin_count[b];
+    grow(bin_box[b], it->box);
+  }
+
+  // Sweep from the right to get the cost of every right side, then from the left to pick the
+  // plane (after bin `best`) with the least count * half-perimeter sum; ties go to the lowest plane.
+  double right_cost[kBins];
+  Aabb acc = kEmptyBox;
+  uint32_t acc_count = 0;
+  for (int b = kBins - 1; b > 0; --b) {
+    grow(acc, bin_box[b]);
+    acc_count += bin_count[b];
+    right_cost[b] = acc_count == 0 ? kInf : static_cast<double>(acc_count) * half_perimeter(acc);
+  }
+  acc = kEmptyBox;
+  acc_count = 0;
+  int best = -1;
+  double best_cost = kInf;
+  for (int b = 0; b < kBins - 1; ++b) {
+    grow(acc, bin_box[b]);
+    acc_count += bin_count[b];
+    if (acc_count == 0 || acc_count == count) continue;
+    const double cost = static_cast<double>(acc_count) * half_perimeter(acc) + right_cost[b + 1];
+    if (cost < best_cost) {
+      best_cost = cost;
+      best = b;
+    }
+  }
+  if (best < 0) return median_split();  // e.g. costs overflowed
+  const BuildRef* mid = std::partition(first, last, [&](const BuildRef& ref) { return bin_of(ref) <= best; });
+  return begin + static_cast<uint32_t>(mid - first);
+}
+
+void OccluderBvh::query_convex(const Vec2* hull, int hull_count, std::vector<uint32_t>& out) const noexcept {
+  if (nodes_.empty() || hull == nullptr || hull_count <= 0) return;
+  const ConvexQuery query(hull, hull_count);
+  const size_t first_out = out.size();
+  uint32_t stack[kMaxDepth];
+  int top = 0;
+  uint32_t node = 0;
+  for (;;) {
+    const Node& nd = nodes_[node];
+    if (query.may_touch(nd.box)) {
+      if (nd.count == 0) {
+        stack[top++] = nd.offset;
+        node += 1;
+        continue;
+      }
+      for (uint32_t i = nd.offset; i < nd.offset + nd.count; ++i) {
+        if (query.touches(item_boxes_[i])) out.push_back(items_[i]);
+      }
+    }
+    if (top == 0) break;
+    node = stack[--top];
+  }
+  std::sort(out.begin() + static_cast<std::ptrdiff_t>(first_out), out.end());
+}
+
+void OccluderBvh::query_box(const Aabb& query, std::vector<uint32_t>& out) const noexcept {
+  if (nodes_.empty()) return;
+  const size_t first_out = out.size();
+  uint32_t stack[kMaxDepth];
+  int top = 0;
+  uint32_t node = 0;
+  for (;;) {
+    const Node& nd = nodes_[node];
+    if (boxes_overlap(nd.box, query)) {
+      if (nd.count == 0) {
+        stack[top++] = nd.offset;
+        node += 1;
+        continue;
+      }
+      for (uint32_t i = nd.offset; i < nd.offset + nd.count; ++i) {
+        if (boxes_overlap(item_boxes_[i], query)) out.push_back(items_[i]);
+      }
+    }
+    if (top == 0) break;
+    node = stack[--top];
+  }
+  std::sort(out.begin() + static_cast<std::ptrdiff_t>(first_out), out.end());
+}
+
+}  // namespace par2d::detail

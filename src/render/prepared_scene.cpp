@@ -1,0 +1,44 @@
+// Builds the prepared scene: canonical shapes and the overlap relation between lights and occluders.
+#include "render/prepared_scene.hpp"
+
+#include <algorithm>
+
+namespace par2d::detail {
+namespace {
+
+bool boxes_touch(const ConvexShape& a, const ConvexShape& b) noexcept {
+  return a.bounds_min.x <= b.bounds_max.x && b.bounds_min.x <= a.bounds_max.x &&
+         a.bounds_min.y <= b.bounds_max.y && b.bounds_min.y <= a.bounds_max.y;
+}
+
+}  // namespace
+
+PreparedScene prepare_scene(const Scene& scene) {
+  PreparedScene out;
+  out.width = scene.width;
+  out.height = scene.height;
+  out.view = scene.view;
+  out.occluders.reserve(scene.occluders.size());
+  for (const Occluder& o : scene.occluders) out.occluders.push_back(make_convex_shape(o.shape));
+  for (const Light& l : scene.lights) {
+    PreparedLight light;
+    for (int c = 0; c < 3; ++c) light.emission[c] = l.intensity * l.color[c];
+    const double e = std::max({light.emission[0], light.emission[1], light.emission[2]});
+    if (!(e > 0.0)) continue;  // contributes nothing anywhere
+    out.e_max += e;
+    light.shape = make_convex_shape(l.shape);
+    for (std::uint32_t k = 0; k < out.occluders.size(); ++k) {
+      const ConvexShape& occ = out.occluders[k];
+      if (boxes_touch(light.shape, occ) && shape_distance(light.shape, occ) <= 0.0)
+{
+        light.overlapping_occluders.push_back(k);
+        light.overlap_points.emplace_back();
+        boundary_intersections(light.shape, occ, light.overlap_points.back());
+      }
+    }
+    out.lights.push_back(std::move(light));
+  }
+  return out;
+}
+
+}  // namespace par2d::detail

@@ -1,0 +1,41 @@
+// The validated scene in the form every renderer reads: canonical shapes, emissions,
+// and which light/occluder pairs overlap (those need the general visibility test).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "geometry/convex_shape.hpp"
+#include "par2d/scene.hpp"
+
+namespace par2d::detail {
+
+struct PreparedLight {
+  ConvexShape shape;
+  Rgb emission{};  // intensity * color
+  // Occluders whose shape meets this light's (sorted). For such a pair the blocked
+  // directions are not all-or-nothing per direction interval; see scalar_renderer.
+  std::vector<std::uint32_t> overlapping_occluders;
+  // For each of those, where the two boundaries meet: the only directions at which the
+  // nearer of the two shapes can change.
+  std::vector<std::vector<Vec2>> overlap_points;
+};
+
+struct PreparedScene {
+  int width = 0, height = 0;
+  View view;
+  std::vector<PreparedLight> lights;  // lights with non-zero emission only
+  std::vector<ConvexShape> occluders;
+  double e_max = 0.0;  // SPEC.md section 5
+};
+
+// Builds the prepared form of a scene that passed validate_scene.
+PreparedScene prepare_scene(const Scene& scene);
+
+// World position of sample (sx, sy) in [0,1)^2 of pixel (i, j) (SPEC.md section 2).
+inline Vec2 sample_position(const PreparedScene& s, int i, int j, double sx, double sy) noexcept {
+  return {s.view.x0 + (i + sx) * (s.view.x1 - s.view.x0) / s.width,
+          s.view.y0 + (j + sy) * (s.view.y1 - s.view.y0) / s.height};
+}
+
+}  // namespace par2d::detail

@@ -1,0 +1,177 @@
+// The render entry point: checks arguments, prepares the scene, and runs the chosen
+// backend over image tiles on a TBB arena of the requested size.
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <new>
+#include <numeric>
+#include <string>
+#include <thread>
+
+#include "par2d/render.hpp"
+#include "raycast/raycast_renderer.hpp"
+#include "render/kernel_table.hpp"
+#include "render/prepared_scene.hpp"
+#include "render/tiling.hpp"
+#include "scalar/scalar_renderer.hpp"
+
+namespace par2d {
+namespace {
+
+using detail::PreparedScene;
+using detail::TileGrid;
+using detail::TileRect;
+
+constexpr int kMaxSpp = 256;
+constexpr int kMaxRays = 1 << 20;
+
+Status check_arguments(const Scene& scene, const RenderOptions& options, const ImageView& image) {
+  auto bad = [](std::string message) { return Status(StatusCode::invalid_argument, std::move(message)); };
+  if (image.data == nullptr) return bad("render: image data is null");
+  if (image.width != scene.width || image.height != scene.height)
+    return bad("render: image is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+               " but the scene is " + std::to_string(scene.width) + "x" + std::to_string(scene.height));
+  if (image.row_stride < 3 * static_cast<std::ptrdiff_t>(image.width))
+    return bad("render: row_stride " + std::to_string(image.row_stride) + " is less than 3 * width");
+  if (options.threads < 0) return bad("render: threads must be >= 0 (0 = all hardware threads)");
+  if (options.spp < 1 || options.spp > kMaxSpp) return bad("render: spp must be in 1.." + std::to_string(kMaxSpp));
+  if (options.backend == Backend::raycast && (options.rays < 1 || options.rays > kMaxRays))
+    return bad("render: rays must be in 1.." + std::to_string(kMaxRays));
+  if (options.isa && static_cast<int>(*options.isa) > static_cast<int>(Isa::avx512))
+    return bad("render: unknown isa");
+  return {};
+}
+
+int worker_threads(int requested) noexcept {
+  const int hardware = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  if (requested == 0) return tbb::this_task_arena::max_concurrency();
+  return std::min(requested, 4 * hardware);  // more only adds scheduling overhead
+}
+
+// A stable per-sample hash, so the ray caster's jitter is the same on every run and thread count.
+double hash_to_unit(std::uint64_t v) noexcept {
+  v ^= v >> 33;
+  v *= 0xff51afd7ed558ccdULL;
+  v ^= v >> 33;
+  v *= 0xc4ceb9fe1a85ec53ULL;
+  v ^= v >> 33;
+  return static_cast<double>(v >> 11) * (1.0 / 9007199254740992.0);
+}
+
+void store(const ImageView& image, int i, int j, const Rgb& e, double scale) noexcept {
+  float* p = image.data + static_cast<std::ptrdiff_t>(j) * image.row_stride + 3 * static_cast<std::ptrdiff_t>(i);
+  for (int c = 0; c < 3; ++c) p[c] = static_cast<float>(e[c] * scale);
+}
+
+void render_scalar(const PreparedScene& scene, const RenderOptions& options, int threads, const ImageView& image) {
+  tbb::enumerable_thread_specific<detail::ScalarScratch> scratches;
+  const double inv_spp = 1.0 / options.spp;
+  detail::for_each_tile(TileGrid{scene.width, scene.height}, threads, [&](const TileRect& tile) {
+    detail::ScalarScratch& scratch = scratches.local();
+    for (int j = tile.y0; j < tile.y1; ++j) {
+      for (int i = tile.x0; i < tile.x1; ++i) {
+        Rgb sum{0.0, 0.0, 0.0};
+        for (int k = 0; k < options.spp; ++k) {
+          double sx, sy;
+          sample_offset(k, options.spp, sx, sy);
+          const Rgb e = detail::scalar_irradiance(scene, detail::sample_position(scene, i, j, sx, sy), scratch);
+          for (int c = 0; c < 3; ++c) sum[c] += e[c];
+        }
+        store(image, i, j, sum, inv_spp);
+      }
+    }
+  });
+}
+
+void render_raycast(const Scene& source, const PreparedScene& scene, const RenderOptions& options, int threads,
+                    const ImageView& image) {
+  const detail::RaycastRenderer caster(source);
+  const double inv_spp = 1.0 / options.spp;
+  detail::for_each_tile(TileGrid{scene.width, scene.height}, threads, [&](const TileRect& tile) {
+    for (int j = tile.y0; j < tile.y1; ++j) {
+      for (int i = tile.x0; i < tile.x1; ++i) {
+        Rgb sum{0.0, 0.0, 0.0};
+        for (int k = 0; k < options.spp; ++k) {
+          double sx, sy;
+          sample_offset(k, options.spp, sx, sy);
+          const std::uint64_t id = ((static_cast<std::uint64_t>(j) * static_cast<std::uint64_t>(scene.width) + static_cast<std::uint64_t>(i)) << 8) |
+                                   static_cast<std::uint64_t>(k);
+          const Rgb e = caster.irradiance(detail::sample_position(scene, i, j, sx, sy), options.rays, hash_to_unit(id));
+          for (int c = 0; c < 3; ++c) sum[c] += e[c];
+        }
+        store(image, i, j, sum, inv_spp);
+      }
+    }
+  });
+}
+
+}  // namespace
+
+const char* backend_name(Backend backend) noexcept {
+  switch (backend) {
+    case Backend::automatic: return "auto";
+    case Backend::simd: return "simd";
+    case Backend::scalar: return "scalar";
+    case Backend::raycast: return "raycast";
+  }
+  return "unknown";
+}
+
+std::optional<Backend> parse_backend(const char* name) noexcept {
+  const std::string_view n = name ? name : "";
+  if (n == "auto") return Backend::automatic;
+  if (n == "simd") return Backend::simd;
+  if (n == "scalar") return Backend::scalar;
+  if (n == "raycast") return Backend::raycast;
+  return std::nullopt;
+}
+
+void sample_offset(int k, int spp, double& dx, double& dy) noexcept {
+  if (spp <= 1) {
+    dx = dy = 0.5;
+    return;
+  }
+  // Rank-1 lattice: one sample per column and per row of an spp x spp grid, rows visited
+  // with a golden-ratio stride so the samples also spread in 2D.
+  int stride = std::max(1, static_cast<int>(std::lround(spp * 0.6180339887498949)));
+  while (std::gcd(stride, spp) != 1) ++stride;
+  dx = (k + 0.5) / spp;
+  dy = ((static_cast<long long>(k) * stride) % spp + 0.5) / spp;
+}
+
+Isa resolved_isa(const RenderOptions& options) noexcept {
+  if (options.backend == Backend::scalar || options.backend == Backend::raycast) return Isa::scalar;
+  const Isa best = default_isa();
+  if (!options.isa) return best;
+  return static_cast<int>(*options.isa) < static_cast<int>(detect_isa()) ? *options.isa : detect_isa();
+}
+
+Status render(const Scene& scene, const RenderOptions& options, const ImageView& image) {
+  try {
+    if (Status s = check_arguments(scene, options, image); !s.ok()) return s;
+    if (Status s = validate_scene(scene); !s.ok()) return s;
+    const PreparedScene prepared = detail::prepare_scene(scene);
+    const int threads = worker_threads(options.threads);
+    if (options.backend == Backend::raycast) {
+      render_raycast(scene, prepared, options, threads, image);
+      return {};
+    }
+    const Isa isa = resolved_isa(options);
+    if (isa == Isa::scalar) {
+      render_scalar(prepared, options, threads, image);
+      return {};
+    }
+    detail::render_simd(prepared, options, isa, threads, image);
+    return {};
+  } catch (const std::bad_alloc&) {
+    return Status(StatusCode::out_of_memory, "render: out of memory");
+  } catch (const std::exception& e) {
+    return Status(StatusCode::invalid_argument, std::string("render: ") + e.what());
+  }
+}
+
+}  // namespace par2d

@@ -1,0 +1,143 @@
+// Builds TileWork: culling in double precision, then shapes rounded to float relative to the tile.
+#include "render/tile_setup.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "geometry/angular_intervals.hpp"
+
+namespace par2d::detail {
+namespace {
+
+// The tile's pixel rectangle in world coordinates (corners of all its sample positions).
+std::array<Vec2, 4> tile_corners(const PreparedScene& scene, const TileRect& tile) noexcept {
+  const Vec2 a = sample_position(scene, tile.x0, tile.y0, 0.0, 0.0);
+  const Vec2 b = sample_position(scene, tile.x1, tile.y1, 0.0, 0.0);
+  return {Vec2{a.x, a.y}, Vec2{b.x, a.y}, Vec2{b.x, b.y}, Vec2{a.x, b.y}};
+}
+
+// Whether the occluder covers the light's whole arc as seen from p (and p is not in the light).
+bool in_umbra(const ConvexShape& light, const ConvexShape& occluder, Vec2 p) noexcept {
+  const AngularSpan l = angular_span(light, p);
+  if (l.full) return false;
+  const AngularSpan o = angular_span(occluder, p);
+  if (o.full) return true;
+  return angle_in_light_frame(o, l.start) + l.width <= o.width;
+}
+
+KernelShape kernel_shape(const ConvexShape& s, Vec2 origin, Vec2 tile_center, TileWork& work) {
+  KernelShape k;
+  k.kind = s.kind;
+  if (s.kind == ShapeKind::circle) {
+    const Vec2 c = s.vertices[0];
+    Vec2 u = tile_center - c;
+    const double len = length(u);
+    u = len > 0.0 ? (1.0 / len) * u : Vec2{1.0, 0.0};
+    const Vec2 nearest = c + s.radius * u;
+    k.cx = static_cast<float>(c.x - origin.x);
+    k.cy = static_cast<float>(c.y - origin.y);
+    k.r = static_cast<float>(s.radius);
+    k.px = static_cast<float>(nearest.x - origin.x);
+    k.py = static_cast<float>(nearest.y - origin.y);
+    k.ux = static_cast<float>(u.x);
+    k.uy = static_cast<float>(u.y);
+    return k;
+  }
+  k.first = static_cast<std::uint32_t>(work.vx.size());
+  k.count = static_cast<std::uint32_t>(s.vertices.size());
+  const std::size_t n = s.vertices.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 v = s.vertices[i];
+    work.vx.push_back(static_cast<float>(v.x - origin.x));
+    work.vy.push_back(static_cast<float>(v.y - origin.y));
+    if (s.kind == ShapeKind::polygon) {
+      const Vec2 e = s.vertices[(i + 1) % n] - v;
+      const double len = length(e);
+      const Vec2 normal{-e.y / len, e.x / len};  // points inside (positive-area winding)
+      work.edge_nx.push_back(static_cast<float>(normal.x));
+      work.edge_ny.push_back(static_cast<float>(normal.y));
+      work.edge_c.push_back(static_cast<float>(dot(normal, v - origin)));
+    } else {
+      work.edge_nx.push_back(0.0f);
+      work.edge_ny.push_back(0.0f);
+      work.edge_c.push_back(0.0f);
+    }
+  }
+  return k;
+}
+
+}  // namespace
+
+bool build_tile_work(const PreparedScene& scene, const TileRect& tile, bool culling, TileWork& work,
+                     TileSetupScratch& scratch) {
+  work.clear();
+  const double pixel_dx = (scene.view.x1 - scene.view.x0) / scene.width;
+  const double pixel_dy = (scene.view.y1 - scene.view.y0) / scene.height;
+  work.pixel_dx = static_cast<float>(pixel_dx);
+  work.pixel_dy = static_cast<float>(pixel_dy);
+  const Vec2 origin = sample_position(scene, tile.x0, tile.y0, 0.0, 0.0);
+  const std::array<Vec2, 4> corners = tile_corners(scene, tile);
+  const Vec2 center = 0.5 * (corners[0] + corners[2]);
+  scratch.local_index.assign(scene.occluders.size(), -1);
+  scratch.used.clear();
+
+  for (const PreparedLight& light : scene.lights) {
+    scratch.candidates.clear();
+    for (std::uint32_t k = 0; k < scene.occluders.size(); ++k) scratch.candidates.push_back(k);
+    for (std::uint32_t k : light.overlapping_occluders) {
+      if (std::binary_search(scratch.candidates.begin(), scratch.candidates.end(), k)) return false;
+    }
+    KernelLight kl;
+    kl.first_pair = static_cast<std::uint32_t>(work.pairs.size());
+    bool shadowed = false;
+    for (std::uint32_t k : scratch.candidates) {
+      const ConvexShape& occluder = scene.occluders[k];
+      const auto line = separating_line(occluder, light.shape);
+      if (!line) return false;  // touching shapes: leave them to the reference
+      KernelPair pair;
+      pair.occluder = k;
+      pair.nx = static_cast<float>(line->normal.x);
+      pair.ny = static_cast<float>(line->normal.y);
+      pair.c = static_cast<float>(line->offset - dot(line->normal, origin));
+      if (culling) {
+        int front = 0;
+        for (Vec2 p : corners) front += dot(line->normal, p) >= line->offset;
+        if (front == 0) continue;  // the light comes first everywhere in the tile
+        if (front == 4) {
+          pair.nx = pair.ny = 0.0f;
+          pair.c = -1.0f;
+          // The umbra of a convex occluder for a convex light is convex, so the tile is in
+          // it when its four corners are.
+          if (std::all_of(corners.begin(), corners.end(),
+                          [&](Vec2 p) { return in_umbra(light.shape, occluder, p); })) {
+            shadowed = true;
+            break;
+          }
+        }
+      }
+      work.pairs.push_back(pair);
+    }
+    if (shadowed) {
+      work.pairs.resize(kl.first_pair);
+      continue;
+    }
+    kl.pair_count = static_cast<std::uint32_t>(work.pairs.size()) - kl.first_pair;
+    for (std::uint32_t p = kl.first_pair; p < work.pairs.size(); ++p) {
+      std::int32_t& local = scratch.local_index[work.pairs[p].occluder];
+      if (local < 0) {
+        local = static_cast<std::int32_t>(scratch.used.size());
+        scratch.used.push_back(work.pairs[p].occluder);
+      }
+      work.pairs[p].occluder = static_cast<std::uint32_t>(local);
+    }
+    kl.shape = kernel_shape(light.shape, origin, center, work);
+    for (int c = 0; c < 3; ++c) kl.emission[c] = static_cast<float>(light.emission[c] / kTwoPi);
+    work.max_pairs_per_light = std::max(work.max_pairs_per_light, kl.pair_count);
+    work.lights.push_back(kl);
+  }
+  for (std::uint32_t k : scratch.used) work.occluders.push_back(kernel_shape(scene.occluders[k], origin, center, work));
+  return true;
+}
+
+}  // namespace par2d::detail

@@ -1,0 +1,268 @@
+// Scene validation against SPEC.md section 3, and the e_max bound of section 5.
+#include "scene/scene_validate.hpp"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <new>
+#include <string>
+#include <system_error>
+#include <vector>
+
+namespace par2d {
+namespace detail {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// SPEC.md section 3: a turn with |cross(e1, e2)| <= kStraightTolerance * |e1| * |e2| is straight.
+constexpr double kStraightTolerance = 1e-9;
+
+std::string indexed(const std::string& place, std::size_t index) {
+  return place + "[" + std::to_string(index) + "]";
+}
+
+MaybeProblem check_finite(double value, const std::string& place) {
+  if (!std::isfinite(value)) return SceneProblem{place, "not a finite number (" + format_number(value) + ")"};
+  return std::nullopt;
+}
+
+MaybeProblem check_point(const Vec2& p, const std::string& place) {
+  if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
+    return SceneProblem{place, "not a finite point (" + format_number(p.x) + ", " + format_number(p.y) + ")"};
+  }
+  return std::nullopt;
+}
+
+double cross(const Vec2& a, const Vec2& b) { return a.x * b.y - a.y * b.x; }
+double dot(const Vec2& a, const Vec2& b) { return a.x * b.x + a.y * b.y; }
+
+// The polygon rule of SPEC.md section 3. Coordinates are first scaled by a power of two
+// (exact) into [-1, 1], so that edge vectors, cross products and the shoelace sum cannot
+// overflow whatever finite coordinates come in; the tolerance test is scale-invariant, so
+// the verdict is the one the unscaled numbers would give.
+MaybeProblem check_polygon(const Polygon& polygon, const std::string& place) {
+  const std::vector<Vec2>& v = polygon.vertices;
+  const std::size_t n = v.size();
+  if (n < 3) return SceneProblem{place, "needs at least 3 vertices, got " + std::to_string(n)};
+
+  double max_abs = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (auto problem = check_point(v[i], indexed(place, i))) return problem;
+    max_abs = std::max({max_abs, std::fabs(v[i].x), std::fabs(v[i].y)});
+  }
+  if (max_abs == 0.0) return SceneProblem{place, "zero area (all vertices coincide)"};
+  int exponent = 0;
+  std::frexp(max_abs, &exponent);
+  auto scaled = [&](std::size_t i) {
+    return Vec2{std::ldexp(v[i].x, -exponent), std::ldexp(v[i].y, -exponent)};
+  };
+
+  // Zero-length edges (repeated consecutive vertices, including a closing repeat of vertex 0)
+  // have no direction, so they are skipped; `end` is the vertex where the edge ends, which
+  // is where the turn to the next kept edge happens.
+  struct Edge {
+    Vec2 d;
+    std::size_t end;
+  };
+  std::vector<Edge> edges;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t j = (i + 1) % n;
+    const Vec2 a = scaled(i);
+    const Vec2 b = scaled(j);
+    const Vec2 d{b.x - a.x, b.y - a.y};
+    if (d.x != 0.0 || d.y != 0.0) edges.push_back({d, j});
+  }
+  if (edges.empty()) return SceneProblem{place, "zero area (all vertices coincide)"};
+
+  // Each turn: +1 left, -1 right, 0 straight. A near-straight turn that goes back the way
+  // it came (dot < 0) is a fold; it keeps the sign of its cross product when there is one
+  // (a needle-thin tip), and with an exactly zero cross product it has no side at all.
+  struct Turn {
+    int side;
+    bool fold;
+    double angle;
+    std::size_t vertex;
+  };
+  std::vector<Turn> turns;
+  turns.reserve(edges.size());
+  int left = 0;
+  int right = 0;
+  int proper = 0;  // turns beyond the straight tolerance; without any, the vertices are collinear
+  int first_side = 0;
+  for (std::size_t k = 0; k < edges.size(); ++k) {
+    const Vec2& e1 = edges[k].d;
+    const Vec2& e2 = edges[(k + 1) % edges.size()].d;
+    const double c = cross(e1, e2);
+    const double d = dot(e1, e2);
+    const double tolerance = kStraightTolerance * std::hypot(e1.x, e1.y) * std::hypot(e2.x, e2.y);
+    Turn turn{0, false, std::atan2(c, d), edges[k].end};
+    if (std::fabs(c) > tolerance || d < 0.0) {
+      turn.side = c > 0.0 ? 1 : (c < 0.0 ? -1 : 0);
+      turn.fold = std::fabs(c) <= tolerance;
+      if (!turn.fold) ++proper;
+    }
+    if (turn.side > 0) ++left;
+    if (turn.side < 0) ++right;
+    if (first_side == 0) first_side = turn.side;
+    turns.push_back(turn);
+  }
+  if (proper == 0) return SceneProblem{place, "zero area (all vertices are collinear)"};
+
+  // The winding is the sign of the area; should that be zero (a symmetric bow-tie) the
+  // majority of turns decides, so the vertex named is the odd one out.
+  double area2 = 0.0;
+  const Vec2 origin = scaled(0);
+  for (std::size_t i = 1; i + 1 < n; ++i) {
+    const Vec2 a = scaled(i);
+    const Vec2 b = scaled(i + 1);
+    area2 += cross(Vec2{a.x - origin.x, a.y - origin.y}, Vec2{b.x - origin.x, b.y - origin.y});
+  }
+  int winding = area2 > 0.0 ? 1 : (area2 < 0.0 ? -1 : 0);
+  if (winding == 0) winding = left > right ? 1 : (right > left ? -1 : first_side);
+
+  const Turn* bad = nullptr;
+  for (const Turn& turn : turns) {
+    const bool against = turn.side == -winding || (turn.fold && turn.side == 0);
+    if (against && (bad == nullptr || turn.vertex < bad->vertex)) bad = &turn;
+  }
+  if (bad != nullptr) return SceneProblem{place, "not convex at vertex " + std::to_string(bad->vertex)};
+
+  // Turns all to one side can still wind around more than once (a pentagram's vertex list):
+  // a simple convex boundary turns through exactly one revolution.
+  double total = 0.0;
+  for (const Turn& turn : turns) total += turn.angle;
+  const double revolutions = std::fabs(total) / (2.0 * kPi);
+  if (!(revolutions > 0.5 && revolutions < 1.5)) {
+    return SceneProblem{place, "self-overlapping (its boundary winds around " +
+                                   std::to_string(std::lround(revolutions)) + " times, not once)"};
+  }
+  if (area2 == 0.0) return SceneProblem{place, "zero area"};
+  return std::nullopt;
+}
+
+MaybeProblem check_circle(const Circle& circle, const std::string& place) {
+  if (auto problem = check_point(circle.center, place + ".center")) return problem;
+  if (auto problem = check_finite(circle.radius, place + ".radius")) return problem;
+  if (!(circle.radius > 0.0)) {
+    return SceneProblem{place + ".radius", "must be > 0, got " + format_number(circle.radius)};
+  }
+  return std::nullopt;
+}
+
+MaybeProblem check_segment(const Segment& segment, const std::string& place) {
+  if (auto problem = check_point(segment.a, indexed(place, 0))) return problem;
+  if (auto problem = check_point(segment.b, indexed(place, 1))) return problem;
+  if (segment.a.x == segment.b.x && segment.a.y == segment.b.y) {
+    return SceneProblem{place, "the two points coincide"};
+  }
+  return std::nullopt;
+}
+
+MaybeProblem check_non_negative(double value, const std::string& place) {
+  if (auto problem = check_finite(value, place)) return problem;
+  if (!(value >= 0.0)) return SceneProblem{place, "must be >= 0, got " + format_number(value)};
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::string image_side_range_text() {
+  return "must be an integer from 1 to " + std::to_string(kMaxImageSide);
+}
+
+MaybeProblem check_image_size(int width, int height) {
+  if (width < 1 || width > kMaxImageSide) {
+    return SceneProblem{"width", image_side_range_text() + ", got " + std::to_string(width)};
+  }
+  if (height < 1 || height > kMaxImageSide) {
+    return SceneProblem{"height", image_side_range_text() + ", got " + std::to_string(height)};
+  }
+  return std::nullopt;
+}
+
+MaybeProblem check_view(const View& view) {
+  const std::array<double, 4> values{view.x0, view.y0, view.x1, view.y1};
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (auto problem = check_finite(values[i], indexed("view", i))) return problem;
+  }
+  if (view.x0 == view.x1) return SceneProblem{"view", "x0 and x1 are equal (the view has no width)"};
+  if (view.y0 == view.y1) return SceneProblem{"view", "y0 and y1 are equal (the view has no height)"};
+  // Pixel positions are computed from x1 - x0; an extent that overflows would make every one inf.
+  if (!std::isfinite(view.x1 - view.x0) || !std::isfinite(view.y1 - view.y0)) {
+    return SceneProblem{"view", "extent is too large to represent"};
+  }
+  return std::nullopt;
+}
+
+MaybeProblem check_shape(const Shape& shape, const std::string& place) {
+  if (const auto* polygon = std::get_if<Polygon>(&shape)) return check_polygon(*polygon, place + ".polygon");
+  if (const auto* circle = std::get_if<Circle>(&shape)) return check_circle(*circle, place + ".circle");
+  if (const auto* segment = std::get_if<Segment>(&shape)) return check_segment(*segment, place + ".segment");
+  return SceneProblem{place, "has no shape"};  // valueless_by_exception
+}
+
+MaybeProblem check_light(const Light& light, const std::string& place) {
+  if (auto problem = check_shape(light.shape, place)) return problem;
+  for (std::size_t c = 0; c < light.color.size(); ++c) {
+    if (auto problem = check_non_negative(light.color[c], indexed(place + ".color", c))) return problem;
+  }
+  return check_non_negative(light.intensity, place + ".intensity");
+}
+
+MaybeProblem check_occluder(const Occluder& occluder, const std::string& place) {
+  return check_shape(occluder.shape, place);
+}
+
+Status scene_error(std::string_view name, const SceneProblem& problem) {
+  std::string message(name);
+  message += ": ";
+  if (!problem.place.empty()) {
+    message += problem.place;
+    message += ": ";
+  }
+  message += problem.what;
+  return Status(StatusCode::invalid_scene, std::move(message));
+}
+
+std::string format_number(double value) {
+  if (std::isnan(value)) return "nan";
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  std::array<char, 64> buffer{};
+  const auto result = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+  if (result.ec != std::errc()) return "?";
+  return std::string(buffer.data(), result.ptr);
+}
+
+}  // namespace detail
+
+Status validate_scene(const Scene& scene, std::string_view name) {
+  try {
+    detail::MaybeProblem problem = detail::check_image_size(scene.width, scene.height);
+    if (!problem) problem = detail::check_view(scene.view);
+    for (std::size_t i = 0; !problem && i < scene.lights.size(); ++i) {
+      problem = detail::check_light(scene.lights[i], "lights[" + std::to_string(i) + "]");
+    }
+    for (std::size_t i = 0; !problem && i < scene.occluders.size(); ++i) {
+      problem = detail::check_occluder(scene.occluders[i], "occluders[" + std::to_string(i) + "]");
+    }
+    if (problem) return detail::scene_error(name, *problem);
+    return Status::success();
+  } catch (const std::bad_alloc&) {
+    return Status(StatusCode::out_of_memory, std::string(name) + ": out of memory while validating the scene");
+  }
+}
+
+double max_emission_sum(const Scene& scene) noexcept {
+  double sum = 0.0;
+  for (const Light& light : scene.lights) {
+    double largest = 0.0;
+    for (double channel : light.color) largest = std::max(largest, light.intensity * channel);
+    sum += largest;
+  }
+  return sum;
+}
+
+}  // namespace par2d

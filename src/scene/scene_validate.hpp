@@ -1,0 +1,39 @@
+// Per-part scene checks shared by validate_scene and the JSON loader, so both word problems alike.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "par2d/scene.hpp"
+#include "par2d/status.hpp"
+
+namespace par2d::detail {
+
+// What is wrong and where: `place` is JSON-path-like ("lights[2].polygon"), empty for the whole scene.
+struct SceneProblem {
+  std::string place;
+  std::string what;
+};
+
+using MaybeProblem = std::optional<SceneProblem>;
+
+// The text every refused image side gets, so the loader (which sees doubles and 64-bit
+// integers before it may cast) and validate_scene agree word for word.
+std::string image_side_range_text();
+
+MaybeProblem check_image_size(int width, int height);
+MaybeProblem check_view(const View& view);
+
+// `place` names the light or occluder ("lights[2]"); shape problems add ".polygon" etc.
+MaybeProblem check_shape(const Shape& shape, const std::string& place);
+MaybeProblem check_light(const Light& light, const std::string& place);
+MaybeProblem check_occluder(const Occluder& occluder, const std::string& place);
+
+// `NAME: PLACE: WHAT` (or `NAME: WHAT` without a place) as an invalid_scene status.
+Status scene_error(std::string_view name, const SceneProblem& problem);
+
+// Shortest text that reads back as the same double ("0.1", "1e+300", "inf").
+std::string format_number(double value);
+
+}  // namespace par2d::detail

@@ -1,0 +1,232 @@
+// The PAR tile kernel, written once over the xsimd architecture and instantiated per ISA
+// in tile_kernel_<isa>.cpp (and nowhere else).
+//
+// SoA layout: a packet is W consecutive pixels of the tile's 256 (16 x 16 row-major;
+// W divides 16), one lane each; every shape parameter is broadcast to all lanes.
+// Lane semantics: each lane computes E at its own sample position; control flow depends
+// only on the tile's shape lists, never on lane data, so there are no lane branches:
+// per-lane decisions (inside, in front, overlap, wrap) are masks and selects.
+// Edge cases: a pixel inside any occluder gets 0; inside a light gets the light's full
+// arc; a zero direction (pixel exactly on a vertex) gives angle 0, never NaN.
+// Reference: detail::scalar_irradiance (scalar/scalar_renderer.cpp), which this must
+// match within SPEC.md section 5 away from shape boundaries.
+#pragma once
+
+#include <xsimd/xsimd.hpp>
+
+#include <cstddef>
+
+#include "simd/fast_atan2.hpp"
+#include "simd/tile_work.hpp"
+
+namespace par2d::simd {
+
+using detail::KernelLight;
+using detail::KernelPair;
+using detail::KernelShape;
+using detail::ShapeKind;
+using detail::TileResult;
+using detail::TileWork;
+
+inline constexpr float kTwoPiF = 6.28318530717958647692f;
+inline constexpr float kInvTwoPiF = 0.15915494309189533577f;
+
+template <class A>
+struct Arc {
+  xsimd::batch<float, A> start;  // absolute angle of the arc's clockwise-most direction
+  xsimd::batch<float, A> width;  // in [0, 2*pi]
+  xsimd::batch_bool<float, A> inside;
+};
+
+// Arc of directions in which `shape` is seen from (px, py), per lane. Tangent
+// directions come from pseudo-cross products (compare + select per vertex); only the
+// two tangents go through atan2.
+template <class A>
+inline Arc<A> shape_arc(const TileWork& work, const KernelShape& s, const xsimd::batch<float, A>& px,
+                        const xsimd::batch<float, A>& py) noexcept {
+  using B = xsimd::batch<float, A>;
+  Arc<A> arc;
+  if (s.kind == ShapeKind::circle) {
+    const B qx = B(s.px) - px, qy = B(s.py) - py;
+    // |x - c|^2 - r^2 without cancellation (see KernelShape).
+    const B excess = xsimd::fma(qx, qx, qy * qy) - B(2.0f * s.r) * xsimd::fma(B(s.ux), qx, B(s.uy) * qy);
+    arc.inside = excess <= B(0.0f);
+    const B dx = B(s.cx) - px, dy = B(s.cy) - py;
+    const B center = fast_atan2(dy, dx);
+    const B half = fast_atan2(B(s.r), xsimd::sqrt(xsimd::max(excess, B(0.0f))));
+    arc.start = center - half;
+    arc.width = half + half;
+    return arc;
+  }
+  const float* vx = work.vx.data() + s.first;
+  const float* vy = work.vy.data() + s.first;
+  B lox = B(vx[0]) - px, loy = B(vy[0]) - py;
+  B hix = lox, hiy = loy;
+  if (s.kind == ShapeKind::segment) {
+    const B bx = B(vx[1]) - px, by = B(vy[1]) - py;
+    const auto swap = (lox * by - loy * bx) < B(0.0f);
+    hix = xsimd::select(swap, lox, bx);
+    hiy = xsimd::select(swap, loy, by);
+    lox = xsimd::select(swap, bx, lox);
+    loy = xsimd::select(swap, by, loy);
+    arc.inside = B(0.0f) > B(0.0f);  // a segment has no interior
+  } else {
+    const float* nx = work.edge_nx.data() + s.first;
+    const float* ny = work.edge_ny.data() + s.first;
+    const float* nc = work.edge_c.data() + s.first;
+    B outside_by = xsimd::fma(B(nx[0]), px, B(ny[0]) * py) - B(nc[0]);
+    outside_by = -outside_by;  // > 0 outside edge 0
+    for (std::uint32_t i = 1; i < s.count; ++i) {
+      const B dx = B(vx[i]) - px, dy = B(vy[i]) - py;
+      // Outside a convex polygon all vertices lie in an open half-plane of directions,
+      // where the pseudo-cross sign is a total order: running min and max find the tangents.
+      const auto more_cw = (lox * dy - loy * dx) < B(0.0f);
+      lox = xsimd::select(more_cw, dx, lox);
+      loy = xsimd::select(more_cw, dy, loy);
+      const auto more_ccw = (hix * dy - hiy * dx) > B(0.0f);
+      hix = xsimd::select(more_ccw, dx, hix);
+      hiy = xsimd::select(more_ccw, dy, hiy);
+      outside_by = xsimd::max(outside_by, B(nc[i]) - xsimd::fma(B(nx[i]), px, B(ny[i]) * py));
+    }
+    arc.inside = outside_by <= B(0.0f);
+  }
+  arc.start = fast_atan2(loy, lox);
+  B width = fast_atan2(hiy, hix) - arc.start;
+  width = xsimd::select(width < B(0.0f), width + B(kTwoPiF), width);
+  // An outside arc is narrower than pi; a width near 2*pi is -0 rounded up (collinear view).
+  arc.width = xsimd::select(width > B(4.71238898f), B(0.0f), width);
+  return arc;
+}
+
+// Sorts the pair (lo, hi) arrays by lo, ascending, over `slots` (a power of two) entries.
+// Bitonic network: its compare-exchange sequence depends only on `slots`, so every lane
+// runs the same instructions (no lane branches, unlike insertion sort), and for the
+// handful of occluders a tile-light pair keeps after culling (typically 1-8) it is a
+// few dozen min/max/selects.
+template <class A>
+inline void bitonic_sort_by_lo(float* lo, float* hi, std::size_t slots) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  for (std::size_t k = 2; k <= slots; k <<= 1) {
+    for (std::size_t j = k >> 1; j > 0; j >>= 1) {
+      for (std::size_t i = 0; i < slots; ++i) {
+        const std::size_t l = i ^ j;
+        if (l <= i) continue;
+        const B a = B::load_aligned(lo + i * W), b = B::load_aligned(lo + l * W);
+        const B ha = B::load_aligned(hi + i * W), hb = B::load_aligned(hi + l * W);
+        const bool ascending = (i & k) == 0;
+        const auto swap = ascending ? (a > b) : (a < b);
+        xsimd::select(swap, b, a).store_aligned(lo + i * W);
+        xsimd::select(swap, a, b).store_aligned(lo + l * W);
+        xsimd::select(swap, hb, ha).store_aligned(hi + i * W);
+        xsimd::select(swap, ha, hb).store_aligned(hi + l * W);
+      }
+    }
+  }
+}
+
+// Measure of the union of intervals [lo[i], hi[i]] (i < count, sorted by lo) and [0, reach0]:
+// a running-max sweep; each interval adds only the part beyond everything before it.
+template <class A>
+inline xsimd::batch<float, A> sorted_union_measure(const float* lo, const float* hi, std::size_t count,
+                                                   xsimd::batch<float, A> reach0) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  B covered = reach0, reach = reach0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const B l = B::load_aligned(lo + i * W), h = B::load_aligned(hi + i * W);
+    covered += xsimd::max(h - xsimd::max(l, reach), B(0.0f));
+    reach = xsimd::max(reach, h);
+  }
+  return covered;
+}
+
+template <class A>
+inline std::size_t sort_slots(std::size_t count) noexcept {
+  std::size_t slots = 1;
+  while (slots < count) slots *= 2;
+  return slots;
+}
+
+// Irradiance (times 1/(2*pi), folded into the emissions) of one packet at (px, py).
+template <class A>
+inline void packet_irradiance(const TileWork& work, const xsimd::batch<float, A>& px,
+                              const xsimd::batch<float, A>& py, float* scratch, xsimd::batch<float, A> (&e)[3]) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  const std::size_t occluder_count = work.occluders.size();
+  float* occ_start = scratch;
+  float* occ_width = occ_start + occluder_count * W;
+  float* lo = occ_width + occluder_count * W;
+  const std::size_t slots = sort_slots<A>(work.max_pairs_per_light);
+  float* hi = lo + slots * W;
+
+  auto in_occluder = B(0.0f) > B(0.0f);
+  for (std::size_t k = 0; k < occluder_count; ++k) {
+    const Arc<A> arc = shape_arc<A>(work, work.occluders[k], px, py);
+    in_occluder = in_occluder | arc.inside;
+    arc.start.store_aligned(occ_start + k * W);
+    arc.width.store_aligned(occ_width + k * W);
+  }
+  for (int c = 0; c < 3; ++c) e[c] = B(0.0f);
+  for (const KernelLight& light : work.lights) {
+    const Arc<A> arc = shape_arc<A>(work, light.shape, px, py);
+    const B width = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
+    B reach0(0.0f);
+    const std::size_t n = light.pair_count;
+    for (std::size_t p = 0; p < n; ++p) {
+      const KernelPair& pair = work.pairs[light.first_pair + p];
+      // Disjoint convex shapes: the occluder is in front along every shared direction
+      // exactly when the pixel is on its side of a separating line. Inside the light
+      // nothing is in front (t_L = 0).
+      const auto blocks = (xsimd::fma(B(pair.nx), px, B(pair.ny) * py) >= B(pair.c)) & ~arc.inside;
+      B o = B::load_aligned(occ_start + pair.occluder * W) - arc.start;
+      o -= B(kTwoPiF) * xsimd::floor(o * B(kInvTwoPiF));  // into [0, 2*pi)
+      const B end = o + B::load_aligned(occ_width + pair.occluder * W);
+      xsimd::select(blocks, xsimd::min(o, width), width).store_aligned(lo + p * W);
+      xsimd::select(blocks, xsimd::min(end, width), width).store_aligned(hi + p * W);
+      // The part that wraps past the light's start begins at 0: a running max suffices.
+      reach0 = xsimd::select(blocks, xsimd::max(reach0, xsimd::min(end - B(kTwoPiF), width)), reach0);
+    }
+    B visible = width;
+    if (n > 0) {
+      const std::size_t used = sort_slots<A>(n);
+      for (std::size_t p = n; p < used; ++p) {  // empty padding sorts last
+        width.store_aligned(lo + p * W);
+        width.store_aligned(hi + p * W);
+      }
+      if (used > 1) bitonic_sort_by_lo<A>(lo, hi, used);
+      visible = xsimd::max(width - sorted_union_measure<A>(lo, hi, n, xsimd::max(reach0, B(0.0f))), B(0.0f));
+    }
+    for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]), visible, e[c]);
+  }
+  for (int c = 0; c < 3; ++c) e[c] = xsimd::select(in_occluder, B(0.0f), e[c]);
+}
+
+// Fills `out` with the mean irradiance over the work's samples for all 256 pixels.
+template <class A>
+void render_tile(const TileWork& work, float* scratch, TileResult& out) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  static_assert(16 % W == 0, "a packet must not straddle a tile row");
+  alignas(64) float lane_index[W];
+  for (std::size_t l = 0; l < W; ++l) lane_index[l] = static_cast<float>(l);
+  const B lanes = B::load_aligned(lane_index);
+  const B dx(work.pixel_dx), dy(work.pixel_dy);
+  const B inv_spp(1.0f / static_cast<float>(work.spp));
+  for (std::size_t first = 0; first < 256; first += W) {
+    const B column = B(static_cast<float>(first % 16)) + lanes;
+    const B row(static_cast<float>(first / 16));
+    B sum[3] = {B(0.0f), B(0.0f), B(0.0f)};
+    for (int s = 0; s < work.spp; ++s) {
+      const B px = (column + B(work.sample_x[s])) * dx;
+      const B py = (row + B(work.sample_y[s])) * dy;
+      B e[3];
+      packet_irradiance<A>(work, px, py, scratch, e);
+      for (int c = 0; c < 3; ++c) sum[c] += e[c];
+    }
+    for (int c = 0; c < 3; ++c) (sum[c] * inv_spp).store_aligned(out.rgb[c] + first);
+  }
+}
+
+}  // namespace par2d::simd

@@ -1,0 +1,33 @@
+// Bodies of the per-ISA entry points: each tile_kernel_<isa>.cpp includes this with
+// PAR2D_KERNEL_ARCH and PAR2D_KERNEL_SUFFIX defined, so the three files differ only in flags.
+#include "simd/tile_kernel.hpp"
+
+#define PAR2D_CONCAT_INNER(a, b) a##b
+#define PAR2D_CONCAT(a, b) PAR2D_CONCAT_INNER(a, b)
+
+namespace par2d::simd {
+
+void PAR2D_CONCAT(render_tile_, PAR2D_KERNEL_SUFFIX)(const TileWork& work, float* scratch, TileResult& out) noexcept {
+  render_tile<PAR2D_KERNEL_ARCH>(work, scratch, out);
+}
+
+void PAR2D_CONCAT(union_measure_, PAR2D_KERNEL_SUFFIX)(float* lo, float* hi, std::size_t count, const float* width,
+                                                        const float* reach0, float* out) noexcept {
+  using B = xsimd::batch<float, PAR2D_KERNEL_ARCH>;
+  constexpr std::size_t W = B::size;
+  const B w = B::load_unaligned(width);
+  const std::size_t used = sort_slots<PAR2D_KERNEL_ARCH>(count);
+  for (std::size_t p = count; p < used; ++p) {
+    w.store_aligned(lo + p * W);
+    w.store_aligned(hi + p * W);
+  }
+  if (used > 1) bitonic_sort_by_lo<PAR2D_KERNEL_ARCH>(lo, hi, used);
+  sorted_union_measure<PAR2D_KERNEL_ARCH>(lo, hi, count, B::load_unaligned(reach0)).store_unaligned(out);
+}
+
+void PAR2D_CONCAT(atan2_, PAR2D_KERNEL_SUFFIX)(const float* y, const float* x, float* out) noexcept {
+  using B = xsimd::batch<float, PAR2D_KERNEL_ARCH>;
+  fast_atan2<PAR2D_KERNEL_ARCH>(B::load_unaligned(y), B::load_unaligned(x)).store_unaligned(out);
+}
+
+}  // namespace par2d::simd

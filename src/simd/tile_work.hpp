@@ -1,0 +1,87 @@
+// What a SIMD tile kernel reads: the tile's shapes in float, relative to the tile origin.
+//
+// Layout. Every coordinate is world minus the tile origin (the world position of the
+// tile's top-left pixel corner), computed in double and only then rounded to float, so
+// precision depends on distances inside the tile's neighbourhood, never on how far the
+// view is from the world origin (SPEC.md section 5).
+// Shapes are plain arrays of structs: the kernel broadcasts one shape's numbers to all
+// lanes and evaluates it for a packet of pixels (the lanes) at once.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "geometry/convex_shape.hpp"
+
+namespace par2d::detail {
+
+// One shape for the kernel. Polygons and segments use vertices [first, first + count)
+// of TileWork::vx/vy; polygons also edge lines [first, first + count) of
+// TileWork::edge_* (edge i runs from vertex i to i+1; inside is edge_nx*x + edge_ny*y >=
+// edge_c for every edge, with unit normals so the value is a signed distance).
+// Circles: center (cx, cy) and radius r; (px, py) is the circle point nearest the tile
+// and (ux, uy) the outward unit normal there, for a cancellation-free inside test:
+// |x - c|^2 - r^2 = |q|^2 - 2 r (u . q) with q = p - x small near the tile.
+struct KernelShape {
+  ShapeKind kind = ShapeKind::polygon;
+  std::uint32_t first = 0;
+  std::uint32_t count = 0;
+  float cx = 0, cy = 0, r = 0;
+  float px = 0, py = 0, ux = 0, uy = 0;
+};
+
+// An occluder in front of a light for some pixels of the tile: in front where
+// nx*x + ny*y >= c (the occluder's side of a line separating the two shapes).
+// A pair in front for the whole tile has nx = ny = 0, c = -1.
+struct KernelPair {
+  std::uint32_t occluder = 0;  // index into TileWork::occluders
+  float nx = 0, ny = 0, c = 0;
+};
+
+struct KernelLight {
+  KernelShape shape;
+  float emission[3] = {0, 0, 0};  // already divided by 2*pi
+  std::uint32_t first_pair = 0;   // pairs [first_pair, first_pair + pair_count)
+  std::uint32_t pair_count = 0;
+};
+
+struct TileWork {
+  float pixel_dx = 1, pixel_dy = 1;   // world size of a pixel step in x and y (signed)
+  int spp = 1;
+  std::vector<float> sample_x, sample_y;  // spp offsets inside the pixel, in [0, 1)
+  std::vector<KernelShape> occluders;
+  std::vector<KernelLight> lights;
+  std::vector<KernelPair> pairs;
+  std::vector<float> vx, vy;
+  std::vector<float> edge_nx, edge_ny, edge_c;
+  std::uint32_t max_pairs_per_light = 0;
+
+  void clear() noexcept {
+    occluders.clear();
+    lights.clear();
+    pairs.clear();
+    vx.clear();
+    vy.clear();
+    edge_nx.clear();
+    edge_ny.clear();
+    edge_c.clear();
+    max_pairs_per_light = 0;
+  }
+};
+
+// Output of a tile kernel: mean irradiance over the samples for each of the tile's 256
+// pixels (16 x 16, row-major), one plane per channel. Pixels past the image edge are
+// computed too (padding instead of scalar tails) and dropped by the caller.
+struct TileResult {
+  alignas(64) float rgb[3][256];
+};
+
+// Floats of scratch a kernel of `lanes` lanes needs for this work (caller-provided, 64-byte
+// aligned, so the kernel never allocates).
+inline std::size_t kernel_scratch_floats(const TileWork& work, int lanes) noexcept {
+  std::size_t sort_slots = 1;
+  while (sort_slots < work.max_pairs_per_light) sort_slots *= 2;
+  return static_cast<std::size_t>(lanes) * (2 * work.occluders.size() + 2 * sort_slots + 2);
+}
+
+}  // namespace par2d::detail

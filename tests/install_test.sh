@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Installs a par2d build into a temporary prefix, then builds and runs examples/embed against it
+# as a standalone project (find_package(par2d) + par2d::par2d), as a user of the package would.
+# Usage: install_test.sh CMAKE BUILD_DIR EXAMPLE_DIR [EXTRA_CXX_FLAGS]
+set -euo pipefail
+cmake_cmd=$1 build_dir=$2 example_dir=$3 extra_flags=${4:-}
+work=$(mktemp -d "${TMPDIR:-/tmp}/par2d-install-test.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+
+"$cmake_cmd" --install "$build_dir" --prefix "$work/prefix" >"$work/install.log" ||
+  { cat "$work/install.log"; exit 1; }
+# The package must be usable without the source tree: nothing may point back into it.
+if grep -rqs -- "$(cd "$example_dir/../.." && pwd)" "$work/prefix/lib"*/cmake/par2d; then
+  echo "installed CMake package refers to the source tree" >&2
+  exit 1
+fi
+"$cmake_cmd" -S "$example_dir" -B "$work/build" -DCMAKE_PREFIX_PATH="$work/prefix" \
+  -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS="$extra_flags" \
+  -DCMAKE_EXE_LINKER_FLAGS="$extra_flags" >"$work/configure.log" ||
+  { cat "$work/configure.log"; exit 1; }
+"$cmake_cmd" --build "$work/build" >"$work/build.log" 2>&1 || { cat "$work/build.log"; exit 1; }
+"$work/build/par2d_embed"

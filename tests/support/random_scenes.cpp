@@ -1,0 +1,177 @@
+// Deterministic random scenes for tests and pixel helpers (see random_scenes.hpp).
+#include "support/random_scenes.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace par2d::test {
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586476925286766559;
+
+struct Placed {
+  Vec2 center;
+  double radius;  // bounding circle of the shape
+};
+
+bool apart(const Placed& a, const Placed& b, double gap) {
+  return std::hypot(a.center.x - b.center.x, a.center.y - b.center.y) > a.radius + b.radius + gap;
+}
+
+double point_segment_distance(Vec2 p, Vec2 a, Vec2 b) noexcept {
+  const double ex = b.x - a.x, ey = b.y - a.y;
+  const double wx = p.x - a.x, wy = p.y - a.y;
+  const double ee = ex * ex + ey * ey;
+  double s = ee > 0.0 ? (wx * ex + wy * ey) / ee : 0.0;
+  s = std::clamp(s, 0.0, 1.0);
+  return std::hypot(wx - s * ex, wy - s * ey);
+}
+
+// A shape whose bounding circle is (center, radius).
+Shape random_shape(PortableRandom& rng, const RandomSceneOptions& o, Vec2 c, double radius) {
+  int kinds[3];
+  int n = 0;
+  if (o.polygons) kinds[n++] = 0;
+  if (o.circles) kinds[n++] = 1;
+  if (o.segments) kinds[n++] = 2;
+  const int kind = n == 0 ? 1 : kinds[rng.integer(0, n - 1)];
+  if (kind == 1) return Circle{c, radius};
+  if (kind == 2) {
+    const double a = rng.uniform(0.0, kTwoPi);
+    const double dx = radius * std::cos(a), dy = radius * std::sin(a);
+    return Segment{{c.x - dx, c.y - dy}, {c.x + dx, c.y + dy}};
+  }
+  // Points on an ellipse in angular order are in convex position; a jittered
+  // stratified choice of angles keeps them at least 0.2 * 2pi/n apart so that no
+  // corner is nearly straight and the area is never close to zero.
+  const int count = rng.integer(3, std::max(3, o.max_polygon_vertices));
+  const double minor = radius * rng.uniform(0.3, 1.0);
+  const double rotation = rng.uniform(0.0, kTwoPi);
+  const double phase = rng.uniform(0.0, kTwoPi);
+  const double cr = std::cos(rotation), sr = std::sin(rotation);
+  Polygon poly;
+  for (int k = 0; k < count; ++k) {
+    const double t = phase + (k + 0.8 * rng.uniform()) * kTwoPi / count;
+    const double ex = radius * std::cos(t), ey = minor * std::sin(t);
+    poly.vertices.push_back({c.x + cr * ex - sr * ey, c.y + sr * ex + cr * ey});
+  }
+  if (rng.chance(0.5)) std::reverse(poly.vertices.begin(), poly.vertices.end());
+  return poly;
+}
+
+}  // namespace
+
+double PortableRandom::uniform() noexcept {
+  // genrand_res53 from the reference Mersenne Twister: 27 + 26 bits.
+  const double a = static_cast<double>(engine_() >> 5);
+  const double b = static_cast<double>(engine_() >> 6);
+  return (a * 67108864.0 + b) * (1.0 / 9007199254740992.0);
+}
+
+int PortableRandom::integer(int lo, int hi) noexcept {
+  const int v = lo + static_cast<int>(std::floor(uniform() * (static_cast<double>(hi) - lo + 1.0)));
+  return std::min(v, hi);
+}
+
+Scene random_scene(std::uint32_t seed, const RandomSceneOptions& o) {
+  PortableRandom rng(seed);
+  Scene scene;
+  scene.width = o.width;
+  scene.height = o.height;
+  scene.view = o.view ? *o.view : View{0.0, 0.0, static_cast<double>(o.width), static_cast<double>(o.height)};
+  const double x_lo = std::min(scene.view.x0, scene.view.x1), x_hi = std::max(scene.view.x0, scene.view.x1);
+  const double y_lo = std::min(scene.view.y0, scene.view.y1), y_hi = std::max(scene.view.y0, scene.view.y1);
+  const double w = x_hi - x_lo, h = y_hi - y_lo;
+  const double size = std::min(w, h);
+  const double gap = o.gap * size;
+
+  const int n_lights = rng.integer(o.min_lights, std::max(o.min_lights, o.max_lights));
+  const int n_occluders = rng.integer(o.min_occluders, std::max(o.min_occluders, o.max_occluders));
+
+  auto draw_place = [&] {
+    Placed p;
+    p.center = {rng.uniform(x_lo - o.outside * w, x_hi + o.outside * w),
+                rng.uniform(y_lo - o.outside * h, y_hi + o.outside * h)};
+    p.radius = size * rng.uniform(o.min_size, o.max_size);
+    return p;
+  };
+
+  std::vector<Placed> occluder_places;
+  for (int k = 0; k < n_occluders; ++k) {
+    for (int attempt = 0; attempt < 200; ++attempt) {
+      const Placed p = draw_place();
+      const bool ok = o.occluders_may_overlap ||
+                      std::all_of(occluder_places.begin(), occluder_places.end(),
+                                  [&](const Placed& q) { return apart(p, q, gap); });
+      if (!ok) continue;
+      occluder_places.push_back(p);
+      scene.occluders.push_back({random_shape(rng, o, p.center, p.radius)});
+      break;
+    }
+  }
+  for (int k = 0; k < n_lights; ++k) {
+    for (int attempt = 0; attempt < 200; ++attempt) {
+      const Placed p = draw_place();
+      const bool ok = !o.lights_disjoint_from_occluders ||
+                      std::all_of(occluder_places.begin(), occluder_places.end(),
+                                  [&](const Placed& q) { return apart(p, q, gap); });
+      if (!ok) continue;
+      Light light;
+      light.shape = random_shape(rng, o, p.center, p.radius);
+      light.color = {rng.uniform(), rng.uniform(), rng.uniform()};
+      light.intensity = rng.uniform(o.min_intensity, o.max_intensity);
+      scene.lights.push_back(light);
+      break;
+    }
+  }
+  return scene;
+}
+
+double distance_to_boundary(const Shape& shape, Vec2 p) noexcept {
+  if (const auto* c = std::get_if<Circle>(&shape))
+    return std::fabs(std::hypot(p.x - c->center.x, p.y - c->center.y) - c->radius);
+  if (const auto* s = std::get_if<Segment>(&shape)) return point_segment_distance(p, s->a, s->b);
+  const auto& v = std::get<Polygon>(shape).vertices;
+  double d = HUGE_VAL;
+  for (std::size_t i = 0; i < v.size(); ++i)
+    d = std::min(d, point_segment_distance(p, v[i], v[(i + 1) % v.size()]));
+  return d;
+}
+
+bool near_boundary(const Scene& scene, Vec2 p, double dist) noexcept {
+  for (const auto& l : scene.lights)
+    if (distance_to_boundary(l.shape, p) <= dist) return true;
+  for (const auto& o : scene.occluders)
+    if (distance_to_boundary(o.shape, p) <= dist) return true;
+  return false;
+}
+
+Vec2 pixel_center(const Scene& scene, int i, int j) noexcept {
+  const View& v = scene.view;
+  return {v.x0 + (i + 0.5) * (v.x1 - v.x0) / scene.width, v.y0 + (j + 0.5) * (v.y1 - v.y0) / scene.height};
+}
+
+double pixel_width(const Scene& scene) noexcept {
+  const View& v = scene.view;
+  return std::min(std::fabs(v.x1 - v.x0) / scene.width, std::fabs(v.y1 - v.y0) / scene.height);
+}
+
+double emission_max_sum(const Scene& scene) noexcept {
+  double sum = 0.0;
+  for (const auto& l : scene.lights)
+    sum += l.intensity * std::max({l.color[0], l.color[1], l.color[2]});
+  return sum;
+}
+
+RenderedImage render_image(const Scene& scene, const RenderOptions& options, Status& status) {
+  RenderedImage image;
+  image.width = scene.width;
+  image.height = scene.height;
+  image.pixels.assign(static_cast<std::size_t>(scene.width) * scene.height * 3, -1.0f);
+  const ImageView view{image.pixels.data(), scene.width, scene.height,
+                       static_cast<std::ptrdiff_t>(scene.width) * 3};
+  status = render(scene, options, view);
+  return image;
+}
+
+}  // namespace par2d::test

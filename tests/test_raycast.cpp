@@ -1,0 +1,221 @@
+// PAR (scalar) against brute-force ray casting on random scenes, with a tolerance derived from the ray count.
+//
+// Why the tolerance is what it is: with N stratified directions theta_k =
+// 2pi(k + jitter)/N, the ray caster's value for light L is e_L/N times the number of
+// visible rays, and the exact value is e_L/N times sum_k (visible fraction of
+// stratum k). A stratum in which L's visibility does not change contributes the
+// same to both; one that contains a visibility boundary (an angle where L starts or
+// stops being visible) differs by at most e_L/N. So |E_par - E_ray| <= sum_L e_L *
+// (number of visibility boundaries of L) / N. When lights and occluders are
+// disjoint, L's visible set is Theta_L minus the union of the Theta_B of occluders in
+// front of it, whose boundaries are among the 2 endpoints of Theta_L and the 2 of
+// each Theta_B: at most 2 + 2 * #occluders. (Inside L, Theta_L is the whole circle and
+// has no endpoints; the bound still holds.) When a light and an occluder overlap,
+// visibility also changes where t_L = t_B, i.e. along rays through a point of
+// boundary(L) ∩ boundary(B); two convex boundaries meet in at most 2 * min(k_L, k_B)
+// points, with k = vertex count for a polygon, 1 for a segment, unbounded for a
+// circle, and 2 points for two circles. Plus SPEC.md section 5's 1e-6 * e_max for
+// the PAR side and float storage.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include "par2d/render.hpp"
+#include "par2d/scene.hpp"
+#include "raycast/raycast_renderer.hpp"
+#include "support/random_scenes.hpp"
+
+namespace par2d::test {
+namespace {
+
+constexpr int kRays = 4096;
+
+Rgb emission(const Light& light) {
+  return {light.intensity * light.color[0], light.intensity * light.color[1], light.intensity * light.color[2]};
+}
+
+// k in the comment above.
+int boundary_complexity(const Shape& shape) {
+  if (const auto* p = std::get_if<Polygon>(&shape)) return static_cast<int>(p->vertices.size());
+  if (std::holds_alternative<Segment>(shape)) return 1;
+  return std::numeric_limits<int>::max();
+}
+
+int boundary_intersections(const Shape& a, const Shape& b) {
+  if (std::holds_alternative<Circle>(a) && std::holds_alternative<Circle>(b)) return 2;
+  return 2 * std::min(boundary_complexity(a), boundary_complexity(b));
+}
+
+// Per-channel bound on |E_par - E_ray| at any pixel (see the file comment).
+Rgb stratification_bound(const Scene& scene, int rays, bool overlapping) {
+  Rgb bound{0, 0, 0};
+  for (const Light& l : scene.lights) {
+    double boundaries = 2.0 + 2.0 * static_cast<double>(scene.occluders.size());
+    if (overlapping)
+      for (const Occluder& o : scene.occluders) boundaries += boundary_intersections(l.shape, o.shape);
+    const Rgb e = emission(l);
+    for (int c = 0; c < 3; ++c) bound[c] += e[c] * boundaries / rays;
+  }
+  const double par_slack = 1e-6 * emission_max_sum(scene);
+  for (double& b : bound) b += par_slack;
+  return bound;
+}
+
+Scene raycast_scene(std::uint32_t seed, bool disjoint) {
+  RandomSceneOptions o;
+  o.width = 24;
+  o.height = 18;
+  o.max_lights = 4;
+  o.max_occluders = 12;
+  o.lights_disjoint_from_occluders = disjoint;
+  switch (seed % 5) {
+    case 1: o.view = View{1e5, 1e5, 1e5 + 24, 1e5 + 18}; break;
+    case 2: o.view = View{24, 0, 0, 18}; break;  // mirrored in x
+    case 3: o.view = View{-60, -45, 60, 45}; break;  // 5 world units per pixel
+    default: break;
+  }
+  return random_scene(seed, o);
+}
+
+// Compares `image` with the ray caster at every pixel farther than 1e-6 pixel widths
+// from every boundary (SPEC.md section 5's exemption). Returns the worst ratio of
+// error to bound, or fails a check with the pixel.
+double check_against_raycast(const Scene& scene, const RenderedImage& image, bool overlapping) {
+  const detail::RaycastRenderer caster(scene);
+  const Rgb bound = stratification_bound(scene, kRays, overlapping);
+  const double skip = 1e-6 * pixel_width(scene);
+  double worst_ratio = 0.0;
+  std::string where;
+  for (int j = 0; j < scene.height; ++j) {
+    for (int i = 0; i < scene.width; ++i) {
+      const Vec2 p = pixel_center(scene, i, j);
+      if (near_boundary(scene, p, skip)) continue;
+      const Rgb ray = caster.irradiance(p, kRays, 0.5);
+      for (int c = 0; c < 3; ++c) {
+        if (bound[c] <= 0.0) continue;
+        const double ratio = std::fabs(image.at(i, j, c) - ray[c]) / bound[c];
+        if (ratio > worst_ratio) {
+          worst_ratio = ratio;
+          std::ostringstream s;
+          s.precision(10);
+          s << "pixel (" << i << ", " << j << ") at (" << p.x << ", " << p.y << ") channel " << c
+            << ": PAR " << image.at(i, j, c) << ", ray cast " << ray[c] << ", bound " << bound[c];
+          where = s.str();
+        }
+      }
+    }
+  }
+  INFO("worst: " << where);
+  CHECK(worst_ratio <= 1.0);
+  return worst_ratio;
+}
+
+RenderedImage render_with(const Scene& scene, Backend backend, int rays = 1024) {
+  RenderOptions options;
+  options.backend = backend;
+  options.rays = rays;
+  options.threads = 2;
+  Status status;
+  RenderedImage image = render_image(scene, options, status);
+  INFO("render: " << status.message());
+  REQUIRE(status.ok());
+  return image;
+}
+
+}  // namespace
+
+TEST_CASE("random scenes are valid and reproducible from their seed") {
+  for (std::uint32_t seed = 1; seed <= 50; ++seed) {
+    CAPTURE(seed);
+    const Scene a = raycast_scene(seed, seed % 2 == 0);
+    const Status status = validate_scene(a);
+    INFO(status.message());
+    CHECK(status.ok());
+    const Scene b = raycast_scene(seed, seed % 2 == 0);
+    REQUIRE(a.lights.size() == b.lights.size());
+    REQUIRE(a.occluders.size() == b.occluders.size());
+    for (std::size_t k = 0; k < a.lights.size(); ++k) CHECK(a.lights[k].color == b.lights[k].color);
+  }
+  // Pinned values: the generator must give the same scenes with every standard library.
+  PortableRandom rng(12345);
+  CHECK(rng.uniform() == doctest::Approx(0.929616092817147).epsilon(1e-14));
+}
+
+TEST_CASE("ray caster reproduces closed forms within the stratification bound") {
+  Scene scene;
+  scene.width = 1;
+  scene.height = 1;
+  scene.view = {0, 0, 1, 1};
+  scene.lights.push_back({Circle{{40, -10}, 3}, {1, 0.5, 0.25}, 2});
+  scene.lights.push_back({Segment{{-5, 20}, {15, 30}}, {0.2, 1, 0}, 1});
+  const detail::RaycastRenderer caster(scene);
+  const Vec2 x{0.5, 0.5};
+  const double pi = 3.141592653589793;
+  const double circle = 2.0 * std::asin(3.0 / std::hypot(39.5, -10.5)) / (2 * pi);
+  const double ax = -5.5, ay = 19.5, bx = 14.5, by = 29.5;
+  const double segment = std::atan2(std::fabs(ax * by - ay * bx), ax * bx + ay * by) / (2 * pi);
+  const Rgb e = caster.irradiance(x, kRays, 0.5);
+  CHECK(std::fabs(e[0] - (2 * circle + 0.2 * segment)) <= (2 * 2.0 + 0.2 * 2.0) / kRays);
+  CHECK(std::fabs(e[1] - (1 * circle + 1 * segment)) <= (1 * 2.0 + 1 * 2.0) / kRays);
+  CHECK(std::fabs(e[2] - 0.5 * circle) <= 0.5 * 2.0 / kRays);
+  // Inside a light: every ray sees it; inside an occluder: nothing.
+  Scene inside = scene;
+  inside.lights.push_back({Polygon{{{0, 0}, {2, 0}, {2, 0}, {2, 2}, {1, 2}, {0, 2}}}, {1, 1, 1}, 3});
+  inside.occluders.push_back({Circle{{0.5, 1.5}, 0.25}});
+  const detail::RaycastRenderer inside_caster(inside);
+  CHECK(inside_caster.irradiance({1.5, 0.5}, 256, 0.5)[1] >= 3.0);
+  CHECK(inside_caster.irradiance({0.5, 1.5}, 256, 0.5) == Rgb{0, 0, 0});
+}
+
+TEST_CASE("PAR scalar matches ray casting on 50 random scenes with disjoint lights and occluders") {
+  double worst = 0.0;
+  int occluded_scenes = 0;
+  for (std::uint32_t seed = 1; seed <= 50; ++seed) {
+    CAPTURE(seed);
+    const Scene scene = raycast_scene(seed, true);
+    if (!scene.occluders.empty()) ++occluded_scenes;
+    worst = std::max(worst, check_against_raycast(scene, render_with(scene, Backend::scalar), false));
+  }
+  MESSAGE("worst |E_par - E_ray| / bound: " << worst);
+  CHECK(occluded_scenes > 40);
+}
+
+TEST_CASE("PAR scalar matches ray casting when lights overlap occluders (t_L < t_occ)") {
+  double worst = 0.0;
+  for (std::uint32_t seed = 1001; seed <= 1020; ++seed) {
+    CAPTURE(seed);
+    const Scene scene = raycast_scene(seed, false);
+    worst = std::max(worst, check_against_raycast(scene, render_with(scene, Backend::scalar), true));
+  }
+  MESSAGE("worst |E_par - E_ray| / bound: " << worst);
+}
+
+TEST_CASE("raycast backend through render() matches PAR within the stratification bound") {
+  for (std::uint32_t seed = 2001; seed <= 2005; ++seed) {
+    CAPTURE(seed);
+    const Scene scene = raycast_scene(seed, true);
+    const RenderedImage par = render_with(scene, Backend::scalar);
+    const RenderedImage ray = render_with(scene, Backend::raycast, kRays);
+    // Both sides of the bound: ray vs exact, and PAR's own 1e-6 * e_max.
+    const Rgb bound = stratification_bound(scene, kRays, false);
+    const double skip = 1e-6 * pixel_width(scene);
+    for (int j = 0; j < scene.height; ++j) {
+      for (int i = 0; i < scene.width; ++i) {
+        if (near_boundary(scene, pixel_center(scene, i, j), skip)) continue;
+        for (int c = 0; c < 3; ++c) {
+          const double err = std::fabs(static_cast<double>(par.at(i, j, c)) - ray.at(i, j, c));
+          if (err <= bound[c]) continue;
+          INFO("pixel (" << i << ", " << j << ") channel " << c << ": PAR " << par.at(i, j, c) << ", raycast backend "
+                         << ray.at(i, j, c) << ", bound " << bound[c]);
+          CHECK(false);
+        }
+      }
+    }
+  }
+}
+
+}  // namespace par2d::test

@@ -1,0 +1,271 @@
+// The par2d command-line tool: render a JSON scene to PNG/PFM, benchmark it, report the build (SPEC.md §4).
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <new>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "par2d/par2d.hpp"
+
+namespace {
+
+constexpr int kExitFailure = 1;
+constexpr int kExitUsage = 2;
+
+// Every failure is exactly one line on stderr, so scripts can show it verbatim.
+int fail(const std::string& message, int code = kExitFailure) {
+  std::string line = message;
+  for (char& c : line)
+    if (c == '\n' || c == '\r') c = ' ';
+  while (!line.empty() && line.back() == ' ') line.pop_back();
+  std::fprintf(stderr, "par2d: %s\n", line.c_str());
+  return code;
+}
+
+// Options shared by `render` and `bench`, as typed on the command line.
+struct CommonArgs {
+  std::string scene_path;
+  std::string backend = "auto";
+  std::string isa;  // empty: PAR2D_ISA or the best the CPU has
+  int threads = 0;
+  int spp = 1;
+  int rays = 1024;
+};
+
+struct RenderArgs {
+  std::string png_path;
+  std::string pfm_path;
+  double exposure = 1.0;
+};
+
+struct BenchArgs {
+  int frames = 10;
+  int width = 0;   // 0: the scene's
+  int height = 0;  // 0: the scene's
+  bool json = false;
+};
+
+const CLI::Validator kBackendName(
+    [](std::string& value) -> std::string {
+      if (par2d::parse_backend(value.c_str())) return {};
+      return "unknown backend '" + value + "' (expected auto, simd, scalar or raycast)";
+    },
+    "auto|simd|scalar|raycast", "backend name");
+
+const CLI::Validator kIsaName(
+    [](std::string& value) -> std::string {
+      if (par2d::parse_isa(value)) return {};
+      return "unknown ISA '" + value + "' (expected scalar, sse4, avx2 or avx512)";
+    },
+    "scalar|sse4|avx2|avx512", "ISA name");
+
+void add_common_options(CLI::App& cmd, CommonArgs& args) {
+  cmd.add_option("scene", args.scene_path, "Scene file (JSON, see README)")->required();
+  cmd.add_option("--backend", args.backend,
+                 "Rendering path. auto (default) picks the fastest path this CPU supports "
+                 "(the SIMD path where available); simd: vectorized tiles; scalar: the "
+                 "double-precision reference; raycast: brute-force baseline")
+      ->check(kBackendName);
+  cmd.add_option("--threads", args.threads,
+                 "Worker threads; 0 = all hardware threads. Default: 0")
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--spp", args.spp,
+                 "Samples per pixel in a fixed stratified pattern, 1..256. Default: 1")
+      ->check(CLI::Range(1, 256));
+  cmd.add_option("--rays", args.rays,
+                 "Directions per sample for --backend raycast, 1..1048576. Default: 1024")
+      ->check(CLI::Range(1, 1 << 20));
+  cmd.add_option("--isa", args.isa,
+                 "Force the SIMD instruction set (capped at what the CPU supports). "
+                 "Default: $PAR2D_ISA if set, else the best the CPU has")
+      ->check(kIsaName);
+}
+
+par2d::RenderOptions make_options(const CommonArgs& args) {
+  par2d::RenderOptions options;
+  options.backend = *par2d::parse_backend(args.backend.c_str());  // validated by kBackendName
+  options.threads = args.threads;
+  options.spp = args.spp;
+  options.rays = args.rays;
+  if (!args.isa.empty()) options.isa = par2d::parse_isa(args.isa);
+  return options;
+}
+
+int resolved_threads(int requested) {
+  if (requested > 0) return requested;
+  unsigned n = std::thread::hardware_concurrency();
+  return n == 0 ? 1 : static_cast<int>(n);
+}
+
+// Allocates the caller-owned float RGB buffer the library renders into.
+bool allocate_image(int width, int height, std::vector<float>& storage, par2d::ImageView& view,
+                    std::string& error) {
+  try {
+    storage.assign(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3, 0.0f);
+  } catch (const std::bad_alloc&) {
+    error = "out of memory allocating a " + std::to_string(width) + "x" + std::to_string(height) +
+            " image";
+    return false;
+  }
+  view.data = storage.data();
+  view.width = width;
+  view.height = height;
+  view.row_stride = static_cast<std::ptrdiff_t>(width) * 3;
+  return true;
+}
+
+int run_render(const CommonArgs& common, const RenderArgs& args) {
+  if (args.png_path.empty() && args.pfm_path.empty())
+    return fail("render: give -o OUT.png and/or --pfm OUT.pfm", kExitUsage);
+  if (args.png_path == args.pfm_path)
+    return fail("render: -o and --pfm name the same file '" + args.png_path + "'", kExitUsage);
+
+  par2d::Scene scene;
+  if (par2d::Status s = par2d::load_scene_file(common.scene_path, scene); !s)
+    return fail(s.message());
+
+  std::vector<float> storage;
+  par2d::ImageView image;
+  std::string error;
+  if (!allocate_image(scene.width, scene.height, storage, image, error)) return fail(error);
+
+  // The whole image exists before any file is touched: a failed render writes nothing.
+  if (par2d::Status s = par2d::render(scene, make_options(common), image); !s)
+    return fail(s.message());
+
+  if (!args.png_path.empty()) {
+    if (par2d::Status s = par2d::write_png(args.png_path, image, args.exposure); !s)
+      return fail(s.message());
+  }
+  if (!args.pfm_path.empty()) {
+    if (par2d::Status s = par2d::write_pfm(args.pfm_path, image); !s) {
+      // All or nothing: do not leave the PNG of a run that reported failure.
+      if (!args.png_path.empty()) std::remove(args.png_path.c_str());
+      return fail(s.message());
+    }
+  }
+  return 0;
+}
+
+int run_bench(const CommonArgs& common, const BenchArgs& args) {
+  par2d::Scene scene;
+  if (par2d::Status s = par2d::load_scene_file(common.scene_path, scene); !s)
+    return fail(s.message());
+  // The view stays as loaded (explicit or [0, 0, W, H]), so a new size rescales the same world.
+  if (args.width > 0) scene.width = args.width;
+  if (args.height > 0) scene.height = args.height;
+
+  std::vector<float> storage;
+  par2d::ImageView image;
+  std::string error;
+  if (!allocate_image(scene.width, scene.height, storage, image, error)) return fail(error);
+
+  const par2d::RenderOptions options = make_options(common);
+  // One untimed frame first: it pays for thread-pool start-up and first-touch page faults.
+  if (par2d::Status s = par2d::render(scene, options, image); !s) return fail(s.message());
+
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  for (int k = 0; k < args.frames; ++k) {
+    if (par2d::Status s = par2d::render(scene, options, image); !s) return fail(s.message());
+  }
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+
+  const double ms_per_frame = 1e3 * seconds / args.frames;
+  const double frames_per_s = seconds > 0.0 ? args.frames / seconds : INFINITY;
+  const double mpixel_per_s =
+      frames_per_s * static_cast<double>(scene.width) * static_cast<double>(scene.height) / 1e6;
+  const char* backend = par2d::backend_name(options.backend);
+  const char* isa = par2d::isa_name(par2d::resolved_isa(options));
+  const int threads = resolved_threads(options.threads);
+
+  if (args.json) {
+    std::printf(
+        "{\"ms_per_frame\": %.6g, \"frames_per_s\": %.6g, \"mpixel_per_s\": %.6g, "
+        "\"backend\": \"%s\", \"isa\": \"%s\", \"threads\": %d, \"width\": %d, "
+        "\"height\": %d, \"frames\": %d, \"spp\": %d, \"lights\": %zu, \"occluders\": %zu}\n",
+        ms_per_frame, std::isfinite(frames_per_s) ? frames_per_s : 0.0,
+        std::isfinite(mpixel_per_s) ? mpixel_per_s : 0.0, backend, isa, threads, scene.width,
+        scene.height, args.frames, options.spp, scene.lights.size(), scene.occluders.size());
+  } else {
+    std::printf("ms/frame=%.3f frames/s=%.2f Mpixel/s=%.2f backend=%s isa=%s threads=%d size=%dx%d\n",
+                ms_per_frame, frames_per_s, mpixel_per_s, backend, isa, threads, scene.width,
+                scene.height);
+  }
+  return 0;
+}
+
+void print_info() {
+  std::printf("par2d %s\n", par2d::kVersion);
+  std::printf("detected isa: %s\n", par2d::isa_name(par2d::detect_isa()));
+  const char* env = std::getenv("PAR2D_ISA");
+  std::printf("selected isa: %s%s%s%s\n", par2d::isa_name(par2d::default_isa()),
+              env ? " (PAR2D_ISA=" : "", env ? env : "", env ? ")" : "");
+  std::printf("hardware threads: %d\n", resolved_threads(0));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"par2d: exact 2D soft shadows (Probabilistic Angular Radiance), no noise.", "par2d"};
+  app.require_subcommand(0, 1);
+  bool show_version = false;
+  app.add_flag("--version", show_version, "Print the version and the detected/selected ISA");
+
+  CommonArgs render_common;
+  RenderArgs render_args;
+  CLI::App* render = app.add_subcommand("render", "Render a scene to an sRGB PNG and/or a linear PFM");
+  add_common_options(*render, render_common);
+  render->add_option("-o,--output", render_args.png_path, "Output PNG (8-bit sRGB)");
+  render->add_option("--pfm", render_args.pfm_path, "Output PFM (linear float32 RGB)");
+  render->add_option("--exposure", render_args.exposure,
+                     "PNG shows clamp(exposure * E, 0, 1), sRGB-encoded. Default: 1")
+      ->check(CLI::NonNegativeNumber);
+
+  CommonArgs bench_common;
+  BenchArgs bench_args;
+  CLI::App* bench = app.add_subcommand(
+      "bench", "Render a scene repeatedly in memory (one warm-up frame) and report the speed");
+  add_common_options(*bench, bench_common);
+  bench->add_option("--frames", bench_args.frames, "Timed frames. Default: 10")
+      ->check(CLI::Range(1, 1000000));
+  bench->add_option("--width", bench_args.width, "Override the image width, keeping the view")
+      ->check(CLI::Range(1, par2d::kMaxImageSide));
+  bench->add_option("--height", bench_args.height, "Override the image height, keeping the view")
+      ->check(CLI::Range(1, par2d::kMaxImageSide));
+  bench->add_flag("--json", bench_args.json, "Print one JSON object instead of a line");
+
+  CLI::App* info = app.add_subcommand("info", "Print the version, detected and selected ISA");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    return fail(std::string(e.what()) + " (run 'par2d --help' for usage)", kExitUsage);
+  }
+
+  try {
+    if (show_version || info->parsed()) {
+      print_info();
+      return 0;
+    }
+    if (render->parsed()) return run_render(render_common, render_args);
+    if (bench->parsed()) return run_bench(bench_common, bench_args);
+  } catch (const std::bad_alloc&) {
+    return fail("out of memory");
+  } catch (const std::exception& e) {
+    // The library reports through Status; this only guards against the unexpected.
+    return fail(std::string("internal error: ") + e.what());
+  }
+  return fail("no command given: use render, bench or info (run 'par2d --help' for usage)",
+              kExitUsage);
+}
