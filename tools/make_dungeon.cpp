@@ -243,14 +243,14 @@ int main() {
   for (const Room& room : rooms) {
     double radius = r1(rng.uniform(5, 8));
     place_light(room, [&](P c) { return circle_item(c, radius); }, 1.0, 0.62, 0.3,
-                r1(rng.uniform(12, 18)));
+                r1(rng.uniform(6, 9)));
   }
   // Four special lights: a magic pool, a lava crack, a blue crystal, a green rune stone.
-  place_light(rooms[5], [&](P c) { return convex_blob(c, 18, 6, 0.3, 1.0); }, 0.35, 0.55, 1.0, 6);
+  place_light(rooms[5], [&](P c) { return convex_blob(c, 18, 6, 0.3, 1.0); }, 0.35, 0.55, 1.0, 3);
   place_light(rooms[8], [&](P c) { return segment_item({c.x - 45, c.y + 10}, {c.x + 40, c.y - 12}); },
-              1.0, 0.35, 0.1, 5);
-  place_light(rooms[3], [&](P c) { return circle_item(c, 4); }, 0.4, 0.7, 1.0, 20);
-  place_light(rooms[10], [&](P c) { return convex_blob(c, 9, 4, 0.7, 0.6); }, 0.4, 1.0, 0.5, 10);
+              1.0, 0.35, 0.1, 2.5);
+  place_light(rooms[3], [&](P c) { return circle_item(c, 4); }, 0.4, 0.7, 1.0, 10);
+  place_light(rooms[10], [&](P c) { return convex_blob(c, 9, 4, 0.7, 0.6); }, 0.4, 1.0, 0.5, 5);
 
   // Clutter: accept an item only if it keeps clear of lights, doors, walls and other clutter.
   auto try_place = [&](const Item& it) {

@@ -25,7 +25,7 @@ struct RenderOptions {
   // Which path computes the image. Default: automatic.
   Backend backend = Backend::automatic;
   // Worker threads; 0 means all hardware threads. Values above the hardware
-  // thread count times 4 are capped there. Negative is an error. Default: 0.
+  // thread count are capped there. Negative is an error. Default: 0.
   int threads = 0;
   // Samples per pixel in a fixed stratified pattern (see sample_offset); 1 is the
   // pixel center. 1 .. 256. Default: 1.

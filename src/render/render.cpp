@@ -49,7 +49,7 @@ Status check_arguments(const Scene& scene, const RenderOptions& options, const I
 int worker_threads(int requested) noexcept {
   const int hardware = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   if (requested == 0) return tbb::this_task_arena::max_concurrency();
-  return std::min(requested, 4 * hardware);  // more only adds scheduling overhead
+  return std::min(requested, hardware);  // more only adds scheduling overhead
 }
 
 // A stable per-sample hash, so the ray caster's jitter is the same on every run and thread count.
