@@ -171,6 +171,32 @@ TEST_CASE("ray caster reproduces closed forms within the stratification bound") 
   CHECK(inside_caster.irradiance({0.5, 1.5}, 256, 0.5) == Rgb{0, 0, 0});
 }
 
+TEST_CASE("ray caster handles rays along a segment or polygon edge and points on an occluder") {
+  // Four rays at 0, pi/2, pi, 3pi/2 (jitter 0): only the one at theta = 0 meets the light.
+  Scene scene;
+  scene.width = 1;
+  scene.height = 1;
+  scene.view = {0, 0, 1, 1};
+  scene.lights.push_back({Circle{{10, 0}, 1}, {1, 1, 1}, 4});
+  CHECK(detail::RaycastRenderer(scene).irradiance({0, 0}, 4, 0.0)[0] == 1.0);
+  SUBCASE("a segment lying along the ray blocks it") {
+    scene.occluders.push_back({Segment{{5, 0}, {3, 0}}});
+    CHECK(detail::RaycastRenderer(scene).irradiance({0, 0}, 4, 0.0)[0] == 0.0);
+  }
+  SUBCASE("a segment behind the light along the ray does not") {
+    scene.occluders.push_back({Segment{{15, 0}, {20, 0}}});
+    CHECK(detail::RaycastRenderer(scene).irradiance({0, 0}, 4, 0.0)[0] == 1.0);
+  }
+  SUBCASE("a polygon edge (with repeated and collinear vertices) lying along the ray blocks it") {
+    scene.occluders.push_back({Polygon{{{3, 0}, {4, 0}, {4, 0}, {5, 0}, {5, 2}, {3, 2}}}});
+    CHECK(detail::RaycastRenderer(scene).irradiance({0, 0}, 4, 0.0)[0] == 0.0);
+  }
+  SUBCASE("a point on an occluder (closed) sees nothing") {
+    scene.occluders.push_back({Segment{{-1, -1}, {1, 1}}});
+    CHECK(detail::RaycastRenderer(scene).irradiance({0, 0}, 64, 0.5)[0] == 0.0);
+  }
+}
+
 TEST_CASE("PAR scalar matches ray casting on 50 random scenes with disjoint lights and occluders") {
   double worst = 0.0;
   int occluded_scenes = 0;

@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
   app.add_option("b", path_b, "Second PFM image")->required();
   app.add_option("--tolerance", tolerance,
                  "Largest allowed absolute difference per channel (linear units). Default: 0")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0.0, 1e300));
   app.add_flag("--json", json, "Print one JSON object instead of a line");
   try {
     app.parse(argc, argv);

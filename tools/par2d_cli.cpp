@@ -65,6 +65,17 @@ const CLI::Validator kIsaName(
     },
     "scalar|sse4|avx2|avx512", "ISA name");
 
+// CLI::NonNegativeNumber prints DBL_MAX in full when it fails; this says it plainly.
+const CLI::Validator kNonNegative(
+    [](std::string& value) -> std::string {
+      char* end = nullptr;
+      const double v = std::strtod(value.c_str(), &end);
+      if (end == value.c_str() || *end != '\0' || !std::isfinite(v) || v < 0.0)
+        return "must be a finite number >= 0, got '" + value + "'";
+      return {};
+    },
+    "NUMBER >= 0", "non-negative");
+
 void add_common_options(CLI::App& cmd, CommonArgs& args) {
   cmd.add_option("scene", args.scene_path, "Scene file (JSON, see README)")->required();
   cmd.add_option("--backend", args.backend,
@@ -74,7 +85,7 @@ void add_common_options(CLI::App& cmd, CommonArgs& args) {
       ->check(kBackendName);
   cmd.add_option("--threads", args.threads,
                  "Worker threads; 0 = all hardware threads. Default: 0")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, 1 << 20));
   cmd.add_option("--spp", args.spp,
                  "Samples per pixel in a fixed stratified pattern, 1..256. Default: 1")
       ->check(CLI::Range(1, 256));
@@ -215,6 +226,10 @@ void print_info() {
 int main(int argc, char** argv) {
   CLI::App app{"par2d: exact 2D soft shadows (Probabilistic Angular Radiance), no noise.", "par2d"};
   app.require_subcommand(0, 1);
+  app.footer(
+      "Backends (--backend): auto (default) picks the fastest path this CPU supports, the SIMD "
+      "path where available; simd, scalar (double-precision reference), raycast (brute force).\n"
+      "Run 'par2d render --help' or 'par2d bench --help' for their options.");
   bool show_version = false;
   app.add_flag("--version", show_version, "Print the version and the detected/selected ISA");
 
@@ -226,7 +241,7 @@ int main(int argc, char** argv) {
   render->add_option("--pfm", render_args.pfm_path, "Output PFM (linear float32 RGB)");
   render->add_option("--exposure", render_args.exposure,
                      "PNG shows clamp(exposure * E, 0, 1), sRGB-encoded. Default: 1")
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
 
   CommonArgs bench_common;
   BenchArgs bench_args;

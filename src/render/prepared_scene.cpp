@@ -13,6 +13,30 @@ bool boxes_touch(const ConvexShape& a, const ConvexShape& b) noexcept {
 
 }  // namespace
 
+void PairSeparators::reset(std::size_t lights, std::size_t occluders) {
+  occluders_ = occluders;
+  state_ = std::make_unique<std::atomic<std::uint8_t>[]>(lights * occluders);
+  lines_ = std::make_unique<Line[]>(lights * occluders);
+}
+
+std::optional<Line> PairSeparators::get(std::size_t light, std::size_t occluder, const ConvexShape& light_shape,
+                                        const ConvexShape& occluder_shape) const noexcept {
+  const std::size_t index = light * occluders_ + occluder;
+  std::atomic<std::uint8_t>& state = state_[index];
+  const std::uint8_t seen = state.load(std::memory_order_acquire);
+  if (seen == kSeparated) return lines_[index];
+  if (seen == kTouching) return std::nullopt;
+  const std::optional<Line> line = separating_line(occluder_shape, light_shape);
+  // Only the thread that claims the slot writes it; a thread that loses the race just
+  // uses its own (identical) result.
+  std::uint8_t expected = kUnknown;
+  if (state.compare_exchange_strong(expected, kComputing, std::memory_order_acq_rel)) {
+    if (line) lines_[index] = *line;
+    state.store(line ? kSeparated : kTouching, std::memory_order_release);
+  }
+  return line;
+}
+
 PreparedScene prepare_scene(const Scene& scene) {
   PreparedScene out;
   out.width = scene.width;
@@ -38,6 +62,12 @@ PreparedScene prepare_scene(const Scene& scene) {
     }
     out.lights.push_back(std::move(light));
   }
+  std::vector<Aabb> boxes;
+  boxes.reserve(out.occluders.size());
+  for (const ConvexShape& o : out.occluders)
+    boxes.push_back({o.bounds_min.x, o.bounds_min.y, o.bounds_max.x, o.bounds_max.y});
+  out.occluder_bvh.build(boxes);
+  out.separators.reset(out.lights.size(), out.occluders.size());
   return out;
 }
 

@@ -2,10 +2,13 @@
 // and which light/occluder pairs overlap (those need the general visibility test).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "geometry/convex_shape.hpp"
+#include "render/occluder_bvh.hpp"
 #include "par2d/scene.hpp"
 
 namespace par2d::detail {
@@ -21,12 +24,31 @@ struct PreparedLight {
   std::vector<std::vector<Vec2>> overlap_points;
 };
 
+// Separating lines of disjoint light/occluder pairs (occluder on the positive side),
+// computed the first time a tile asks and then shared by every tile and thread: a pair
+// matters to many tiles, and the exact closest-point computation costs more than a tile.
+class PairSeparators {
+ public:
+  void reset(std::size_t lights, std::size_t occluders);
+  // The line for (light, occluder), or empty when the shapes touch or overlap.
+  std::optional<Line> get(std::size_t light, std::size_t occluder, const ConvexShape& light_shape,
+                          const ConvexShape& occluder_shape) const noexcept;
+
+ private:
+  enum : std::uint8_t { kUnknown = 0, kComputing = 1, kSeparated = 2, kTouching = 3 };
+  std::size_t occluders_ = 0;
+  std::unique_ptr<std::atomic<std::uint8_t>[]> state_;
+  std::unique_ptr<Line[]> lines_;
+};
+
 struct PreparedScene {
   int width = 0, height = 0;
   View view;
   std::vector<PreparedLight> lights;  // lights with non-zero emission only
   std::vector<ConvexShape> occluders;
   double e_max = 0.0;  // SPEC.md section 5
+  OccluderBvh occluder_bvh;  // over the occluders' bounding boxes
+  PairSeparators separators;
 };
 
 // Builds the prepared form of a scene that passed validate_scene.

@@ -82,9 +82,23 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, bool cull
   scratch.local_index.assign(scene.occluders.size(), -1);
   scratch.used.clear();
 
-  for (const PreparedLight& light : scene.lights) {
+  for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+    const PreparedLight& light = scene.lights[l];
     scratch.candidates.clear();
-    for (std::uint32_t k = 0; k < scene.occluders.size(); ++k) scratch.candidates.push_back(k);
+    if (culling) {
+      // Every ray from the tile to the light stays in the hull of the tile and the light.
+      scratch.hull_points.assign(corners.begin(), corners.end());
+      if (light.shape.kind == ShapeKind::circle) {
+        const Vec2 lo = light.shape.bounds_min, hi = light.shape.bounds_max;
+        scratch.hull_points.insert(scratch.hull_points.end(), {lo, Vec2{hi.x, lo.y}, hi, Vec2{lo.x, hi.y}});
+      } else {
+        scratch.hull_points.insert(scratch.hull_points.end(), light.shape.vertices.begin(), light.shape.vertices.end());
+      }
+      const std::vector<Vec2> hull = convex_hull(scratch.hull_points);
+      scene.occluder_bvh.query_convex(hull.data(), static_cast<int>(hull.size()), scratch.candidates);
+    } else {
+      for (std::uint32_t k = 0; k < scene.occluders.size(); ++k) scratch.candidates.push_back(k);
+    }
     for (std::uint32_t k : light.overlapping_occluders) {
       if (std::binary_search(scratch.candidates.begin(), scratch.candidates.end(), k)) return false;
     }
@@ -93,7 +107,7 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, bool cull
     bool shadowed = false;
     for (std::uint32_t k : scratch.candidates) {
       const ConvexShape& occluder = scene.occluders[k];
-      const auto line = separating_line(occluder, light.shape);
+      const auto line = scene.separators.get(l, k, light.shape, occluder);
       if (!line) return false;  // touching shapes: leave them to the reference
       KernelPair pair;
       pair.occluder = k;

@@ -16,6 +16,7 @@ struct TileSetupScratch {
   std::vector<std::int32_t> local_index;  // occluder -> index in TileWork::occluders, or -1
   std::vector<std::uint32_t> candidates;
   std::vector<std::uint32_t> used;
+  std::vector<Vec2> hull_points;
 };
 
 // Fills `work` for `tile`. Returns false when the tile must be computed by the scalar
