@@ -202,6 +202,12 @@ ConvexShape make_convex_shape(const Shape& shape) {
       }
     }
     s.vertices = std::move(v);
+    const std::size_t n = s.vertices.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec2 e = s.vertices[(i + 1) % n] - s.vertices[i];
+      const double len = length(e);
+      s.edge_normals.push_back({-e.y / len, e.x / len});
+    }
   }
   s.bounds_min = {kInfinity, kInfinity};
   s.bounds_max = {-kInfinity, -kInfinity};
@@ -281,6 +287,33 @@ AngularSpan angular_span(const ConvexShape& s, Vec2 x) noexcept {
   span.start = wrap_angle(std::atan2(ref.y, ref.x) + lo);
   span.width = hi - lo;
   return span;
+}
+
+bool tangent_directions(const ConvexShape& s, Vec2 x, Vec2& cw, Vec2& ccw) noexcept {
+  if (contains(s, x)) return false;
+  if (s.kind == ShapeKind::circle) {
+    // Rotate the center direction by +-asin(r/d): cos = t/d, sin = r/d with t the tangent
+    // length; scaled by d, no trigonometry needed.
+    const Vec2 d = s.vertices[0] - x;
+    const double t = std::sqrt(std::max(0.0, dot(d, d) - s.radius * s.radius));
+    const double r = s.radius;
+    cw = {d.x * t + d.y * r, -d.x * r + d.y * t};
+    ccw = {d.x * t - d.y * r, d.x * r + d.y * t};
+    return true;
+  }
+  cw = ccw = s.vertices[0] - x;
+  for (std::size_t i = 1; i < s.vertices.size(); ++i) {
+    const Vec2 d = s.vertices[i] - x;
+    if (cross(cw, d) < 0.0) cw = d;
+    if (cross(ccw, d) > 0.0) ccw = d;
+  }
+  return true;
+}
+
+bool arc_contains(Vec2 outer_cw, Vec2 outer_ccw, Vec2 inner_cw, Vec2 inner_ccw) noexcept {
+  // Arcs narrower than pi: containment is both inner ends inside the outer cone.
+  return cross(outer_cw, inner_cw) >= 0.0 && cross(inner_ccw, outer_ccw) >= 0.0 &&
+         cross(outer_cw, inner_ccw) >= 0.0 && cross(inner_cw, outer_ccw) >= 0.0;
 }
 
 double shape_distance(const ConvexShape& a, const ConvexShape& b) noexcept {

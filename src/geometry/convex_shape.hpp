@@ -31,6 +31,8 @@ enum class ShapeKind : std::uint8_t { polygon, circle, segment };
 struct ConvexShape {
   ShapeKind kind = ShapeKind::polygon;
   std::vector<Vec2> vertices;
+  // Polygons: unit normal of edge i (vertex i to i+1), pointing inside.
+  std::vector<Vec2> edge_normals;
   double radius = 0.0;
   Vec2 bounds_min, bounds_max;  // axis-aligned bounding box
   Vec2 centroid;                // an interior point (vertex mean; the center for circles)
@@ -55,6 +57,14 @@ struct AngularSpan {
   bool full = false;
 };
 AngularSpan angular_span(const ConvexShape& shape, Vec2 x) noexcept;
+
+// The two tangent directions (not normalized) bounding the shape's arc seen from x, found
+// with pseudo-cross products only: `cw` is the clockwise-most in angle order (the arc's
+// start), `ccw` the other. False when x is in the shape (the arc is the full circle).
+bool tangent_directions(const ConvexShape& shape, Vec2 x, Vec2& cw, Vec2& ccw) noexcept;
+
+// Whether `outer`'s arc from x contains `inner`'s whole arc (x outside both; arcs < pi).
+bool arc_contains(Vec2 outer_cw, Vec2 outer_ccw, Vec2 inner_cw, Vec2 inner_ccw) noexcept;
 
 // Distance between the closed shapes (0 when they intersect or touch).
 double shape_distance(const ConvexShape& a, const ConvexShape& b) noexcept;

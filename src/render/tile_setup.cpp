@@ -5,7 +5,6 @@
 #include <array>
 #include <cmath>
 
-#include "geometry/angular_intervals.hpp"
 
 namespace par2d::detail {
 namespace {
@@ -19,11 +18,10 @@ std::array<Vec2, 4> tile_corners(const PreparedScene& scene, const TileRect& til
 
 // Whether the occluder covers the light's whole arc as seen from p (and p is not in the light).
 bool in_umbra(const ConvexShape& light, const ConvexShape& occluder, Vec2 p) noexcept {
-  const AngularSpan l = angular_span(light, p);
-  if (l.full) return false;
-  const AngularSpan o = angular_span(occluder, p);
-  if (o.full) return true;
-  return angle_in_light_frame(o, l.start) + l.width <= o.width;
+  Vec2 light_cw, light_ccw, occluder_cw, occluder_ccw;
+  if (!tangent_directions(light, p, light_cw, light_ccw)) return false;
+  if (!tangent_directions(occluder, p, occluder_cw, occluder_ccw)) return true;
+  return arc_contains(occluder_cw, occluder_ccw, light_cw, light_ccw);
 }
 
 KernelShape kernel_shape(const ConvexShape& s, Vec2 origin, Vec2 tile_center, TileWork& work) {
@@ -52,9 +50,7 @@ KernelShape kernel_shape(const ConvexShape& s, Vec2 origin, Vec2 tile_center, Ti
     work.vx.push_back(static_cast<float>(v.x - origin.x));
     work.vy.push_back(static_cast<float>(v.y - origin.y));
     if (s.kind == ShapeKind::polygon) {
-      const Vec2 e = s.vertices[(i + 1) % n] - v;
-      const double len = length(e);
-      const Vec2 normal{-e.y / len, e.x / len};  // points inside (positive-area winding)
+      const Vec2 normal = s.edge_normals[i];
       work.edge_nx.push_back(static_cast<float>(normal.x));
       work.edge_ny.push_back(static_cast<float>(normal.y));
       work.edge_c.push_back(static_cast<float>(dot(normal, v - origin)));
