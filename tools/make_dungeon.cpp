@@ -77,7 +77,36 @@ double gap(const Capsule& u, const Capsule& v) {
 struct Item {
   std::string json;
   std::vector<Capsule> bounds;  // union covers the shape
+  bool clean = true;            // no pixel center within kCenterGap of the boundary
 };
+
+// Pixel centers sit at k + 0.5. One lying (almost) on a shape boundary is where float and
+// double paths may legitimately disagree (SPEC.md section 5), so the example keeps clear.
+constexpr double kCenterGap = 1e-3;
+
+bool edge_clear_of_centers(P a, P b) {
+  const int i0 = static_cast<int>(std::floor(std::min(a.x, b.x))) - 1;
+  const int i1 = static_cast<int>(std::ceil(std::max(a.x, b.x))) + 1;
+  const int j0 = static_cast<int>(std::floor(std::min(a.y, b.y))) - 1;
+  const int j1 = static_cast<int>(std::ceil(std::max(a.y, b.y))) + 1;
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i)
+      if (point_segment_distance({i + 0.5, j + 0.5}, a, b) < kCenterGap) return false;
+  return true;
+}
+
+bool outline_clear_of_centers(const std::vector<P>& v, bool closed) {
+  for (std::size_t k = 0; k + (closed ? 0 : 1) < v.size(); ++k)
+    if (!edge_clear_of_centers(v[k], v[(k + 1) % v.size()])) return false;
+  return true;
+}
+
+bool circle_clear_of_centers(P c, double r) {
+  for (int j = static_cast<int>(std::floor(c.y - r)) - 1; j <= static_cast<int>(c.y + r) + 1; ++j)
+    for (int i = static_cast<int>(std::floor(c.x - r)) - 1; i <= static_cast<int>(c.x + r) + 1; ++i)
+      if (std::fabs(std::hypot(i + 0.5 - c.x, j + 0.5 - c.y) - r) < kCenterGap) return false;
+  return true;
+}
 
 Capsule disc(P c, double r) { return {c, c, r}; }
 
@@ -100,10 +129,13 @@ std::string polygon_json(const std::vector<P>& v) {
 
 // Axis-aligned rectangle [x0, x1] x [y0, y1] as a polygon, bounded by its own center line
 // capsule (exact for thin walls, conservative at the corners).
+// Corners are whole numbers so that no pixel center (at k + 0.5) lies exactly on a wall edge,
+// where float and double paths may legitimately disagree about inside/outside.
 Item rectangle(double x0, double y0, double x1, double y1) {
-  x0 = r1(x0), y0 = r1(y0), x1 = r1(x1), y1 = r1(y1);
+  x0 = std::round(x0), y0 = std::round(y0), x1 = std::round(x1), y1 = std::round(y1);
   Item it;
   it.json = "{ " + polygon_json({{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}) + " }";
+  it.clean = outline_clear_of_centers({{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}, true);
   double hw = (x1 - x0) / 2, hh = (y1 - y0) / 2;
   P c{(x0 + x1) / 2, (y0 + y1) / 2};
   if (hw >= hh)
@@ -123,6 +155,7 @@ Item convex_blob(P c, double radius, int sides, double rotation, double squash) 
   Item it;
   it.json = "{ " + polygon_json(v) + " }";
   it.bounds.push_back(disc(c, radius + 0.2));
+  it.clean = outline_clear_of_centers(v, true);
   return it;
 }
 
@@ -132,6 +165,7 @@ Item circle_item(P c, double r) {
   Item it;
   it.json = "{ \"circle\": { \"center\": " + point(c) + ", \"radius\": " + num(r) + " } }";
   it.bounds.push_back(disc(c, r));
+  it.clean = circle_clear_of_centers(c, r);
   return it;
 }
 
@@ -141,6 +175,7 @@ Item segment_item(P a, P b) {
   Item it;
   it.json = "{ \"segment\": [" + point(a) + ", " + point(b) + "] }";
   it.bounds.push_back({a, b, 0.0});
+  it.clean = outline_clear_of_centers({a, b}, false);
   return it;
 }
 
@@ -198,8 +233,14 @@ int main() {
       double door = r1(rng.uniform(a + 70, b - 70)), half = r1(rng.uniform(28, 40));
       doors.push_back(disc({xs[c], door}, half + 12));
       if (c == 2 && r == 1) {  // a collapsed wall: broken segments instead of masonry
-        walls.push_back(segment_item({xs[c] - 3, a + h}, {xs[c] + 4, door - half - 20}));
-        walls.push_back(segment_item({xs[c] + 2, door + half + 20}, {xs[c] - 5, b - h}));
+        // Nudge the broken ends until no pixel center lies on them (see kCenterGap).
+        auto broken = [&](P p, P q) {
+          Item it = segment_item(p, q);
+          for (int k = 1; !it.clean && k < 20; ++k) it = segment_item(p, {q.x + 0.1 * k, q.y});
+          return it;
+        };
+        walls.push_back(broken({xs[c] - 3, a + h}, {xs[c] + 4, door - half - 20}));
+        walls.push_back(broken({xs[c] + 2, door + half + 20}, {xs[c] - 5, b - h}));
         continue;
       }
       walls.push_back(rectangle(xs[c] - h, a, xs[c] + h, door - half));
@@ -216,6 +257,9 @@ int main() {
     }
   }
 
+  for (const Item& w : walls)
+    if (!w.clean) std::fprintf(stderr, "par2d_make_dungeon: wall passes through a pixel center: %s\n", w.json.c_str());
+
   std::vector<Room> rooms;
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 4; ++c) rooms.push_back({xs[c] + h, ys[r] + h, xs[c + 1] - h, ys[r + 1] - h});
@@ -231,6 +275,7 @@ int main() {
     for (int attempt = 0; attempt < 1000; ++attempt) {
       P c{rng.uniform(room.x0 + 40, room.x1 - 40), rng.uniform(room.y0 + 40, room.y1 - 40)};
       Item it = make(c);
+      if (!it.clean) continue;
       if (min_gap(it.bounds, all_occluders()) < 3 * kLightMargin) continue;
       if (min_gap(it.bounds, lights) < 120) continue;  // spread the light around
       light_lines.push_back(light_json(it, r, g, b, intensity));
@@ -254,6 +299,7 @@ int main() {
 
   // Clutter: accept an item only if it keeps clear of lights, doors, walls and other clutter.
   auto try_place = [&](const Item& it) {
+    if (!it.clean) return false;
     if (min_gap(it.bounds, lights) < kLightMargin) return false;
     if (min_gap(it.bounds, all_occluders()) < kClutterMargin) return false;
     for (const Capsule& d : doors)

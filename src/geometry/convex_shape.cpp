@@ -58,6 +58,7 @@ void core_edge(const ConvexShape& s, int i, Vec2& a, Vec2& b) noexcept {
 bool core_contains(const ConvexShape& s, Vec2 p) noexcept {
   const int n = static_cast<int>(s.vertices.size());
   if (n < 3) return false;  // points and segments have no interior; distance covers them
+  if (p.x < s.bounds_min.x || p.x > s.bounds_max.x || p.y < s.bounds_min.y || p.y > s.bounds_max.y) return false;
   for (int i = 0; i < n; ++i) {
     if (cross(s.vertices[(i + 1) % n] - s.vertices[i], p - s.vertices[i]) < 0.0) return false;
   }
@@ -167,7 +168,13 @@ void segment_segment_points(Vec2 a, Vec2 b, Vec2 c, Vec2 d, std::vector<Vec2>& o
 
 }  // namespace
 
-double length(Vec2 a) noexcept { return std::hypot(a.x, a.y); }
+double length(Vec2 a) noexcept {
+  // sqrt of the squared length is as exact as hypot and much faster; hypot only where the
+  // square would overflow or lose everything to underflow (coordinates may be any finite number).
+  const double squared = a.x * a.x + a.y * a.y;
+  if (squared > 1e-290 && squared < 1e290) return std::sqrt(squared);
+  return std::hypot(a.x, a.y);
+}
 
 ConvexShape make_convex_shape(const Shape& shape) {
   ConvexShape s;

@@ -7,7 +7,7 @@
 
 #include "render/tile_setup.hpp"
 #include "render/tiling.hpp"
-#include "scalar/scalar_renderer.hpp"
+#include "render/scalar_tiles.hpp"
 
 namespace par2d::simd {
 #define PAR2D_DECLARE_KERNELS(suffix)                                                                       \
@@ -50,24 +50,6 @@ struct ThreadState {
   }
 };
 
-void render_tile_scalar(const PreparedScene& scene, const RenderOptions& options, const TileRect& tile,
-                        ScalarScratch& scratch, const ImageView& image) {
-  const double inv_spp = 1.0 / options.spp;
-  for (int j = tile.y0; j < tile.y1; ++j) {
-    for (int i = tile.x0; i < tile.x1; ++i) {
-      Rgb sum{0.0, 0.0, 0.0};
-      for (int k = 0; k < options.spp; ++k) {
-        double sx, sy;
-        sample_offset(k, options.spp, sx, sy);
-        const Rgb e = scalar_irradiance(scene, sample_position(scene, i, j, sx, sy), scratch);
-        for (int c = 0; c < 3; ++c) sum[c] += e[c];
-      }
-      float* p = image.data + static_cast<std::ptrdiff_t>(j) * image.row_stride + 3 * static_cast<std::ptrdiff_t>(i);
-      for (int c = 0; c < 3; ++c) p[c] = static_cast<float>(sum[c] * inv_spp);
-    }
-  }
-}
-
 }  // namespace
 
 const KernelSet* kernels_for(Isa isa) noexcept {
@@ -81,7 +63,7 @@ void render_simd(const PreparedScene& scene, const RenderOptions& options, Isa i
                  const ImageView& image) {
   const KernelSet* kernels = kernels_for(isa);
   tbb::enumerable_thread_specific<ThreadState> states;
-  for_each_tile(TileGrid{scene.width, scene.height}, threads, [&](const TileRect& tile) {
+  for_each_block(scene.width, scene.height, threads, [&](const TileRect& block) {
     ThreadState& state = states.local();
     TileWork& work = state.work;
     if (work.sample_x.size() != static_cast<std::size_t>(options.spp)) {
@@ -95,20 +77,26 @@ void render_simd(const PreparedScene& scene, const RenderOptions& options, Isa i
         work.sample_y[k] = static_cast<float>(sy);
       }
     }
-    if (!build_tile_work(scene, tile, options.culling, work, state.setup)) {
-      render_tile_scalar(scene, options, tile, state.scalar, image);
-      return;
-    }
-    float* scratch = state.kernel_scratch(kernel_scratch_floats(work, kernels->lanes));
-    kernels->render_tile(work, scratch, state.result);
-    for (int j = tile.y0; j < tile.y1; ++j) {
-      float* row = image.data + static_cast<std::ptrdiff_t>(j) * image.row_stride;
-      const int local_row = (j - tile.y0) * kTileSize;
-      for (int i = tile.x0; i < tile.x1; ++i) {
-        const int local = local_row + (i - tile.x0);
-        for (int c = 0; c < 3; ++c) row[3 * i + c] = state.result.rgb[c][local];
+    gather_block_candidates(scene, block, options.culling, state.setup);
+    for_each_cell(block, kTileSize, [&](const TileRect& tile) {
+      if (!build_tile_work(scene, tile, options.culling, work, state.setup)) {
+        render_rect_scalar(scene, options.spp, tile, state.scalar, image);
+        return;
       }
-    }
+      float* scratch = state.kernel_scratch(kernel_scratch_floats(work, kernels->lanes));
+      kernels->render_tile(work, scratch, state.result);
+      for (int j = tile.y0; j < tile.y1; ++j) {
+        float* row = image.data + static_cast<std::ptrdiff_t>(j) * image.row_stride;
+        const float* r = state.result.rgb[0] + (j - tile.y0) * kTileSize - tile.x0;
+        const float* g = state.result.rgb[1] + (j - tile.y0) * kTileSize - tile.x0;
+        const float* b = state.result.rgb[2] + (j - tile.y0) * kTileSize - tile.x0;
+        for (int i = tile.x0; i < tile.x1; ++i) {
+          row[3 * i] = r[i];
+          row[3 * i + 1] = g[i];
+          row[3 * i + 2] = b[i];
+        }
+      }
+    });
   });
 }
 

@@ -1,6 +1,8 @@
 // Binned-SAH BVH build and separating-axis queries for occluder gathering, plus the convex hull helper.
 #include "render/occluder_bvh.hpp"
 
+#include "geometry/convex_shape.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -43,18 +45,20 @@ inline double cross(Vec2 o, Vec2 a, Vec2 b) noexcept {
   return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
 }
 
-// One separating-axis candidate: a unit normal and the hull's extent along it.
-struct Axis {
-  double nx, ny, lo, hi;
-};
+inline double axis_of(Vec2 c, int axis) noexcept { return axis == 0 ? c.x : c.y; }
+
+// 0.5*a + 0.5*b rather than (a+b)/2: stays finite for boxes near +-DBL_MAX.
+inline Vec2 centroid(const Aabb& b) noexcept {
+  return {0.5 * b.min_x + 0.5 * b.max_x, 0.5 * b.min_y + 0.5 * b.max_y};
+}
 
 // Axis of hull edge i -> i+1 (unit length, so projections keep the coordinates' magnitude and
 // neither overflow for huge nor underflow for tiny scenes). Returns false for a zero-length edge,
 // which separates nothing.
-inline bool edge_axis(const Vec2* hull, int count, int i, Axis& axis) noexcept {
+inline bool edge_axis(const Vec2* hull, int count, int i, ConvexQuery::Axis& axis) noexcept {
   const Vec2 a = hull[i];
   const Vec2 b = hull[(i + 1) % count];
-  const double len = std::hypot(b.x - a.x, b.y - a.y);
+  const double len = length(b - a);
   if (!(len > 0.0) || !std::isfinite(len)) return false;
   axis.nx = (a.y - b.y) / len;
   axis.ny = (b.x - a.x) / len;
@@ -71,87 +75,99 @@ inline bool edge_axis(const Vec2* hull, int count, int i, Axis& axis) noexcept {
 // Picks the box corner that minimises / maximises the projection. Each term is monotone in the
 // box's extent even after rounding, so a parent box never projects inside its child's interval:
 // that is what makes pruning exact with respect to the per-item test.
-inline bool axis_separates(const Axis& a, const Aabb& b) noexcept {
+inline bool axis_separates(const ConvexQuery::Axis& a, const Aabb& b) noexcept {
   const double lo = a.nx * (a.nx >= 0.0 ? b.min_x : b.max_x) + a.ny * (a.ny >= 0.0 ? b.min_y : b.max_y);
   const double hi = a.nx * (a.nx >= 0.0 ? b.max_x : b.min_x) + a.ny * (a.ny >= 0.0 ? b.max_y : b.min_y);
   return hi < a.lo || lo > a.hi;
 }
 
-// The query hull with its axes computed once. Hulls with more edges than fit here still get
-// exact answers: the extra axes are only skipped for inner nodes (conservative) and computed on
-// the fly for items.
-class ConvexQuery {
- public:
-  static constexpr int kMaxCachedAxes = 32;
-
-  ConvexQuery(const Vec2* hull, int count) noexcept : hull_(hull), count_(count) {
-    bounds_ = kEmptyBox;
-    for (int i = 0; i < count; ++i) grow(bounds_, hull[i]);
-    edges_ = count < 2 ? 0 : (count == 2 ? 1 : count);
-    const int cached = std::min(edges_, kMaxCachedAxes);
-    for (int i = 0; i < cached; ++i) {
-      if (edge_axis(hull, count, i, axes_[axis_count_])) ++axis_count_;
-    }
-  }
-
-  const Aabb& bounds() const noexcept { return bounds_; }
-
-  // May report a node the hull misses, never the reverse.
-  bool may_touch(const Aabb& b) const noexcept {
-    if (!boxes_overlap(b, bounds_)) return false;
-    for (int i = 0; i < axis_count_; ++i) {
-      if (axis_separates(axes_[i], b)) return false;
-    }
-    return true;
-  }
-
-  bool touches(const Aabb& b) const noexcept {
-    if (!may_touch(b)) return false;
-    for (int i = kMaxCachedAxes; i < edges_; ++i) {
-      Axis axis;
-      if (edge_axis(hull_, count_, i, axis) && axis_separates(axis, b)) return false;
-    }
-    return true;
-  }
-
- private:
-  const Vec2* hull_;
-  int count_;
-  int edges_ = 0;
-  int axis_count_ = 0;
-  Aabb bounds_;
-  Axis axes_[kMaxCachedAxes];
-};
-
-inline double axis_of(Vec2 c, int axis) noexcept { return axis == 0 ? c.x : c.y; }
-
-// 0.5*a + 0.5*b rather than (a+b)/2: stays finite for boxes near +-DBL_MAX.
-inline Vec2 centroid(const Aabb& b) noexcept {
-  return {0.5 * b.min_x + 0.5 * b.max_x, 0.5 * b.min_y + 0.5 * b.max_y};
-}
-
 }  // namespace
 
-std::vector<Vec2> convex_hull(std::vector<Vec2> points) {
+ConvexQuery::ConvexQuery(const Vec2* hull, int count) noexcept : hull_(hull), count_(count) {
+  bounds_ = kEmptyBox;
+  for (int i = 0; i < count; ++i) grow(bounds_, hull[i]);
+  edges_ = count < 2 ? 0 : (count == 2 ? 1 : count);
+  const int cached = std::min(edges_, kMaxCachedAxes);
+  for (int i = 0; i < cached; ++i) {
+    if (edge_axis(hull, count, i, axes_[axis_count_])) ++axis_count_;
+  }
+}
+
+bool ConvexQuery::may_touch(const Aabb& b) const noexcept {
+  if (!boxes_overlap(b, bounds_)) return false;
+  for (int i = 0; i < axis_count_; ++i) {
+    if (axis_separates(axes_[i], b)) return false;
+  }
+  return true;
+}
+
+bool ConvexQuery::touches(const Aabb& b) const noexcept {
+  if (!may_touch(b)) return false;
+  for (int i = kMaxCachedAxes; i < edges_; ++i) {
+    Axis axis;
+    if (edge_axis(hull_, count_, i, axis) && axis_separates(axis, b)) return false;
+  }
+  return true;
+}
+
+BoxPairHull::BoxPairHull(const Aabb& a, const Aabb& b) noexcept {
+  bounds_ = a;
+  grow(bounds_, b);
+  for (int sx = -1; sx <= 1; sx += 2) {
+    for (int sy = -1; sy <= 1; sy += 2) {
+      // Does box x reach the union's extreme in x (resp. y) on this side?
+      auto reaches_x = [&](const Aabb& x) { return sx < 0 ? x.min_x <= bounds_.min_x : x.max_x >= bounds_.max_x; };
+      auto reaches_y = [&](const Aabb& x) { return sy < 0 ? x.min_y <= bounds_.min_y : x.max_y >= bounds_.max_y; };
+      if ((reaches_x(a) && reaches_y(a)) || (reaches_x(b) && reaches_y(b))) continue;
+      const Vec2 pa{sx < 0 ? a.min_x : a.max_x, sy < 0 ? a.min_y : a.max_y};
+      const Vec2 pb{sx < 0 ? b.min_x : b.max_x, sy < 0 ? b.min_y : b.max_y};
+      const Vec2 corner{sx < 0 ? bounds_.min_x : bounds_.max_x, sy < 0 ? bounds_.min_y : bounds_.max_y};
+      const Vec2 edge = pb - pa;
+      const double len = length(edge);
+      if (!(len > 0.0) || !std::isfinite(len)) continue;
+      Vec2 n{-edge.y / len, edge.x / len};
+      if (dot(n, corner - pa) < 0.0) n = Vec2{-n.x, -n.y};  // outward: toward the cut corner
+      cuts_[cut_count_++] = {n.x, n.y, std::max(dot(n, pa), dot(n, pb))};
+    }
+  }
+}
+
+bool BoxPairHull::touches(const Aabb& box) const noexcept {
+  if (!boxes_overlap(box, bounds_)) return false;
+  for (int i = 0; i < cut_count_; ++i) {
+    const Cut& c = cuts_[i];
+    const double nearest = c.nx * (c.nx >= 0.0 ? box.min_x : box.max_x) + c.ny * (c.ny >= 0.0 ? box.min_y : box.max_y);
+    if (nearest > c.offset) return false;
+  }
+  return true;
+}
+
+int convex_hull(Vec2* points, int count, Vec2* out) noexcept {
   auto less = [](Vec2 a, Vec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); };
-  std::sort(points.begin(), points.end(), less);
-  points.erase(std::unique(points.begin(), points.end(),
-                           [](Vec2 a, Vec2 b) { return a.x == b.x && a.y == b.y; }),
-               points.end());
-  const size_t n = points.size();
-  if (n <= 2) return points;
-  std::vector<Vec2> hull(2 * n);
-  size_t k = 0;
+  std::sort(points, points + count, less);
+  const int n = static_cast<int>(std::unique(points, points + count,
+                                             [](Vec2 a, Vec2 b) { return a.x == b.x && a.y == b.y; }) -
+                                 points);
+  if (n <= 2) {
+    std::copy(points, points + n, out);
+    return n;
+  }
+  int k = 0;
   // Lower chain then upper chain; popping on cross <= 0 drops collinear points.
-  for (size_t i = 0; i < n; ++i) {
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
-    hull[k++] = points[i];
+  for (int i = 0; i < n; ++i) {
+    while (k >= 2 && cross(out[k - 2], out[k - 1], points[i]) <= 0.0) --k;
+    out[k++] = points[i];
   }
-  for (size_t i = n - 1, lower = k + 1; i-- > 0;) {
-    while (k >= lower && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
-    hull[k++] = points[i];
+  for (int i = n - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && cross(out[k - 2], out[k - 1], points[i]) <= 0.0) --k;
+    out[k++] = points[i];
   }
-  hull.resize(k - 1);  // the last point repeats the first
+  return k - 1;  // the last point repeats the first
+}
+
+std::vector<Vec2> convex_hull(std::vector<Vec2> points) {
+  std::vector<Vec2> hull(2 * points.size() + 1);
+  hull.resize(static_cast<std::size_t>(convex_hull(points.data(), static_cast<int>(points.size()), hull.data())));
   return hull;
 }
 

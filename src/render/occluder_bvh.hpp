@@ -22,6 +22,57 @@ struct Aabb {
 // do not overflow (|coordinate| < ~1e150).
 std::vector<Vec2> convex_hull(std::vector<Vec2> points);
 
+// The same without allocating: sorts `points` in place and writes the hull to `out`, which
+// must hold count + 1 points. Returns the number of hull points.
+int convex_hull(Vec2* points, int count, Vec2* out) noexcept;
+
+// A convex polygon (e.g. from convex_hull) prepared for repeated box tests: its
+// separating axes are computed once. Keeps a pointer to `hull`, which must outlive it.
+class ConvexQuery {
+ public:
+  static constexpr int kMaxCachedAxes = 32;
+  // One separating-axis candidate: a unit normal and the hull's extent along it.
+  struct Axis {
+    double nx, ny, lo, hi;
+  };
+
+  ConvexQuery(const Vec2* hull, int count) noexcept;
+  const Aabb& bounds() const noexcept { return bounds_; }
+  // May report a box the hull misses (hulls of more than kMaxCachedAxes edges), never the reverse.
+  bool may_touch(const Aabb& b) const noexcept;
+  // Exact: no separating axis among the box axes and the hull's edge normals (touching counts).
+  bool touches(const Aabb& b) const noexcept;
+
+ private:
+  const Vec2* hull_;
+  int count_;
+  int edges_ = 0;
+  int axis_count_ = 0;
+  Aabb bounds_;
+  Axis axes_[kMaxCachedAxes];
+};
+
+// The convex hull of two axis-aligned boxes (a tile and a light's box: every ray from the
+// tile to the light stays inside), for exact box tests without building a general hull:
+// it is the boxes' union bounding box with up to four corners cut off, each by the edge
+// joining the two boxes' corners on that side (a corner is cut when neither box reaches
+// both of its extremes).
+class BoxPairHull {
+ public:
+  BoxPairHull(const Aabb& a, const Aabb& b) noexcept;
+  // Exact separating-axis test (the union box's axes and the cut edges' normals);
+  // touching counts as intersecting.
+  bool touches(const Aabb& box) const noexcept;
+
+ private:
+  struct Cut {
+    double nx, ny, offset;  // outside the hull where nx*x + ny*y > offset
+  };
+  Aabb bounds_;
+  Cut cuts_[4];
+  int cut_count_ = 0;
+};
+
 // A binned-SAH BVH over boxes, rebuilt whenever the occluders move (so build is linear per level,
 // O(n log n) total, and reuses its buffers across builds).
 //

@@ -13,18 +13,15 @@
 #include <thread>
 
 #include "par2d/render.hpp"
-#include "raycast/raycast_renderer.hpp"
 #include "render/kernel_table.hpp"
 #include "render/prepared_scene.hpp"
+#include "render/scalar_tiles.hpp"
 #include "render/tiling.hpp"
-#include "scalar/scalar_renderer.hpp"
 
 namespace par2d {
 namespace {
 
 using detail::PreparedScene;
-using detail::TileGrid;
-using detail::TileRect;
 
 constexpr int kMaxSpp = 256;
 constexpr int kMaxRays = 1 << 20;
@@ -52,60 +49,18 @@ int worker_threads(int requested) noexcept {
   return std::min(requested, hardware);  // more only adds scheduling overhead
 }
 
-// A stable per-sample hash, so the ray caster's jitter is the same on every run and thread count.
-double hash_to_unit(std::uint64_t v) noexcept {
-  v ^= v >> 33;
-  v *= 0xff51afd7ed558ccdULL;
-  v ^= v >> 33;
-  v *= 0xc4ceb9fe1a85ec53ULL;
-  v ^= v >> 33;
-  return static_cast<double>(v >> 11) * (1.0 / 9007199254740992.0);
-}
-
-void store(const ImageView& image, int i, int j, const Rgb& e, double scale) noexcept {
-  float* p = image.data + static_cast<std::ptrdiff_t>(j) * image.row_stride + 3 * static_cast<std::ptrdiff_t>(i);
-  for (int c = 0; c < 3; ++c) p[c] = static_cast<float>(e[c] * scale);
-}
-
 void render_scalar(const PreparedScene& scene, const RenderOptions& options, int threads, const ImageView& image) {
   tbb::enumerable_thread_specific<detail::ScalarScratch> scratches;
-  const double inv_spp = 1.0 / options.spp;
-  detail::for_each_tile(TileGrid{scene.width, scene.height}, threads, [&](const TileRect& tile) {
-    detail::ScalarScratch& scratch = scratches.local();
-    for (int j = tile.y0; j < tile.y1; ++j) {
-      for (int i = tile.x0; i < tile.x1; ++i) {
-        Rgb sum{0.0, 0.0, 0.0};
-        for (int k = 0; k < options.spp; ++k) {
-          double sx, sy;
-          sample_offset(k, options.spp, sx, sy);
-          const Rgb e = detail::scalar_irradiance(scene, detail::sample_position(scene, i, j, sx, sy), scratch);
-          for (int c = 0; c < 3; ++c) sum[c] += e[c];
-        }
-        store(image, i, j, sum, inv_spp);
-      }
-    }
+  detail::for_each_block(scene.width, scene.height, threads, [&](const detail::TileRect& block) {
+    detail::render_rect_scalar(scene, options.spp, block, scratches.local(), image);
   });
 }
 
 void render_raycast(const Scene& source, const PreparedScene& scene, const RenderOptions& options, int threads,
                     const ImageView& image) {
   const detail::RaycastRenderer caster(source);
-  const double inv_spp = 1.0 / options.spp;
-  detail::for_each_tile(TileGrid{scene.width, scene.height}, threads, [&](const TileRect& tile) {
-    for (int j = tile.y0; j < tile.y1; ++j) {
-      for (int i = tile.x0; i < tile.x1; ++i) {
-        Rgb sum{0.0, 0.0, 0.0};
-        for (int k = 0; k < options.spp; ++k) {
-          double sx, sy;
-          sample_offset(k, options.spp, sx, sy);
-          const std::uint64_t id = ((static_cast<std::uint64_t>(j) * static_cast<std::uint64_t>(scene.width) + static_cast<std::uint64_t>(i)) << 8) |
-                                   static_cast<std::uint64_t>(k);
-          const Rgb e = caster.irradiance(detail::sample_position(scene, i, j, sx, sy), options.rays, hash_to_unit(id));
-          for (int c = 0; c < 3; ++c) sum[c] += e[c];
-        }
-        store(image, i, j, sum, inv_spp);
-      }
-    }
+  detail::for_each_block(scene.width, scene.height, threads, [&](const detail::TileRect& block) {
+    detail::render_rect_raycast(scene, caster, options.spp, options.rays, block, image);
   });
 }
 
@@ -140,7 +95,7 @@ void sample_offset(int k, int spp, double& dx, double& dy) noexcept {
   int stride = std::max(1, static_cast<int>(std::lround(spp * 0.6180339887498949)));
   while (std::gcd(stride, spp) != 1) ++stride;
   dx = (k + 0.5) / spp;
-  dy = ((static_cast<long long>(k) * stride) % spp + 0.5) / spp;
+  dy = (static_cast<double>((static_cast<long long>(k) * stride) % spp) + 0.5) / spp;
 }
 
 Isa resolved_isa(const RenderOptions& options) noexcept {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 
 
 namespace par2d::detail {
@@ -14,14 +15,6 @@ std::array<Vec2, 4> tile_corners(const PreparedScene& scene, const TileRect& til
   const Vec2 a = sample_position(scene, tile.x0, tile.y0, 0.0, 0.0);
   const Vec2 b = sample_position(scene, tile.x1, tile.y1, 0.0, 0.0);
   return {Vec2{a.x, a.y}, Vec2{b.x, a.y}, Vec2{b.x, b.y}, Vec2{a.x, b.y}};
-}
-
-// Whether the occluder covers the light's whole arc as seen from p (and p is not in the light).
-bool in_umbra(const ConvexShape& light, const ConvexShape& occluder, Vec2 p) noexcept {
-  Vec2 light_cw, light_ccw, occluder_cw, occluder_ccw;
-  if (!tangent_directions(light, p, light_cw, light_ccw)) return false;
-  if (!tangent_directions(occluder, p, occluder_cw, occluder_ccw)) return true;
-  return arc_contains(occluder_cw, occluder_ccw, light_cw, light_ccw);
 }
 
 KernelShape kernel_shape(const ConvexShape& s, Vec2 origin, Vec2 tile_center, TileWork& work) {
@@ -63,7 +56,46 @@ KernelShape kernel_shape(const ConvexShape& s, Vec2 origin, Vec2 tile_center, Ti
   return k;
 }
 
+
+// The hull of a pixel rectangle and a light: every ray from the rectangle to the light
+// stays inside it. Written to scratch.hull.
+void rect_light_hull(const std::array<Vec2, 4>& corners, const ConvexShape& light, TileSetupScratch& scratch) {
+  scratch.hull_points.assign(corners.begin(), corners.end());
+  if (light.kind == ShapeKind::circle) {
+    const Vec2 lo = light.bounds_min, hi = light.bounds_max;
+    scratch.hull_points.insert(scratch.hull_points.end(), {lo, Vec2{hi.x, lo.y}, hi, Vec2{lo.x, hi.y}});
+  } else {
+    scratch.hull_points.insert(scratch.hull_points.end(), light.vertices.begin(), light.vertices.end());
+  }
+  scratch.hull.resize(scratch.hull_points.size() + 1);
+  scratch.hull.resize(static_cast<std::size_t>(
+      convex_hull(scratch.hull_points.data(), static_cast<int>(scratch.hull_points.size()), scratch.hull.data())));
+}
+
+Aabb bounds_of(const ConvexShape& s) noexcept { return {s.bounds_min.x, s.bounds_min.y, s.bounds_max.x, s.bounds_max.y}; }
+
+Aabb bounds_of(const std::array<Vec2, 4>& rect) noexcept {
+  return {std::min(rect[0].x, rect[2].x), std::min(rect[0].y, rect[2].y), std::max(rect[0].x, rect[2].x),
+          std::max(rect[0].y, rect[2].y)};
+}
+
 }  // namespace
+
+void gather_block_candidates(const PreparedScene& scene, const TileRect& block, bool culling,
+                             TileSetupScratch& scratch) {
+  scratch.block_candidates.resize(scene.lights.size());
+  const std::array<Vec2, 4> corners = tile_corners(scene, block);
+  for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+    std::vector<std::uint32_t>& candidates = scratch.block_candidates[l];
+    candidates.clear();
+    if (!culling) {
+      for (std::uint32_t k = 0; k < scene.occluders.size(); ++k) candidates.push_back(k);
+      continue;
+    }
+    rect_light_hull(corners, scene.lights[l].shape, scratch);
+    scene.occluder_bvh.query_convex(scratch.hull.data(), static_cast<int>(scratch.hull.size()), candidates);
+  }
+}
 
 bool build_tile_work(const PreparedScene& scene, const TileRect& tile, bool culling, TileWork& work,
                      TileSetupScratch& scratch) {
@@ -80,29 +112,20 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, bool cull
 
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
     const PreparedLight& light = scene.lights[l];
-    scratch.candidates.clear();
-    if (culling) {
-      // Every ray from the tile to the light stays in the hull of the tile and the light.
-      scratch.hull_points.assign(corners.begin(), corners.end());
-      if (light.shape.kind == ShapeKind::circle) {
-        const Vec2 lo = light.shape.bounds_min, hi = light.shape.bounds_max;
-        scratch.hull_points.insert(scratch.hull_points.end(), {lo, Vec2{hi.x, lo.y}, hi, Vec2{lo.x, hi.y}});
-      } else {
-        scratch.hull_points.insert(scratch.hull_points.end(), light.shape.vertices.begin(), light.shape.vertices.end());
-      }
-      const std::vector<Vec2> hull = convex_hull(scratch.hull_points);
-      scene.occluder_bvh.query_convex(hull.data(), static_cast<int>(hull.size()), scratch.candidates);
-    } else {
-      for (std::uint32_t k = 0; k < scene.occluders.size(); ++k) scratch.candidates.push_back(k);
-    }
+    const std::vector<std::uint32_t>& candidates = scratch.block_candidates[l];
     for (std::uint32_t k : light.overlapping_occluders) {
-      if (std::binary_search(scratch.candidates.begin(), scratch.candidates.end(), k)) return false;
+      if (std::binary_search(candidates.begin(), candidates.end(), k)) return false;
     }
+    std::optional<BoxPairHull> tile_hull;
+    Vec2 light_cw[4], light_ccw[4];
+    signed char outside_light[4] = {-1, -1, -1, -1};  // -1: not computed yet
+    if (culling && !candidates.empty()) tile_hull.emplace(bounds_of(corners), bounds_of(light.shape));
     KernelLight kl;
     kl.first_pair = static_cast<std::uint32_t>(work.pairs.size());
     bool shadowed = false;
-    for (std::uint32_t k : scratch.candidates) {
+    for (std::uint32_t k : candidates) {
       const ConvexShape& occluder = scene.occluders[k];
+      if (tile_hull && !tile_hull->touches(bounds_of(occluder))) continue;
       const auto line = scene.separators.get(l, k, light.shape, occluder);
       if (!line) return false;  // touching shapes: leave them to the reference
       KernelPair pair;
@@ -119,8 +142,15 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, bool cull
           pair.c = -1.0f;
           // The umbra of a convex occluder for a convex light is convex, so the tile is in
           // it when its four corners are.
-          if (std::all_of(corners.begin(), corners.end(),
-                          [&](Vec2 p) { return in_umbra(light.shape, occluder, p); })) {
+          bool umbra = true;
+          for (int i = 0; i < 4 && umbra; ++i) {
+            if (outside_light[i] < 0)
+              outside_light[i] = tangent_directions(light.shape, corners[i], light_cw[i], light_ccw[i]) ? 1 : 0;
+            Vec2 occ_cw, occ_ccw;
+            umbra = outside_light[i] == 1 && (!tangent_directions(occluder, corners[i], occ_cw, occ_ccw) ||
+                                              arc_contains(occ_cw, occ_ccw, light_cw[i], light_ccw[i]));
+          }
+          if (umbra) {
             shadowed = true;
             break;
           }

@@ -13,17 +13,25 @@ namespace par2d::detail {
 
 // Per-thread buffers reused from tile to tile.
 struct TileSetupScratch {
+  // Per light: occluders that can block some ray from the current block to the light
+  // (sorted), from one spatial-index query per block and light.
+  std::vector<std::vector<std::uint32_t>> block_candidates;
   std::vector<std::int32_t> local_index;  // occluder -> index in TileWork::occluders, or -1
-  std::vector<std::uint32_t> candidates;
   std::vector<std::uint32_t> used;
-  std::vector<Vec2> hull_points;
+  std::vector<Vec2> hull_points, hull;
 };
 
-// Fills `work` for `tile`. Returns false when the tile must be computed by the scalar
-// reference instead (a light that overlaps an occluder matters to it: the separating-line
-// depth test the kernel uses needs disjoint shapes). With `culling`, occluders behind a
-// light for the whole tile are dropped and lights in the umbra of one occluder over the
-// whole tile are skipped; the image is the same either way.
+// Fills scratch.block_candidates for the pixel rectangle `block` (with culling off: every
+// occluder for every light).
+void gather_block_candidates(const PreparedScene& scene, const TileRect& block, bool culling,
+                             TileSetupScratch& scratch);
+
+// Fills `work` for `tile`, a tile of the block last given to gather_block_candidates.
+// Returns false when the tile must be computed by the scalar reference instead (a light
+// that overlaps or touches an occluder matters to it: the kernel's separating-line depth
+// test needs disjoint shapes). With `culling`, occluders behind a light for the whole
+// tile are dropped and lights in the umbra of one occluder over the whole tile are
+// skipped; the image is the same either way.
 bool build_tile_work(const PreparedScene& scene, const TileRect& tile, bool culling, TileWork& work,
                      TileSetupScratch& scratch);
 

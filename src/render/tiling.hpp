@@ -1,4 +1,5 @@
-// Image tiles: the unit of parallel work and of per-tile culling.
+// Image tiles (the kernel's unit) grouped in blocks (the unit of parallel work and of
+// spatial-index queries).
 #pragma once
 
 #include <tbb/blocked_range.h>
@@ -7,43 +8,44 @@
 
 #include <algorithm>
 
+#include "simd/tile_work.hpp"
+
 namespace par2d::detail {
 
-// 16 x 16 pixels: small enough that every thread gets many tiles (pbrt keeps tiles at
-// most ~32 px), large enough to amortize per-tile culling; a multiple of every SIMD width.
-inline constexpr int kTileSize = 16;
-inline constexpr int kTilePixels = kTileSize * kTileSize;
-
-struct TileGrid {
-  int width = 0, height = 0;
-  int columns() const noexcept { return (width + kTileSize - 1) / kTileSize; }
-  int rows() const noexcept { return (height + kTileSize - 1) / kTileSize; }
-  long long count() const noexcept { return static_cast<long long>(columns()) * rows(); }
-};
+// Blocks of kBlockTiles x kBlockTiles tiles: one spatial-index query per block and light
+// serves several tiles, and a 1920 x 1080 frame still has hundreds of blocks, so every
+// one of 16 threads gets many (pbrt's rule of many small work items).
+inline constexpr int kBlockTiles = 4;
+inline constexpr int kBlockSize = kTileSize * kBlockTiles;
 
 struct TileRect {
   int x0, y0, x1, y1;  // pixel columns [x0, x1), rows [y0, y1)
 };
 
-inline TileRect tile_rect(const TileGrid& grid, long long index) noexcept {
-  const int tx = static_cast<int>(index % grid.columns());
-  const int ty = static_cast<int>(index / grid.columns());
-  const int x0 = tx * kTileSize, y0 = ty * kTileSize;
-  return {x0, y0, std::min(x0 + kTileSize, grid.width), std::min(y0 + kTileSize, grid.height)};
+// Calls fn(rect) for the cells of `cell` pixels covering `area`, row by row.
+template <class Fn>
+void for_each_cell(const TileRect& area, int cell, Fn&& fn) {
+  for (int y = area.y0; y < area.y1; y += cell) {
+    for (int x = area.x0; x < area.x1; x += cell) fn(TileRect{x, y, std::min(x + cell, area.x1), std::min(y + cell, area.y1)});
+  }
 }
 
-// Runs `render_tile(tile_rect)` for every tile on `threads` workers. Iterates tile
-// indices, not pixel ranges (blocked_range splits at midpoints, which would not stay
-// aligned to SIMD packets). Each tile writes only its own pixels, so the image does not
-// depend on the thread count.
+// Runs fn(block_rect) for every block of the width x height image on `threads` workers.
+// Iterates block indices, not pixel ranges (blocked_range splits at midpoints, which
+// would not stay aligned to tiles and SIMD packets). Each block writes only its own
+// pixels, so the image does not depend on the thread count.
 template <class Fn>
-void for_each_tile(const TileGrid& grid, int threads, Fn&& render_tile) {
+void for_each_block(int width, int height, int threads, Fn&& fn) {
+  const int columns = (width + kBlockSize - 1) / kBlockSize;
+  const int rows = (height + kBlockSize - 1) / kBlockSize;
   tbb::task_arena arena(threads);
   arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<long long>(0, grid.count(), 1),
-                      [&](const tbb::blocked_range<long long>& range) {
-                        for (long long t = range.begin(); t != range.end(); ++t) render_tile(tile_rect(grid, t));
-                      });
+    tbb::parallel_for(tbb::blocked_range<int>(0, columns * rows, 1), [&](const tbb::blocked_range<int>& range) {
+      for (int b = range.begin(); b != range.end(); ++b) {
+        const int x0 = (b % columns) * kBlockSize, y0 = (b / columns) * kBlockSize;
+        fn(TileRect{x0, y0, std::min(x0 + kBlockSize, width), std::min(y0 + kBlockSize, height)});
+      }
+    });
   });
 }
 

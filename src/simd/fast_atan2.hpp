@@ -16,10 +16,12 @@ inline xsimd::batch<float, A> fast_atan2(const xsimd::batch<float, A>& y, const 
   using B = xsimd::batch<float, A>;
   const B ax = xsimd::abs(x), ay = xsimd::abs(y);
   const B hi = xsimd::max(ax, ay), lo = xsimd::min(ax, ay);
-  const auto degenerate = hi == B(0.0f);
-  const B a = lo / xsimd::select(degenerate, B(1.0f), hi);  // in [0, 1]
-  const auto reduce = a > B(0.41421356237f);                // tan(pi/8)
-  const B t = xsimd::select(reduce, (a - B(1.0f)) / (a + B(1.0f)), a);
+  // One division: t = lo/hi, or (lo - hi)/(lo + hi) = tan(atan(lo/hi) - pi/4) when
+  // lo/hi > tan(pi/8).
+  const auto reduce = lo > B(0.41421356237f) * hi;
+  const B num = xsimd::select(reduce, lo - hi, lo);
+  const B den = xsimd::select(reduce, lo + hi, hi);
+  const B t = num / xsimd::select(den == B(0.0f), B(1.0f), den);  // atan2(0, 0) = 0
   const B z = t * t;
   B p = B(8.05374449538e-2f);
   p = p * z - B(1.38776856032e-1f);

@@ -1,8 +1,8 @@
 // The PAR tile kernel, written once over the xsimd architecture and instantiated per ISA
 // in tile_kernel_<isa>.cpp (and nowhere else).
 //
-// SoA layout: a packet is W consecutive pixels of the tile's 256 (16 x 16 row-major;
-// W divides 16), one lane each; every shape parameter is broadcast to all lanes.
+// SoA layout: a packet is W consecutive pixels of a tile row (tiles are kTileSize square,
+// row-major; W divides kTileSize), one lane each; every shape parameter is broadcast to all lanes.
 // Lane semantics: each lane computes E at its own sample position; control flow depends
 // only on the tile's shape lists, never on lane data, so there are no lane branches:
 // per-lane decisions (inside, in front, overlap, wrap) are masks and selects.
@@ -208,15 +208,15 @@ template <class A>
 void render_tile(const TileWork& work, float* scratch, TileResult& out) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
-  static_assert(16 % W == 0, "a packet must not straddle a tile row");
+  static_assert(detail::kTileSize % W == 0, "a packet must not straddle a tile row");
   alignas(64) float lane_index[W];
   for (std::size_t l = 0; l < W; ++l) lane_index[l] = static_cast<float>(l);
   const B lanes = B::load_aligned(lane_index);
   const B dx(work.pixel_dx), dy(work.pixel_dy);
   const B inv_spp(1.0f / static_cast<float>(work.spp));
-  for (std::size_t first = 0; first < 256; first += W) {
-    const B column = B(static_cast<float>(first % 16)) + lanes;
-    const B row(static_cast<float>(first / 16));
+  for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
+    const B column = B(static_cast<float>(first % detail::kTileSize)) + lanes;
+    const B row(static_cast<float>(first / detail::kTileSize));
     B sum[3] = {B(0.0f), B(0.0f), B(0.0f)};
     for (int s = 0; s < work.spp; ++s) {
       const B px = (column + B(work.sample_x[s])) * dx;

@@ -8,12 +8,20 @@
 // lanes and evaluates it for a packet of pixels (the lanes) at once.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
 #include "geometry/convex_shape.hpp"
 
 namespace par2d::detail {
+
+// Tiles are kTileSize x kTileSize pixels: a multiple of every SIMD width; large enough to
+// amortize the per-tile culling (measured: 32 px tiles cost ~x% fewer instructions than
+// 16 px on the dungeon example), small enough that culling stays tight and every thread
+// gets many tiles.
+inline constexpr int kTileSize = 16;
+inline constexpr std::size_t kTilePixels = static_cast<std::size_t>(kTileSize) * kTileSize;
 
 // One shape for the kernel. Polygons and segments use vertices [first, first + count)
 // of TileWork::vx/vy; polygons also edge lines [first, first + count) of
@@ -69,11 +77,11 @@ struct TileWork {
   }
 };
 
-// Output of a tile kernel: mean irradiance over the samples for each of the tile's 256
-// pixels (16 x 16, row-major), one plane per channel. Pixels past the image edge are
+// Output of a tile kernel: mean irradiance over the samples for each of the tile's
+// pixels (row-major), one plane per channel. Pixels past the image edge are
 // computed too (padding instead of scalar tails) and dropped by the caller.
 struct TileResult {
-  alignas(64) float rgb[3][256];
+  alignas(64) float rgb[3][kTilePixels];
 };
 
 // Floats of scratch a kernel of `lanes` lanes needs for this work (caller-provided, 64-byte

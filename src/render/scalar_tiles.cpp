@@ -1,0 +1,57 @@
+// Pixel loops of the per-pixel backends: sample positions, averaging, storing floats.
+#include "render/scalar_tiles.hpp"
+
+#include <cstdint>
+
+namespace par2d::detail {
+namespace {
+
+// A stable per-sample hash, so the ray caster's jitter is the same on every run and thread count.
+double hash_to_unit(std::uint64_t v) noexcept {
+  v ^= v >> 33;
+  v *= 0xff51afd7ed558ccdULL;
+  v ^= v >> 33;
+  v *= 0xc4ceb9fe1a85ec53ULL;
+  v ^= v >> 33;
+  return static_cast<double>(v >> 11) * (1.0 / 9007199254740992.0);
+}
+
+template <class SampleFn>
+void average_samples(const PreparedScene& scene, int spp, const TileRect& rect, const ImageView& image,
+                     SampleFn&& sample) {
+  const double inv_spp = 1.0 / spp;
+  for (int j = rect.y0; j < rect.y1; ++j) {
+    float* row = image.data + static_cast<std::ptrdiff_t>(j) * image.row_stride;
+    for (int i = rect.x0; i < rect.x1; ++i) {
+      Rgb sum{0.0, 0.0, 0.0};
+      for (int k = 0; k < spp; ++k) {
+        double sx, sy;
+        sample_offset(k, spp, sx, sy);
+        const Rgb e = sample(sample_position(scene, i, j, sx, sy), i, j, k);
+        for (int c = 0; c < 3; ++c) sum[c] += e[c];
+      }
+      for (int c = 0; c < 3; ++c) row[3 * i + c] = static_cast<float>(sum[c] * inv_spp);
+    }
+  }
+}
+
+}  // namespace
+
+void render_rect_scalar(const PreparedScene& scene, int spp, const TileRect& rect, ScalarScratch& scratch,
+                        const ImageView& image) {
+  average_samples(scene, spp, rect, image,
+                  [&](Vec2 x, int, int, int) { return scalar_irradiance(scene, x, scratch); });
+}
+
+void render_rect_raycast(const PreparedScene& scene, const RaycastRenderer& caster, int spp, int rays,
+                         const TileRect& rect, const ImageView& image) {
+  average_samples(scene, spp, rect, image, [&](Vec2 x, int i, int j, int k) {
+    const std::uint64_t id = ((static_cast<std::uint64_t>(j) * static_cast<std::uint64_t>(scene.width) +
+                               static_cast<std::uint64_t>(i))
+                              << 8) |
+                             static_cast<std::uint64_t>(k);
+    return caster.irradiance(x, rays, hash_to_unit(id));
+  });
+}
+
+}  // namespace par2d::detail

@@ -1,0 +1,21 @@
+// Pixel loops of the per-pixel backends (scalar reference, ray caster) over a rectangle.
+#pragma once
+
+#include "par2d/render.hpp"
+#include "raycast/raycast_renderer.hpp"
+#include "render/prepared_scene.hpp"
+#include "render/tiling.hpp"
+#include "scalar/scalar_renderer.hpp"
+
+namespace par2d::detail {
+
+// Mean of the scalar reference over the samples of each pixel of `rect`.
+void render_rect_scalar(const PreparedScene& scene, int spp, const TileRect& rect, ScalarScratch& scratch,
+                        const ImageView& image);
+
+// Mean of the ray caster over the samples of each pixel of `rect`; each sample's ray
+// pattern is offset by a hash of (pixel, sample), the same on every run.
+void render_rect_raycast(const PreparedScene& scene, const RaycastRenderer& caster, int spp, int rays,
+                         const TileRect& rect, const ImageView& image);
+
+}  // namespace par2d::detail

@@ -1,0 +1,314 @@
+// The properties the fuzz targets check, shared with the corpus replay in tests/test_edge_cases.cpp.
+//
+// Each check takes arbitrary bytes and returns an empty string when every property holds,
+// otherwise one line saying what broke. The libFuzzer targets abort on a non-empty answer;
+// the doctest replay turns it into a failed CHECK, so every corpus file is a regression test.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "geometry/convex_shape.hpp"
+#include "par2d/par2d.hpp"
+#include "support/random_scenes.hpp"
+
+namespace par2d::fuzz {
+
+// Loader: any bytes give either a scene that validate_scene accepts, or a refusal whose
+// message is one non-empty line naming the file.
+inline std::string check_scene_text(const std::uint8_t* data, std::size_t size) {
+  const std::string_view text(reinterpret_cast<const char*>(data), size);
+  Scene scene;
+  const Status parsed = parse_scene(text, "fuzz.json", scene);
+  if (parsed.ok()) {
+    const Status valid = validate_scene(scene, "fuzz.json");
+    if (!valid.ok()) return "parse_scene accepted a scene that validate_scene refuses: " + valid.message();
+    return {};
+  }
+  const std::string& m = parsed.message();
+  if (parsed.code() != StatusCode::invalid_scene && parsed.code() != StatusCode::out_of_memory)
+    return "parse_scene failed with an unexpected code: " + std::string(status_code_name(parsed.code()));
+  if (m.rfind("fuzz.json: ", 0) != 0) return "refusal does not name the file: " + m;
+  if (m.size() <= 11) return "refusal without a reason: " + m;
+  if (m.find('\n') != std::string::npos || m.find('\r') != std::string::npos)
+    return "refusal message is not one line";
+  return {};
+}
+
+// Reads the fuzz input as a stream of small numbers; past its end every read is 0, so any
+// input, however short, decodes to some scene.
+class ByteReader {
+ public:
+  ByteReader(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}
+  unsigned byte() noexcept { return pos_ < size_ ? data_[pos_++] : 0u; }
+  unsigned u16() noexcept { return byte() | (byte() << 8); }
+  int signed_byte() noexcept { return static_cast<int>(byte()) - 128; }
+
+ private:
+  const std::uint8_t* data_;
+  std::size_t size_;
+  std::size_t pos_ = 0;
+};
+
+// Scene decoded from fuzz bytes. Coordinates sit on a quarter-pixel grid around a chosen
+// origin, so coincident, collinear and touching shapes are common; scale (world units per
+// pixel) and origin reach 1e-3 .. 1e15 and far from zero.
+struct FuzzScene {
+  Scene scene;
+  std::size_t polygon_vertices = 0;  // total, to keep the ray caster's cost bounded
+  int threads = 1;
+  int spp = 1;
+  int rays = 16;
+};
+
+inline Shape decode_shape(ByteReader& in, double origin_x, double origin_y, double scale) {
+  auto grid_x = [&] { return origin_x + scale * in.signed_byte() / 4.0; };
+  auto grid_y = [&] { return origin_y + scale * in.signed_byte() / 4.0; };
+  switch (in.byte() % 9) {
+    case 0: {  // ordinary circle
+      const Vec2 c{grid_x(), grid_y()};
+      return Circle{c, scale * (in.byte() + 1) / 8.0};
+    }
+    case 1: {  // tiny circle
+      const Vec2 c{grid_x(), grid_y()};
+      return Circle{c, scale * 1e-7 * (in.byte() + 1)};
+    }
+    case 2: {
+      const Vec2 a{grid_x(), grid_y()};
+      const Vec2 b{grid_x(), grid_y()};
+      return Segment{a, b};
+    }
+    case 3: {  // free polygon: often not convex, then left out
+      Polygon p;
+      const unsigned n = 3 + in.byte() % 6;
+      for (unsigned k = 0; k < n; ++k) {
+        const double x = grid_x();
+        p.vertices.push_back({x, grid_y()});
+      }
+      return p;
+    }
+    case 4: {  // regular n-gon, up to thousands of vertices, maybe repeated or collinear ones
+      const unsigned n = 3 + in.u16() % 4000;
+      const Vec2 c{grid_x(), grid_y()};
+      const double r = scale * (in.byte() + 1) / 4.0;
+      const double phase = in.byte() * (2.0 * detail::kPi / 256.0);
+      const unsigned flags = in.byte();
+      Polygon p;
+      for (unsigned k = 0; k < n; ++k) {
+        const double a = phase + 2.0 * detail::kPi * k / n;
+        const Vec2 v{c.x + r * std::cos(a), c.y + r * std::sin(a)};
+        p.vertices.push_back(v);
+        if (flags & 1) p.vertices.push_back(v);  // repeated vertex
+        if (flags & 2) {                          // midpoint: a collinear vertex
+          const double b = phase + 2.0 * detail::kPi * (k + 1) / n;
+          const Vec2 w{c.x + r * std::cos(b), c.y + r * std::sin(b)};
+          p.vertices.push_back({0.5 * (v.x + w.x), 0.5 * (v.y + w.y)});
+        }
+      }
+      if (flags & 4) std::reverse(p.vertices.begin(), p.vertices.end());
+      return p;
+    }
+    case 5: {  // axis-aligned rectangle: shared edges and corners with its neighbours
+      const double x0 = grid_x(), y0 = grid_y(), x1 = grid_x(), y1 = grid_y();
+      return Polygon{{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}};
+    }
+    case 6: {  // huge circle, far larger than the view
+      const Vec2 c{grid_x(), grid_y()};
+      return Circle{c, scale * 1e6 * (in.byte() + 1)};
+    }
+    case 7: {  // far away circle
+      const Vec2 c{origin_x + scale * 1e6 * in.signed_byte(), origin_y + scale * 1e6 * in.signed_byte()};
+      return Circle{c, scale * (in.byte() + 1)};
+    }
+    default: {  // thin sliver triangle
+      const Vec2 a{grid_x(), grid_y()};
+      const Vec2 b{grid_x(), grid_y()};
+      const double t = scale * 1e-6 * (in.byte() + 1);
+      return Polygon{{a, b, {b.x + t, b.y - t}}};
+    }
+  }
+}
+
+inline FuzzScene decode_scene(ByteReader& in) {
+  static constexpr double kScales[] = {1.0, 1e-3, 0.05, 1e3, 1e7, 1e15};
+  static constexpr double kOrigins[] = {0.0, 0.0, 1e5, -1e7, 1e7, 1e15};
+  FuzzScene f;
+  Scene& s = f.scene;
+  s.width = 1 + static_cast<int>(in.byte() % 24);
+  s.height = 1 + static_cast<int>(in.byte() % 24);
+  const double scale = kScales[in.byte() % 6];
+  const double origin = kOrigins[in.byte() % 6];
+  const unsigned view_flags = in.byte();
+  s.view = {origin, origin, origin + scale * s.width, origin + scale * s.height};
+  if (view_flags & 1) std::swap(s.view.x0, s.view.x1);
+  if (view_flags & 2) std::swap(s.view.y0, s.view.y1);
+  f.threads = (view_flags & 4) ? 2 : 1;
+  f.spp = (view_flags & 8) ? 1 + static_cast<int>(in.byte() % 4) : 1;
+  f.rays = 1 + static_cast<int>(in.byte() % 64);
+  // A shape that validate_scene refuses is left out, so that most inputs still render.
+  auto accepted = [&](const Shape& shape) {
+    Scene probe;
+    probe.width = probe.height = 1;
+    probe.view = {0, 0, 1, 1};
+    probe.occluders.push_back({shape});
+    return validate_scene(probe).ok();
+  };
+  const unsigned lights = in.byte() % 5, occluders = in.byte() % 7;
+  for (unsigned k = 0; k < lights; ++k) {
+    Light light;
+    light.shape = decode_shape(in, origin, origin, scale);
+    light.color = {in.byte() / 255.0, in.byte() / 255.0, in.byte() / 255.0};
+    light.intensity = in.byte() / 16.0;
+    if (accepted(light.shape)) s.lights.push_back(light);
+  }
+  for (unsigned k = 0; k < occluders; ++k) {
+    Occluder occluder{decode_shape(in, origin, origin, scale)};
+    if (accepted(occluder.shape)) s.occluders.push_back(occluder);
+  }
+  for (const Light& l : s.lights)
+    if (const auto* p = std::get_if<Polygon>(&l.shape)) f.polygon_vertices += p->vertices.size();
+  for (const Occluder& o : s.occluders)
+    if (const auto* p = std::get_if<Polygon>(&o.shape)) f.polygon_vertices += p->vertices.size();
+  return f;
+}
+
+// Whether every light is apart from every occluder: SPEC.md section 5's SIMD bound needs it.
+inline bool lights_disjoint_from_occluders(const Scene& scene) {
+  for (const Light& l : scene.lights) {
+    const detail::ConvexShape ls = detail::make_convex_shape(l.shape);
+    for (const Occluder& o : scene.occluders)
+      if (!(detail::shape_distance(ls, detail::make_convex_shape(o.shape)) > 0.0)) return false;
+  }
+  return true;
+}
+
+// Finite, 0 <= E <= sum of e_L per channel (float rounding allowed).
+inline std::string check_bounds(const Scene& scene, const test::RenderedImage& image, const char* what) {
+  double sum[3] = {0.0, 0.0, 0.0};
+  for (const Light& l : scene.lights)
+    for (int c = 0; c < 3; ++c) sum[c] += l.intensity * l.color[c];
+  for (int j = 0; j < image.height; ++j)
+    for (int i = 0; i < image.width; ++i)
+      for (int c = 0; c < 3; ++c) {
+        const float e = image.at(i, j, c);
+        if (!std::isfinite(e) || e < 0.0f || e > sum[c] * (1.0 + 1e-5) + 1e-6) {
+          std::ostringstream out;
+          out.precision(17);
+          out << what << ": pixel (" << i << ", " << j << ") channel " << c << " is " << e
+              << ", outside [0, " << sum[c] << "]";
+          return out.str();
+        }
+      }
+  return {};
+}
+
+// Renders the decoded scene with every backend (scalar, SIMD at each ISA this CPU has,
+// ray casting) and checks status, bounds and SIMD-vs-scalar agreement (SPEC.md section 5).
+inline std::string check_render_bytes(const std::uint8_t* data, std::size_t size) {
+  ByteReader in(data, size);
+  const FuzzScene f = decode_scene(in);
+  const Scene& scene = f.scene;
+  const Status valid = validate_scene(scene);
+  if (!valid.ok()) return {};  // only scenes validate_scene accepts are rendered
+
+  RenderOptions base;
+  base.threads = f.threads;
+  base.spp = f.spp;
+  Status status;
+  RenderOptions scalar_options = base;
+  scalar_options.backend = Backend::scalar;
+  const test::RenderedImage scalar = test::render_image(scene, scalar_options, status);
+  if (!status.ok()) return "scalar render failed: " + status.message();
+  if (std::string p = check_bounds(scene, scalar, "scalar"); !p.empty()) return p;
+
+  const bool compare = f.spp == 1 && lights_disjoint_from_occluders(scene);
+  const double tolerance = 1e-4 * test::emission_max_sum(scene);
+  const double near = 0.05 * test::pixel_width(scene);
+  for (Isa isa : {Isa::sse4_2, Isa::avx2, Isa::avx512}) {
+    if (!isa_supported(isa)) continue;
+    RenderOptions o = base;
+    o.backend = Backend::simd;
+    o.isa = isa;
+    const test::RenderedImage simd = test::render_image(scene, o, status);
+    const std::string what = std::string("simd ") + isa_name(isa);
+    if (!status.ok()) return what + " render failed: " + status.message();
+    if (std::string p = check_bounds(scene, simd, what.c_str()); !p.empty()) return p;
+    if (!compare) continue;
+    for (int j = 0; j < scene.height; ++j)
+      for (int i = 0; i < scene.width; ++i) {
+        if (test::near_boundary(scene, test::pixel_center(scene, i, j), near)) continue;
+        for (int c = 0; c < 3; ++c) {
+          const double diff = std::fabs(double(simd.at(i, j, c)) - double(scalar.at(i, j, c)));
+          if (!(diff <= tolerance)) {
+            std::ostringstream out;
+            out.precision(17);
+            out << what << " differs from scalar at pixel (" << i << ", " << j << ") channel " << c << ": "
+                << simd.at(i, j, c) << " vs " << scalar.at(i, j, c) << ", bound " << tolerance;
+            return out.str();
+          }
+        }
+      }
+  }
+
+  if (f.polygon_vertices <= 256) {  // the ray caster is O(rays * vertices) per pixel
+    RenderOptions o = base;
+    o.backend = Backend::raycast;
+    o.rays = f.rays;
+    const test::RenderedImage rays = test::render_image(scene, o, status);
+    if (!status.ok()) return "raycast render failed: " + status.message();
+    if (std::string p = check_bounds(scene, rays, "raycast"); !p.empty()) return p;
+  }
+  return {};
+}
+
+// The scene JSON for a render fuzz input, for bug reports (FINDINGS.md) and the CLI.
+inline std::string scene_json(const Scene& s) {
+  std::ostringstream out;
+  out.precision(17);
+  auto point = [&](Vec2 p) { out << "[" << p.x << ", " << p.y << "]"; };
+  auto shape = [&](const Shape& sh) {
+    if (const auto* c = std::get_if<Circle>(&sh)) {
+      out << "\"circle\": {\"center\": ";
+      point(c->center);
+      out << ", \"radius\": " << c->radius << "}";
+    } else if (const auto* g = std::get_if<Segment>(&sh)) {
+      out << "\"segment\": [";
+      point(g->a);
+      out << ", ";
+      point(g->b);
+      out << "]";
+    } else {
+      out << "\"polygon\": [";
+      const auto& v = std::get<Polygon>(sh).vertices;
+      for (std::size_t k = 0; k < v.size(); ++k) {
+        if (k) out << ", ";
+        point(v[k]);
+      }
+      out << "]";
+    }
+  };
+  out << "{\"width\": " << s.width << ", \"height\": " << s.height << ", \"view\": [" << s.view.x0 << ", "
+      << s.view.y0 << ", " << s.view.x1 << ", " << s.view.y1 << "],\n \"lights\": [";
+  for (std::size_t k = 0; k < s.lights.size(); ++k) {
+    out << (k ? ",\n  {" : "\n  {");
+    shape(s.lights[k].shape);
+    out << ", \"color\": [" << s.lights[k].color[0] << ", " << s.lights[k].color[1] << ", " << s.lights[k].color[2]
+        << "], \"intensity\": " << s.lights[k].intensity << "}";
+  }
+  out << "],\n \"occluders\": [";
+  for (std::size_t k = 0; k < s.occluders.size(); ++k) {
+    out << (k ? ",\n  {" : "\n  {");
+    shape(s.occluders[k].shape);
+    out << "}";
+  }
+  out << "]}\n";
+  return out.str();
+}
+
+}  // namespace par2d::fuzz

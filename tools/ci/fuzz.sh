@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# CI: builds the libFuzzer targets with clang (ASan+UBSan) and fuzzes each for a bounded time; any finding fails.
+#
+# Env: FUZZ_SECONDS (per target, default 60), JOBS (build, default nproc), CXX_CLANG (default clang++-14).
+# Findings land in build-fuzz/artifacts/; turn each into a file under tests/fuzz/corpus/ (it is then
+# replayed by every build's test suite) and fix it.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+ROOT=$PWD
+FUZZ_SECONDS=${FUZZ_SECONDS:-60}
+JOBS=${JOBS:-$(nproc)}
+CXX_CLANG=${CXX_CLANG:-clang++-14}
+BUILD=build-fuzz
+
+t0=$(date +%s)
+# The library itself is instrumented too (fuzzer-no-link: coverage without libFuzzer's main).
+cmake -S . -B "$BUILD" -DCMAKE_CXX_COMPILER="$CXX_CLANG" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+      -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" \
+      -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
+      -DPAR2D_BUILD_TESTS=OFF -DPAR2D_BUILD_TOOLS=OFF -DPAR2D_BUILD_BENCH=OFF -DPAR2D_BUILD_FUZZ=ON >/dev/null
+cmake --build "$BUILD" -j"$JOBS" --target fuzz_scene_loader fuzz_render
+t1=$(date +%s)
+echo "fuzz.sh: build $((t1 - t0)) s"
+
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+mkdir -p "$BUILD/artifacts"
+status=0
+run_target() {  # target, seed corpus dir, max input length
+  local target=$1 seeds=$2 max_len=$3
+  local work="$BUILD/corpus/$target"
+  mkdir -p "$work"
+  # The checked-in seeds are read, never written: new inputs go to the work corpus.
+  # -timeout: an input that takes this long is reported as a hang; -rss_limit_mb: as a leak/blow-up.
+  if ! "$BUILD/tests/fuzz/$target" "$work" "$seeds" -max_total_time="$FUZZ_SECONDS" -max_len="$max_len" \
+        -timeout=25 -rss_limit_mb=2560 -print_final_stats=1 \
+        -artifact_prefix="$BUILD/artifacts/$target-" 2>"$BUILD/$target.log"; then
+    echo "fuzz.sh: $target found a problem; last lines of $BUILD/$target.log:" >&2
+    tail -n 60 "$BUILD/$target.log" >&2
+    status=1
+  else
+    grep -E '^stat::(number_of_executed_units|peak_rss_mb)' "$BUILD/$target.log" | sed "s/^/fuzz.sh: $target /"
+  fi
+}
+run_target fuzz_scene_loader "$ROOT/tests/fuzz/corpus/loader" 4096
+run_target fuzz_render "$ROOT/tests/fuzz/corpus/render" 2048
+echo "fuzz.sh: total $(( $(date +%s) - t0 )) s"
+exit $status
