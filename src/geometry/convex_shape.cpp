@@ -192,15 +192,25 @@ ConvexShape make_convex_shape(const Shape& shape) {
       if (v.empty() || p.x != v.back().x || p.y != v.back().y) v.push_back(p);
     }
     while (v.size() > 1 && v.front().x == v.back().x && v.front().y == v.back().y) v.pop_back();
+    // Winding, straightness and normals are decided on coordinates scaled by a power of two
+    // (exact) into [-1, 1], as validation does: with coordinates near 1e160 and beyond, raw
+    // cross products overflow to inf/NaN, which reversed nothing and erased every vertex as
+    // "straight" (inf <= 1e-9 * inf). The tests are scale-invariant, so for ordinary
+    // coordinates the verdicts are bit-for-bit those of the raw numbers.
+    double max_abs = 0.0;
+    for (Vec2 p : v) max_abs = std::max({max_abs, std::abs(p.x), std::abs(p.y)});
+    int exponent = 0;
+    std::frexp(max_abs, &exponent);
+    const auto scaled = [exponent](Vec2 p) { return Vec2{std::ldexp(p.x, -exponent), std::ldexp(p.y, -exponent)}; };
     double area2 = 0.0;
-    for (size_t i = 0; i < v.size(); ++i) area2 += cross(v[i], v[(i + 1) % v.size()]);
+    for (size_t i = 0; i < v.size(); ++i) area2 += cross(scaled(v[i]), scaled(v[(i + 1) % v.size()]));
     if (area2 < 0.0) std::reverse(v.begin(), v.end());
     // Drop straight turns until none is left (each removal can straighten a neighbour).
     for (bool removed = true; removed && v.size() > 3;) {
       removed = false;
       for (size_t i = 0; i < v.size() && v.size() > 3; ++i) {
-        const Vec2 prev = v[(i + v.size() - 1) % v.size()], next = v[(i + 1) % v.size()];
-        const Vec2 e1 = v[i] - prev, e2 = next - v[i];
+        const Vec2 prev = scaled(v[(i + v.size() - 1) % v.size()]), next = scaled(v[(i + 1) % v.size()]);
+        const Vec2 e1 = scaled(v[i]) - prev, e2 = next - scaled(v[i]);
         if (std::abs(cross(e1, e2)) <= kStraightTurn * length(e1) * length(e2)) {
           v.erase(v.begin() + static_cast<std::ptrdiff_t>(i));
           removed = true;
@@ -211,20 +221,26 @@ ConvexShape make_convex_shape(const Shape& shape) {
     s.vertices = std::move(v);
     const std::size_t n = s.vertices.size();
     for (std::size_t i = 0; i < n; ++i) {
-      const Vec2 e = s.vertices[(i + 1) % n] - s.vertices[i];
+      const Vec2 e = scaled(s.vertices[(i + 1) % n]) - scaled(s.vertices[i]);
       const double len = length(e);
       s.edge_normals.push_back({-e.y / len, e.x / len});
     }
   }
   s.bounds_min = {kInfinity, kInfinity};
   s.bounds_max = {-kInfinity, -kInfinity};
+  // The vertex mean is summed at a power-of-two scale (exact) so that it cannot overflow.
+  double max_abs = 0.0;
+  for (Vec2 p : s.vertices) max_abs = std::max({max_abs, std::abs(p.x), std::abs(p.y)});
+  int exponent = 0;
+  std::frexp(max_abs, &exponent);
   Vec2 sum{0.0, 0.0};
   for (Vec2 p : s.vertices) {
     s.bounds_min = {std::min(s.bounds_min.x, p.x - s.radius), std::min(s.bounds_min.y, p.y - s.radius)};
     s.bounds_max = {std::max(s.bounds_max.x, p.x + s.radius), std::max(s.bounds_max.y, p.y + s.radius)};
-    sum = sum + p;
+    sum = sum + Vec2{std::ldexp(p.x, -exponent), std::ldexp(p.y, -exponent)};
   }
-  s.centroid = (1.0 / static_cast<double>(s.vertices.size())) * sum;
+  const Vec2 mean = (1.0 / static_cast<double>(s.vertices.size())) * sum;
+  s.centroid = {std::ldexp(mean.x, exponent), std::ldexp(mean.y, exponent)};
   return s;
 }
 
@@ -315,6 +331,16 @@ bool tangent_directions(const ConvexShape& s, Vec2 x, Vec2& cw, Vec2& ccw) noexc
     if (cross(ccw, d) > 0.0) ccw = d;
   }
   return true;
+}
+
+void tangent_vertices(const ConvexShape& s, Vec2 x, int& cw, int& ccw) noexcept {
+  cw = ccw = 0;
+  Vec2 cw_dir = s.vertices[0] - x, ccw_dir = cw_dir;
+  for (std::size_t i = 1; i < s.vertices.size(); ++i) {
+    const Vec2 d = s.vertices[i] - x;
+    if (cross(cw_dir, d) < 0.0) cw_dir = d, cw = static_cast<int>(i);
+    if (cross(ccw_dir, d) > 0.0) ccw_dir = d, ccw = static_cast<int>(i);
+  }
 }
 
 bool arc_contains(Vec2 outer_cw, Vec2 outer_ccw, Vec2 inner_cw, Vec2 inner_ccw) noexcept {

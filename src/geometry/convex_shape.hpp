@@ -63,6 +63,10 @@ AngularSpan angular_span(const ConvexShape& shape, Vec2 x) noexcept;
 // start), `ccw` the other. False when x is in the shape (the arc is the full circle).
 bool tangent_directions(const ConvexShape& shape, Vec2 x, Vec2& cw, Vec2& ccw) noexcept;
 
+// For a polygon or segment and x outside it: indices of the vertices giving the two
+// tangent directions of tangent_directions (ties go to the lowest index).
+void tangent_vertices(const ConvexShape& shape, Vec2 x, int& cw, int& ccw) noexcept;
+
 // Whether `outer`'s arc from x contains `inner`'s whole arc (x outside both; arcs < pi).
 bool arc_contains(Vec2 outer_cw, Vec2 outer_ccw, Vec2 inner_cw, Vec2 inner_ccw) noexcept;
 

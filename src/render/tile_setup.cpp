@@ -17,9 +17,49 @@ std::array<Vec2, 4> tile_corners(const PreparedScene& scene, const TileRect& til
   return {Vec2{a.x, a.y}, Vec2{b.x, a.y}, Vec2{b.x, b.y}, Vec2{a.x, b.y}};
 }
 
-KernelShape kernel_shape(const ConvexShape& s, Vec2 origin, Vec2 tile_center, TileWork& work) {
+Aabb bounds_of(const ConvexShape& s) noexcept { return {s.bounds_min.x, s.bounds_min.y, s.bounds_max.x, s.bounds_max.y}; }
+
+Aabb bounds_of(const std::array<Vec2, 4>& rect) noexcept {
+  return {std::min(rect[0].x, rect[2].x), std::min(rect[0].y, rect[2].y), std::max(rect[0].x, rect[2].x),
+          std::max(rect[0].y, rect[2].y)};
+}
+
+bool boxes_meet(const Aabb& a, const Aabb& b) noexcept {
+  return a.min_x <= b.max_x && b.min_x <= a.max_x && a.min_y <= b.max_y && b.min_y <= a.max_y;
+}
+
+// For a polygon wholly outside the tile: when the same two vertices are the tangent
+// vertices at all four tile corners, they are for every point of the tile (the points
+// with a given tangent vertex form a wedge, which is convex), so the kernel need only
+// look at those two, as a segment: no inside test, no search over vertices.
+bool tile_tangent_pair(const ConvexShape& s, const std::array<Vec2, 4>& corners, int& cw, int& ccw) noexcept {
+  if (s.kind != ShapeKind::polygon || boxes_meet(bounds_of(s), bounds_of(corners))) return false;
+  tangent_vertices(s, corners[0], cw, ccw);
+  for (int i = 1; i < 4; ++i) {
+    int c, cc;
+    tangent_vertices(s, corners[i], c, cc);
+    if (c != cw || cc != ccw) return false;
+  }
+  return true;
+}
+
+KernelShape kernel_shape(const ConvexShape& s, Vec2 origin, const std::array<Vec2, 4>& corners, TileWork& work) {
   KernelShape k;
   k.kind = s.kind;
+  const Vec2 tile_center = 0.5 * (corners[0] + corners[2]);
+  if (int cw, ccw; tile_tangent_pair(s, corners, cw, ccw)) {
+    k.kind = ShapeKind::segment;
+    k.first = static_cast<std::uint32_t>(work.vx.size());
+    k.count = 2;
+    for (int i : {cw, ccw}) {
+      work.vx.push_back(static_cast<float>(s.vertices[i].x - origin.x));
+      work.vy.push_back(static_cast<float>(s.vertices[i].y - origin.y));
+      work.edge_nx.push_back(0.0f);
+      work.edge_ny.push_back(0.0f);
+      work.edge_c.push_back(0.0f);
+    }
+    return k;
+  }
   if (s.kind == ShapeKind::circle) {
     const Vec2 c = s.vertices[0];
     Vec2 u = tile_center - c;
@@ -72,12 +112,7 @@ void rect_light_hull(const std::array<Vec2, 4>& corners, const ConvexShape& ligh
       convex_hull(scratch.hull_points.data(), static_cast<int>(scratch.hull_points.size()), scratch.hull.data())));
 }
 
-Aabb bounds_of(const ConvexShape& s) noexcept { return {s.bounds_min.x, s.bounds_min.y, s.bounds_max.x, s.bounds_max.y}; }
 
-Aabb bounds_of(const std::array<Vec2, 4>& rect) noexcept {
-  return {std::min(rect[0].x, rect[2].x), std::min(rect[0].y, rect[2].y), std::max(rect[0].x, rect[2].x),
-          std::max(rect[0].y, rect[2].y)};
-}
 
 }  // namespace
 
@@ -106,7 +141,6 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, bool cull
   work.pixel_dy = static_cast<float>(pixel_dy);
   const Vec2 origin = sample_position(scene, tile.x0, tile.y0, 0.0, 0.0);
   const std::array<Vec2, 4> corners = tile_corners(scene, tile);
-  const Vec2 center = 0.5 * (corners[0] + corners[2]);
   scratch.local_index.assign(scene.occluders.size(), -1);
   scratch.used.clear();
 
@@ -171,12 +205,12 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, bool cull
       }
       work.pairs[p].occluder = static_cast<std::uint32_t>(local);
     }
-    kl.shape = kernel_shape(light.shape, origin, center, work);
+    kl.shape = kernel_shape(light.shape, origin, corners, work);
     for (int c = 0; c < 3; ++c) kl.emission[c] = static_cast<float>(light.emission[c] / kTwoPi);
     work.max_pairs_per_light = std::max(work.max_pairs_per_light, kl.pair_count);
     work.lights.push_back(kl);
   }
-  for (std::uint32_t k : scratch.used) work.occluders.push_back(kernel_shape(scene.occluders[k], origin, center, work));
+  for (std::uint32_t k : scratch.used) work.occluders.push_back(kernel_shape(scene.occluders[k], origin, corners, work));
   return true;
 }
 
