@@ -369,3 +369,23 @@ TEST_CASE("fuzz corpora replay: every checked-in input keeps every fuzz property
   }
   CHECK(replayed >= 8);
 }
+
+TEST_CASE("polygons with coordinates up to 1e307 keep their shape: a pixel inside the occluder is black") {
+  // Regression: make_convex_shape summed raw cross products, which overflow beyond ~1e154;
+  // every vertex then tested "straight" (inf <= 1e-9 * inf) and a clockwise polygon was not
+  // reversed, so the pixel at (1, 0) fell outside the occluder x in [0, S], |y| <= S and the
+  // light at (-3, 0) shone through it.
+  for (double S : {1e10, 1e160, 1e200, 1e307}) {
+    for (bool clockwise : {false, true}) {
+      Scene scene;
+      scene.lights.push_back(white_light(Circle{{-3, 0}, 1}));
+      Polygon occluder{{{0, -S}, {S, -S}, {S, S}, {0, S}}};
+      if (clockwise) std::swap(occluder.vertices[1], occluder.vertices[3]);
+      scene.occluders.push_back({occluder});
+      INFO("S = ", S, " clockwise = ", clockwise);
+      CHECK(render_one(at_point(scene, {1, 0}), scalar_options()) == 0.0);
+      // Outside it, at (-1, 0), the light is unobstructed: 2·asin(1/2)/2pi = 1/6.
+      CHECK(std::fabs(render_one(at_point(scene, {-1, 0}), scalar_options()) - 1.0 / 6.0) <= kScalarBound);
+    }
+  }
+}

@@ -77,6 +77,7 @@ KernelShape kernel_shape(const ConvexShape& s, Vec2 origin, const std::array<Vec
   }
   k.first = static_cast<std::uint32_t>(work.vx.size());
   k.count = static_cast<std::uint32_t>(s.vertices.size());
+  k.may_contain = boxes_meet(bounds_of(s), bounds_of(corners));
   const std::size_t n = s.vertices.size();
   for (std::size_t i = 0; i < n; ++i) {
     const Vec2 v = s.vertices[i];

@@ -41,7 +41,9 @@ struct Arc {
 // Arc of directions in which `shape` is seen from (px, py), per lane. Tangent
 // directions come from pseudo-cross products (compare + select per vertex); only the
 // two tangents go through atan2.
-template <class A>
+// kWithStart = false computes only `width` and `inside` (a light no occluder can block
+// in this tile needs no start angle), with one atan2 instead of two.
+template <class A, bool kWithStart = true>
 inline Arc<A> shape_arc(const TileWork& work, const KernelShape& s, const xsimd::batch<float, A>& px,
                         const xsimd::batch<float, A>& py) noexcept {
   using B = xsimd::batch<float, A>;
@@ -51,11 +53,12 @@ inline Arc<A> shape_arc(const TileWork& work, const KernelShape& s, const xsimd:
     // |x - c|^2 - r^2 without cancellation (see KernelShape).
     const B excess = xsimd::fma(qx, qx, qy * qy) - B(2.0f * s.r) * xsimd::fma(B(s.ux), qx, B(s.uy) * qy);
     arc.inside = excess <= B(0.0f);
-    const B dx = B(s.cx) - px, dy = B(s.cy) - py;
-    const B center = fast_atan2(dy, dx);
     const B half = fast_atan2(B(s.r), xsimd::sqrt(xsimd::max(excess, B(0.0f))));
-    arc.start = center - half;
     arc.width = half + half;
+    if constexpr (kWithStart) {
+      const B dx = B(s.cx) - px, dy = B(s.cy) - py;
+      arc.start = fast_atan2(dy, dx) - half;
+    }
     return arc;
   }
   const float* vx = work.vx.data() + s.first;
@@ -74,8 +77,8 @@ inline Arc<A> shape_arc(const TileWork& work, const KernelShape& s, const xsimd:
     const float* nx = work.edge_nx.data() + s.first;
     const float* ny = work.edge_ny.data() + s.first;
     const float* nc = work.edge_c.data() + s.first;
-    B outside_by = xsimd::fma(B(nx[0]), px, B(ny[0]) * py) - B(nc[0]);
-    outside_by = -outside_by;  // > 0 outside edge 0
+    // Distance outside the polygon (<= 0 inside), only where the tile meets its box.
+    B outside_by = s.may_contain ? B(nc[0]) - xsimd::fma(B(nx[0]), px, B(ny[0]) * py) : B(1.0f);
     for (std::uint32_t i = 1; i < s.count; ++i) {
       const B dx = B(vx[i]) - px, dy = B(vy[i]) - py;
       // Outside a convex polygon all vertices lie in an open half-plane of directions,
@@ -86,15 +89,20 @@ inline Arc<A> shape_arc(const TileWork& work, const KernelShape& s, const xsimd:
       const auto more_ccw = (hix * dy - hiy * dx) > B(0.0f);
       hix = xsimd::select(more_ccw, dx, hix);
       hiy = xsimd::select(more_ccw, dy, hiy);
-      outside_by = xsimd::max(outside_by, B(nc[i]) - xsimd::fma(B(nx[i]), px, B(ny[i]) * py));
+      if (s.may_contain) outside_by = xsimd::max(outside_by, B(nc[i]) - xsimd::fma(B(nx[i]), px, B(ny[i]) * py));
     }
     arc.inside = outside_by <= B(0.0f);
   }
-  arc.start = fast_atan2(loy, lox);
-  B width = fast_atan2(hiy, hix) - arc.start;
-  width = xsimd::select(width < B(0.0f), width + B(kTwoPiF), width);
-  // An outside arc is narrower than pi; a width near 2*pi is -0 rounded up (collinear view).
-  arc.width = xsimd::select(width > B(4.71238898f), B(0.0f), width);
+  if constexpr (kWithStart) {
+    arc.start = fast_atan2(loy, lox);
+    B width = fast_atan2(hiy, hix) - arc.start;
+    width = xsimd::select(width < B(0.0f), width + B(kTwoPiF), width);
+    // An outside arc is narrower than pi; a width near 2*pi is -0 rounded up (collinear view).
+    arc.width = xsimd::select(width > B(4.71238898f), B(0.0f), width);
+  } else {
+    // The angle from the clockwise to the counter-clockwise tangent, in [0, pi].
+    arc.width = xsimd::max(fast_atan2(lox * hiy - loy * hix, xsimd::fma(lox, hix, loy * hiy)), B(0.0f));
+  }
   return arc;
 }
 
@@ -170,6 +178,12 @@ inline void packet_irradiance(const TileWork& work, const xsimd::batch<float, A>
   }
   for (int c = 0; c < 3; ++c) e[c] = B(0.0f);
   for (const KernelLight& light : work.lights) {
+    if (light.pair_count == 0) {  // nothing in front of this light anywhere in the tile
+      const Arc<A> arc = shape_arc<A, false>(work, light.shape, px, py);
+      const B visible = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
+      for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]), visible, e[c]);
+      continue;
+    }
     const Arc<A> arc = shape_arc<A>(work, light.shape, px, py);
     const B width = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
     B reach0(0.0f);

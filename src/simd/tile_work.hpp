@@ -34,6 +34,7 @@ struct KernelShape {
   ShapeKind kind = ShapeKind::polygon;
   std::uint32_t first = 0;
   std::uint32_t count = 0;
+  bool may_contain = true;  // polygons: whether the tile meets the bounding box (else skip the inside test)
   float cx = 0, cy = 0, r = 0;
   float px = 0, py = 0, ux = 0, uy = 0;
 };
