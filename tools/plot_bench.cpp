@@ -366,10 +366,11 @@ void draw_panel(Canvas& c, const Panel& p, const std::string& title, const std::
     }
   }
 
-  // Legend, top left inside the plot area.
-  const int lx = p.x0 + 14, ly = p.y0 + 12;
-  const std::string unculled = skipped_unculled > 0 ? "UNCULLED (" + std::to_string(skipped_unculled) + " SKIPPED, >3 S)" : "UNCULLED";
+  // Legend, bottom right inside the plot area: frame time grows with the count, so the lines
+  // start low on the left and end high on the right, and this corner is the one they avoid.
+  const std::string unculled = skipped_unculled > 0 ? "UNCULLED (" + std::to_string(skipped_unculled) + " SKIPPED: >3 S)" : "UNCULLED";
   const int box_w = 44 + std::max(Canvas::text_width("CULLED", kText), Canvas::text_width(unculled, kText)) + 14;
+  const int lx = p.x1 - box_w - 4, ly = p.y1 - 56;
   c.fill_rect(lx - 6, ly - 6, lx + box_w, ly + 44, kWhite);
   for (int s = 0; s < 2; ++s) {
     const int y = ly + s * 22 + 7;
@@ -387,14 +388,14 @@ void value_range(const std::vector<double>& v, double& lo, double& hi) {
   if (hi - lo < 1) hi = lo + 1;
 }
 
-void plot(const Results& r, const std::string& out_path) {
+void plot(const Results& r, const std::string& in_path, const std::string& out_path) {
   const auto occ = sweep_series(r, "occluder_sweep", true);
   const auto lights = sweep_series(r, "light_sweep", false);
   std::vector<double> all_ms;
   for (const auto* sweep : {&occ, &lights})
     for (const Series& s : *sweep)
       for (const auto& pt : s.points) all_ms.push_back(pt.second);
-  if (all_ms.empty()) fail("no scaling/occluder_sweep or scaling/light_sweep results in the input (run par2d_bench --benchmark_filter=^scaling/)");
+  if (all_ms.empty()) fail(in_path + ": no scaling/occluder_sweep or scaling/light_sweep results in the input (run par2d_bench --benchmark_filter=^scaling/)");
 
   Canvas c(1400, 640);
   double ly0 = 0, ly1 = 0;
@@ -453,7 +454,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    plot(read_results(argv[1]), argv[2]);
+    plot(read_results(argv[1]), argv[1], argv[2]);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "par2d_plot_bench: %s\n", e.what());
     return 1;

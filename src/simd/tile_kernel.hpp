@@ -15,6 +15,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include <cstddef>
+#include <cstdint>
 
 #include "simd/fast_atan2.hpp"
 #include "simd/tile_work.hpp"
@@ -106,13 +107,77 @@ inline Arc<A> shape_arc(const TileWork& work, const KernelShape& s, const xsimd:
   return arc;
 }
 
+// Batcher's odd-even merge sort network for n = 2^k inputs: the list of compare-exchange
+// pairs (i, j), i < j, each putting the smaller key at i. Built at compile time, so the
+// kernel walks a flat table: no index arithmetic or skipped iterations per comparator.
+template <std::size_t N>
+constexpr std::size_t odd_even_merge_size() noexcept {
+  std::size_t count = 0;
+  for (std::size_t p = 1; p < N; p <<= 1)
+    for (std::size_t k = p; k >= 1; k >>= 1)
+      for (std::size_t j = k % p; j + k <= N - 1; j += 2 * k)
+        for (std::size_t i = 0; i <= k - 1 && i + j + k <= N - 1; ++i)
+          if ((i + j) / (2 * p) == (i + j + k) / (2 * p)) ++count;
+  return count;
+}
+
+template <std::size_t N>
+struct SortingNetwork {
+  static constexpr std::size_t kSize = odd_even_merge_size<N>();
+  std::uint8_t first[kSize > 0 ? kSize : 1] = {};
+  std::uint8_t second[kSize > 0 ? kSize : 1] = {};
+  constexpr SortingNetwork() noexcept {
+    std::size_t c = 0;
+    for (std::size_t p = 1; p < N; p <<= 1)
+      for (std::size_t k = p; k >= 1; k >>= 1)
+        for (std::size_t j = k % p; j + k <= N - 1; j += 2 * k)
+          for (std::size_t i = 0; i <= k - 1 && i + j + k <= N - 1; ++i)
+            if ((i + j) / (2 * p) == (i + j + k) / (2 * p)) {
+              first[c] = static_cast<std::uint8_t>(i + j);
+              second[c] = static_cast<std::uint8_t>(i + j + k);
+              ++c;
+            }
+  }
+};
+
+template <class A, std::size_t N>
+inline void sort_by_lo_network(float* lo, float* hi) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  static constexpr SortingNetwork<N> kNetwork{};
+  for (std::size_t c = 0; c < SortingNetwork<N>::kSize; ++c) {
+    float* lo_i = lo + kNetwork.first[c] * W;
+    float* lo_j = lo + kNetwork.second[c] * W;
+    float* hi_i = hi + kNetwork.first[c] * W;
+    float* hi_j = hi + kNetwork.second[c] * W;
+    const B a = B::load_aligned(lo_i), b = B::load_aligned(lo_j);
+    const B ha = B::load_aligned(hi_i), hb = B::load_aligned(hi_j);
+    const auto swap = a > b;
+    xsimd::min(a, b).store_aligned(lo_i);
+    xsimd::max(a, b).store_aligned(lo_j);
+    xsimd::select(swap, hb, ha).store_aligned(hi_i);
+    xsimd::select(swap, ha, hb).store_aligned(hi_j);
+  }
+}
+
 // Sorts the pair (lo, hi) arrays by lo, ascending, over `slots` (a power of two) entries.
-// Bitonic network: its compare-exchange sequence depends only on `slots`, so every lane
-// runs the same instructions (no lane branches, unlike insertion sort), and for the
-// handful of occluders a tile-light pair keeps after culling (typically 1-8) it is a
-// few dozen min/max/selects.
+// A sorting network: its compare-exchange sequence depends only on `slots`, so every
+// lane runs the same instructions (no lane branches, unlike insertion sort). Batcher's
+// odd-even merge sort needs 1, 5, 19, 63 comparators for 2, 4, 8, 16 slots (bitonic: 1,
+// 6, 24, 80), and a tile-light pair keeps 1-4 occluders after culling in the examples.
+// Beyond 64 slots a bitonic network is generated on the fly.
 template <class A>
-inline void bitonic_sort_by_lo(float* lo, float* hi, std::size_t slots) noexcept {
+inline void sort_by_lo(float* lo, float* hi, std::size_t slots) noexcept {
+  switch (slots) {
+    case 1: return;
+    case 2: return sort_by_lo_network<A, 2>(lo, hi);
+    case 4: return sort_by_lo_network<A, 4>(lo, hi);
+    case 8: return sort_by_lo_network<A, 8>(lo, hi);
+    case 16: return sort_by_lo_network<A, 16>(lo, hi);
+    case 32: return sort_by_lo_network<A, 32>(lo, hi);
+    case 64: return sort_by_lo_network<A, 64>(lo, hi);
+    default: break;
+  }
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   for (std::size_t k = 2; k <= slots; k <<= 1) {
@@ -209,7 +274,7 @@ inline void packet_irradiance(const TileWork& work, const xsimd::batch<float, A>
         width.store_aligned(lo + p * W);
         width.store_aligned(hi + p * W);
       }
-      if (used > 1) bitonic_sort_by_lo<A>(lo, hi, used);
+      sort_by_lo<A>(lo, hi, used);
       visible = xsimd::max(width - sorted_union_measure<A>(lo, hi, n, xsimd::max(reach0, B(0.0f))), B(0.0f));
     }
     for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]), visible, e[c]);

@@ -21,7 +21,7 @@ void PAR2D_CONCAT(union_measure_, PAR2D_KERNEL_SUFFIX)(float* lo, float* hi, std
     w.store_aligned(lo + p * W);
     w.store_aligned(hi + p * W);
   }
-  if (used > 1) bitonic_sort_by_lo<PAR2D_KERNEL_ARCH>(lo, hi, used);
+  sort_by_lo<PAR2D_KERNEL_ARCH>(lo, hi, used);
   sorted_union_measure<PAR2D_KERNEL_ARCH>(lo, hi, count, B::load_unaligned(reach0)).store_unaligned(out);
 }
 
