@@ -23,10 +23,11 @@ constexpr uint32_t kSeed = 20240611;
 constexpr double kFrameMpixels = kWidth * kHeight / 1e6;
 // Unculled work grows with lights x occluders per pixel, so points above a pair budget are listed
 // but skipped: they would only show the quadratic cost that culling removes, at minutes per run.
-// 1024 pairs (16 lights x 64 occluders) took ~1.6 s CPU / ~6.5 s wall per frame on the 2-core
-// development machine under a load average of ~8, i.e. about the 3 s target when idle; the next
-// point (4096 pairs) took 36 s. PAR2D_BENCH_UNCULLED_MAX_PAIRS overrides the budget for a
-// faster renderer or a bigger machine.
+// On the 2-core development machine (load average 4-8 from parallel builds) the kept points took
+// 1.2 s (16 x 16), 3.9 s (1 x 256), 6.9 s (16 x 64) and 11.7 s (4 x 256) wall per frame, with
+// 0.3-2.7 s CPU on the calling thread (wall times there are inflated by the load). The budget
+// keeps two unculled points per sweep, enough for a slope; the next one (16 x 256) took 36 s. PAR2D_BENCH_UNCULLED_MAX_PAIRS overrides the budget for a faster
+// renderer or a bigger machine.
 constexpr long kDefaultUnculledMaxPairs = 1024;
 
 long unculled_max_pairs() {

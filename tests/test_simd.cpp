@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -273,4 +274,18 @@ TEST_CASE("vector atan2 is within 3e-7 rad of std::atan2 and never NaN") {
     INFO("isa ", std::string(isa_name(isa)), " worst error ", worst);
     CHECK(worst < 3e-7);
   }
+}
+
+TEST_CASE("PAR2D_ISA caps the default ISA, and the automatic backend follows it") {
+  const char* forced = std::getenv("PAR2D_ISA");
+  if (forced == nullptr) {
+    CHECK(default_isa() == detect_isa());
+    return;
+  }
+  const std::optional<Isa> wanted = parse_isa(forced);
+  REQUIRE_MESSAGE(wanted.has_value(), "PAR2D_ISA=", std::string(forced), " is not an ISA name");
+  const Isa expected = static_cast<int>(*wanted) < static_cast<int>(detect_isa()) ? *wanted : detect_isa();
+  MESSAGE("PAR2D_ISA=", std::string(forced), ": the suite runs the automatic backend at ", std::string(isa_name(expected)));
+  CHECK(default_isa() == expected);
+  CHECK(resolved_isa(RenderOptions{}) == expected);
 }
