@@ -66,20 +66,9 @@ void render_simd(const PreparedScene& scene, const RenderOptions& options, Isa i
   for_each_block(scene.width, scene.height, threads, [&](const TileRect& block) {
     ThreadState& state = states.local();
     TileWork& work = state.work;
-    if (work.sample_x.size() != static_cast<std::size_t>(options.spp)) {
-      work.spp = options.spp;
-      work.sample_x.resize(options.spp);
-      work.sample_y.resize(options.spp);
-      for (int k = 0; k < options.spp; ++k) {
-        double sx, sy;
-        sample_offset(k, options.spp, sx, sy);
-        work.sample_x[k] = static_cast<float>(sx);
-        work.sample_y[k] = static_cast<float>(sy);
-      }
-    }
     gather_block_candidates(scene, block, options.culling, state.setup);
     for_each_cell(block, kTileSize, [&](const TileRect& tile) {
-      if (!build_tile_work(scene, tile, options.culling, work, state.setup)) {
+      if (!build_tile_work(scene, tile, options.spp, options.culling, work, state.setup)) {
         render_rect_scalar(scene, options.spp, tile, state.scalar, image);
         return;
       }

@@ -38,8 +38,12 @@ Status check_arguments(const Scene& scene, const RenderOptions& options, const I
   if (options.spp < 1 || options.spp > kMaxSpp) return bad("render: spp must be in 1.." + std::to_string(kMaxSpp));
   if (options.backend == Backend::raycast && (options.rays < 1 || options.rays > kMaxRays))
     return bad("render: rays must be in 1.." + std::to_string(kMaxRays));
-  if (options.isa && static_cast<int>(*options.isa) > static_cast<int>(Isa::avx512))
-    return bad("render: unknown isa");
+  if (options.isa && (static_cast<int>(*options.isa) < static_cast<int>(Isa::scalar) ||
+                      static_cast<int>(*options.isa) > static_cast<int>(Isa::avx512)))
+    return bad("render: unknown isa " + std::to_string(static_cast<int>(*options.isa)));
+  if (static_cast<int>(options.backend) < static_cast<int>(Backend::automatic) ||
+      static_cast<int>(options.backend) > static_cast<int>(Backend::raycast))
+    return bad("render: unknown backend " + std::to_string(static_cast<int>(options.backend)));
   return {};
 }
 

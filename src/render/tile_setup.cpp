@@ -6,6 +6,8 @@
 #include <cmath>
 #include <optional>
 
+#include "par2d/render.hpp"
+
 
 namespace par2d::detail {
 namespace {
@@ -133,14 +135,24 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
   }
 }
 
-bool build_tile_work(const PreparedScene& scene, const TileRect& tile, bool culling, TileWork& work,
+bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, bool culling, TileWork& work,
                      TileSetupScratch& scratch) {
   work.clear();
-  const double pixel_dx = (scene.view.x1 - scene.view.x0) / scene.width;
-  const double pixel_dy = (scene.view.y1 - scene.view.y0) / scene.height;
-  work.pixel_dx = static_cast<float>(pixel_dx);
-  work.pixel_dy = static_cast<float>(pixel_dy);
   const Vec2 origin = sample_position(scene, tile.x0, tile.y0, 0.0, 0.0);
+  work.spp = spp;
+  work.sample_x.resize(static_cast<std::size_t>(spp) * kTileSize);
+  work.sample_y.resize(static_cast<std::size_t>(spp) * kTileSize);
+  for (int k = 0; k < spp; ++k) {
+    double sx, sy;
+    sample_offset(k, spp, sx, sy);
+    // Columns and rows past the image edge (padding) get positions too; they are dropped.
+    for (int c = 0; c < kTileSize; ++c) {
+      work.sample_x[static_cast<std::size_t>(k * kTileSize + c)] =
+          static_cast<float>(sample_position(scene, tile.x0 + c, tile.y0, sx, sy).x - origin.x);
+      work.sample_y[static_cast<std::size_t>(k * kTileSize + c)] =
+          static_cast<float>(sample_position(scene, tile.x0, tile.y0 + c, sx, sy).y - origin.y);
+    }
+  }
   const std::array<Vec2, 4> corners = tile_corners(scene, tile);
   scratch.local_index.assign(scene.occluders.size(), -1);
   scratch.used.clear();

@@ -26,13 +26,13 @@ struct TileSetupScratch {
 void gather_block_candidates(const PreparedScene& scene, const TileRect& block, bool culling,
                              TileSetupScratch& scratch);
 
-// Fills `work` for `tile`, a tile of the block last given to gather_block_candidates.
+// Fills `work` for `tile` at `spp` samples per pixel, a tile of the block last given to gather_block_candidates.
 // Returns false when the tile must be computed by the scalar reference instead (a light
 // that overlaps or touches an occluder matters to it: the kernel's separating-line depth
 // test needs disjoint shapes). With `culling`, occluders behind a light for the whole
 // tile are dropped and lights in the umbra of one occluder over the whole tile are
 // skipped; the image is the same either way.
-bool build_tile_work(const PreparedScene& scene, const TileRect& tile, bool culling, TileWork& work,
+bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, bool culling, TileWork& work,
                      TileSetupScratch& scratch);
 
 }  // namespace par2d::detail

@@ -282,24 +282,18 @@ inline void packet_irradiance(const TileWork& work, const xsimd::batch<float, A>
   for (int c = 0; c < 3; ++c) e[c] = xsimd::select(in_occluder, B(0.0f), e[c]);
 }
 
-// Fills `out` with the mean irradiance over the work's samples for all 256 pixels.
+// Fills `out` with the mean irradiance over the work's samples for all the tile's pixels.
 template <class A>
 void render_tile(const TileWork& work, float* scratch, TileResult& out) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   static_assert(detail::kTileSize % W == 0, "a packet must not straddle a tile row");
-  alignas(64) float lane_index[W];
-  for (std::size_t l = 0; l < W; ++l) lane_index[l] = static_cast<float>(l);
-  const B lanes = B::load_aligned(lane_index);
-  const B dx(work.pixel_dx), dy(work.pixel_dy);
   const B inv_spp(1.0f / static_cast<float>(work.spp));
   for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
-    const B column = B(static_cast<float>(first % detail::kTileSize)) + lanes;
-    const B row(static_cast<float>(first / detail::kTileSize));
     B sum[3] = {B(0.0f), B(0.0f), B(0.0f)};
     for (int s = 0; s < work.spp; ++s) {
-      const B px = (column + B(work.sample_x[s])) * dx;
-      const B py = (row + B(work.sample_y[s])) * dy;
+      const B px = B::load_unaligned(work.sample_x.data() + s * detail::kTileSize + first % detail::kTileSize);
+      const B py(work.sample_y[s * detail::kTileSize + first / detail::kTileSize]);
       B e[3];
       packet_irradiance<A>(work, px, py, scratch, e);
       for (int c = 0; c < 3; ++c) sum[c] += e[c];

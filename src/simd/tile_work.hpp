@@ -55,9 +55,12 @@ struct KernelLight {
 };
 
 struct TileWork {
-  float pixel_dx = 1, pixel_dy = 1;   // world size of a pixel step in x and y (signed)
   int spp = 1;
-  std::vector<float> sample_x, sample_y;  // spp offsets inside the pixel, in [0, 1)
+  // Sample positions relative to the tile origin: sample s of the pixel in tile column c
+  // is at x = sample_x[s * kTileSize + c], and in tile row r at y = sample_y[s * kTileSize + r].
+  // Each is the scalar path's double position (SPEC.md section 2) minus the origin, so
+  // both paths sample the very same points even where doubles round them.
+  std::vector<float> sample_x, sample_y;
   std::vector<KernelShape> occluders;
   std::vector<KernelLight> lights;
   std::vector<KernelPair> pairs;

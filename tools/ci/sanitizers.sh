@@ -2,13 +2,16 @@
 # CI: builds the test suite under ASan+UBSan (all tests) and TSan (threaded tests), and fails on any report.
 #
 # Only what the tests need is built (no benchmarks); the CLI is built because tests run it.
-# Usage: tools/ci/sanitizers.sh [asan|tsan]...   (default: both). Env: JOBS (default nproc).
+# Usage: tools/ci/sanitizers.sh [asan|tsan]...   (default: asan). Env: JOBS (default nproc).
+# tsan is opt-in until libtbb itself is built with -fsanitize=thread: Debian's libtbb is not,
+# so the happens-before from a parallel_for's tasks to its return is invisible to TSan and it
+# reports the caller freeing or destroying what workers wrote (see tools/ci/tsan.supp).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 ROOT=$PWD
 JOBS=${JOBS:-$(nproc)}
 STEPS=("$@")
-[ ${#STEPS[@]} -eq 0 ] && STEPS=(asan tsan)
+[ ${#STEPS[@]} -eq 0 ] && STEPS=(asan)
 
 stamp() { date +%s; }
 
