@@ -1,9 +1,8 @@
 // Kernel table (scalar first, upgraded to what the CPU has) and the SIMD render driver.
 #include "render/kernel_table.hpp"
 
-#include <tbb/enumerable_thread_specific.h>
-
 #include <memory>
+#include <vector>
 
 #include "render/tile_setup.hpp"
 #include "render/tiling.hpp"
@@ -62,9 +61,9 @@ const KernelSet* kernels_for(Isa isa) noexcept {
 void render_simd(const PreparedScene& scene, const RenderOptions& options, Isa isa, int threads,
                  const ImageView& image) {
   const KernelSet* kernels = kernels_for(isa);
-  tbb::enumerable_thread_specific<ThreadState> states;
-  for_each_block(scene.width, scene.height, threads, [&](const TileRect& block) {
-    ThreadState& state = states.local();
+  std::vector<ThreadState> states(static_cast<std::size_t>(threads));
+  for_each_block(scene.width, scene.height, threads, [&](const TileRect& block, int worker) {
+    ThreadState& state = states[static_cast<std::size_t>(worker)];
     TileWork& work = state.work;
     gather_block_candidates(scene, block, options.culling, state.setup);
     for_each_cell(block, kTileSize, [&](const TileRect& tile) {

@@ -1,7 +1,5 @@
 // The render entry point: checks arguments, prepares the scene, and runs the chosen
 // backend over image tiles on a TBB arena of the requested size.
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -11,6 +9,7 @@
 #include <numeric>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "par2d/render.hpp"
 #include "render/kernel_table.hpp"
@@ -54,16 +53,16 @@ int worker_threads(int requested) noexcept {
 }
 
 void render_scalar(const PreparedScene& scene, const RenderOptions& options, int threads, const ImageView& image) {
-  tbb::enumerable_thread_specific<detail::ScalarScratch> scratches;
-  detail::for_each_block(scene.width, scene.height, threads, [&](const detail::TileRect& block) {
-    detail::render_rect_scalar(scene, options.spp, block, scratches.local(), image);
+  std::vector<detail::ScalarScratch> scratches(static_cast<std::size_t>(threads));
+  detail::for_each_block(scene.width, scene.height, threads, [&](const detail::TileRect& block, int worker) {
+    detail::render_rect_scalar(scene, options.spp, block, scratches[static_cast<std::size_t>(worker)], image);
   });
 }
 
 void render_raycast(const Scene& source, const PreparedScene& scene, const RenderOptions& options, int threads,
                     const ImageView& image) {
   const detail::RaycastRenderer caster(source);
-  detail::for_each_block(scene.width, scene.height, threads, [&](const detail::TileRect& block) {
+  detail::for_each_block(scene.width, scene.height, threads, [&](const detail::TileRect& block, int) {
     detail::render_rect_raycast(scene, caster, options.spp, options.rays, block, image);
   });
 }

@@ -7,6 +7,13 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#if PAR2D_STD_THREADS
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+#endif
 
 #include "simd/tile_work.hpp"
 
@@ -30,23 +37,52 @@ void for_each_cell(const TileRect& area, int cell, Fn&& fn) {
   }
 }
 
-// Runs fn(block_rect) for every block of the width x height image on `threads` workers.
-// Iterates block indices, not pixel ranges (blocked_range splits at midpoints, which
-// would not stay aligned to tiles and SIMD packets). Each block writes only its own
-// pixels, so the image does not depend on the thread count.
+// Runs fn(block_rect, worker) for every block of the width x height image on `threads`
+// workers; `worker` in [0, threads) names the calling worker, so per-worker state can
+// live in a plain array. Iterates block indices, not pixel ranges (blocked_range splits
+// at midpoints, which would not stay aligned to tiles and SIMD packets). Each block
+// writes only its own pixels, so the image does not depend on the thread count.
+//
+// The scheduler is TBB. Builds with PAR2D_STD_THREADS (the ThreadSanitizer build) use
+// plain std::threads taking block indices from an atomic counter instead: Debian's libtbb
+// is not built with TSan, so TSan cannot see TBB's synchronization, while it sees
+// std::thread's join. Everything the workers run is the same code either way.
 template <class Fn>
 void for_each_block(int width, int height, int threads, Fn&& fn) {
   const int columns = (width + kBlockSize - 1) / kBlockSize;
   const int rows = (height + kBlockSize - 1) / kBlockSize;
+  const int count = columns * rows;
+  auto block_rect = [&](int b) {
+    const int x0 = (b % columns) * kBlockSize, y0 = (b / columns) * kBlockSize;
+    return TileRect{x0, y0, std::min(x0 + kBlockSize, width), std::min(y0 + kBlockSize, height)};
+  };
+#if PAR2D_STD_THREADS
+  std::atomic<int> next{0};
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
+  auto work = [&](int worker) {
+    try {
+      for (int b = next.fetch_add(1); b < count; b = next.fetch_add(1)) fn(block_rect(b), worker);
+    } catch (...) {
+      const std::lock_guard<std::mutex> lock(failure_mutex);
+      if (!failure) failure = std::current_exception();
+      next.store(count);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int w = 1; w < threads; ++w) pool.emplace_back(work, w);
+  work(0);
+  for (std::thread& t : pool) t.join();
+  if (failure) std::rethrow_exception(failure);
+#else
   tbb::task_arena arena(threads);
   arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<int>(0, columns * rows, 1), [&](const tbb::blocked_range<int>& range) {
-      for (int b = range.begin(); b != range.end(); ++b) {
-        const int x0 = (b % columns) * kBlockSize, y0 = (b / columns) * kBlockSize;
-        fn(TileRect{x0, y0, std::min(x0 + kBlockSize, width), std::min(y0 + kBlockSize, height)});
-      }
+    tbb::parallel_for(tbb::blocked_range<int>(0, count, 1), [&](const tbb::blocked_range<int>& range) {
+      const int worker = tbb::this_task_arena::current_thread_index();
+      for (int b = range.begin(); b != range.end(); ++b) fn(block_rect(b), worker);
     });
   });
+#endif
 }
 
 }  // namespace par2d::detail
