@@ -110,6 +110,10 @@ TEST_CASE("SIMD matches scalar within 1e-4 e_max on 120 random scenes") {
     if (seed % 6 == 3) opt.view = View{-3.0, -2.0, 5.0, 4.0};  // world units much larger than pixels
     if (seed % 6 == 4) opt.outside = 2.0;                        // lights and occluders far outside
     if (seed % 10 == 5) opt.max_polygon_vertices = 40;
+    // Pixels of 1e-200 and 1e250 world units: float would underflow or overflow without
+    // the kernel's per-tile power-of-two scaling.
+    if (seed % 20 == 7) opt.view = View{0.0, 0.0, 1e-200 * opt.width, 1e-200 * opt.height};
+    if (seed % 20 == 17) opt.view = View{-1e252, 3e251, -1e252 + 1e250 * opt.width, 3e251 + 1e250 * opt.height};
     const Scene scene = random_scene(seed, opt);
     check_simd_matches_scalar(scene, "seed " + std::to_string(seed));
   }

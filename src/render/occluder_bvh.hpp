@@ -23,7 +23,8 @@ struct Aabb {
 std::vector<Vec2> convex_hull(std::vector<Vec2> points);
 
 // The same without allocating: sorts `points` in place and writes the hull to `out`, which
-// must hold count + 1 points. Returns the number of hull points.
+// must hold 2 * count + 1 points (the chains grow before they are trimmed). Returns the
+// number of hull points.
 int convex_hull(Vec2* points, int count, Vec2* out) noexcept;
 
 // A convex polygon (e.g. from convex_hull) prepared for repeated box tests: its

@@ -2,17 +2,9 @@
 #include "render/prepared_scene.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace par2d::detail {
-namespace {
-
-bool boxes_touch(const ConvexShape& a, const ConvexShape& b) noexcept {
-  return a.bounds_min.x <= b.bounds_max.x && b.bounds_min.x <= a.bounds_max.x &&
-         a.bounds_min.y <= b.bounds_max.y && b.bounds_min.y <= a.bounds_max.y;
-}
-
-}  // namespace
-
 void PairSeparators::reset(std::size_t lights, std::size_t occluders) {
   occluders_ = occluders;
   state_ = std::make_unique<std::atomic<std::uint8_t>[]>(lights * occluders);
@@ -37,11 +29,30 @@ std::optional<Line> PairSeparators::get(std::size_t light, std::size_t occluder,
   return line;
 }
 
+void scale_shape(ConvexShape& s, double factor) noexcept {
+  for (Vec2& v : s.vertices) v = factor * v;
+  s.radius *= factor;
+  s.bounds_min = factor * s.bounds_min;
+  s.bounds_max = factor * s.bounds_max;
+  s.centroid = factor * s.centroid;
+}
+
+// A power of two that brings the view to about 1024 units across (so products of
+// coordinates neither underflow for views of 1e-200 units nor overflow for 1e200),
+// unless that would push some coordinate past 2^500 (whose square still fits a double).
+// Scaling by a power of two is exact, angles do not change, and pixel positions computed
+// from the scaled view are the scaled positions, bit for bit.
+double scene_scale(const View& view, double largest_coordinate) noexcept {
+  int view_exponent = 0, coordinate_exponent = 0;
+  std::frexp(std::max(std::abs(view.x1 - view.x0), std::abs(view.y1 - view.y0)), &view_exponent);
+  std::frexp(largest_coordinate, &coordinate_exponent);
+  return std::ldexp(1.0, std::min(10 - view_exponent, 500 - coordinate_exponent));
+}
+
 PreparedScene prepare_scene(const Scene& scene) {
   PreparedScene out;
   out.width = scene.width;
   out.height = scene.height;
-  out.view = scene.view;
   out.occluders.reserve(scene.occluders.size());
   for (const Occluder& o : scene.occluders) out.occluders.push_back(make_convex_shape(o.shape));
   for (const Light& l : scene.lights) {
@@ -51,22 +62,50 @@ PreparedScene prepare_scene(const Scene& scene) {
     if (!(e > 0.0)) continue;  // contributes nothing anywhere
     out.e_max += e;
     light.shape = make_convex_shape(l.shape);
-    for (std::uint32_t k = 0; k < out.occluders.size(); ++k) {
-      const ConvexShape& occ = out.occluders[k];
-      if (boxes_touch(light.shape, occ) && shape_distance(light.shape, occ) <= 0.0)
-{
-        light.overlapping_occluders.push_back(k);
-        light.overlap_points.emplace_back();
-        boundary_intersections(light.shape, occ, light.overlap_points.back());
-      }
-    }
     out.lights.push_back(std::move(light));
   }
+
+  double largest = std::max({std::abs(scene.view.x0), std::abs(scene.view.x1), std::abs(scene.view.y0),
+                             std::abs(scene.view.y1)});
+  auto grow_largest = [&](const ConvexShape& s) {
+    largest = std::max({largest, std::abs(s.bounds_min.x), std::abs(s.bounds_min.y), std::abs(s.bounds_max.x),
+                        std::abs(s.bounds_max.y)});
+  };
+  for (const PreparedLight& l : out.lights) grow_largest(l.shape);
+  for (const ConvexShape& o : out.occluders) grow_largest(o);
+  const double factor = scene_scale(scene.view, largest);
+  out.view = {scene.view.x0 * factor, scene.view.y0 * factor, scene.view.x1 * factor, scene.view.y1 * factor};
+  for (PreparedLight& l : out.lights) scale_shape(l.shape, factor);
+  for (ConvexShape& o : out.occluders) scale_shape(o, factor);
+
+  const Vec2 center{0.5 * out.view.x0 + 0.5 * out.view.x1, 0.5 * out.view.y0 + 0.5 * out.view.y1};
+  auto grow_extent = [&](Vec2 lo, Vec2 hi) {
+    for (double v : {lo.x - center.x, hi.x - center.x, lo.y - center.y, hi.y - center.y})
+      out.extent = std::max(out.extent, std::abs(v));
+  };
+  grow_extent({out.view.x0, out.view.y0}, {out.view.x1, out.view.y1});
+  for (const PreparedLight& l : out.lights) grow_extent(l.shape.bounds_min, l.shape.bounds_max);
+  for (const ConvexShape& o : out.occluders) grow_extent(o.bounds_min, o.bounds_max);
+
   std::vector<Aabb> boxes;
   boxes.reserve(out.occluders.size());
   for (const ConvexShape& o : out.occluders)
     boxes.push_back({o.bounds_min.x, o.bounds_min.y, o.bounds_max.x, o.bounds_max.y});
   out.occluder_bvh.build(boxes);
+
+  std::vector<std::uint32_t> near;
+  for (PreparedLight& light : out.lights) {
+    near.clear();
+    const ConvexShape& ls = light.shape;
+    out.occluder_bvh.query_box({ls.bounds_min.x, ls.bounds_min.y, ls.bounds_max.x, ls.bounds_max.y}, near);
+    for (std::uint32_t k : near) {
+      const ConvexShape& occ = out.occluders[k];
+      if (shape_distance(ls, occ) > 0.0) continue;
+      light.overlapping_occluders.push_back(k);
+      light.overlap_points.emplace_back();
+      boundary_intersections(ls, occ, light.overlap_points.back());
+    }
+  }
   out.separators.reset(out.lights.size(), out.occluders.size());
   return out;
 }

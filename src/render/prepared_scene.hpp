@@ -41,12 +41,17 @@ class PairSeparators {
   std::unique_ptr<Line[]> lines_;
 };
 
+// Coordinates are the scene's times a power of two chosen in prepare_scene (exact, and
+// irradiance does not depend on scale), so that no scene's products of coordinates
+// underflow or overflow.
 struct PreparedScene {
   int width = 0, height = 0;
   View view;
   std::vector<PreparedLight> lights;  // lights with non-zero emission only
   std::vector<ConvexShape> occluders;
   double e_max = 0.0;  // SPEC.md section 5
+  // Largest distance from the view's center to any point of the view or of a shape's box.
+  double extent = 0.0;
   OccluderBvh occluder_bvh;  // over the occluders' bounding boxes
   PairSeparators separators;
 };
@@ -54,10 +59,15 @@ struct PreparedScene {
 // Builds the prepared form of a scene that passed validate_scene.
 PreparedScene prepare_scene(const Scene& scene);
 
-// World position of sample (sx, sy) in [0,1)^2 of pixel (i, j) (SPEC.md section 2).
+// World position of sample (sx, sy) in [0,1)^2 of pixel (i, j) of a width x height
+// image of `view` (SPEC.md section 2).
+inline Vec2 sample_position(const View& view, int width, int height, int i, int j, double sx, double sy) noexcept {
+  return {view.x0 + (i + sx) * (view.x1 - view.x0) / width, view.y0 + (j + sy) * (view.y1 - view.y0) / height};
+}
+
+// The same in the prepared scene's (scaled) coordinates.
 inline Vec2 sample_position(const PreparedScene& s, int i, int j, double sx, double sy) noexcept {
-  return {s.view.x0 + (i + sx) * (s.view.x1 - s.view.x0) / s.width,
-          s.view.y0 + (j + sy) * (s.view.y1 - s.view.y0) / s.height};
+  return sample_position(s.view, s.width, s.height, i, j, sx, sy);
 }
 
 }  // namespace par2d::detail

@@ -59,9 +59,8 @@ void render_scalar(const PreparedScene& scene, const RenderOptions& options, int
   });
 }
 
-void render_raycast(const Scene& source, const PreparedScene& scene, const RenderOptions& options, int threads,
-                    const ImageView& image) {
-  const detail::RaycastRenderer caster(source);
+void render_raycast(const Scene& scene, const RenderOptions& options, int threads, const ImageView& image) {
+  const detail::RaycastRenderer caster(scene);
   detail::for_each_block(scene.width, scene.height, threads, [&](const detail::TileRect& block, int) {
     detail::render_rect_raycast(scene, caster, options.spp, options.rays, block, image);
   });
@@ -112,12 +111,12 @@ Status render(const Scene& scene, const RenderOptions& options, const ImageView&
   try {
     if (Status s = check_arguments(scene, options, image); !s.ok()) return s;
     if (Status s = validate_scene(scene); !s.ok()) return s;
-    const PreparedScene prepared = detail::prepare_scene(scene);
     const int threads = worker_threads(options.threads);
     if (options.backend == Backend::raycast) {
-      render_raycast(scene, prepared, options, threads, image);
+      render_raycast(scene, options, threads, image);
       return {};
     }
+    const PreparedScene prepared = detail::prepare_scene(scene);
     const Isa isa = resolved_isa(options);
     if (isa == Isa::scalar) {
       render_scalar(prepared, options, threads, image);

@@ -17,7 +17,7 @@ double hash_to_unit(std::uint64_t v) noexcept {
 }
 
 template <class SampleFn>
-void average_samples(const PreparedScene& scene, int spp, const TileRect& rect, const ImageView& image,
+void average_samples(const View& view, int width, int height, int spp, const TileRect& rect, const ImageView& image,
                      SampleFn&& sample) {
   const double inv_spp = 1.0 / spp;
   for (int j = rect.y0; j < rect.y1; ++j) {
@@ -27,7 +27,7 @@ void average_samples(const PreparedScene& scene, int spp, const TileRect& rect, 
       for (int k = 0; k < spp; ++k) {
         double sx, sy;
         sample_offset(k, spp, sx, sy);
-        const Rgb e = sample(sample_position(scene, i, j, sx, sy), i, j, k);
+        const Rgb e = sample(sample_position(view, width, height, i, j, sx, sy), i, j, k);
         for (int c = 0; c < 3; ++c) sum[c] += e[c];
       }
       for (int c = 0; c < 3; ++c) row[3 * i + c] = static_cast<float>(sum[c] * inv_spp);
@@ -39,13 +39,13 @@ void average_samples(const PreparedScene& scene, int spp, const TileRect& rect, 
 
 void render_rect_scalar(const PreparedScene& scene, int spp, const TileRect& rect, ScalarScratch& scratch,
                         const ImageView& image) {
-  average_samples(scene, spp, rect, image,
+  average_samples(scene.view, scene.width, scene.height, spp, rect, image,
                   [&](Vec2 x, int, int, int) { return scalar_irradiance(scene, x, scratch); });
 }
 
-void render_rect_raycast(const PreparedScene& scene, const RaycastRenderer& caster, int spp, int rays,
-                         const TileRect& rect, const ImageView& image) {
-  average_samples(scene, spp, rect, image, [&](Vec2 x, int i, int j, int k) {
+void render_rect_raycast(const Scene& scene, const RaycastRenderer& caster, int spp, int rays, const TileRect& rect,
+                         const ImageView& image) {
+  average_samples(scene.view, scene.width, scene.height, spp, rect, image, [&](Vec2 x, int i, int j, int k) {
     const std::uint64_t id = ((static_cast<std::uint64_t>(j) * static_cast<std::uint64_t>(scene.width) +
                                static_cast<std::uint64_t>(i))
                               << 8) |

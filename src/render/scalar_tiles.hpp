@@ -15,7 +15,9 @@ void render_rect_scalar(const PreparedScene& scene, int spp, const TileRect& rec
 
 // Mean of the ray caster over the samples of each pixel of `rect`; each sample's ray
 // pattern is offset by a hash of (pixel, sample), the same on every run.
-void render_rect_raycast(const PreparedScene& scene, const RaycastRenderer& caster, int spp, int rays,
-                         const TileRect& rect, const ImageView& image);
+// `scene` is the source scene the caster was built from (the ray caster works in its
+// coordinates, independent of the prepared scene).
+void render_rect_raycast(const Scene& scene, const RaycastRenderer& caster, int spp, int rays, const TileRect& rect,
+                         const ImageView& image);
 
 }  // namespace par2d::detail

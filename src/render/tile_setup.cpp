@@ -45,7 +45,48 @@ bool tile_tangent_pair(const ConvexShape& s, const std::array<Vec2, 4>& corners,
   return true;
 }
 
-KernelShape kernel_shape(const ConvexShape& s, Vec2 origin, const std::array<Vec2, 4>& corners, TileWork& work) {
+// Kernel coordinates: world minus the tile origin, times a power of two that makes a pixel
+// about one unit. Relative to the origin so float keeps its precision far from the world
+// origin; scaled (exactly, by a power of two, the same in x and y so angles do not change)
+// so that views of 1e-300 or 1e300 units per pixel neither underflow nor overflow float.
+struct TileFrame {
+  Vec2 origin;
+  double scale = 1.0;
+
+  // Beyond this, float arithmetic in the kernel could overflow; values are clamped to it
+  // (lengths and line offsets keep their sign, points their direction from the tile).
+  static constexpr double kLimit = 1e18;
+
+  float length(double v) const noexcept {
+    return static_cast<float>(std::clamp(v * scale, -kLimit, kLimit));
+  }
+  void point(Vec2 p, float& x, float& y) const noexcept {
+    double dx = (p.x - origin.x) * scale, dy = (p.y - origin.y) * scale;
+    const double big = std::max(std::abs(dx), std::abs(dy));
+    if (big > kLimit) dx *= kLimit / big, dy *= kLimit / big;
+    x = static_cast<float>(dx);
+    y = static_cast<float>(dy);
+  }
+  // Offset of the line n.p = offset (n a unit vector) in kernel coordinates.
+  float line_offset(Vec2 normal, double offset) const noexcept { return length(offset - dot(normal, origin)); }
+};
+
+// A pixel becomes about one unit, unless the scene then reaches past 2^60 units (the
+// kernel squares coordinates, and float's range ends near 2^128): then the scene's
+// extent sets the scale, and pixels
+// may shrink toward float's underflow, which only happens for views of less than ~1e-30
+// of the scene's size, where all of a tile's samples are one point to float anyway.
+TileFrame tile_frame(const PreparedScene& scene, Vec2 origin) noexcept {
+  const double pixel = std::max(std::abs(scene.view.x1 - scene.view.x0) / scene.width,
+                                std::abs(scene.view.y1 - scene.view.y0) / scene.height);
+  int pixel_exponent = 0, extent_exponent = 0;
+  std::frexp(pixel, &pixel_exponent);
+  std::frexp(2.0 * scene.extent, &extent_exponent);  // distances from a tile inside the view
+  return {origin, std::ldexp(1.0, std::min(-pixel_exponent, 60 - extent_exponent))};
+}
+
+KernelShape kernel_shape(const ConvexShape& s, const TileFrame& frame, const std::array<Vec2, 4>& corners,
+                         TileWork& work) {
   KernelShape k;
   k.kind = s.kind;
   const Vec2 tile_center = 0.5 * (corners[0] + corners[2]);
@@ -54,8 +95,10 @@ KernelShape kernel_shape(const ConvexShape& s, Vec2 origin, const std::array<Vec
     k.first = static_cast<std::uint32_t>(work.vx.size());
     k.count = 2;
     for (int i : {cw, ccw}) {
-      work.vx.push_back(static_cast<float>(s.vertices[i].x - origin.x));
-      work.vy.push_back(static_cast<float>(s.vertices[i].y - origin.y));
+      float x, y;
+      frame.point(s.vertices[i], x, y);
+      work.vx.push_back(x);
+      work.vy.push_back(y);
       work.edge_nx.push_back(0.0f);
       work.edge_ny.push_back(0.0f);
       work.edge_c.push_back(0.0f);
@@ -68,11 +111,9 @@ KernelShape kernel_shape(const ConvexShape& s, Vec2 origin, const std::array<Vec
     const double len = length(u);
     u = len > 0.0 ? (1.0 / len) * u : Vec2{1.0, 0.0};
     const Vec2 nearest = c + s.radius * u;
-    k.cx = static_cast<float>(c.x - origin.x);
-    k.cy = static_cast<float>(c.y - origin.y);
-    k.r = static_cast<float>(s.radius);
-    k.px = static_cast<float>(nearest.x - origin.x);
-    k.py = static_cast<float>(nearest.y - origin.y);
+    frame.point(c, k.cx, k.cy);
+    k.r = frame.length(s.radius);
+    frame.point(nearest, k.px, k.py);
     k.ux = static_cast<float>(u.x);
     k.uy = static_cast<float>(u.y);
     return k;
@@ -83,13 +124,15 @@ KernelShape kernel_shape(const ConvexShape& s, Vec2 origin, const std::array<Vec
   const std::size_t n = s.vertices.size();
   for (std::size_t i = 0; i < n; ++i) {
     const Vec2 v = s.vertices[i];
-    work.vx.push_back(static_cast<float>(v.x - origin.x));
-    work.vy.push_back(static_cast<float>(v.y - origin.y));
+    float x, y;
+    frame.point(v, x, y);
+    work.vx.push_back(x);
+    work.vy.push_back(y);
     if (s.kind == ShapeKind::polygon) {
       const Vec2 normal = s.edge_normals[i];
       work.edge_nx.push_back(static_cast<float>(normal.x));
       work.edge_ny.push_back(static_cast<float>(normal.y));
-      work.edge_c.push_back(static_cast<float>(dot(normal, v - origin)));
+      work.edge_c.push_back(frame.line_offset(normal, dot(normal, v)));
     } else {
       work.edge_nx.push_back(0.0f);
       work.edge_ny.push_back(0.0f);
@@ -110,7 +153,7 @@ void rect_light_hull(const std::array<Vec2, 4>& corners, const ConvexShape& ligh
   } else {
     scratch.hull_points.insert(scratch.hull_points.end(), light.vertices.begin(), light.vertices.end());
   }
-  scratch.hull.resize(scratch.hull_points.size() + 1);
+  scratch.hull.resize(2 * scratch.hull_points.size() + 1);
   scratch.hull.resize(static_cast<std::size_t>(
       convex_hull(scratch.hull_points.data(), static_cast<int>(scratch.hull_points.size()), scratch.hull.data())));
 }
@@ -139,6 +182,7 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
                      TileSetupScratch& scratch) {
   work.clear();
   const Vec2 origin = sample_position(scene, tile.x0, tile.y0, 0.0, 0.0);
+  const TileFrame frame = tile_frame(scene, origin);
   work.spp = spp;
   work.sample_x.resize(static_cast<std::size_t>(spp) * kTileSize);
   work.sample_y.resize(static_cast<std::size_t>(spp) * kTileSize);
@@ -148,9 +192,9 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     // Columns and rows past the image edge (padding) get positions too; they are dropped.
     for (int c = 0; c < kTileSize; ++c) {
       work.sample_x[static_cast<std::size_t>(k * kTileSize + c)] =
-          static_cast<float>(sample_position(scene, tile.x0 + c, tile.y0, sx, sy).x - origin.x);
+          frame.length(sample_position(scene, tile.x0 + c, tile.y0, sx, sy).x - origin.x);
       work.sample_y[static_cast<std::size_t>(k * kTileSize + c)] =
-          static_cast<float>(sample_position(scene, tile.x0, tile.y0 + c, sx, sy).y - origin.y);
+          frame.length(sample_position(scene, tile.x0, tile.y0 + c, sx, sy).y - origin.y);
     }
   }
   const std::array<Vec2, 4> corners = tile_corners(scene, tile);
@@ -179,7 +223,7 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       pair.occluder = k;
       pair.nx = static_cast<float>(line->normal.x);
       pair.ny = static_cast<float>(line->normal.y);
-      pair.c = static_cast<float>(line->offset - dot(line->normal, origin));
+      pair.c = frame.line_offset(line->normal, line->offset);
       if (culling) {
         int front = 0;
         for (Vec2 p : corners) front += dot(line->normal, p) >= line->offset;
@@ -218,12 +262,12 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       }
       work.pairs[p].occluder = static_cast<std::uint32_t>(local);
     }
-    kl.shape = kernel_shape(light.shape, origin, corners, work);
+    kl.shape = kernel_shape(light.shape, frame, corners, work);
     for (int c = 0; c < 3; ++c) kl.emission[c] = static_cast<float>(light.emission[c] / kTwoPi);
     work.max_pairs_per_light = std::max(work.max_pairs_per_light, kl.pair_count);
     work.lights.push_back(kl);
   }
-  for (std::uint32_t k : scratch.used) work.occluders.push_back(kernel_shape(scene.occluders[k], origin, corners, work));
+  for (std::uint32_t k : scratch.used) work.occluders.push_back(kernel_shape(scene.occluders[k], frame, corners, work));
   return true;
 }
 
