@@ -58,7 +58,6 @@ void run_render(benchmark::State& state, const par2d::Scene& scene, const par2d:
 }
 
 void register_scene(const std::string& name, const std::vector<par2d::Isa>& isas, const std::vector<int>& thread_counts) {
-  const int hardware = static_cast<int>(std::thread::hardware_concurrency());
   for (const int threads : thread_counts) {
     const std::string suffix = "/threads:" + std::to_string(threads);
     par2d::RenderOptions scalar;
@@ -67,10 +66,9 @@ void register_scene(const std::string& name, const std::vector<par2d::Isa>& isas
     auto* b = benchmark::RegisterBenchmark(
         ("scenes/" + name + "/scalar@480x270" + suffix).c_str(),
         [name, scalar](benchmark::State& s) { run_render(s, load_example(name, kScalarWidth, kScalarHeight), scalar); });
-    b->Unit(benchmark::kMillisecond);
-    // A render with several workers is mostly spent off the calling thread, so CPU time of the
-    // calling thread would flatter it.
-    if (threads > 1 || hardware == 1) b->UseRealTime();
+    // Wall time for every thread count, so that 1- and N-thread results divide into a speed-up
+    // (CPU time of the calling thread would flatter multi-threaded runs).
+    b->Unit(benchmark::kMillisecond)->UseRealTime();
 
     for (const par2d::Isa isa : isas) {
       par2d::RenderOptions simd;
@@ -80,8 +78,7 @@ void register_scene(const std::string& name, const std::vector<par2d::Isa>& isas
       auto* s = benchmark::RegisterBenchmark(
           ("scenes/" + name + "/" + par2d::isa_name(isa) + suffix).c_str(),
           [name, simd](benchmark::State& st) { run_render(st, load_example(name, 1920, 1080), simd); });
-      s->Unit(benchmark::kMillisecond);
-      if (threads > 1 || hardware == 1) s->UseRealTime();
+      s->Unit(benchmark::kMillisecond)->UseRealTime();
     }
   }
 }
