@@ -13,14 +13,13 @@
 #include <vector>
 
 #include "par2d/par2d.hpp"
-#include "scene_generators.hpp"
+#include "bench_support.hpp"
 
 namespace {
 
 constexpr int kWidth = 1920;
 constexpr int kHeight = 1080;
 constexpr uint32_t kSeed = 20240611;
-constexpr double kFrameMpixels = kWidth * kHeight / 1e6;
 // Unculled work grows with lights x occluders per pixel, so points above a pair budget are listed
 // but skipped: they would only show the quadratic cost that culling removes, at minutes per run.
 // On the 2-core development machine (load average 4-8 from parallel builds) the kept points took
@@ -46,24 +45,7 @@ void run_scaling(benchmark::State& state, int lights, int occluders, bool cullin
   options.backend = par2d::Backend::simd;  // at the default ISA: what an embedding engine gets
   options.threads = 0;
   options.culling = culling;
-  std::vector<float> pixels(static_cast<size_t>(kWidth) * kHeight * 3);
-  const par2d::ImageView image{pixels.data(), kWidth, kHeight, std::ptrdiff_t{3} * kWidth};
-  for (auto _ : state) {
-    const par2d::Status status = par2d::render(scene, options, image);
-    if (!status.ok()) {
-      state.SkipWithError(status.message().c_str());
-      break;
-    }
-    benchmark::DoNotOptimize(pixels.data());
-    benchmark::ClobberMemory();
-  }
-  const double mpixels = kFrameMpixels * static_cast<double>(state.iterations());
-  state.counters["Mpixel/s"] = benchmark::Counter(mpixels, benchmark::Counter::kIsRate);
-  state.counters["frames/s"] = benchmark::Counter(mpixels / kFrameMpixels, benchmark::Counter::kIsRate);
-  state.counters["lights"] = lights;
-  state.counters["occluders"] = occluders;
-  state.SetLabel(std::string(par2d::isa_name(par2d::resolved_isa(options))) + ", " +
-                 std::to_string(std::thread::hardware_concurrency()) + " threads");
+  par2d::bench::run_render(state, scene, options);
 }
 
 void register_point(const char* sweep, int lights, int occluders, bool culling) {

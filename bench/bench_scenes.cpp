@@ -8,13 +8,13 @@
 #include <thread>
 #include <vector>
 
+#include "bench_support.hpp"
 #include "par2d/par2d.hpp"
 
 namespace {
 
 // Pixels of one 1920x1080 frame, in millions: "frames/s" counts 1080p frame equivalents so the
 // scalar path, measured at a smaller size, reads on the same scale as the SIMD paths.
-constexpr double kFrameMpixels = 1920.0 * 1080.0 / 1e6;
 // The scalar reference takes seconds per 1080p frame; a quarter-size frame (same view) keeps the
 // suite short and per-pixel throughput comparable.
 constexpr int kScalarWidth = 480;
@@ -37,25 +37,6 @@ par2d::Scene load_example(const std::string& name, int width, int height) {
   return scene;
 }
 
-// Renders `scene` once per iteration and reports per-pixel and 1080p-frame throughput.
-void run_render(benchmark::State& state, const par2d::Scene& scene, const par2d::RenderOptions& options) {
-  std::vector<float> pixels(static_cast<size_t>(scene.width) * scene.height * 3);
-  const par2d::ImageView image{pixels.data(), scene.width, scene.height, std::ptrdiff_t{3} * scene.width};
-  for (auto _ : state) {
-    const par2d::Status status = par2d::render(scene, options, image);
-    if (!status.ok()) {
-      state.SkipWithError(status.message().c_str());
-      break;
-    }
-    benchmark::DoNotOptimize(pixels.data());
-    benchmark::ClobberMemory();
-  }
-  const double mpixels = static_cast<double>(scene.width) * scene.height / 1e6 * static_cast<double>(state.iterations());
-  state.counters["Mpixel/s"] = benchmark::Counter(mpixels, benchmark::Counter::kIsRate);
-  state.counters["frames/s"] = benchmark::Counter(mpixels / kFrameMpixels, benchmark::Counter::kIsRate);
-  state.SetLabel(std::string(par2d::isa_name(par2d::resolved_isa(options))) + ", " +
-                 std::to_string(scene.width) + "x" + std::to_string(scene.height));
-}
 
 void register_scene(const std::string& name, const std::vector<par2d::Isa>& isas, const std::vector<int>& thread_counts) {
   for (const int threads : thread_counts) {
@@ -65,7 +46,7 @@ void register_scene(const std::string& name, const std::vector<par2d::Isa>& isas
     scalar.threads = threads;
     auto* b = benchmark::RegisterBenchmark(
         ("scenes/" + name + "/scalar@480x270" + suffix).c_str(),
-        [name, scalar](benchmark::State& s) { run_render(s, load_example(name, kScalarWidth, kScalarHeight), scalar); });
+        [name, scalar](benchmark::State& s) { par2d::bench::run_render(s, load_example(name, kScalarWidth, kScalarHeight), scalar); });
     // Wall time for every thread count, so that 1- and N-thread results divide into a speed-up
     // (CPU time of the calling thread would flatter multi-threaded runs).
     b->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -77,7 +58,7 @@ void register_scene(const std::string& name, const std::vector<par2d::Isa>& isas
       simd.threads = threads;
       auto* s = benchmark::RegisterBenchmark(
           ("scenes/" + name + "/" + par2d::isa_name(isa) + suffix).c_str(),
-          [name, simd](benchmark::State& st) { run_render(st, load_example(name, 1920, 1080), simd); });
+          [name, simd](benchmark::State& st) { par2d::bench::run_render(st, load_example(name, 1920, 1080), simd); });
       s->Unit(benchmark::kMillisecond)->UseRealTime();
     }
   }
@@ -94,7 +75,7 @@ void register_dungeon_culling(int threads) {
         (std::string("scenes/dungeon/culling/") + (culling ? "culled" : "unculled") + "/threads:" +
          std::to_string(threads))
             .c_str(),
-        [options](benchmark::State& s) { run_render(s, load_example("dungeon", 1920, 1080), options); });
+        [options](benchmark::State& s) { par2d::bench::run_render(s, load_example("dungeon", 1920, 1080), options); });
     b->Unit(benchmark::kMillisecond)->UseRealTime();
   }
 }

@@ -314,3 +314,33 @@ TEST_CASE("OccluderBvh: hulls with more edges than the cached axes stay exact") 
   }
   CHECK(bvh_convex(bvh, circle) == brute_convex(boxes, circle));
 }
+
+TEST_CASE("the hull of two boxes answers box tests exactly like the general convex hull") {
+  // BoxPairHull (the tile-and-light filter) against ConvexQuery over convex_hull of the
+  // eight corners, on random boxes in every relative position, including nested ones.
+  std::mt19937 rng(77);
+  auto unit = [&] { return static_cast<double>(rng() >> 5) / 134217728.0; };  // [0, 1)
+  auto random_box = [&](double scale) {
+    const double x = (unit() - 0.5) * 200.0, y = (unit() - 0.5) * 200.0;
+    return Aabb{x, y, x + unit() * scale, y + unit() * scale};
+  };
+  int agree = 0, touching = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    const Aabb a = random_box(trial % 3 == 0 ? 100.0 : 10.0), b = random_box(trial % 5 == 0 ? 80.0 : 6.0);
+    std::vector<Vec2> corners = {{a.min_x, a.min_y}, {a.max_x, a.min_y}, {a.max_x, a.max_y}, {a.min_x, a.max_y},
+                                 {b.min_x, b.min_y}, {b.max_x, b.min_y}, {b.max_x, b.max_y}, {b.min_x, b.max_y}};
+    const std::vector<Vec2> hull = convex_hull(corners);
+    const par2d::detail::ConvexQuery general(hull.data(), static_cast<int>(hull.size()));
+    const par2d::detail::BoxPairHull pair(a, b);
+    for (int q = 0; q < 20; ++q) {
+      const Aabb query = random_box(q % 4 == 0 ? 40.0 : 4.0);
+      const bool expected = general.touches(query);
+      touching += expected;
+      INFO("trial ", trial, " query ", q);
+      CHECK(pair.touches(query) == expected);
+      ++agree;
+    }
+  }
+  CHECK(touching > 1000);  // both answers occur often
+  CHECK(touching < agree - 1000);
+}

@@ -88,20 +88,29 @@ double point_core_distance(const ConvexShape& s, Vec2 p, Vec2& closest) noexcept
   return best;
 }
 
-// Distance between the cores of two shapes with the closest points (pa on a, pb on b).
-double core_distance(const ConvexShape& a, const ConvexShape& b, Vec2& pa, Vec2& pb) noexcept {
+// Calls fn(a0, a1, b0, b1) for every pair of core edges of a and b; stops when fn returns true.
+template <class Fn>
+bool any_edge_pair(const ConvexShape& a, const ConvexShape& b, Fn&& fn) {
   for (int i = 0, n = core_edge_count(a); i < n; ++i) {
     Vec2 a0, a1;
     core_edge(a, i, a0, a1);
     for (int j = 0, m = core_edge_count(b); j < m; ++j) {
       Vec2 b0, b1;
       core_edge(b, j, b0, b1);
-      if (segments_intersect(a0, a1, b0, b1)) {
-        pa = pb = a0;
-        return 0.0;
-      }
+      if (fn(a0, a1, b0, b1)) return true;
     }
   }
+  return false;
+}
+
+// Distance between the cores of two shapes with the closest points (pa on a, pb on b).
+double core_distance(const ConvexShape& a, const ConvexShape& b, Vec2& pa, Vec2& pb) noexcept {
+  const bool crossing = any_edge_pair(a, b, [&](Vec2 a0, Vec2 a1, Vec2 b0, Vec2 b1) {
+    if (!segments_intersect(a0, a1, b0, b1)) return false;
+    pa = pb = a0;
+    return true;
+  });
+  if (crossing) return 0.0;
   double best = kInfinity;
   for (Vec2 v : a.vertices) {
     Vec2 q;
@@ -391,15 +400,10 @@ void boundary_intersections(const ConvexShape& a, const ConvexShape& b, std::vec
     }
     return;
   }
-  for (int i = 0, n = core_edge_count(a); i < n; ++i) {
-    Vec2 a0, a1;
-    core_edge(a, i, a0, a1);
-    for (int j = 0, m = core_edge_count(b); j < m; ++j) {
-      Vec2 b0, b1;
-      core_edge(b, j, b0, b1);
-      segment_segment_points(a0, a1, b0, b1, out);
-    }
-  }
+  any_edge_pair(a, b, [&](Vec2 a0, Vec2 a1, Vec2 b0, Vec2 b1) {
+    segment_segment_points(a0, a1, b0, b1, out);
+    return false;
+  });
 }
 
 double boundary_distance(const ConvexShape& s, Vec2 x) noexcept {

@@ -290,23 +290,25 @@ uint32_t OccluderBvh::split(uint32_t begin, uint32_t end, const Aabb& cb, int de
   return begin + static_cast<uint32_t>(mid - first);
 }
 
-void OccluderBvh::query_convex(const Vec2* hull, int hull_count, std::vector<uint32_t>& out) const noexcept {
-  if (nodes_.empty() || hull == nullptr || hull_count <= 0) return;
-  const ConvexQuery query(hull, hull_count);
+// Depth-first traversal with a fixed stack: `node_test` prunes subtrees, `item_test`
+// decides each item of a reached leaf. Appends the hits in increasing index order.
+template <class NodeTest, class ItemTest>
+void OccluderBvh::collect(NodeTest&& node_test, ItemTest&& item_test, std::vector<uint32_t>& out) const noexcept {
+  if (nodes_.empty()) return;
   const size_t first_out = out.size();
   uint32_t stack[kMaxDepth];
   int top = 0;
   uint32_t node = 0;
   for (;;) {
     const Node& nd = nodes_[node];
-    if (query.may_touch(nd.box)) {
+    if (node_test(nd.box)) {
       if (nd.count == 0) {
         stack[top++] = nd.offset;
         node += 1;
         continue;
       }
       for (uint32_t i = nd.offset; i < nd.offset + nd.count; ++i) {
-        if (query.touches(item_boxes_[i])) out.push_back(items_[i]);
+        if (item_test(item_boxes_[i])) out.push_back(items_[i]);
       }
     }
     if (top == 0) break;
@@ -315,28 +317,15 @@ void OccluderBvh::query_convex(const Vec2* hull, int hull_count, std::vector<uin
   std::sort(out.begin() + static_cast<std::ptrdiff_t>(first_out), out.end());
 }
 
+void OccluderBvh::query_convex(const Vec2* hull, int hull_count, std::vector<uint32_t>& out) const noexcept {
+  if (hull == nullptr || hull_count <= 0) return;
+  const ConvexQuery query(hull, hull_count);
+  collect([&](const Aabb& b) { return query.may_touch(b); }, [&](const Aabb& b) { return query.touches(b); }, out);
+}
+
 void OccluderBvh::query_box(const Aabb& query, std::vector<uint32_t>& out) const noexcept {
-  if (nodes_.empty()) return;
-  const size_t first_out = out.size();
-  uint32_t stack[kMaxDepth];
-  int top = 0;
-  uint32_t node = 0;
-  for (;;) {
-    const Node& nd = nodes_[node];
-    if (boxes_overlap(nd.box, query)) {
-      if (nd.count == 0) {
-        stack[top++] = nd.offset;
-        node += 1;
-        continue;
-      }
-      for (uint32_t i = nd.offset; i < nd.offset + nd.count; ++i) {
-        if (boxes_overlap(item_boxes_[i], query)) out.push_back(items_[i]);
-      }
-    }
-    if (top == 0) break;
-    node = stack[--top];
-  }
-  std::sort(out.begin() + static_cast<std::ptrdiff_t>(first_out), out.end());
+  auto overlaps = [&](const Aabb& b) { return boxes_overlap(b, query); };
+  collect(overlaps, overlaps, out);
 }
 
 }  // namespace par2d::detail

@@ -130,6 +130,8 @@ class OccluderBvh {
   };
 
   uint32_t split(uint32_t begin, uint32_t end, const Aabb& centroid_bounds, int depth);
+  template <class NodeTest, class ItemTest>
+  void collect(NodeTest&& node_test, ItemTest&& item_test, std::vector<uint32_t>& out) const noexcept;
 
   std::vector<Node> nodes_;
   std::vector<uint32_t> items_;  // occluder indices in leaf order

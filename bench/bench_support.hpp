@@ -1,11 +1,18 @@
-// Synthetic scenes for the benchmarks: many small occluders and lights scattered over a view.
+// Shared by the benchmarks: the timed render loop and synthetic scenes of many small shapes.
 #pragma once
+
+#include <benchmark/benchmark.h>
 
 #include <cstdint>
 
+#include "par2d/render.hpp"
 #include "par2d/scene.hpp"
 
 namespace par2d::bench {
+
+// Renders `scene` once per iteration into a buffer allocated outside the timed loop and
+// reports "Mpixel/s" and "frames/s" (1920 x 1080 frame equivalents) counters.
+void run_render(benchmark::State& state, const Scene& scene, const RenderOptions& options);
 
 // `occluders` small convex shapes (quads, triangles, circles, about 4-12 px across) and
 // `lights` small lights (circles or small polygons, radius about 3-6 px), all placed uniformly

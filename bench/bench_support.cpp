@@ -1,11 +1,33 @@
-// Synthetic benchmark scenes: scattered small occluders and lights, deterministic per seed.
-#include "scene_generators.hpp"
+// Benchmark support: the timed render loop, and synthetic scenes of scattered small occluders and lights.
+#include "bench_support.hpp"
 
 #include <cmath>
+#include <cstddef>
+#include <string>
 #include <random>
 #include <vector>
 
 namespace par2d::bench {
+
+void run_render(benchmark::State& state, const Scene& scene, const RenderOptions& options) {
+  constexpr double kFrameMpixels = 1920.0 * 1080.0 / 1e6;
+  std::vector<float> pixels(static_cast<size_t>(scene.width) * scene.height * 3);
+  const ImageView image{pixels.data(), scene.width, scene.height, std::ptrdiff_t{3} * scene.width};
+  for (auto _ : state) {
+    const Status status = render(scene, options, image);
+    if (!status.ok()) {
+      state.SkipWithError(status.message().c_str());
+      break;
+    }
+    benchmark::DoNotOptimize(pixels.data());
+    benchmark::ClobberMemory();
+  }
+  const double mpixels = static_cast<double>(scene.width) * scene.height / 1e6 * static_cast<double>(state.iterations());
+  state.counters["Mpixel/s"] = benchmark::Counter(mpixels, benchmark::Counter::kIsRate);
+  state.counters["frames/s"] = benchmark::Counter(mpixels / kFrameMpixels, benchmark::Counter::kIsRate);
+  state.SetLabel(std::string(isa_name(resolved_isa(options))) + ", " + std::to_string(scene.width) + "x" +
+                 std::to_string(scene.height));
+}
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
