@@ -160,11 +160,43 @@ void rect_light_hull(const std::array<Vec2, 4>& corners, const ConvexShape& ligh
 
 
 
+// A light's tangent directions seen from the four corners of a rectangle, on first use.
+struct CornerTangents {
+  Vec2 cw[4], ccw[4];
+  signed char outside[4] = {-1, -1, -1, -1};  // -1: not computed yet
+};
+
+// Whether the whole rectangle lies in the occluder's umbra for the light, given that it is
+// on the occluder's side of their separating line: from each corner, the occluder's arc
+// must contain the light's. The umbra of a convex occluder for a convex light is convex,
+// so the four corners decide for the whole rectangle.
+bool rect_in_umbra(const ConvexShape& light, const ConvexShape& occluder, const std::array<Vec2, 4>& corners,
+                   CornerTangents& light_tangents) noexcept {
+  for (int i = 0; i < 4; ++i) {
+    if (light_tangents.outside[i] < 0)
+      light_tangents.outside[i] = tangent_directions(light, corners[i], light_tangents.cw[i], light_tangents.ccw[i]);
+    if (light_tangents.outside[i] == 0) return false;  // a corner inside the light sees it
+    Vec2 occ_cw, occ_ccw;
+    if (tangent_directions(occluder, corners[i], occ_cw, occ_ccw) &&
+        !arc_contains(occ_cw, occ_ccw, light_tangents.cw[i], light_tangents.ccw[i]))
+      return false;
+  }
+  return true;
+}
+
+// How many corners lie on the occluder's side of the line (n.p >= offset).
+int corners_in_front(const Line& line, const std::array<Vec2, 4>& corners) noexcept {
+  int front = 0;
+  for (Vec2 p : corners) front += dot(line.normal, p) >= line.offset;
+  return front;
+}
+
 }  // namespace
 
 void gather_block_candidates(const PreparedScene& scene, const TileRect& block, bool culling,
                              TileSetupScratch& scratch) {
   scratch.block_candidates.resize(scene.lights.size());
+  scratch.block_shadowed.assign(scene.lights.size(), 0);
   const std::array<Vec2, 4> corners = tile_corners(scene, block);
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
     std::vector<std::uint32_t>& candidates = scratch.block_candidates[l];
@@ -173,8 +205,20 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
       for (std::uint32_t k = 0; k < scene.occluders.size(); ++k) candidates.push_back(k);
       continue;
     }
-    rect_light_hull(corners, scene.lights[l].shape, scratch);
+    const ConvexShape& light = scene.lights[l].shape;
+    rect_light_hull(corners, light, scratch);
     scene.occluder_bvh.query_convex(scratch.hull.data(), static_cast<int>(scratch.hull.size()), candidates);
+    // A light in one occluder's umbra over the whole block is skipped by all its tiles
+    // (rooms behind a wall): one test here saves one per tile.
+    CornerTangents tangents;
+    for (std::uint32_t k : candidates) {
+      const auto line = scene.separators.get(l, k, light, scene.occluders[k]);
+      if (line && corners_in_front(*line, corners) == 4 && rect_in_umbra(light, scene.occluders[k], corners, tangents)) {
+        candidates.clear();
+        scratch.block_shadowed[l] = 1;
+        break;
+      }
+    }
   }
 }
 
@@ -202,14 +246,14 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
   scratch.used.clear();
 
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+    if (scratch.block_shadowed[l]) continue;
     const PreparedLight& light = scene.lights[l];
     const std::vector<std::uint32_t>& candidates = scratch.block_candidates[l];
     for (std::uint32_t k : light.overlapping_occluders) {
       if (std::binary_search(candidates.begin(), candidates.end(), k)) return false;
     }
     std::optional<BoxPairHull> tile_hull;
-    Vec2 light_cw[4], light_ccw[4];
-    signed char outside_light[4] = {-1, -1, -1, -1};  // -1: not computed yet
+    CornerTangents light_tangents;
     if (culling && !candidates.empty()) tile_hull.emplace(bounds_of(corners), bounds_of(light.shape));
     KernelLight kl;
     kl.first_pair = static_cast<std::uint32_t>(work.pairs.size());
@@ -225,23 +269,12 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       pair.ny = static_cast<float>(line->normal.y);
       pair.c = frame.line_offset(line->normal, line->offset);
       if (culling) {
-        int front = 0;
-        for (Vec2 p : corners) front += dot(line->normal, p) >= line->offset;
+        const int front = corners_in_front(*line, corners);
         if (front == 0) continue;  // the light comes first everywhere in the tile
         if (front == 4) {
           pair.nx = pair.ny = 0.0f;
           pair.c = -1.0f;
-          // The umbra of a convex occluder for a convex light is convex, so the tile is in
-          // it when its four corners are.
-          bool umbra = true;
-          for (int i = 0; i < 4 && umbra; ++i) {
-            if (outside_light[i] < 0)
-              outside_light[i] = tangent_directions(light.shape, corners[i], light_cw[i], light_ccw[i]) ? 1 : 0;
-            Vec2 occ_cw, occ_ccw;
-            umbra = outside_light[i] == 1 && (!tangent_directions(occluder, corners[i], occ_cw, occ_ccw) ||
-                                              arc_contains(occ_cw, occ_ccw, light_cw[i], light_ccw[i]));
-          }
-          if (umbra) {
+          if (rect_in_umbra(light.shape, occluder, corners, light_tangents)) {
             shadowed = true;
             break;
           }

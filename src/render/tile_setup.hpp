@@ -16,6 +16,7 @@ struct TileSetupScratch {
   // Per light: occluders that can block some ray from the current block to the light
   // (sorted), from one spatial-index query per block and light.
   std::vector<std::vector<std::uint32_t>> block_candidates;
+  std::vector<unsigned char> block_shadowed;  // per light: in one occluder's umbra over the whole block
   std::vector<std::int32_t> local_index;  // occluder -> index in TileWork::occluders, or -1
   std::vector<std::uint32_t> used;
   std::vector<Vec2> hull_points, hull;
