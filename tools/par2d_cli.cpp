@@ -229,7 +229,7 @@ int main(int argc, char** argv) {
   app.footer(
       "Backends (--backend): auto (default) picks the fastest path this CPU supports, the SIMD "
       "path where available; simd, scalar (double-precision reference), raycast (brute force).\n"
-      "Run 'par2d render --help' or 'par2d bench --help' for their options.");
+      "Run 'par2d render --help' or 'par2d bench --help' for their options.\n");
   bool show_version = false;
   app.add_flag("--version", show_version, "Print the version and the detected/selected ISA");
 
