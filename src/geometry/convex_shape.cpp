@@ -371,7 +371,7 @@ std::optional<Line> separating_line(const ConvexShape& positive, const ConvexSha
   // The perpendicular bisector of the closest points of two disjoint convex sets separates them.
   const Vec2 on_negative = pn + negative.radius * n;
   const Vec2 on_positive = pp - positive.radius * n;
-  return Line{n, dot(n, 0.5 * (on_negative + on_positive))};
+  return Line{n, 0.5 * (on_negative + on_positive)};
 }
 
 void boundary_intersections(const ConvexShape& a, const ConvexShape& b, std::vector<Vec2>& out) {

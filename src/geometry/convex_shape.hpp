@@ -73,12 +73,15 @@ bool arc_contains(Vec2 outer_cw, Vec2 outer_ccw, Vec2 inner_cw, Vec2 inner_ccw) 
 // Distance between the closed shapes (0 when they intersect or touch).
 double shape_distance(const ConvexShape& a, const ConvexShape& b) noexcept;
 
-// A line n.p = c with n a unit vector that strictly separates two disjoint shapes:
-// n.p > c on all of `positive`, n.p < c on all of `negative`. Empty when they touch or
-// overlap.
+// A line through `point` with unit normal n that strictly separates two disjoint shapes:
+// n.(p - point) > 0 on all of `positive`, < 0 on all of `negative`. Empty when they touch
+// or overlap. Kept as a point, not an offset n.point, so that sides can be tested with
+// differences of nearby coordinates (no cancellation far from the origin).
 struct Line {
   Vec2 normal;
-  double offset = 0.0;
+  Vec2 point;
+  // Signed distance of p from the line, positive on the `positive` shape's side.
+  double side(Vec2 p) const noexcept { return dot(normal, p - point); }
 };
 std::optional<Line> separating_line(const ConvexShape& positive, const ConvexShape& negative) noexcept;
 

@@ -60,15 +60,19 @@ struct TileFrame {
   float length(double v) const noexcept {
     return static_cast<float>(std::clamp(v * scale, -kLimit, kLimit));
   }
-  void point(Vec2 p, float& x, float& y) const noexcept {
-    double dx = (p.x - origin.x) * scale, dy = (p.y - origin.y) * scale;
+  void point(Vec2 p, float& x, float& y) const noexcept { relative(p - origin, x, y); }
+  // A vector already relative to the origin (computed by the caller without cancellation).
+  void relative(Vec2 v, float& x, float& y) const noexcept {
+    double dx = v.x * scale, dy = v.y * scale;
     const double big = std::max(std::abs(dx), std::abs(dy));
     if (big > kLimit) dx *= kLimit / big, dy *= kLimit / big;
     x = static_cast<float>(dx);
     y = static_cast<float>(dy);
   }
-  // Offset of the line n.p = offset (n a unit vector) in kernel coordinates.
-  float line_offset(Vec2 normal, double offset) const noexcept { return length(offset - dot(normal, origin)); }
+  // Offset c of the line through `point` with unit normal n (n.p = c) in kernel
+  // coordinates, from the point's position relative to the origin (no cancellation).
+  float line_offset(Vec2 normal, Vec2 point) const noexcept { return length(dot(normal, point - origin)); }
+
 };
 
 // A pixel becomes about one unit, unless the scene then reaches past 2^60 units (the
@@ -110,10 +114,13 @@ KernelShape kernel_shape(const ConvexShape& s, const TileFrame& frame, const std
     Vec2 u = tile_center - c;
     const double len = length(u);
     u = len > 0.0 ? (1.0 / len) * u : Vec2{1.0, 0.0};
-    const Vec2 nearest = c + s.radius * u;
+    // The circle point nearest the tile, relative to the origin: formed from small
+    // relative terms, because the inside test needs it on the circle to float precision
+    // (its absolute coordinates would be rounded to the scene's magnitude).
+    const Vec2 nearest = (c - frame.origin) + s.radius * u;
     frame.point(c, k.cx, k.cy);
     k.r = frame.length(s.radius);
-    frame.point(nearest, k.px, k.py);
+    frame.relative(nearest, k.px, k.py);
     k.ux = static_cast<float>(u.x);
     k.uy = static_cast<float>(u.y);
     return k;
@@ -132,7 +139,7 @@ KernelShape kernel_shape(const ConvexShape& s, const TileFrame& frame, const std
       const Vec2 normal = s.edge_normals[i];
       work.edge_nx.push_back(static_cast<float>(normal.x));
       work.edge_ny.push_back(static_cast<float>(normal.y));
-      work.edge_c.push_back(frame.line_offset(normal, dot(normal, v)));
+      work.edge_c.push_back(frame.line_offset(normal, v));
     } else {
       work.edge_nx.push_back(0.0f);
       work.edge_ny.push_back(0.0f);
@@ -187,7 +194,7 @@ bool rect_in_umbra(const ConvexShape& light, const ConvexShape& occluder, const 
 // How many corners lie on the occluder's side of the line (n.p >= offset).
 int corners_in_front(const Line& line, const std::array<Vec2, 4>& corners) noexcept {
   int front = 0;
-  for (Vec2 p : corners) front += dot(line.normal, p) >= line.offset;
+  for (Vec2 p : corners) front += line.side(p) >= 0.0;
   return front;
 }
 
@@ -267,7 +274,7 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       pair.occluder = k;
       pair.nx = static_cast<float>(line->normal.x);
       pair.ny = static_cast<float>(line->normal.y);
-      pair.c = frame.line_offset(line->normal, line->offset);
+      pair.c = frame.line_offset(line->normal, line->point);
       if (culling) {
         const int front = corners_in_front(*line, corners);
         if (front == 0) continue;  // the light comes first everywhere in the tile
