@@ -366,3 +366,23 @@ TEST_CASE("culling is exact with up to 1000 occluders: long thin ones, ones span
     }
   }
 }
+
+TEST_CASE("a 0.1-unit polygon light 1e7 from the origin keeps its winding: inside it E is the full emission") {
+  // The shoelace area over absolute coordinates (~1e14 per term) cancels to noise here; a
+  // wrong sign turned the light inside out (fuzz finding).
+  Scene scene;
+  scene.width = 3;
+  scene.height = 3;
+  scene.view = View{1e7, 1e7, 1e7 + 0.003, 1e7 + 0.008};
+  // The fuzzer's 19-gon (about 0.13 units across), whose absolute shoelace sum has the wrong sign.
+  const Polygon light_shape{{{9999999.93062518, 10000000.018454172}, {9999999.916376173, 10000000.002935441}, {9999999.90793814, 9999999.983630914}, {9999999.906225473, 9999999.962632535}, {9999999.911423767, 9999999.942215804}, {9999999.922969703, 9999999.924593192}, {9999999.939612102, 9999999.911674378}, {9999999.959547501, 9999999.904859321}, {9999999.980615592, 9999999.904886536}, {10000000.000533318, 9999999.911753075}, {10000000.017142285, 9999999.924714841}, {10000000.028642654, 9999999.942367224}, {10000000.033788182, 9999999.962797318}, {10000000.032021271, 9999999.983791202}, {10000000.023533393, 10000000.003073866}, {10000000.009244341, 10000000.01855573}, {9999999.990702555, 10000000.028559098}, {9999999.969917327, 10000000.031999948}, {9999999.949141057, 10000000.02850541}}};
+  scene.lights.push_back(Light{light_shape, {1.0, 1.0, 1.0}, 2.0});
+  std::vector<RenderOptions> variants = {scalar_options()};
+  for (Isa isa : simd_isas_here()) variants.push_back(simd_options(isa));
+  for (const RenderOptions& o : variants) {
+    Status status;
+    const RenderedImage got = render_image(scene, o, status);
+    REQUIRE(status.ok());
+    for (float v : got.pixels) CHECK(v == doctest::Approx(2.0).epsilon(1e-6));
+  }
+}

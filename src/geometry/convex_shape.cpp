@@ -211,8 +211,12 @@ ConvexShape make_convex_shape(const Shape& shape) {
     int exponent = 0;
     std::frexp(max_abs, &exponent);
     const auto scaled = [exponent](Vec2 p) { return Vec2{std::ldexp(p.x, -exponent), std::ldexp(p.y, -exponent)}; };
+    // The area is summed relative to the first vertex: with absolute coordinates, a small
+    // polygon far from the origin (0.1 units at 1e7) loses the area's sign to cancellation.
     double area2 = 0.0;
-    for (size_t i = 0; i < v.size(); ++i) area2 += cross(scaled(v[i]), scaled(v[(i + 1) % v.size()]));
+    const Vec2 anchor = v.empty() ? Vec2{} : scaled(v[0]);
+    for (size_t i = 0; i < v.size(); ++i)
+      area2 += cross(scaled(v[i]) - anchor, scaled(v[(i + 1) % v.size()]) - anchor);
     if (area2 < 0.0) std::reverse(v.begin(), v.end());
     // Drop straight turns until none is left (each removal can straighten a neighbour).
     for (bool removed = true; removed && v.size() > 3;) {
