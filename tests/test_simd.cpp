@@ -386,3 +386,14 @@ TEST_CASE("a 0.1-unit polygon light 1e7 from the origin keeps its winding: insid
     for (float v : got.pixels) CHECK(v == doctest::Approx(2.0).epsilon(1e-6));
   }
 }
+
+TEST_CASE("isa_lanes reports the lane count of each compiled kernel") {
+  CHECK(isa_lanes(Isa::scalar) == 1);
+  CHECK(detail::kernels_for(Isa::scalar) == nullptr);
+  for (Isa isa : {Isa::sse4_2, Isa::avx2, Isa::avx512}) {
+    const detail::KernelSet* k = detail::kernels_for(isa);
+    REQUIRE(k != nullptr);
+    CHECK(k->isa == isa);
+    CHECK(k->lanes == isa_lanes(isa));
+  }
+}

@@ -410,15 +410,4 @@ void boundary_intersections(const ConvexShape& a, const ConvexShape& b, std::vec
   });
 }
 
-double boundary_distance(const ConvexShape& s, Vec2 x) noexcept {
-  if (s.kind == ShapeKind::circle) return std::abs(length(x - s.vertices[0]) - s.radius);
-  double best = kInfinity;
-  for (int i = 0, n = core_edge_count(s); i < n; ++i) {
-    Vec2 a, b;
-    core_edge(s, i, a, b);
-    best = std::min(best, point_segment_distance(x, a, b));
-  }
-  return best;
-}
-
 }  // namespace par2d::detail

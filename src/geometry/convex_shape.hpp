@@ -89,7 +89,5 @@ std::optional<Line> separating_line(const ConvexShape& positive, const ConvexSha
 // boundaries share a piece of line, the end points of the shared piece.
 void boundary_intersections(const ConvexShape& a, const ConvexShape& b, std::vector<Vec2>& out);
 
-// Smallest distance from x to the shape's boundary.
-double boundary_distance(const ConvexShape& shape, Vec2 x) noexcept;
 
 }  // namespace par2d::detail
