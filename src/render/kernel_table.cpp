@@ -4,6 +4,7 @@
 #include <memory>
 #include <vector>
 
+#include "render/light_reach.hpp"
 #include "render/tile_setup.hpp"
 #include "render/tiling.hpp"
 #include "render/scalar_tiles.hpp"
@@ -62,10 +63,21 @@ void render_simd(const PreparedScene& scene, const RenderOptions& options, Isa i
                  const ImageView& image) {
   const KernelSet* kernels = kernels_for(isa);
   std::vector<ThreadState> states(static_cast<std::size_t>(threads));
+  // Each light's reach first (a few proofs per light), so that blocks far from a light it
+  // cannot reach skip it before any spatial query.
+  std::vector<LightReach> reach;
+  if (options.culling) {
+    reach.resize(scene.lights.size());
+    std::vector<LightReachScratch> reach_scratch(static_cast<std::size_t>(threads));
+    for_each_index(static_cast<int>(scene.lights.size()), threads, [&](int l, int worker) {
+      reach[static_cast<std::size_t>(l)] =
+          compute_light_reach(scene, static_cast<std::size_t>(l), reach_scratch[static_cast<std::size_t>(worker)]);
+    });
+  }
   for_each_block(scene.width, scene.height, threads, [&](const TileRect& block, int worker) {
     ThreadState& state = states[static_cast<std::size_t>(worker)];
     TileWork& work = state.work;
-    gather_block_candidates(scene, block, options.culling, state.setup);
+    gather_block_candidates(scene, block, options.culling ? &reach : nullptr, state.setup);
     for_each_cell(block, kTileSize, [&](const TileRect& tile) {
       if (!build_tile_work(scene, tile, options.spp, options.culling, work, state.setup)) {
         render_rect_scalar(scene, options.spp, tile, state.scalar, image);

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "geometry/occlusion_proof.hpp"
+#include "render/light_reach.hpp"
 #include "render/prepared_scene.hpp"
 #include "render/tiling.hpp"
 #include "simd/tile_work.hpp"
@@ -20,19 +22,23 @@ struct TileSetupScratch {
   std::vector<std::int32_t> local_index;  // occluder -> index in TileWork::occluders, or -1
   std::vector<std::uint32_t> used;
   std::vector<Vec2> hull_points, hull;
+  std::vector<std::uint32_t> pair_occluders;
+  OcclusionProofScratch occlusion;
 };
 
-// Fills scratch.block_candidates for the pixel rectangle `block` (with culling off: every
-// occluder for every light).
-void gather_block_candidates(const PreparedScene& scene, const TileRect& block, bool culling,
+// Fills scratch.block_candidates for the pixel rectangle `block`, skipping the lights that
+// `reach` or a proof shows hidden from the whole block. Without `reach` (culling off):
+// every occluder for every light.
+void gather_block_candidates(const PreparedScene& scene, const TileRect& block, const std::vector<LightReach>* reach,
                              TileSetupScratch& scratch);
 
 // Fills `work` for `tile` at `spp` samples per pixel, a tile of the block last given to gather_block_candidates.
 // Returns false when the tile must be computed by the scalar reference instead (a light
 // that overlaps or touches an occluder matters to it: the kernel's separating-line depth
 // test needs disjoint shapes). With `culling`, occluders behind a light for the whole
-// tile are dropped and lights in the umbra of one occluder over the whole tile are
-// skipped; the image is the same either way.
+// tile are dropped, and lights in the umbra of one occluder over the whole tile, or
+// proven hidden by several (geometry/occlusion_proof.hpp), are skipped; the image is the
+// same either way.
 bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, bool culling, TileWork& work,
                      TileSetupScratch& scratch);
 

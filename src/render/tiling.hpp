@@ -37,32 +37,22 @@ void for_each_cell(const TileRect& area, int cell, Fn&& fn) {
   }
 }
 
-// Runs fn(block_rect, worker) for every block of the width x height image on `threads`
-// workers; `worker` in [0, threads) names the calling worker, so per-worker state can
-// live in a plain array. Iterates block indices, not pixel ranges (blocked_range splits
-// at midpoints, which would not stay aligned to tiles and SIMD packets). Each block
-// writes only its own pixels, so the image does not depend on the thread count.
+// Runs fn(index, worker) for every index in [0, count) on `threads` workers; `worker` in
+// [0, threads) names the calling worker, so per-worker state can live in a plain array.
 //
 // The scheduler is TBB. Builds with PAR2D_STD_THREADS (the ThreadSanitizer build) use
-// plain std::threads taking block indices from an atomic counter instead: Debian's libtbb
+// plain std::threads taking indices from an atomic counter instead: Debian's libtbb
 // is not built with TSan, so TSan cannot see TBB's synchronization, while it sees
 // std::thread's join. Everything the workers run is the same code either way.
 template <class Fn>
-void for_each_block(int width, int height, int threads, Fn&& fn) {
-  const int columns = (width + kBlockSize - 1) / kBlockSize;
-  const int rows = (height + kBlockSize - 1) / kBlockSize;
-  const int count = columns * rows;
-  auto block_rect = [&](int b) {
-    const int x0 = (b % columns) * kBlockSize, y0 = (b / columns) * kBlockSize;
-    return TileRect{x0, y0, std::min(x0 + kBlockSize, width), std::min(y0 + kBlockSize, height)};
-  };
+void for_each_index(int count, int threads, Fn&& fn) {
 #if PAR2D_STD_THREADS
   std::atomic<int> next{0};
   std::exception_ptr failure;
   std::mutex failure_mutex;
   auto work = [&](int worker) {
     try {
-      for (int b = next.fetch_add(1); b < count; b = next.fetch_add(1)) fn(block_rect(b), worker);
+      for (int i = next.fetch_add(1); i < count; i = next.fetch_add(1)) fn(i, worker);
     } catch (...) {
       const std::lock_guard<std::mutex> lock(failure_mutex);
       if (!failure) failure = std::current_exception();
@@ -79,10 +69,24 @@ void for_each_block(int width, int height, int threads, Fn&& fn) {
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<int>(0, count, 1), [&](const tbb::blocked_range<int>& range) {
       const int worker = tbb::this_task_arena::current_thread_index();
-      for (int b = range.begin(); b != range.end(); ++b) fn(block_rect(b), worker);
+      for (int i = range.begin(); i != range.end(); ++i) fn(i, worker);
     });
   });
 #endif
+}
+
+// Runs fn(block_rect, worker) for every block of the width x height image (see
+// for_each_index). Iterates block indices, not pixel ranges (blocked_range splits at
+// midpoints, which would not stay aligned to tiles and SIMD packets). Each block writes
+// only its own pixels, so the image does not depend on the thread count.
+template <class Fn>
+void for_each_block(int width, int height, int threads, Fn&& fn) {
+  const int columns = (width + kBlockSize - 1) / kBlockSize;
+  const int rows = (height + kBlockSize - 1) / kBlockSize;
+  for_each_index(columns * rows, threads, [&](int b, int worker) {
+    const int x0 = (b % columns) * kBlockSize, y0 = (b / columns) * kBlockSize;
+    fn(TileRect{x0, y0, std::min(x0 + kBlockSize, width), std::min(y0 + kBlockSize, height)}, worker);
+  });
 }
 
 }  // namespace par2d::detail

@@ -1,0 +1,257 @@
+// From-region occlusion by a union of occluders: interval cover of the lines across a slab.
+#include "geometry/occlusion_proof.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace par2d::detail {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Occluders are cut off this fraction of the slab short of the light side, so that a point's
+// projection gain stays finite (<= 1024) and rounding stays bounded.
+constexpr double kLightSideCut = 1.0 / 1024.0;
+
+// Polygon stand-ins for circles: occluders shrink to an inscribed 12-gon (blocks less), lights
+// grow to a circumscribed octagon (meets more lines), so every proof stays valid.
+constexpr int kOccluderCircleSides = 12;
+constexpr int kLightCircleSides = 8;
+
+// u along the axis, v across it, relative to `origin`.
+struct Frame {
+  Vec2 axis, origin;
+  double u(Vec2 p) const noexcept { return dot(p - origin, axis); }
+  double v(Vec2 p) const noexcept { return cross(axis, p - origin); }
+};
+
+// Sutherland-Hodgman: keeps the part of polygon (u, v)[0..n) where sign * (u - at) >= 0,
+// appended to (out_u, out_v). Crossing points are put exactly on the cut.
+void clip(const double* u, const double* v, std::size_t n, double at, double sign, std::vector<double>& out_u,
+          std::vector<double>& out_v) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t j = i + 1 == n ? 0 : i + 1;
+    const double fi = sign * (u[i] - at), fj = sign * (u[j] - at);
+    if (fi >= 0.0) {
+      out_u.push_back(u[i]);
+      out_v.push_back(v[i]);
+    }
+    if ((fi >= 0.0) != (fj >= 0.0)) {
+      const double t = fi / (fi - fj);
+      out_u.push_back(at);
+      out_v.push_back(v[i] + t * (v[j] - v[i]));
+    }
+  }
+}
+
+// Unit vectors at angles phase + 2 pi k / n, k < n: the vertices of the circles' stand-in
+// polygons (computed once; proofs run thousands of times per frame).
+template <int kSides>
+struct UnitPolygon {
+  double x[kSides], y[kSides];
+  explicit UnitPolygon(double phase) {
+    for (int k = 0; k < kSides; ++k) {
+      x[k] = std::cos(phase + kTwoPi * k / kSides);
+      y[k] = std::sin(phase + kTwoPi * k / kSides);
+    }
+  }
+};
+
+enum class Cover { proven, gap };
+
+// Whether the blockers' shadows cover every line of the strip [q0, q1] (q0 == q1: one pencil
+// of lines, whose shadows are then exact, closed intervals) that meets the viewer and the light.
+Cover cover_strip(const OcclusionProofScratch& s, double q0, double q1, double eps,
+                  std::vector<std::pair<double, double>>& intervals) {
+  // Lines from a light-side height q that meet the viewer (the light) have p between its
+  // points' projections from q; both grow with q, so the strip needs at most [lo(q0), hi(q1)].
+  double viewer_lo = kInf, viewer_hi = -kInf;
+  for (std::size_t i = 0; i < s.viewer_gain.size(); ++i) {
+    viewer_lo = std::min(viewer_lo, s.viewer_gain[i] * q0 + s.viewer_offset[i]);
+    viewer_hi = std::max(viewer_hi, s.viewer_gain[i] * q1 + s.viewer_offset[i]);
+  }
+  double light_lo = kInf, light_hi = -kInf;
+  for (std::size_t i = 0; i < s.light_gain.size(); ++i) {
+    light_lo = std::min(light_lo, s.light_gain[i] * q0 - s.light_offset[i]);
+    light_hi = std::max(light_hi, s.light_gain[i] * q1 - s.light_offset[i]);
+  }
+  // A light point on the slab side itself is met by lines of every steepness from below or above it.
+  for (const double h : s.light_on_side) {
+    if (q0 <= h) light_lo = -kInf;
+    if (q1 >= h) light_hi = kInf;
+  }
+  const double need_lo = std::max(viewer_lo, light_lo), need_hi = std::min(viewer_hi, light_hi);
+  if (!(need_lo <= need_hi)) return Cover::proven;  // no line meets both
+
+  intervals.clear();
+  const std::size_t blockers = s.blocker_first.size() - 1;
+  for (std::size_t k = 0; k < blockers; ++k) {
+    double lo = kInf, hi = -kInf;
+    for (std::uint32_t i = s.blocker_first[k]; i < s.blocker_first[k + 1]; ++i) {
+      lo = std::min(lo, s.blocker_a[i] - s.blocker_c[i] * q0);
+      hi = std::max(hi, s.blocker_a[i] - s.blocker_c[i] * q1);
+    }
+    if (hi > lo && hi > need_lo && lo < need_hi) intervals.emplace_back(lo, hi);
+  }
+  std::sort(intervals.begin(), intervals.end());
+  double reach = need_lo;
+  for (const auto& [lo, hi] : intervals) {
+    if (lo >= reach - eps) return Cover::gap;  // lines between reach and lo pass every occluder
+    reach = std::max(reach, hi);
+    if (reach > need_hi + eps) return Cover::proven;
+  }
+  return Cover::gap;
+}
+
+}  // namespace
+
+bool segments_blocked(const Vec2* viewer, int viewer_count, Vec2 axis, const ConvexShape& light,
+                      const std::vector<ConvexShape>& occluders, const std::uint32_t* ids, std::size_t count,
+                      int strip_budget, OcclusionProofScratch& scratch) {
+  if (viewer_count <= 0 || count == 0) return false;
+  Frame frame{axis, viewer[0]};
+  double magnitude = 0.0;
+  for (const Vec2 p : {light.bounds_min, light.bounds_max}) magnitude = std::max({magnitude, std::abs(p.x), std::abs(p.y)});
+  double viewer_end = -kInf;
+  for (int i = 0; i < viewer_count; ++i) {
+    viewer_end = std::max(viewer_end, frame.u(viewer[i]));
+    magnitude = std::max({magnitude, std::abs(viewer[i].x), std::abs(viewer[i].y)});
+  }
+  // Shift u so that the viewer ends at u = 0 and the light starts at u = gap.
+  frame.origin = frame.origin + viewer_end * axis;
+  // Light points in the frame (circles as circumscribed octagons with two sides across the axis).
+  std::vector<double>&light_u = scratch.half_u, &light_v = scratch.half_v;
+  light_u.clear();
+  light_v.clear();
+  if (light.kind == ShapeKind::circle) {
+    const Vec2 c = light.vertices[0];
+    const double side_radius = light.radius / std::cos(kPi / kLightCircleSides);
+    static const UnitPolygon<kLightCircleSides> kUnit(kPi / kLightCircleSides);
+    const double cu = frame.u(c), cv = frame.v(c);
+    for (int k = 0; k < kLightCircleSides; ++k) {
+      light_u.push_back(cu + side_radius * kUnit.x[k]);
+      light_v.push_back(cv + side_radius * kUnit.y[k]);
+    }
+  } else {
+    for (const Vec2 p : light.vertices) light_u.push_back(frame.u(p)), light_v.push_back(frame.v(p));
+  }
+  double gap = kInf, light_far = -kInf;
+  for (const double u : light_u) gap = std::min(gap, u), light_far = std::max(light_far, u);
+  // The proof compares projections that rounding moves by up to ~1e3 ulp of the coordinates
+  // (gains reach 1024); it only counts overlaps beyond that.
+  const double eps = 4e-9 * magnitude;
+  if (!(gap > 1e3 * eps)) return false;
+
+  scratch.viewer_gain.clear();
+  scratch.viewer_offset.clear();
+  double viewer_v_lo = kInf, viewer_v_hi = -kInf;
+  for (int i = 0; i < viewer_count; ++i) {
+    const double u = std::min(frame.u(viewer[i]), 0.0), v = frame.v(viewer[i]);
+    // The line from (gap, q) through (u, v) meets u = 0 at q + (v - q) * gap / (gap - u).
+    const double t = gap / (gap - u);
+    scratch.viewer_gain.push_back(1.0 - t);
+    scratch.viewer_offset.push_back(v * t);
+    viewer_v_lo = std::min(viewer_v_lo, v);
+    viewer_v_hi = std::max(viewer_v_hi, v);
+  }
+  scratch.light_gain.clear();
+  scratch.light_offset.clear();
+  scratch.light_on_side.clear();
+  double light_v_lo = kInf, light_v_hi = -kInf;
+  for (std::size_t i = 0; i < light_u.size(); ++i) {
+    const double d = light_u[i] - gap, v = light_v[i];
+    light_v_lo = std::min(light_v_lo, v);
+    light_v_hi = std::max(light_v_hi, v);
+    if (d <= 1e-9 * gap) {
+      scratch.light_on_side.push_back(v);
+      continue;
+    }
+    // The line from (gap, q) through (gap + d, v) meets u = 0 at q - (v - q) * gap / d.
+    scratch.light_gain.push_back(1.0 + gap / d);
+    scratch.light_offset.push_back(v * gap / d);
+  }
+
+  // Occluders clipped to the slab, as point projections.
+  const double cut = gap * (1.0 - kLightSideCut);
+  scratch.blocker_a.clear();
+  scratch.blocker_c.clear();
+  scratch.blocker_first.assign(1, 0);
+  for (std::size_t k = 0; k < count; ++k) {
+    const ConvexShape& s = occluders[ids[k]];
+    double u_lo = kInf, u_hi = -kInf;
+    for (const Vec2 corner : {s.bounds_min, Vec2{s.bounds_max.x, s.bounds_min.y}, s.bounds_max,
+                              Vec2{s.bounds_min.x, s.bounds_max.y}}) {
+      const double u = frame.u(corner);
+      u_lo = std::min(u_lo, u);
+      u_hi = std::max(u_hi, u);
+    }
+    if (u_hi <= 0.0 || u_lo >= cut) continue;
+    scratch.clip_u.clear();
+    scratch.clip_v.clear();
+    auto add = [&](double u, double v) {
+      scratch.clip_u.push_back(u);
+      scratch.clip_v.push_back(v);
+    };
+    if (s.kind == ShapeKind::circle) {
+      const Vec2 c = s.vertices[0];
+      static const UnitPolygon<kOccluderCircleSides> kUnit(0.0);
+      const double cu = frame.u(c), cv = frame.v(c);
+      for (int i = 0; i < kOccluderCircleSides; ++i) add(cu + s.radius * kUnit.x[i], cv + s.radius * kUnit.y[i]);
+    } else {
+      for (const Vec2 p : s.vertices) add(frame.u(p), frame.v(p));
+    }
+    scratch.half_u.clear();
+    scratch.half_v.clear();
+    clip(scratch.clip_u.data(), scratch.clip_v.data(), scratch.clip_u.size(), 0.0, 1.0, scratch.half_u,
+         scratch.half_v);
+    scratch.clip_u.clear();
+    scratch.clip_v.clear();
+    clip(scratch.half_u.data(), scratch.half_v.data(), scratch.half_u.size(), cut, -1.0, scratch.clip_u,
+         scratch.clip_v);
+    if (scratch.clip_u.empty()) continue;
+    for (std::size_t i = 0; i < scratch.clip_u.size(); ++i) {
+      // The line from (gap, q) through (u, v) meets u = 0 at (gap * v - q * u) / (gap - u).
+      const double u = scratch.clip_u[i], inv = 1.0 / (gap - u);
+      scratch.blocker_a.push_back(gap * scratch.clip_v[i] * inv);
+      scratch.blocker_c.push_back(u * inv);
+    }
+    scratch.blocker_first.push_back(static_cast<std::uint32_t>(scratch.blocker_a.size()));
+  }
+  if (scratch.blocker_first.size() == 1) return false;
+
+  // A line meeting the viewer at (uT, vT) and the light at (uL, vL) crosses u = gap at
+  // (1 - l) vT + l vL with l = (gap - uT) / (uL - uT) in [gap / light_far, 1].
+  const double l_min = gap / light_far;
+  const double q_lo = std::min(light_v_lo, light_v_lo + (1.0 - l_min) * (viewer_v_lo - light_v_lo));
+  const double q_hi = std::max(light_v_hi, light_v_hi + (1.0 - l_min) * (viewer_v_hi - light_v_hi));
+  scratch.strips.assign(1, {q_lo, q_hi});
+  int strips = 0;
+  while (!scratch.strips.empty()) {
+    const auto [q0, q1] = scratch.strips.back();
+    scratch.strips.pop_back();
+    if (++strips > strip_budget) return false;
+    if (cover_strip(scratch, q0, q1, eps, scratch.intervals) == Cover::proven) continue;
+    const double mid = 0.5 * (q0 + q1);
+    if (!(mid > q0 && mid < q1)) return false;  // cannot split further
+    // The middle pencil's shadows are exact: a gap there is a line that passes every occluder.
+    if (cover_strip(scratch, mid, mid, -eps, scratch.intervals) == Cover::gap) return false;
+    scratch.strips.push_back({q0, mid});
+    scratch.strips.push_back({mid, q1});
+  }
+  return true;
+}
+
+bool rect_hidden_from_light(Vec2 lo, Vec2 hi, const ConvexShape& light, const std::vector<ConvexShape>& occluders,
+                            const std::uint32_t* ids, std::size_t count, int strip_budget,
+                            OcclusionProofScratch& scratch) {
+  const double gaps[4] = {light.bounds_min.x - hi.x, lo.x - light.bounds_max.x, light.bounds_min.y - hi.y,
+                          lo.y - light.bounds_max.y};
+  const Vec2 axes[4] = {{1.0, 0.0}, {-1.0, 0.0}, {0.0, 1.0}, {0.0, -1.0}};
+  const int side = static_cast<int>(std::max_element(gaps, gaps + 4) - gaps);
+  if (!(gaps[side] > 0.0)) return false;
+  const Vec2 corners[4] = {lo, {hi.x, lo.y}, hi, {lo.x, hi.y}};
+  return segments_blocked(corners, 4, axes[side], light, occluders, ids, count, strip_budget, scratch);
+}
+
+}  // namespace par2d::detail

@@ -1,0 +1,117 @@
+// Light reach: per-sector proofs that the occluders around a light hide it from everything farther away.
+#include "render/light_reach.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace par2d::detail {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kSectorWidth = kTwoPi / LightReach::kSectors;
+// Radii tried: the light's radius plus this many pixels times a power of two.
+constexpr double kFirstStepPixels = 8.0;
+constexpr int kMaxRadii = 24;
+// Strips one sector proof may use: proofs that need more are rare and not worth their cost.
+constexpr int kStripBudget = 32;
+
+// Whether everything at distance >= r from the center within sector k is hidden from the light.
+//
+// A segment from such a point x to a light point y passes within `radius` of the center, so
+// it crosses the circle of radius r at an angle within asin(radius / r) of x's: inside the
+// sector widened by that much on both sides. There it crosses the chord joining the widened
+// arc's ends first (y lies on the center's side of the chord, the arc on the other). So
+// when every segment from the chord to the light is blocked strictly between the two, so
+// is every segment from x.
+bool sector_hidden(const PreparedScene& scene, const ConvexShape& light, const LightReach& reach, int k, double r,
+                   LightReachScratch& scratch) {
+  const double half = 0.5 * kSectorWidth + std::asin(std::min(1.0, reach.radius / r)) + 1e-9;
+  if (!(half < 0.5 * kPi) || !(r * std::cos(half) > reach.radius)) return false;
+  const double mid = -kPi + (k + 0.5) * kSectorWidth;
+  const Vec2 c = reach.center;
+  const Vec2 chord[2] = {c + r * Vec2{std::cos(mid - half), std::sin(mid - half)},
+                         c + r * Vec2{std::cos(mid + half), std::sin(mid + half)}};
+  scratch.hull_points.assign(chord, chord + 2);
+  if (light.kind == ShapeKind::circle) {
+    const Vec2 lo = light.bounds_min, hi = light.bounds_max;
+    scratch.hull_points.insert(scratch.hull_points.end(), {lo, Vec2{hi.x, lo.y}, hi, Vec2{lo.x, hi.y}});
+  } else {
+    scratch.hull_points.insert(scratch.hull_points.end(), light.vertices.begin(), light.vertices.end());
+  }
+  scratch.hull.resize(2 * scratch.hull_points.size() + 1);
+  scratch.hull.resize(static_cast<std::size_t>(
+      convex_hull(scratch.hull_points.data(), static_cast<int>(scratch.hull_points.size()), scratch.hull.data())));
+  scratch.candidates.clear();
+  scene.occluder_bvh.query_convex(scratch.hull.data(), static_cast<int>(scratch.hull.size()), scratch.candidates);
+  if (scratch.candidates.empty()) return false;
+  const Vec2 toward_light{-std::cos(mid), -std::sin(mid)};
+  return segments_blocked(chord, 2, toward_light, light, scene.occluders, scratch.candidates.data(),
+                          scratch.candidates.size(), kStripBudget, scratch.proof);
+}
+
+}  // namespace
+
+bool LightReach::hides(const Aabb& box) const noexcept {
+  const double dx = std::max({box.min_x - center.x, 0.0, center.x - box.max_x});
+  const double dy = std::max({box.min_y - center.y, 0.0, center.y - box.max_y});
+  const double distance = std::hypot(dx, dy);
+  if (!(distance > radius)) return false;
+  // The box's directions from the center: an arc narrower than pi (the center is outside),
+  // bounded by corner directions.
+  const double toward = std::atan2(0.5 * (box.min_y + box.max_y) - center.y, 0.5 * (box.min_x + box.max_x) - center.x);
+  double lo = kInf, hi = -kInf;
+  for (const Vec2 p : {Vec2{box.min_x, box.min_y}, Vec2{box.max_x, box.min_y}, Vec2{box.max_x, box.max_y},
+                       Vec2{box.min_x, box.max_y}}) {
+    double a = std::atan2(p.y - center.y, p.x - center.x) - toward;
+    if (a > kPi) a -= kTwoPi;
+    if (a < -kPi) a += kTwoPi;
+    lo = std::min(lo, a);
+    hi = std::max(hi, a);
+  }
+  const double margin = 1e-9;  // atan2's rounding at sector edges
+  const int first = static_cast<int>(std::floor((toward + lo - margin + kPi) / kSectorWidth));
+  const int last = static_cast<int>(std::floor((toward + hi + margin + kPi) / kSectorWidth));
+  for (int k = first; k <= last; ++k) {
+    const int sector = ((k % kSectors) + kSectors) % kSectors;
+    if (!(reach[static_cast<std::size_t>(sector)] <= distance)) return false;
+  }
+  return true;
+}
+
+LightReach compute_light_reach(const PreparedScene& scene, std::size_t light_index, LightReachScratch& scratch) {
+  const ConvexShape& light = scene.lights[light_index].shape;
+  LightReach reach;
+  reach.reach.fill(kInf);
+  reach.center = light.centroid;
+  if (light.kind == ShapeKind::circle) {
+    reach.radius = light.radius;
+  } else {
+    for (const Vec2 v : light.vertices) reach.radius = std::max(reach.radius, length(v - reach.center));
+  }
+  const View& view = scene.view;
+  const double pixel = std::max(std::abs(view.x1 - view.x0) / scene.width, std::abs(view.y1 - view.y0) / scene.height);
+  double farthest = 0.0;
+  for (const Vec2 corner : {Vec2{view.x0, view.y0}, Vec2{view.x1, view.y0}, Vec2{view.x0, view.y1}, Vec2{view.x1, view.y1}})
+    farthest = std::max(farthest, length(corner - reach.center));
+  // No pixel lies beyond the farthest view corner, so larger radii would hide nothing.
+  double radii[kMaxRadii];
+  int count = 0;
+  for (double step = kFirstStepPixels * pixel; count < kMaxRadii && reach.radius + step <= farthest; step *= 2.0)
+    radii[count++] = reach.radius + step;
+  for (int k = 0; k < LightReach::kSectors; ++k) {
+    int lo = 0, hi = count - 1;
+    while (lo <= hi) {
+      const int mid = (lo + hi) / 2;
+      if (sector_hidden(scene, light, reach, k, radii[mid], scratch)) {
+        reach.reach[static_cast<std::size_t>(k)] = radii[mid];
+        hi = mid - 1;
+      } else {
+        lo = mid + 1;
+      }
+    }
+  }
+  return reach;
+}
+
+}  // namespace par2d::detail

@@ -1,0 +1,39 @@
+// How far each light shines past the occluders around it, per direction: blocks beyond that
+// distance skip the light without a spatial query or a proof of their own.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "geometry/occlusion_proof.hpp"
+#include "render/occluder_bvh.hpp"
+#include "render/prepared_scene.hpp"
+
+namespace par2d::detail {
+
+// For one light: in each of kSectors equal angular sectors around `center`, a distance
+// beyond which no point of the sector sees any of the light (+infinity where none was proven).
+struct LightReach {
+  static constexpr int kSectors = 16;
+  Vec2 center;
+  double radius = 0.0;  // every light point lies within this distance of the center
+  std::array<double, kSectors> reach{};
+
+  // Whether every point of `box` lies beyond the reach of the sectors it spans.
+  bool hides(const Aabb& box) const noexcept;
+};
+
+// Per-thread buffers for compute_light_reach.
+struct LightReachScratch {
+  std::vector<Vec2> hull_points, hull;
+  std::vector<std::uint32_t> candidates;
+  OcclusionProofScratch proof;
+};
+
+// The reach of scene light `light`, proven for radii of the form radius + 8 px * 2^j, each
+// sector's smallest found by bisection (a proof for a radius holds for every larger one),
+// up to the farthest view corner.
+LightReach compute_light_reach(const PreparedScene& scene, std::size_t light, LightReachScratch& scratch);
+
+}  // namespace par2d::detail
