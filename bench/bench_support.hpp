@@ -1,4 +1,4 @@
-// Shared by the benchmarks: the timed render loop and synthetic scenes of many small shapes.
+// Shared by the benchmarks: the timed render loop (and, via scattered_scene.hpp, synthetic levels).
 #pragma once
 
 #include <benchmark/benchmark.h>
@@ -7,19 +7,12 @@
 
 #include "par2d/render.hpp"
 #include "par2d/scene.hpp"
+#include "scattered_scene.hpp"
 
 namespace par2d::bench {
 
 // Renders `scene` once per iteration into a buffer allocated outside the timed loop and
 // reports "Mpixel/s" and "frames/s" (1920 x 1080 frame equivalents) counters.
 void run_render(benchmark::State& state, const Scene& scene, const RenderOptions& options);
-
-// `occluders` small convex shapes (quads, triangles, circles, about 4-12 px across) and
-// `lights` small lights (circles or small polygons, radius about 3-6 px), all placed uniformly
-// over the view [0, 0, width, height]. Every light keeps a margin from every occluder, so the
-// scene is in the regime where PAR's per-pair depth test is exact (SPEC.md section 1).
-// Deterministic for a given seed on every platform: only std::mt19937's specified output is
-// used, with our own mapping to doubles (std::uniform_real_distribution is not portable).
-Scene scattered_scene(int lights, int occluders, uint32_t seed, int width = 1920, int height = 1080);
 
 }  // namespace par2d::bench
