@@ -86,6 +86,31 @@ void check_simd_matches_scalar(const Scene& scene, const std::string& what) {
   }
 }
 
+// Culled SIMD rendering against the scalar reference and, with `against_unculled`, against
+// unculled SIMD rendering, for every ISA, within SPEC.md section 5's bound.
+void check_culling_exact(const Scene& scene, bool against_unculled, const std::string& what) {
+  Status status;
+  const RenderedImage ref = render_image(scene, scalar_options(), status);
+  REQUIRE_MESSAGE(status.ok(), status.message());
+  const double bound = 1e-4 * emission_max_sum(scene);
+  for (Isa isa : simd_isas_here()) {
+    RenderOptions culled = simd_options(isa), unculled = simd_options(isa);
+    unculled.culling = false;
+    const RenderedImage a = render_image(scene, culled, status);
+    REQUIRE_MESSAGE(status.ok(), status.message());
+    INFO(what, " isa ", std::string(isa_name(isa)));
+    const Comparison vs_scalar = compare(scene, ref, a, bound);
+    CHECK_MESSAGE(vs_scalar.over == 0, vs_scalar.first_failure);
+    CHECK(vs_scalar.checked > scene.width * scene.height / 2);
+    if (against_unculled) {
+      const RenderedImage b = render_image(scene, unculled, status);
+      REQUIRE_MESSAGE(status.ok(), status.message());
+      const Comparison vs_unculled = compare(scene, b, a, bound);
+      CHECK_MESSAGE(vs_unculled.over == 0, vs_unculled.first_failure);
+    }
+  }
+}
+
 }  // namespace
 
 TEST_CASE("the test runs every SIMD ISA this CPU supports") {
@@ -342,28 +367,10 @@ TEST_CASE("culling is exact with up to 1000 occluders: long thin ones, ones span
     }
     REQUIRE(validate_scene(scene).ok());
     REQUIRE(!scene.lights.empty());
-    Status status;
-    const RenderedImage ref = render_image(scene, scalar_options(), status);
-    REQUIRE(status.ok());
-    const double bound = 1e-4 * emission_max_sum(scene);
-    for (Isa isa : simd_isas_here()) {
-      RenderOptions culled = simd_options(isa), unculled = simd_options(isa);
-      unculled.culling = false;
-      const RenderedImage a = render_image(scene, culled, status);
-      REQUIRE(status.ok());
-      INFO("seed ", c.seed, " isa ", std::string(isa_name(isa)), " occluders ", scene.occluders.size());
-      // Unculled, every pixel merges every occluder for every light: too slow for a unit
-      // test at 1000 occluders, so that case is held to the scalar reference only.
-      if (scene.occluders.size() <= 500) {
-        const RenderedImage b = render_image(scene, unculled, status);
-        REQUIRE(status.ok());
-        const Comparison vs_unculled = compare(scene, b, a, bound);
-        CHECK_MESSAGE(vs_unculled.over == 0, vs_unculled.first_failure);
-      }
-      const Comparison vs_scalar = compare(scene, ref, a, bound);
-      CHECK_MESSAGE(vs_scalar.over == 0, vs_scalar.first_failure);
-      CHECK(vs_scalar.checked > scene.width * scene.height / 2);
-    }
+    // Unculled, every pixel merges every occluder for every light: too slow for a unit
+    // test at 1000 occluders, so that case is held to the scalar reference only.
+    check_culling_exact(scene, scene.occluders.size() <= 500,
+                        "seed " + std::to_string(c.seed) + " occluders " + std::to_string(scene.occluders.size()));
   }
 }
 
@@ -404,24 +411,7 @@ TEST_CASE("culling is exact in a dense field where most lights are hidden by man
   for (std::size_t l = 0; l < 3; ++l) {
     scene.lights = {lights[l]};
     REQUIRE(validate_scene(scene).ok());
-    Status status;
-    const RenderedImage ref = render_image(scene, scalar_options(), status);
-    REQUIRE(status.ok());
-    const double bound = 1e-4 * emission_max_sum(scene);
-    for (Isa isa : simd_isas_here()) {
-      RenderOptions culled = simd_options(isa), unculled = simd_options(isa);
-      unculled.culling = false;
-      const RenderedImage a = render_image(scene, culled, status);
-      REQUIRE(status.ok());
-      const RenderedImage b = render_image(scene, unculled, status);
-      REQUIRE(status.ok());
-      INFO("light ", l, " isa ", std::string(isa_name(isa)));
-      const Comparison vs_scalar = compare(scene, ref, a, bound);
-      CHECK_MESSAGE(vs_scalar.over == 0, vs_scalar.first_failure);
-      CHECK(vs_scalar.checked > scene.width * scene.height / 2);
-      const Comparison vs_unculled = compare(scene, b, a, bound);
-      CHECK_MESSAGE(vs_unculled.over == 0, vs_unculled.first_failure);
-    }
+    check_culling_exact(scene, true, "light " + std::to_string(l));
   }
 }
 

@@ -32,16 +32,7 @@ bool sector_hidden(const PreparedScene& scene, const ConvexShape& light, const L
   const Vec2 c = reach.center;
   const Vec2 chord[2] = {c + r * Vec2{std::cos(mid - half), std::sin(mid - half)},
                          c + r * Vec2{std::cos(mid + half), std::sin(mid + half)}};
-  scratch.hull_points.assign(chord, chord + 2);
-  if (light.kind == ShapeKind::circle) {
-    const Vec2 lo = light.bounds_min, hi = light.bounds_max;
-    scratch.hull_points.insert(scratch.hull_points.end(), {lo, Vec2{hi.x, lo.y}, hi, Vec2{lo.x, hi.y}});
-  } else {
-    scratch.hull_points.insert(scratch.hull_points.end(), light.vertices.begin(), light.vertices.end());
-  }
-  scratch.hull.resize(2 * scratch.hull_points.size() + 1);
-  scratch.hull.resize(static_cast<std::size_t>(
-      convex_hull(scratch.hull_points.data(), static_cast<int>(scratch.hull_points.size()), scratch.hull.data())));
+  hull_with_shape(chord, 2, light, scratch.hull_points, scratch.hull);
   scratch.candidates.clear();
   scene.occluder_bvh.query_convex(scratch.hull.data(), static_cast<int>(scratch.hull.size()), scratch.candidates);
   if (scratch.candidates.empty()) return false;

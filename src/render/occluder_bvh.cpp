@@ -10,6 +10,20 @@
 
 namespace par2d::detail {
 
+void hull_with_shape(const Vec2* extra, int extra_count, const ConvexShape& shape, std::vector<Vec2>& points,
+                     std::vector<Vec2>& hull) {
+  points.assign(extra, extra + extra_count);
+  if (shape.kind == ShapeKind::circle) {
+    const Vec2 lo = shape.bounds_min, hi = shape.bounds_max;
+    points.insert(points.end(), {lo, Vec2{hi.x, lo.y}, hi, Vec2{lo.x, hi.y}});
+  } else {
+    points.insert(points.end(), shape.vertices.begin(), shape.vertices.end());
+  }
+  hull.resize(2 * points.size() + 1);
+  hull.resize(static_cast<std::size_t>(convex_hull(points.data(), static_cast<int>(points.size()), hull.data())));
+}
+
+
 namespace {
 
 constexpr uint32_t kNoParent = std::numeric_limits<uint32_t>::max();

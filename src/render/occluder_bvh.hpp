@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "geometry/convex_shape.hpp"
 #include "par2d/scene.hpp"
 
 namespace par2d::detail {
@@ -26,6 +27,12 @@ std::vector<Vec2> convex_hull(std::vector<Vec2> points);
 // must hold 2 * count + 1 points (the chains grow before they are trimmed). Returns the
 // number of hull points.
 int convex_hull(Vec2* points, int count, Vec2* out) noexcept;
+
+// The convex hull of `extra[0..extra_count)` and a shape (circles by their bounding box): a
+// polygon every segment from those points to the shape stays inside, for query_convex.
+// `points` is scratch; the hull is written to `hull`. Allocates only while they grow.
+void hull_with_shape(const Vec2* extra, int extra_count, const ConvexShape& shape, std::vector<Vec2>& points,
+                     std::vector<Vec2>& hull);
 
 // A convex polygon (e.g. from convex_hull) prepared for repeated box tests: its
 // separating axes are computed once. Keeps a pointer to `hull`, which must outlive it.

@@ -150,23 +150,6 @@ KernelShape kernel_shape(const ConvexShape& s, const TileFrame& frame, const std
 }
 
 
-// The hull of a pixel rectangle and a light: every ray from the rectangle to the light
-// stays inside it. Written to scratch.hull.
-void rect_light_hull(const std::array<Vec2, 4>& corners, const ConvexShape& light, TileSetupScratch& scratch) {
-  scratch.hull_points.assign(corners.begin(), corners.end());
-  if (light.kind == ShapeKind::circle) {
-    const Vec2 lo = light.bounds_min, hi = light.bounds_max;
-    scratch.hull_points.insert(scratch.hull_points.end(), {lo, Vec2{hi.x, lo.y}, hi, Vec2{lo.x, hi.y}});
-  } else {
-    scratch.hull_points.insert(scratch.hull_points.end(), light.vertices.begin(), light.vertices.end());
-  }
-  scratch.hull.resize(2 * scratch.hull_points.size() + 1);
-  scratch.hull.resize(static_cast<std::size_t>(
-      convex_hull(scratch.hull_points.data(), static_cast<int>(scratch.hull_points.size()), scratch.hull.data())));
-}
-
-
-
 // A light's tangent directions seen from the four corners of a rectangle, on first use.
 struct CornerTangents {
   Vec2 cw[4], ccw[4];
@@ -228,7 +211,7 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
       continue;
     }
     const ConvexShape& light = scene.lights[l].shape;
-    rect_light_hull(corners, light, scratch);
+    hull_with_shape(corners.data(), 4, light, scratch.hull_points, scratch.hull);
     scene.occluder_bvh.query_convex(scratch.hull.data(), static_cast<int>(scratch.hull.size()), candidates);
     // Hidden from the whole block by one occluder or several together (rooms behind a
     // wall, a field of rubble): the proof's cost is shared by the block's tiles.
