@@ -139,8 +139,9 @@ bool segments_blocked(const Vec2* viewer, int viewer_count, Vec2 axis, const Con
   double gap = kInf, light_far = -kInf;
   for (const double u : light_u) gap = std::min(gap, u), light_far = std::max(light_far, u);
   // The proof compares projections that rounding moves by up to ~1e3 ulp of the coordinates
-  // (gains reach 1024); it only counts overlaps beyond that.
-  const double eps = 4e-9 * magnitude;
+  // (differences from the frame origin, times gains up to 1024); it only counts overlaps
+  // beyond ~4500 ulp, and needs a slab wider than 1e-9 of the coordinates.
+  const double eps = 1e-12 * magnitude;
   if (!(gap > 1e3 * eps)) return false;
 
   scratch.viewer_gain.clear();

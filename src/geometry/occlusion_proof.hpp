@@ -42,7 +42,7 @@ struct OcclusionProofScratch {
 //
 // Conservative: false means "not proven" (the light may be hidden all the same), also when
 // more than `strip_budget` strips would be needed, and when the proof would hang on less
-// than ~1e-9 of the coordinates' magnitude. Circle occluders count as inscribed 12-gons,
+// than ~1e-12 of the coordinates' magnitude (or the slab is narrower than 1e-9 of it). Circle occluders count as inscribed 12-gons,
 // circle lights as circumscribed octagons.
 bool segments_blocked(const Vec2* viewer, int viewer_count, Vec2 axis, const ConvexShape& light,
                       const std::vector<ConvexShape>& occluders, const std::uint32_t* ids, std::size_t count,
