@@ -13,6 +13,7 @@
 #include "par2d/render.hpp"
 #include "render/kernel_table.hpp"
 #include "render/prepared_scene.hpp"
+#include "scattered_scene.hpp"
 #include "support/random_scenes.hpp"
 
 using namespace par2d;
@@ -377,33 +378,10 @@ TEST_CASE("culling is exact with up to 1000 occluders: long thin ones, ones span
 TEST_CASE("culling is exact in a dense field where most lights are hidden by many occluders together") {
   // The scaling benchmark's kind of level, scaled down: 16 lights among 400 occluders of 4..12
   // px over 192 x 128 px, so that light reach, block proofs and tile proofs all decide.
-  PortableRandom rng(9090);
-  Scene scene;
-  scene.width = 192;
-  scene.height = 128;
-  scene.view = {0, 0, 192, 128};
-  std::vector<std::pair<Vec2, double>> discs;
-  for (int k = 0; k < 400; ++k) {
-    const Vec2 c{rng.uniform(0, 192), rng.uniform(0, 128)};
-    const double r = rng.uniform(2.0, 6.0);
-    if (rng.chance(0.5)) {
-      scene.occluders.push_back(Occluder{Circle{c, r}});
-    } else {
-      Polygon p;
-      const double a = rng.uniform(0.0, 3.14159);
-      for (int v = 0; v < 4; ++v)
-        p.vertices.push_back({c.x + r * std::cos(a + 1.5708 * v), c.y + r * std::sin(a + 1.5708 * v)});
-      scene.occluders.push_back(Occluder{p});
-    }
-    discs.push_back({c, r});
-  }
-  for (int tries = 0; scene.lights.size() < 16 && tries < 100000; ++tries) {
-    const Vec2 c{rng.uniform(4, 188), rng.uniform(4, 124)};
-    const bool clear = std::all_of(discs.begin(), discs.end(), [&](const auto& d) {
-      return std::hypot(c.x - d.first.x, c.y - d.first.y) > d.second + 3.0 + 1.0;
-    });
-    if (clear) scene.lights.push_back(Light{Circle{c, 3.0}, {rng.uniform(0.2, 1), rng.uniform(0.2, 1), 1.0}, 4.0});
-  }
+  Scene scene = bench::scattered_scene(16, 400, 1, 192, 128);
+  const auto prepared = detail::prepare_scene(scene);
+  REQUIRE(std::all_of(prepared.lights.begin(), prepared.lights.end(),
+                      [](const detail::PreparedLight& l) { return l.overlapping_occluders.empty(); }));
   REQUIRE(scene.lights.size() == 16);
   // One light at a time: SPEC.md's bound scales with the sum of emissions, and alone a light
   // seen through a crack that a wrong proof closed stands out against it.

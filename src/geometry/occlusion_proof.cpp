@@ -121,7 +121,7 @@ bool segments_blocked(const Vec2* viewer, int viewer_count, Vec2 axis, const Con
   // Shift u so that the viewer ends at u = 0 and the light starts at u = gap.
   frame.origin = frame.origin + viewer_end * axis;
   // Light points in the frame (circles as circumscribed octagons with two sides across the axis).
-  std::vector<double>&light_u = scratch.half_u, &light_v = scratch.half_v;
+  std::vector<double>&light_u = scratch.light_u, &light_v = scratch.light_v;
   light_u.clear();
   light_v.clear();
   if (light.kind == ShapeKind::circle) {

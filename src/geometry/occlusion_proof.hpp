@@ -13,6 +13,7 @@ namespace par2d::detail {
 
 // Reused buffers for the proofs (one per thread).
 struct OcclusionProofScratch {
+  std::vector<double> light_u, light_v;            // light points in the slab frame
   std::vector<double> viewer_gain, viewer_offset;  // viewer point i projects to gain * q + offset
   std::vector<double> light_gain, light_offset;    // light points beyond the slab, likewise
   std::vector<double> light_on_side;               // heights of light points on the slab's far side

@@ -198,6 +198,7 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
   scratch.block_candidates.resize(scene.lights.size());
   scratch.block_shadowed.assign(scene.lights.size(), 0);
   const std::array<Vec2, 4> corners = tile_corners(scene, block);
+  const Aabb box = bounds_of(corners);
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
     std::vector<std::uint32_t>& candidates = scratch.block_candidates[l];
     candidates.clear();
@@ -205,7 +206,6 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
       for (std::uint32_t k = 0; k < scene.occluders.size(); ++k) candidates.push_back(k);
       continue;
     }
-    const Aabb box = bounds_of(corners);
     if ((*reach)[l].hides(box)) {
       scratch.block_shadowed[l] = 1;
       continue;
@@ -245,6 +245,7 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     }
   }
   const std::array<Vec2, 4> corners = tile_corners(scene, tile);
+  const Aabb box = bounds_of(corners);
   // Only the previous tile's entries are reset: a full reset would write 16 KB per tile at
   // 4096 occluders.
   if (scratch.local_index.size() != scene.occluders.size()) {
@@ -263,7 +264,7 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     }
     std::optional<BoxPairHull> tile_hull;
     CornerTangents light_tangents;
-    if (culling && !candidates.empty()) tile_hull.emplace(bounds_of(corners), bounds_of(light.shape));
+    if (culling && !candidates.empty()) tile_hull.emplace(box, bounds_of(light.shape));
     KernelLight kl;
     kl.first_pair = static_cast<std::uint32_t>(work.pairs.size());
     bool shadowed = false;
@@ -294,7 +295,6 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     if (!shadowed && culling && work.pairs.size() - kl.first_pair >= kTileProofMinPairs) {
       scratch.pair_occluders.clear();
       for (std::uint32_t p = kl.first_pair; p < work.pairs.size(); ++p) scratch.pair_occluders.push_back(work.pairs[p].occluder);
-      const Aabb box = bounds_of(corners);
       shadowed = rect_hidden_from_light({box.min_x, box.min_y}, {box.max_x, box.max_y}, light.shape, scene.occluders,
                                         scratch.pair_occluders.data(), scratch.pair_occluders.size(), kTileStripBudget,
                                         scratch.occlusion);
