@@ -1,6 +1,6 @@
 // Google Benchmark: how a 1920x1080 frame scales with occluder and light counts, culled and unculled.
 //
-// Names are parsed by tools/plot_bench.cpp:
+// Names are parsed by tools/plot_bench.py:
 //   scaling/<sweep>/occluders:<N>/lights:<M>/<culled|unculled>[/skipped:over_pair_budget]/real_time
 // with <sweep> one of occluder_sweep (16 lights), light_sweep (256 occluders) or target (the
 // issue's two target points). Every run uses the default SIMD ISA and all hardware threads.
