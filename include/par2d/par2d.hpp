@@ -5,5 +5,6 @@
 #include "par2d/isa.hpp"
 #include "par2d/render.hpp"
 #include "par2d/scene.hpp"
+#include "par2d/scene_write.hpp"
 #include "par2d/status.hpp"
 #include "par2d/version.hpp"

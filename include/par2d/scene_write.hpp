@@ -1,0 +1,21 @@
+// Scene to JSON: the inverse of parse_scene, for tools that edit scenes (the viewer, Python).
+#pragma once
+
+#include <string>
+
+#include "par2d/scene.hpp"
+#include "par2d/status.hpp"
+
+namespace par2d {
+
+// The scene as JSON in the format of docs/contract.md (section 3), one light or occluder per
+// line. Numbers are written in their shortest form that reads back to the same double, so
+// parse_scene(scene_to_json(s)) reproduces `s` exactly (colors and intensities included).
+// The scene is not validated: call validate_scene first if it may be invalid.
+std::string scene_to_json(const Scene& scene);
+
+// Validates the scene (messages prefixed with `path`), then writes scene_to_json to `path`
+// atomically: a refused scene or a failed write leaves any existing file untouched.
+Status save_scene_file(const std::string& path, const Scene& scene);
+
+}  // namespace par2d

@@ -1,0 +1,129 @@
+// Scene to JSON text and to files (the inverse of scene_json.cpp's loader).
+#include "par2d/scene_write.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <charconv>
+#include <cstring>
+#include <string>
+#include <type_traits>
+#include <variant>
+
+namespace par2d {
+namespace {
+
+// Shortest decimal that reads back as the same double (std::to_chars without a precision),
+// so a written scene loads bit-identical and integers stay integers ("512", not "512.0").
+void put_number(std::string& out, double v) {
+  char buf[32];
+  auto result = std::to_chars(buf, buf + sizeof buf, v);
+  out.append(buf, result.ptr);
+}
+
+void put_point(std::string& out, const Vec2& p) {
+  out += '[';
+  put_number(out, p.x);
+  out += ", ";
+  put_number(out, p.y);
+  out += ']';
+}
+
+void put_shape(std::string& out, const Shape& shape) {
+  std::visit(
+      [&out](const auto& s) {
+        using T = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<T, Polygon>) {
+          out += "\"polygon\": [";
+          for (std::size_t i = 0; i < s.vertices.size(); ++i) {
+            if (i > 0) out += ", ";
+            put_point(out, s.vertices[i]);
+          }
+          out += ']';
+        } else if constexpr (std::is_same_v<T, Circle>) {
+          out += "\"circle\": { \"center\": ";
+          put_point(out, s.center);
+          out += ", \"radius\": ";
+          put_number(out, s.radius);
+          out += " }";
+        } else {
+          out += "\"segment\": [";
+          put_point(out, s.a);
+          out += ", ";
+          put_point(out, s.b);
+          out += ']';
+        }
+      },
+      shape);
+}
+
+std::string errno_text(const std::string& path, const char* what, int err) {
+  return path + ": " + what + ": " + std::strerror(err);
+}
+
+}  // namespace
+
+std::string scene_to_json(const Scene& scene) {
+  std::string out = "{\n  \"width\": " + std::to_string(scene.width) +
+                    ", \"height\": " + std::to_string(scene.height) + ",\n  \"view\": [";
+  const double view[4] = {scene.view.x0, scene.view.y0, scene.view.x1, scene.view.y1};
+  for (int i = 0; i < 4; ++i) {
+    if (i > 0) out += ", ";
+    put_number(out, view[i]);
+  }
+  out += "],\n  \"lights\": [";
+  for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+    const Light& light = scene.lights[i];
+    out += i > 0 ? ",\n    { " : "\n    { ";
+    put_shape(out, light.shape);
+    out += ", \"color\": [";
+    for (int c = 0; c < 3; ++c) {
+      if (c > 0) out += ", ";
+      put_number(out, light.color[static_cast<std::size_t>(c)]);
+    }
+    out += "], \"intensity\": ";
+    put_number(out, light.intensity);
+    out += " }";
+  }
+  out += scene.lights.empty() ? "],\n  \"occluders\": [" : "\n  ],\n  \"occluders\": [";
+  for (std::size_t i = 0; i < scene.occluders.size(); ++i) {
+    out += i > 0 ? ",\n    { " : "\n    { ";
+    put_shape(out, scene.occluders[i].shape);
+    out += " }";
+  }
+  out += scene.occluders.empty() ? "]\n}\n" : "\n  ]\n}\n";
+  return out;
+}
+
+Status save_scene_file(const std::string& path, const Scene& scene) {
+  if (Status status = validate_scene(scene, path); !status) return status;
+  const std::string text = scene_to_json(scene);
+  // Written to a sibling and renamed (atomic on POSIX), so an editor or the viewer's file
+  // watch never sees half a scene, and a failed write leaves the old file as it was.
+  const std::string temp = path + ".tmp" + std::to_string(::getpid());
+  int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd < 0) return {StatusCode::io_error, errno_text(path, "cannot create", errno)};
+  const char* bytes = text.data();
+  std::size_t left = text.size();
+  while (left > 0) {
+    ssize_t n = ::write(fd, bytes, left);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      int err = errno;
+      ::close(fd);
+      ::unlink(temp.c_str());
+      return {StatusCode::io_error, errno_text(path, "write failed", err)};
+    }
+    bytes += n;
+    left -= static_cast<std::size_t>(n);
+  }
+  if (::close(fd) != 0 || ::rename(temp.c_str(), path.c_str()) != 0) {
+    int err = errno;
+    ::unlink(temp.c_str());
+    return {StatusCode::io_error, errno_text(path, "cannot write", err)};
+  }
+  return {};
+}
+
+}  // namespace par2d
