@@ -12,6 +12,9 @@
 #include <vector>
 
 #include "par2d/par2d.hpp"
+#ifdef PAR2D_HAVE_VIEWER
+#include "viewer/viewer.hpp"
+#endif
 
 namespace {
 
@@ -257,6 +260,10 @@ int main(int argc, char** argv) {
   bench->add_flag("--json", bench_args.json, "Print one JSON object instead of a line");
 
   CLI::App* info = app.add_subcommand("info", "Print the version, detected and selected ISA");
+#ifdef PAR2D_HAVE_VIEWER
+  par2d::viewer::ViewArgs view_args;
+  CLI::App* view = par2d::viewer::add_view_command(app, view_args);
+#endif
 
   try {
     app.parse(argc, argv);
@@ -275,6 +282,9 @@ int main(int argc, char** argv) {
     }
     if (render->parsed()) return run_render(render_common, render_args);
     if (bench->parsed()) return run_bench(bench_common, bench_args);
+#ifdef PAR2D_HAVE_VIEWER
+    if (view->parsed()) return par2d::viewer::run_view(view_args);
+#endif
   } catch (const std::bad_alloc&) {
     return fail("out of memory");
   } catch (const std::exception& e) {

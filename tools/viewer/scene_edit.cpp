@@ -1,0 +1,166 @@
+// The viewer's scene edits: picking by distance to the shape, translations and scalings that stay valid.
+#include "scene_edit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <type_traits>
+#include <variant>
+
+namespace par2d::viewer {
+namespace {
+
+double dot(Vec2 a, Vec2 b) { return a.x * b.x + a.y * b.y; }
+Vec2 sub(Vec2 a, Vec2 b) { return {a.x - b.x, a.y - b.y}; }
+
+double distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
+  const Vec2 ab = sub(b, a);
+  const double len2 = dot(ab, ab);
+  const double t = len2 > 0.0 ? std::clamp(dot(sub(p, a), ab) / len2, 0.0, 1.0) : 0.0;
+  return std::hypot(p.x - (a.x + t * ab.x), p.y - (a.y + t * ab.y));
+}
+
+// Distance from p to the closed shape (0 inside). Polygons are convex (validated), so p
+// is inside when it lies on the same side of every edge.
+double distance_to_shape(const Shape& shape, Vec2 p) {
+  return std::visit(
+      [p](const auto& s) -> double {
+        using T = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<T, Circle>) {
+          return std::max(0.0, std::hypot(p.x - s.center.x, p.y - s.center.y) - s.radius);
+        } else if constexpr (std::is_same_v<T, Segment>) {
+          return distance_to_segment(p, s.a, s.b);
+        } else {
+          const auto& v = s.vertices;
+          double best = std::numeric_limits<double>::infinity();
+          bool pos = false, neg = false;
+          for (std::size_t i = 0; i < v.size(); ++i) {
+            const Vec2 a = v[i], b = v[(i + 1) % v.size()];
+            best = std::min(best, distance_to_segment(p, a, b));
+            const double cross = (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
+            pos = pos || cross > 0.0;
+            neg = neg || cross < 0.0;
+          }
+          return pos && neg ? best : 0.0;
+        }
+      },
+      shape);
+}
+
+Vec2 shape_center(const Shape& shape) {
+  return std::visit(
+      [](const auto& s) -> Vec2 {
+        using T = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<T, Circle>) {
+          return s.center;
+        } else if constexpr (std::is_same_v<T, Segment>) {
+          return {0.5 * (s.a.x + s.b.x), 0.5 * (s.a.y + s.b.y)};
+        } else {
+          Vec2 c;
+          for (const Vec2& q : s.vertices) c = {c.x + q.x, c.y + q.y};
+          const double n = static_cast<double>(s.vertices.size());
+          return {c.x / n, c.y / n};
+        }
+      },
+      shape);
+}
+
+// Applies `edit` to a copy and keeps it only when the copy is still a valid scene.
+template <class Edit>
+bool edit_validated(Scene& scene, Edit edit) {
+  Scene copy = scene;
+  edit(copy);
+  if (!validate_scene(copy).ok()) return false;
+  scene = std::move(copy);
+  return true;
+}
+
+}  // namespace
+
+Vec2 WindowMapping::to_world(double px, double py) const noexcept {
+  return {view.x0 + px * (view.x1 - view.x0) / win_w, view.y0 + py * (view.y1 - view.y0) / win_h};
+}
+
+double WindowMapping::pixel_size() const noexcept {
+  return std::min(std::abs(view.x1 - view.x0) / win_w, std::abs(view.y1 - view.y0) / win_h);
+}
+
+Vec2 WindowMapping::delta_to_world(double dx, double dy) const noexcept {
+  return {dx * (view.x1 - view.x0) / win_w, dy * (view.y1 - view.y0) / win_h};
+}
+
+std::optional<std::size_t> pick_light(const Scene& scene, Vec2 p, double radius) noexcept {
+  std::optional<std::size_t> best;
+  double best_distance = radius;
+  for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+    const double d = distance_to_shape(scene.lights[i].shape, p);
+    if (d <= best_distance) {
+      best = i;
+      best_distance = d;
+    }
+  }
+  return best;
+}
+
+void translate(Shape& shape, Vec2 d) noexcept {
+  auto move = [d](Vec2& q) { q = {q.x + d.x, q.y + d.y}; };
+  std::visit(
+      [&move](auto& s) {
+        using T = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<T, Circle>) {
+          move(s.center);
+        } else if constexpr (std::is_same_v<T, Segment>) {
+          move(s.a);
+          move(s.b);
+        } else {
+          for (Vec2& q : s.vertices) move(q);
+        }
+      },
+      shape);
+}
+
+void scale(Shape& shape, double factor) noexcept {
+  const Vec2 c = shape_center(shape);
+  auto about_center = [c, factor](Vec2& q) { q = {c.x + (q.x - c.x) * factor, c.y + (q.y - c.y) * factor}; };
+  std::visit(
+      [&](auto& s) {
+        using T = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<T, Circle>) {
+          s.radius *= factor;
+        } else if constexpr (std::is_same_v<T, Segment>) {
+          about_center(s.a);
+          about_center(s.b);
+        } else {
+          for (Vec2& q : s.vertices) about_center(q);
+        }
+      },
+      shape);
+}
+
+bool move_light(Scene& scene, std::size_t index, Vec2 d) {
+  if (index >= scene.lights.size()) return false;
+  return edit_validated(scene, [&](Scene& s) { translate(s.lights[index].shape, d); });
+}
+
+bool scale_light(Scene& scene, std::size_t index, double factor) {
+  if (index >= scene.lights.size() || !(factor > 0.0)) return false;
+  return edit_validated(scene, [&](Scene& s) { scale(s.lights[index].shape, factor); });
+}
+
+bool add_light(Scene& scene, Vec2 p, double radius, const Light* like) {
+  Light light;
+  light.shape = Circle{p, radius};
+  if (like) {
+    light.color = like->color;
+    light.intensity = like->intensity;
+  }
+  return edit_validated(scene, [&](Scene& s) { s.lights.push_back(light); });
+}
+
+bool delete_light(Scene& scene, std::size_t index) {
+  if (index >= scene.lights.size()) return false;
+  scene.lights.erase(scene.lights.begin() + static_cast<std::ptrdiff_t>(index));
+  return true;
+}
+
+}  // namespace par2d::viewer
