@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <deque>
 #include <new>
 #include <optional>
@@ -152,8 +153,17 @@ class Viewer {
 
  private:
   int open_window() {
+    // Without a display SDL falls back to its invisible "offscreen" driver (after libwayland
+    // prints its own complaint): say so in one line instead, unless a driver was asked for.
+    const bool driver_chosen = std::getenv("SDL_VIDEODRIVER") != nullptr;
+    if (!driver_chosen && !std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
+      return fail("cannot open a window: no display (DISPLAY and WAYLAND_DISPLAY are unset; "
+                  "SDL_VIDEODRIVER picks another video driver)");
     if (SDL_Init(SDL_INIT_VIDEO) != 0) return fail(std::string("cannot open a window: ") + SDL_GetError());
     sdl_.sdl = true;
+    const std::string driver = SDL_GetCurrentVideoDriver();
+    if (!driver_chosen && (driver == "offscreen" || driver == "dummy"))
+      return fail("cannot open a window: no display (SDL found only its " + driver + " video driver)");
     if (TTF_Init() != 0) return fail(std::string("cannot start SDL_ttf: ") + TTF_GetError());
     sdl_.ttf = true;
     sdl_.font = TTF_OpenFont(PAR2D_VIEWER_FONT, kFontSize);
@@ -257,6 +267,7 @@ class Viewer {
       }
       case SDLK_b:
         options_.backend = options_.backend == Backend::scalar ? Backend::simd : Backend::scalar;
+        frame_ms_.clear();  // the average describes one path
         dirty_ = true;
         log_line(std::string("backend ") + backend_name(options_.backend));
         break;
@@ -294,6 +305,7 @@ class Viewer {
       if (levels[i] == current && options_.backend != Backend::scalar) next = levels[(i + 1) % levels.size()];
     options_.backend = Backend::simd;
     options_.isa = next;
+    frame_ms_.clear();
     dirty_ = true;
     log_line(std::string("isa ") + isa_name(next));
   }
