@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 
 #include <CLI/CLI.hpp>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -52,14 +53,19 @@ std::string format(const char* fmt, double a, double b = 0.0) {
   return buf;
 }
 
+// Shortest text that reads back as the same double (as the saved JSON writes it).
+std::string num(double v) {
+  char buf[32];
+  return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+}
+
+std::string point(Vec2 p) { return "(" + num(p.x) + ", " + num(p.y) + ")"; }
+
 std::string describe(const Shape& shape) {
-  if (const auto* c = std::get_if<Circle>(&shape))
-    return format("circle at (%.17g, ", c->center.x) + format("%.17g) radius ", c->center.y) +
-           format("%.17g", c->radius);
-  if (const auto* s = std::get_if<Segment>(&shape))
-    return format("segment from (%.17g, %.17g)", s->a.x, s->a.y) + format(" to (%.17g, %.17g)", s->b.x, s->b.y);
+  if (const auto* c = std::get_if<Circle>(&shape)) return "circle at " + point(c->center) + " radius " + num(c->radius);
+  if (const auto* s = std::get_if<Segment>(&shape)) return "segment from " + point(s->a) + " to " + point(s->b);
   const auto& v = std::get<Polygon>(shape).vertices;
-  return "polygon of " + std::to_string(v.size()) + " vertices, first (" + format("%.17g, %.17g)", v[0].x, v[0].y);
+  return "polygon of " + std::to_string(v.size()) + " vertices, first " + point(v[0]);
 }
 
 // What identifies a file's current content for the watch: editors that save through a
@@ -367,7 +373,7 @@ class Viewer {
     capture_window_ = true;  // after the next draw, so the capture shows this frame
     message("saved " + save_path_ + " and " + screenshot_path_, false);
     log_line("saved " + save_path_ + " and " + screenshot_path_ + " (backend " + backend_name(options_.backend) +
-             ", isa " + isa_name(resolved_isa(options_)) + format(", exposure %.17g)", exposure_));
+             ", isa " + isa_name(resolved_isa(options_)) + format(", exposure %.6g)", exposure_));
   }
 
   void render_frame() {
@@ -428,8 +434,10 @@ class Viewer {
               8, y, grey);
     if (help_) {
       for (const char* line :
-           {"drag a light: move    wheel over a light: resize    A: add light at the mouse    D/Del: delete it",
-            "B: SIMD/scalar    I: next ISA    +/-: exposure    S: save scene, screenshot    R: reload    Q: quit"})
+           {"drag a light: move   wheel over it: resize",
+            "A: add a light at the mouse   D/Del: delete the light under it",
+            "B: SIMD/scalar   I: next ISA   +/-: exposure",
+            "S: save scene + screenshot   R: reload   Q: quit"})
         y += text(line, 8, y, grey);
     }
     if (!status_.empty()) text(status_, 8, y, status_is_error_ ? red : white);
