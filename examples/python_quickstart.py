@@ -28,7 +28,8 @@ print(f"{image.shape} {image.dtype}, max {image.max():.3f}, mean {image.mean():.
 
 # %% The shadow of the square: a pixel right behind it (as seen from the warm light) gets no warm light.
 behind = image[100, 220]  # row 100, column 220: beyond the square from (60, 60)
-print("behind the square:", behind)
+blue_only = par2d.render(dict(scene, lights=scene["lights"][1:]))[100, 220]
+print("behind the square:", behind, "- the blue light alone gives", blue_only)
 
 # %% Move the warm light and render again; a Scene object validates once and renders many times.
 scene["lights"][0]["circle"]["center"] = [160, 20]
