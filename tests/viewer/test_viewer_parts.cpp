@@ -1,0 +1,140 @@
+// The viewer's parts without a window: picking and editing lights, and its display encoding against the PNG writer.
+#include <stb_image.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include <doctest/doctest.h>
+
+#include "par2d/par2d.hpp"
+#include "viewer/scene_edit.hpp"
+#include "viewer/srgb8.hpp"
+
+namespace {
+
+using par2d::Circle;
+using par2d::Light;
+using par2d::Polygon;
+using par2d::Scene;
+using par2d::Segment;
+using par2d::Vec2;
+
+Scene three_lights() {
+  Scene s;
+  s.width = 100;
+  s.height = 80;
+  s.view = {0, 0, 100, 80};
+  s.lights.push_back(Light{Circle{{20, 20}, 5}, {1, 0.5, 0.25}, 2});
+  s.lights.push_back(Light{Polygon{{{50, 10}, {70, 10}, {70, 30}, {50, 30}}}, {1, 1, 1}, 1});
+  s.lights.push_back(Light{Segment{{10, 60}, {90, 60}}, {1, 1, 1}, 1});
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("pick_light takes the light within the radius, the nearest, and the last of overlapping ones") {
+  const Scene s = three_lights();
+  using par2d::viewer::pick_light;
+  CHECK(pick_light(s, {20, 20}, 1.0) == 0u);       // circle center
+  CHECK(pick_light(s, {20, 27.9}, 3.0) == 0u);     // 2.9 outside the circle's edge
+  CHECK(!pick_light(s, {20, 28.1}, 3.0));          // 3.1 outside
+  CHECK(pick_light(s, {60, 20}, 0.0) == 1u);       // inside the square
+  CHECK(pick_light(s, {72, 20}, 2.5) == 1u);       // 2 right of its edge
+  CHECK(!pick_light(s, {73, 20}, 2.5));
+  CHECK(pick_light(s, {50, 61}, 1.5) == 2u);       // 1 below the segment
+  Scene overlap = s;
+  overlap.lights.push_back(Light{Circle{{60, 20}, 3}, {1, 1, 1}, 1});
+  CHECK(pick_light(overlap, {60, 20}, 0.0) == 3u);  // drawn last, picked first
+  CHECK(pick_light(overlap, {52, 12}, 0.0) == 1u);  // only the square there
+}
+
+TEST_CASE("move and scale keep shapes' form: circle radius, polygon about its vertex mean, segment about its middle") {
+  Scene s = three_lights();
+  using namespace par2d::viewer;
+  REQUIRE(move_light(s, 0, {10, -5}));
+  CHECK(std::get<Circle>(s.lights[0].shape).center.x == 30);
+  CHECK(std::get<Circle>(s.lights[0].shape).center.y == 15);
+  REQUIRE(scale_light(s, 0, 2.0));
+  CHECK(std::get<Circle>(s.lights[0].shape).radius == 10);
+  REQUIRE(scale_light(s, 1, 0.5));
+  const auto& v = std::get<Polygon>(s.lights[1].shape).vertices;
+  CHECK(v[0].x == 55);
+  CHECK(v[0].y == 15);
+  CHECK(v[2].x == 65);
+  CHECK(v[2].y == 25);
+  REQUIRE(scale_light(s, 2, 0.25));
+  CHECK(std::get<Segment>(s.lights[2].shape).a.x == 40);
+  CHECK(std::get<Segment>(s.lights[2].shape).b.x == 60);
+  CHECK(s.lights[0].color[1] == 0.5);  // color and intensity untouched
+  CHECK(s.lights[0].intensity == 2);
+}
+
+TEST_CASE("edits that would make the scene invalid are refused and change nothing") {
+  Scene s = three_lights();
+  const std::string before = par2d::scene_to_json(s);
+  using namespace par2d::viewer;
+  CHECK(!move_light(s, 0, {std::numeric_limits<double>::infinity(), 0}));
+  CHECK(!scale_light(s, 1, 0.0));
+  CHECK(!scale_light(s, 0, -1.0));
+  CHECK(!scale_light(s, 2, 1e-320));  // the segment's ends would coincide
+  CHECK(!move_light(s, 3, {1, 1}));   // no such light
+  CHECK(!delete_light(s, 3));
+  CHECK(par2d::scene_to_json(s) == before);
+  REQUIRE(add_light(s, {5, 6}, 2.0, &s.lights[0]));
+  CHECK(s.lights.size() == 4);
+  CHECK(std::get<Circle>(s.lights[3].shape).radius == 2.0);
+  CHECK(s.lights[3].intensity == 2);
+  CHECK(!add_light(s, {5, 6}, 0.0, nullptr));
+  REQUIRE(delete_light(s, 0));
+  CHECK(s.lights.size() == 3);
+  CHECK(std::holds_alternative<Polygon>(s.lights[0].shape));
+}
+
+TEST_CASE("window mapping follows the contract's pixel centers, mirrored views included") {
+  par2d::viewer::WindowMapping m{{100, 50, 0, 250}, 50, 100};  // x mirrored, 2 units per pixel
+  const Vec2 p = m.to_world(0.5, 0.5);
+  CHECK(p.x == 99);
+  CHECK(p.y == 51);
+  const Vec2 d = m.delta_to_world(10, 10);
+  CHECK(d.x == -20);
+  CHECK(d.y == 20);
+  CHECK(m.pixel_size() == 2);
+}
+
+TEST_CASE("the viewer's sRGB display bytes equal par2d::write_png's for every step and its neighbours") {
+  // Every linear value where the 8-bit code steps, one float ulp either side, plus spread values.
+  std::vector<float> values;
+  for (int k = 0; k <= 256; ++k) {
+    const double s = (k - 0.5) / 255.0;
+    const double t = s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
+    const float f = static_cast<float>(t);
+    values.insert(values.end(), {std::nextafter(f, -1.0f), f, std::nextafter(f, 2.0f)});
+  }
+  for (int i = 0; i < 30000; ++i) values.push_back(static_cast<float>(i) / 25000.0f - 0.1f);
+  values.insert(values.end(), {std::numeric_limits<float>::quiet_NaN(), -0.0f, 1e-30f, 3.0f});
+  while (values.size() % 3 != 0) values.push_back(0.5f);
+  const int width = static_cast<int>(values.size() / 3);
+  const par2d::ImageView image{values.data(), width, 1, 3 * width};
+
+  for (double exposure : {1.0, 1.25, 0.3}) {
+    const std::string path = "par2d_test_viewer_srgb." + std::to_string(::getpid()) + ".png";
+    REQUIRE(par2d::write_png(path, image, exposure).ok());
+    int w = 0, h = 0, n = 0;
+    unsigned char* png = stbi_load(path.c_str(), &w, &h, &n, 3);
+    std::remove(path.c_str());
+    REQUIRE(png != nullptr);
+    REQUIRE(w == width);
+    std::vector<std::uint8_t> shown(values.size());
+    par2d::viewer::Srgb8Encoder().encode_image(image, exposure, shown.data(), 3 * width);
+    int mismatches = 0;
+    for (std::size_t i = 0; i < values.size(); ++i) mismatches += shown[i] != png[i];
+    stbi_image_free(png);
+    CHECK(mismatches == 0);
+  }
+}
