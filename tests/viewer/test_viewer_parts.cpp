@@ -105,6 +105,21 @@ TEST_CASE("window mapping follows the contract's pixel centers, mirrored views i
   CHECK(d.x == -20);
   CHECK(d.y == 20);
   CHECK(m.pixel_size() == 2);
+  const Vec2 back = m.to_window({99, 51});
+  CHECK(back.x == 0.5);
+  CHECK(back.y == 0.5);
+}
+
+TEST_CASE("outlines: closed loops for circles and polygons, the two ends of a segment") {
+  const auto circle = par2d::viewer::outline(Circle{{10, 20}, 5}, 8);
+  REQUIRE(circle.size() == 9);
+  for (const Vec2& p : circle) CHECK(std::hypot(p.x - 10, p.y - 20) == doctest::Approx(5).epsilon(1e-12));
+  CHECK(circle.front().x == circle.back().x);
+  const auto square = par2d::viewer::outline(Polygon{{{0, 0}, {1, 0}, {1, 1}, {0, 1}}});
+  REQUIRE(square.size() == 5);
+  CHECK(square.back().x == 0);
+  CHECK(square.back().y == 0);
+  CHECK(par2d::viewer::outline(Segment{{1, 2}, {3, 4}}).size() == 2);
 }
 
 TEST_CASE("the viewer's sRGB display bytes equal par2d::write_png's for every step and its neighbours") {

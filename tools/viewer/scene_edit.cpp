@@ -81,6 +81,25 @@ Vec2 WindowMapping::to_world(double px, double py) const noexcept {
   return {view.x0 + px * (view.x1 - view.x0) / win_w, view.y0 + py * (view.y1 - view.y0) / win_h};
 }
 
+Vec2 WindowMapping::to_window(Vec2 world) const noexcept {
+  return {(world.x - view.x0) * win_w / (view.x1 - view.x0), (world.y - view.y0) * win_h / (view.y1 - view.y0)};
+}
+
+std::vector<Vec2> outline(const Shape& shape, int circle_points) {
+  if (const auto* c = std::get_if<Circle>(&shape)) {
+    std::vector<Vec2> points;
+    for (int k = 0; k <= circle_points; ++k) {
+      const double a = 2.0 * 3.14159265358979323846 * k / circle_points;
+      points.push_back({c->center.x + c->radius * std::cos(a), c->center.y + c->radius * std::sin(a)});
+    }
+    return points;
+  }
+  if (const auto* s = std::get_if<Segment>(&shape)) return {s->a, s->b};
+  std::vector<Vec2> points = std::get<Polygon>(shape).vertices;
+  points.push_back(points.front());
+  return points;
+}
+
 double WindowMapping::pixel_size() const noexcept {
   return std::min(std::abs(view.x1 - view.x0) / win_w, std::abs(view.y1 - view.y0) / win_h);
 }

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <optional>
+#include <vector>
 
 #include "par2d/scene.hpp"
 
@@ -14,6 +15,8 @@ struct WindowMapping {
   int win_w = 1;
   int win_h = 1;
   Vec2 to_world(double px, double py) const noexcept;
+  // The inverse: window position (continuous, pixel (i, j) spans [i, i + 1) x [j, j + 1)) of a world point.
+  Vec2 to_window(Vec2 world) const noexcept;
   // World length of one window pixel (the smaller axis's, as the contract's pixel width).
   double pixel_size() const noexcept;
   // World displacement of a mouse move of (dx, dy) window pixels.
@@ -23,6 +26,10 @@ struct WindowMapping {
 // The light whose shape is nearest to `p` within `radius` (0 inside a shape), if any;
 // among overlapping lights the last one, the one drawn "on top" in the file's order.
 std::optional<std::size_t> pick_light(const Scene& scene, Vec2 p, double radius) noexcept;
+
+// Points along the shape's outline (a closed loop for circles and polygons, the two ends of a
+// segment), for drawing it; circles get `circle_points` points.
+std::vector<Vec2> outline(const Shape& shape, int circle_points = 48);
 
 // Moves a shape by `d`.
 void translate(Shape& shape, Vec2 d) noexcept;

@@ -208,6 +208,8 @@ class Viewer {
     switch (e.type) {
       case SDL_QUIT: running_ = false; break;
       case SDL_MOUSEBUTTONDOWN:
+        mouse_x_ = e.button.x;
+        mouse_y_ = e.button.y;
         if (e.button.button == SDL_BUTTON_LEFT) {
           dragging_ = light_at(e.button.x, e.button.y);
           drag_x_ = e.button.x;
@@ -415,8 +417,24 @@ class Viewer {
     return h;
   }
 
+  // The selected light's outline, so one sees what the wheel and D will act on.
+  void draw_selection() {
+    if (!selected_ || *selected_ >= scene_.lights.size()) return;
+    Shape shape = scene_.lights[*selected_].shape;
+    // A circle light's edge is as bright as its inside: ring it 3 pixels out to be seen.
+    if (auto* c = std::get_if<Circle>(&shape)) c->radius += 3.0 * mapping().pixel_size();
+    std::vector<SDL_FPoint> points;
+    for (const Vec2& p : outline(shape)) {
+      const Vec2 w = mapping().to_window(p);
+      points.push_back({static_cast<float>(w.x), static_cast<float>(w.y)});
+    }
+    SDL_SetRenderDrawColor(sdl_.renderer, 255, 190, 0, 255);
+    SDL_RenderDrawLinesF(sdl_.renderer, points.data(), static_cast<int>(points.size()));
+  }
+
   void draw() {
     SDL_RenderCopy(sdl_.renderer, sdl_.texture, nullptr, nullptr);
+    draw_selection();
     const SDL_Color white{255, 255, 255, 255}, grey{190, 190, 190, 255}, red{255, 90, 80, 255};
     int y = 6;
     if (!frame_ms_.empty()) {
