@@ -367,6 +367,21 @@ double shape_distance(const ConvexShape& a, const ConvexShape& b) noexcept {
   return std::max(0.0, core_distance(a, b, pa, pb) - a.radius - b.radius);
 }
 
+double point_distance(const ConvexShape& s, Vec2 p) noexcept {
+  if (s.kind == ShapeKind::polygon && core_contains(s, p)) return 0.0;
+  Vec2 closest;
+  return std::max(0.0, point_core_distance(s, p, closest) - s.radius);
+}
+
+bool occluder_first(const ConvexShape& occluder, const ConvexShape& light, Vec2 x, Vec2 dir) noexcept {
+  const double t_light = ray_entry(light, x, dir);
+  if (ray_entry(occluder, x, dir) <= t_light) return true;
+  if (!(t_light < kInfinity)) return false;
+  const Vec2 entry = x + t_light * dir;
+  const double scale = std::max({std::abs(x.x), std::abs(x.y), std::abs(entry.x), std::abs(entry.y), t_light});
+  return point_distance(occluder, entry) <= kContactTolerance * scale;
+}
+
 std::optional<Line> separating_line(const ConvexShape& positive, const ConvexShape& negative) noexcept {
   Vec2 pn, pp;  // closest core points on `negative` and `positive`
   const double core = core_distance(negative, positive, pn, pp);

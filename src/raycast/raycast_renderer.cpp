@@ -13,6 +13,10 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kTwoPi = 6.283185307179586476925286766559;
+// A light hit this close behind the first occluder hit (relative to the distances and
+// coordinates involved) is a contact: docs/contract.md has t_occ == t_L there, so the light
+// is not visible, but the two distances round apart by a few ulps.
+constexpr double kContactTolerance = 0x1p-40;
 
 Vec2 sub(Vec2 a, Vec2 b) noexcept { return {a.x - b.x, a.y - b.y}; }
 double dot(Vec2 a, Vec2 b) noexcept { return a.x * b.x + a.y * b.y; }
@@ -200,8 +204,10 @@ Rgb RaycastRenderer::irradiance(Vec2 x, int rays, double jitter) const noexcept 
     double t_occ = kInf;
     for (const RayShape& o : occluders_) t_occ = std::min(t_occ, hit_distance(o, x, d, t_occ));
     // Lights do not block each other: every light in front of the first occluder counts.
+    const double contact =
+        t_occ < kInf ? kContactTolerance * std::max({t_occ, std::fabs(x.x), std::fabs(x.y)}) : 0.0;
     for (std::size_t l = 0; l < lights_.size(); ++l) {
-      if (hit_distance(lights_[l], x, d, t_occ) < t_occ) {
+      if (hit_distance(lights_[l], x, d, t_occ) < t_occ - contact) {
         sum[0] += emission_[l][0];
         sum[1] += emission_[l][1];
         sum[2] += emission_[l][2];

@@ -10,11 +10,10 @@ namespace {
 
 Vec2 direction(double angle) noexcept { return {std::cos(angle), std::sin(angle)}; }
 
-// Whether the occluder is hit no later than the light along the direction (SPEC.md section 1:
-// the light is visible only when t_L < t_occ).
+// Whether the occluder comes first along the direction, contacts counting as first
+// (docs/contract.md: the light is visible only when t_L < t_occ).
 bool occluder_first(const ConvexShape& occluder, const ConvexShape& light, Vec2 x, double angle) noexcept {
-  const Vec2 dir = direction(angle);
-  return ray_entry(occluder, x, dir) <= ray_entry(light, x, dir);
+  return detail::occluder_first(occluder, light, x, direction(angle));
 }
 
 }  // namespace
@@ -64,7 +63,10 @@ double visible_measure(const PreparedScene& scene, std::size_t light_index, Vec2
       }
     }
   }
-  return std::max(0.0, arc.width - union_measure(scratch.blocked));
+  // Blocked pieces that meet end to end come from different atan2 calls: a cover of the whole
+  // arc can leave a residue of a few ulps of it, which is rounding, not a visible sliver.
+  const double visible = arc.width - union_measure(scratch.blocked);
+  return visible > kContactTolerance * arc.width ? visible : 0.0;
 }
 
 Rgb scalar_irradiance(const PreparedScene& scene, Vec2 x, ScalarScratch& scratch) {
