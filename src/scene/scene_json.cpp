@@ -321,13 +321,14 @@ Scene read_scene(const Json& root) {
   } else {
     scene.view = View{0.0, 0.0, static_cast<double>(scene.width), static_cast<double>(scene.height)};
   }
-  if (auto problem = detail::check_view(scene.view)) throw SceneError{std::move(*problem)};
+  if (auto problem = detail::check_view(scene.view, scene.width, scene.height)) throw SceneError{std::move(*problem)};
 
   if (const Json* lights = read_array(root, "lights")) {
     scene.lights.reserve(lights->size());
     for (std::size_t i = 0; i < lights->size(); ++i) {
       scene.lights.push_back(read_light((*lights)[i], element_place("lights", i)));
     }
+    if (auto problem = detail::check_emission_total(scene.lights)) throw SceneError{std::move(*problem)};
   }
   if (const Json* occluders = read_array(root, "occluders")) {
     scene.occluders.reserve(occluders->size());
