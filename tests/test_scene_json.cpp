@@ -137,6 +137,15 @@ TEST_CASE("numbers too large for a double are refused as out of range, with thei
                 "lights[0].intensity: number out of range");
 }
 
+TEST_CASE("a megabyte-long out-of-range number is echoed cut short, on one short line") {
+  const std::string digits = "1" + std::string(1000000, '0');
+  check_refused(R"({"width": 8, "height": 8, "view": [0, 0, )" + digits + ", 8]}", "view[2]: number out of range");
+  const Status s = parse(R"({"width": )" + digits + R"(, "height": 8})");
+  CHECK(s.message() == "s.json: width: number out of range (" + digits.substr(0, 32) + "... (1000001 characters))");
+  // Short numbers are echoed whole.
+  CHECK(parse(R"({"width": 1e400, "height": 8})").message() == "s.json: width: number out of range (1e400)");
+}
+
 TEST_CASE("unknown keys are refused at every level") {
   check_refused(R"({"width": 8, "height": 8, "lihgts": []})", "lihgts: unknown key");
   check_refused(with_light(R"("circle": {"center": [0, 0], "radius": 1}, "colour": [1, 1, 1])"),

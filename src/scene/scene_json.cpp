@@ -105,7 +105,12 @@ class DocumentBuilder {
 
   bool parse_error(std::size_t /*byte*/, const std::string& token, const nlohmann::detail::exception& error) {
     if (error.id == 406) {  // a number too large for a double (1e400)
-      problem_ = {next_place(), "number out of range (" + token + ")"};
+      // The token is user text of any length (a megabyte of digits): echo its start only.
+      constexpr std::size_t kEcho = 32;
+      const std::string shown = token.size() <= kEcho + 8
+                                    ? token
+                                    : token.substr(0, kEcho) + "... (" + std::to_string(token.size()) + " characters)";
+      problem_ = {next_place(), "number out of range (" + printable(shown) + ")"};
       return false;
     }
     // nlohmann's text already says "parse error at line L, column C: ..."; drop its id prefix.
