@@ -373,13 +373,69 @@ double point_distance(const ConvexShape& s, Vec2 p) noexcept {
   return std::max(0.0, point_core_distance(s, p, closest) - s.radius);
 }
 
+namespace {
+
+// t_S along dir from x outside the shape; for polygons the entry edge is found by walking
+// from `hint` (updated; -1 when the ray misses).
+double entry_with_hint(const ConvexShape& s, Vec2 x, Vec2 dir, int& hint) noexcept {
+  if (s.kind != ShapeKind::polygon) return ray_entry(s, x, dir);
+  const int n = static_cast<int>(s.vertices.size());
+  if (hint >= 0 && hint < n) {
+    for (int i = hint, from = -1, steps = 0; steps < n; ++steps) {
+      const Vec2 a = s.vertices[i], e = s.vertices[(i + 1) % n] - a, w = a - x;
+      const double denom = cross(dir, e);
+      if (denom == 0.0) break;
+      const double u = cross(w, dir) / denom;
+      if (u >= 0.0 && u <= 1.0) {
+        const double t = cross(w, e) / denom;
+        // The entry is on a front-facing edge (x outside it); a back edge means a scan is needed.
+        if (t >= 0.0 && cross(e, x - a) < 0.0) {
+          hint = i;
+          return t;
+        }
+        break;
+      }
+      const int next = u > 1.0 ? (i + 1) % n : (i + n - 1) % n;
+      if (next == from) break;  // rounding at a vertex: let the scan settle it
+      from = i;
+      i = next;
+    }
+  }
+  double best = kInfinity;
+  hint = -1;
+  for (int i = 0; i < n; ++i) {
+    const double t = ray_segment(x, dir, s.vertices[i], s.vertices[(i + 1) % n]);
+    if (t < best) best = t, hint = i;
+  }
+  return best;
+}
+
+}  // namespace
+
 bool occluder_first(const ConvexShape& occluder, const ConvexShape& light, Vec2 x, Vec2 dir) noexcept {
-  const double t_light = ray_entry(light, x, dir);
-  if (ray_entry(occluder, x, dir) <= t_light) return true;
+  EntryHints hints;
+  return occluder_first(occluder, light, x, dir, hints);
+}
+
+bool occluder_first(const ConvexShape& occluder, const ConvexShape& light, Vec2 x, Vec2 dir,
+                    EntryHints& hints) noexcept {
+  const double t_light = entry_with_hint(light, x, dir, hints.light);
+  const double t_occluder = entry_with_hint(occluder, x, dir, hints.occluder);
+  if (t_occluder <= t_light) return true;
   if (!(t_light < kInfinity)) return false;
   const Vec2 entry = x + t_light * dir;
   const double scale = std::max({std::abs(x.x), std::abs(x.y), std::abs(entry.x), std::abs(entry.y), t_light});
-  return point_distance(occluder, entry) <= kContactTolerance * scale;
+  const double tolerance = kContactTolerance * scale;
+  if (occluder.kind != ShapeKind::polygon || hints.occluder < 0) return point_distance(occluder, entry) <= tolerance;
+  // The light's entry point lies before the occluder along the ray, so outside it; where it
+  // touches the occluder, the ray enters the occluder there too (a grazing ray that does not
+  // is a zero-measure case): the entry edge and its neighbours are the only edges to check.
+  const int n = static_cast<int>(occluder.vertices.size());
+  for (int k = -1; k <= 1; ++k) {
+    const int i = (hints.occluder + k + n) % n;
+    if (point_segment_distance(entry, occluder.vertices[i], occluder.vertices[(i + 1) % n]) <= tolerance) return true;
+  }
+  return false;
 }
 
 std::optional<Line> separating_line(const ConvexShape& positive, const ConvexShape& negative) noexcept {
