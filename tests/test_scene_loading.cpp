@@ -1,7 +1,7 @@
 // Loading scene files: memory stays a small multiple of the file, allocation failure is a status, non-regular files are refused without blocking.
 #include <doctest/doctest.h>
 
-#include <sys/resource.h>
+#include <spawn.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -13,6 +13,8 @@
 #include <string>
 
 #include "par2d/scene.hpp"
+
+extern char** environ;
 
 namespace {
 
@@ -43,30 +45,15 @@ std::string big_scene(std::size_t bytes) {
   return out + "]}";
 }
 
-std::size_t virtual_memory_bytes() {
-  std::ifstream statm("/proc/self/statm");
-  std::size_t pages = 0;
-  statm >> pages;
-  return pages * static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
-}
-
-// Loads `path` in a child whose address space may grow by at most `extra` bytes. Exit
-// codes: 0 loaded, 2 out_of_memory status, 1 anything else; a crash shows as a signal.
+// Loads `path` in a fresh process whose address space may grow by at most `extra` bytes
+// (tests/support/load_under_limit.cpp): 0 loaded, 2 out_of_memory status, 1 anything else,
+// 128 + signal for a crash.
 int load_with_headroom(const std::string& path, std::size_t extra) {
-  std::fflush(nullptr);
-  const pid_t pid = ::fork();
-  REQUIRE(pid >= 0);
-  if (pid == 0) {
-    rlimit limit{};
-    limit.rlim_cur = limit.rlim_max = virtual_memory_bytes() + extra;
-    if (::setrlimit(RLIMIT_AS, &limit) != 0) ::_exit(3);
-    par2d::Scene scene;
-    const par2d::Status s = par2d::load_scene_file(path, scene);
-    if (s.ok()) ::_exit(scene.occluders.empty() ? 1 : 0);
-    const bool one_line = s.message().find('\n') == std::string::npos &&
-                          s.message().find("out of memory") != std::string::npos;
-    ::_exit(s.code() == par2d::StatusCode::out_of_memory && one_line ? 2 : 1);
-  }
+  const std::string extra_text = std::to_string(extra);
+  char* argv[] = {const_cast<char*>(PAR2D_LOAD_HELPER_PATH), const_cast<char*>(path.c_str()),
+                  const_cast<char*>(extra_text.c_str()), nullptr};
+  pid_t pid = 0;
+  REQUIRE(posix_spawn(&pid, PAR2D_LOAD_HELPER_PATH, nullptr, nullptr, argv, environ) == 0);
   int status = 0;
   REQUIRE(::waitpid(pid, &status, 0) == pid);
   if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
