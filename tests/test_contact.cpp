@@ -268,3 +268,44 @@ TEST_CASE("overlapping many-vertex polygons: scalar matches the ray caster") {
   INFO("worst |scalar - raycast| ", worst);
   CHECK(worst <= 3.0 / 4096);
 }
+
+TEST_CASE("distance between many-vertex polygons (pruned search) equals the full vertex-by-edge search") {
+  // core_distance skips edges outside the other core's box and vertices beyond its bounding
+  // circle; every answer must be the full search's: min over vertices of the distance to the
+  // other shape, or 0 where edges cross.
+  auto ngon = [](Vec2 c, double rx, double ry, int n, double phase) {
+    Polygon p;
+    for (int k = 0; k < n; ++k)
+      p.vertices.push_back({c.x + rx * std::cos(phase + 2 * kPi * k / n), c.y + ry * std::sin(phase + 2 * kPi * k / n)});
+    return detail::make_convex_shape(p);
+  };
+  auto cross = [](Vec2 o, Vec2 a, Vec2 b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); };
+  auto edges_cross = [&](const detail::ConvexShape& a, const detail::ConvexShape& b) {
+    const std::size_t n = a.vertices.size(), m = b.vertices.size();
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = 0; j < m; ++j) {
+        const Vec2 p = a.vertices[i], q = a.vertices[(i + 1) % n], r = b.vertices[j], s = b.vertices[(j + 1) % m];
+        const double d1 = cross(p, q, r), d2 = cross(p, q, s), d3 = cross(r, s, p), d4 = cross(r, s, q);
+        if (((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0)) && d1 != 0 && d2 != 0 && d3 != 0 && d4 != 0) return true;
+      }
+    return false;
+  };
+  std::mt19937 rng(99);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int disjoint = 0, meeting = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const detail::ConvexShape a = ngon({0, 0}, 3 + 4 * unit(rng), 2 + 4 * unit(rng), 50 + trial * 20, unit(rng));
+    const double angle = 2 * kPi * unit(rng), gap = 14 * unit(rng);
+    const detail::ConvexShape b =
+        ngon({gap * std::cos(angle), gap * std::sin(angle)}, 1 + 5 * unit(rng), 1 + 5 * unit(rng), 30 + trial * 7, unit(rng));
+    double brute = edges_cross(a, b) ? 0.0 : 1e300;
+    for (Vec2 v : a.vertices) brute = std::min(brute, detail::point_distance(b, v));
+    for (Vec2 v : b.vertices) brute = std::min(brute, detail::point_distance(a, v));
+    INFO("trial ", trial);
+    CHECK(detail::shape_distance(a, b) == brute);
+    CHECK(detail::separating_line(a, b).has_value() == (brute > 0.0));
+    (brute > 0.0 ? disjoint : meeting) += 1;
+  }
+  CHECK(disjoint >= 10);
+  CHECK(meeting >= 10);
+}

@@ -103,25 +103,91 @@ bool any_edge_pair(const ConvexShape& a, const ConvexShape& b, Fn&& fn) {
   return false;
 }
 
-// Distance between the cores of two shapes with the closest points (pa on a, pb on b).
+struct CoreBox {
+  Vec2 lo{kInfinity, kInfinity}, hi{-kInfinity, -kInfinity};
+};
+
+CoreBox core_box(const ConvexShape& s) noexcept {
+  CoreBox box;
+  for (Vec2 v : s.vertices) {
+    box.lo = {std::min(box.lo.x, v.x), std::min(box.lo.y, v.y)};
+    box.hi = {std::max(box.hi.x, v.x), std::max(box.hi.y, v.y)};
+  }
+  return box;
+}
+
+// Whether the closed segment's box meets the closed box (else the segment meets nothing in it).
+bool segment_meets_box(Vec2 a, Vec2 b, const CoreBox& box) noexcept {
+  return std::min(a.x, b.x) <= box.hi.x && std::max(a.x, b.x) >= box.lo.x && std::min(a.y, b.y) <= box.hi.y &&
+         std::max(a.y, b.y) >= box.lo.y;
+}
+
+// The vertices of `from` nearest the core of `to`, as core_distance's loops over them would
+// pick them: calls pick(d, v, q) for every vertex v whose distance d (closest point q) may be
+// at most `limit`, in vertex order. A vertex farther from `to`'s bounding circle than `limit`
+// is skipped: its distance is larger still. Returns the smallest distance seen.
+template <class Pick>
+double near_vertices(const ConvexShape& from, const ConvexShape& to, Vec2 center, double radius, double limit,
+                     Pick&& pick) noexcept {
+  double best = kInfinity;
+  for (Vec2 v : from.vertices) {
+    const double far = length(v - center);
+    // The bound is rounded; the margin keeps every vertex whose true distance could be <= limit.
+    if (far - radius - 1e-9 * (far + radius) > limit) continue;
+    Vec2 q;
+    const double d = point_core_distance(to, v, q);
+    best = std::min(best, d);
+    pick(d, v, q);
+  }
+  return best;
+}
+
+// Distance between the cores of two shapes with the closest points (pa on a, pb on b): the
+// first crossing edge pair, else the first vertex (of a, then of b) at the least distance.
+// Both searches skip what cannot matter (edges outside the other core's box, vertices
+// outside the reach of its bounding circle), so polygons of thousands of vertices cost about
+// n + m distance tests instead of n * m; the result is the one the full double loop gives.
 double core_distance(const ConvexShape& a, const ConvexShape& b, Vec2& pa, Vec2& pb) noexcept {
+  const CoreBox box_a = core_box(a), box_b = core_box(b);
   const bool crossing = any_edge_pair(a, b, [&](Vec2 a0, Vec2 a1, Vec2 b0, Vec2 b1) {
+    if (!segment_meets_box(a0, a1, box_b) || !segment_meets_box(b0, b1, box_a)) return false;
     if (!segments_intersect(a0, a1, b0, b1)) return false;
     pa = pb = a0;
     return true;
   });
   if (crossing) return 0.0;
+  // Bounding circles of the cores about their centroids (inside them).
+  auto bounding_radius = [](const ConvexShape& s) {
+    double r = 0.0;
+    for (Vec2 v : s.vertices) r = std::max(r, length(v - s.centroid));
+    return r;
+  };
+  const double radius_a = bounding_radius(a), radius_b = bounding_radius(b);
+  // First the least distance, visiting likely vertices first so the bound tightens at once;
+  // then the first pair at that distance in the full loops' order.
+  double least = kInfinity;
+  {
+    auto none = [](double, Vec2, Vec2) {};
+    // The vertex of a nearest b's centroid, then all (pruned by what it found), then b's.
+    Vec2 seed_q;
+    double seed = kInfinity;
+    double nearest = kInfinity;
+    for (Vec2 v : a.vertices) nearest = std::min(nearest, length(v - b.centroid));
+    for (Vec2 v : a.vertices)
+      if (length(v - b.centroid) == nearest) {
+        seed = point_core_distance(b, v, seed_q);
+        break;
+      }
+    least = std::min(seed, near_vertices(a, b, b.centroid, radius_b, seed, none));
+    least = std::min(least, near_vertices(b, a, a.centroid, radius_a, least, none));
+  }
   double best = kInfinity;
-  for (Vec2 v : a.vertices) {
-    Vec2 q;
-    const double d = point_core_distance(b, v, q);
+  near_vertices(a, b, b.centroid, radius_b, least, [&](double d, Vec2 v, Vec2 q) {
     if (d < best) best = d, pa = v, pb = q;
-  }
-  for (Vec2 v : b.vertices) {
-    Vec2 q;
-    const double d = point_core_distance(a, v, q);
+  });
+  near_vertices(b, a, a.centroid, radius_a, least, [&](double d, Vec2 v, Vec2 q) {
     if (d < best) best = d, pa = q, pb = v;
-  }
+  });
   return best;
 }
 
