@@ -149,13 +149,19 @@ double near_vertices(const ConvexShape& from, const ConvexShape& to, Vec2 center
 // n + m distance tests instead of n * m; the result is the one the full double loop gives.
 double core_distance(const ConvexShape& a, const ConvexShape& b, Vec2& pa, Vec2& pb) noexcept {
   const CoreBox box_a = core_box(a), box_b = core_box(b);
-  const bool crossing = any_edge_pair(a, b, [&](Vec2 a0, Vec2 a1, Vec2 b0, Vec2 b1) {
-    if (!segment_meets_box(a0, a1, box_b) || !segment_meets_box(b0, b1, box_a)) return false;
-    if (!segments_intersect(a0, a1, b0, b1)) return false;
-    pa = pb = a0;
-    return true;
-  });
-  if (crossing) return 0.0;
+  // The edge pairs in any_edge_pair's order; an edge of a outside b's core box skips its row.
+  for (int i = 0, n = core_edge_count(a); i < n; ++i) {
+    Vec2 a0, a1;
+    core_edge(a, i, a0, a1);
+    if (!segment_meets_box(a0, a1, box_b)) continue;
+    for (int j = 0, m = core_edge_count(b); j < m; ++j) {
+      Vec2 b0, b1;
+      core_edge(b, j, b0, b1);
+      if (!segment_meets_box(b0, b1, box_a) || !segments_intersect(a0, a1, b0, b1)) continue;
+      pa = pb = a0;
+      return 0.0;
+    }
+  }
   // Bounding circles of the cores about their centroids (inside them).
   auto bounding_radius = [](const ConvexShape& s) {
     double r = 0.0;
