@@ -88,21 +88,6 @@ double point_core_distance(const ConvexShape& s, Vec2 p, Vec2& closest) noexcept
   return best;
 }
 
-// Calls fn(a0, a1, b0, b1) for every pair of core edges of a and b; stops when fn returns true.
-template <class Fn>
-bool any_edge_pair(const ConvexShape& a, const ConvexShape& b, Fn&& fn) {
-  for (int i = 0, n = core_edge_count(a); i < n; ++i) {
-    Vec2 a0, a1;
-    core_edge(a, i, a0, a1);
-    for (int j = 0, m = core_edge_count(b); j < m; ++j) {
-      Vec2 b0, b1;
-      core_edge(b, j, b0, b1);
-      if (fn(a0, a1, b0, b1)) return true;
-    }
-  }
-  return false;
-}
-
 struct CoreBox {
   Vec2 lo{kInfinity, kInfinity}, hi{-kInfinity, -kInfinity};
 };
@@ -120,6 +105,26 @@ CoreBox core_box(const ConvexShape& s) noexcept {
 bool segment_meets_box(Vec2 a, Vec2 b, const CoreBox& box) noexcept {
   return std::min(a.x, b.x) <= box.hi.x && std::max(a.x, b.x) >= box.lo.x && std::min(a.y, b.y) <= box.hi.y &&
          std::max(a.y, b.y) >= box.lo.y;
+}
+
+// Calls fn(a0, a1, b0, b1) for the pairs of core edges of a and b that can share a point,
+// in row order (edges of a outer); stops when fn returns true. Edges meet only inside both
+// cores' boxes, so an edge of a outside b's box skips its whole row: two polygons of
+// thousands of vertices that are apart cost n + m box tests, not n * m.
+template <class Fn>
+bool any_edge_pair(const ConvexShape& a, const ConvexShape& b, Fn&& fn) {
+  const CoreBox box_a = core_box(a), box_b = core_box(b);
+  for (int i = 0, n = core_edge_count(a); i < n; ++i) {
+    Vec2 a0, a1;
+    core_edge(a, i, a0, a1);
+    if (!segment_meets_box(a0, a1, box_b)) continue;
+    for (int j = 0, m = core_edge_count(b); j < m; ++j) {
+      Vec2 b0, b1;
+      core_edge(b, j, b0, b1);
+      if (segment_meets_box(b0, b1, box_a) && fn(a0, a1, b0, b1)) return true;
+    }
+  }
+  return false;
 }
 
 // The vertices of `from` nearest the core of `to`, as core_distance's loops over them would
@@ -144,24 +149,17 @@ double near_vertices(const ConvexShape& from, const ConvexShape& to, Vec2 center
 
 // Distance between the cores of two shapes with the closest points (pa on a, pb on b): the
 // first crossing edge pair, else the first vertex (of a, then of b) at the least distance.
-// Both searches skip what cannot matter (edges outside the other core's box, vertices
-// outside the reach of its bounding circle), so polygons of thousands of vertices cost about
-// n + m distance tests instead of n * m; the result is the one the full double loop gives.
+// Both searches skip what cannot matter (edge pairs outside the cores' boxes, vertices
+// beyond the reach of the other's bounding circle), so polygons of thousands of vertices that
+// are apart cost about n + m distance tests instead of n * m; the result is the one the full
+// double loop gives.
 double core_distance(const ConvexShape& a, const ConvexShape& b, Vec2& pa, Vec2& pb) noexcept {
-  const CoreBox box_a = core_box(a), box_b = core_box(b);
-  // The edge pairs in any_edge_pair's order; an edge of a outside b's core box skips its row.
-  for (int i = 0, n = core_edge_count(a); i < n; ++i) {
-    Vec2 a0, a1;
-    core_edge(a, i, a0, a1);
-    if (!segment_meets_box(a0, a1, box_b)) continue;
-    for (int j = 0, m = core_edge_count(b); j < m; ++j) {
-      Vec2 b0, b1;
-      core_edge(b, j, b0, b1);
-      if (!segment_meets_box(b0, b1, box_a) || !segments_intersect(a0, a1, b0, b1)) continue;
-      pa = pb = a0;
-      return 0.0;
-    }
-  }
+  const bool crossing = any_edge_pair(a, b, [&](Vec2 a0, Vec2 a1, Vec2 b0, Vec2 b1) {
+    if (!segments_intersect(a0, a1, b0, b1)) return false;
+    pa = pb = a0;
+    return true;
+  });
+  if (crossing) return 0.0;
   // Bounding circles of the cores about their centroids (inside them).
   auto bounding_radius = [](const ConvexShape& s) {
     double r = 0.0;
