@@ -137,6 +137,15 @@ TEST_CASE("numbers too large for a double are refused as out of range, with thei
                 "lights[0].intensity: number out of range");
 }
 
+TEST_CASE("a megabyte-long out-of-range number is echoed cut short, on one short line") {
+  const std::string digits = "1" + std::string(1000000, '0');
+  check_refused(R"({"width": 8, "height": 8, "view": [0, 0, )" + digits + ", 8]}", "view[2]: number out of range");
+  const Status s = parse(R"({"width": )" + digits + R"(, "height": 8})");
+  CHECK(s.message() == "s.json: width: number out of range (" + digits.substr(0, 32) + "... (1000001 characters))");
+  // Short numbers are echoed whole.
+  CHECK(parse(R"({"width": 1e400, "height": 8})").message() == "s.json: width: number out of range (1e400)");
+}
+
 TEST_CASE("unknown keys are refused at every level") {
   check_refused(R"({"width": 8, "height": 8, "lihgts": []})", "lihgts: unknown key");
   check_refused(with_light(R"("circle": {"center": [0, 0], "radius": 1}, "colour": [1, 1, 1])"),
@@ -199,7 +208,46 @@ TEST_CASE("polygon: a turn against the winding is named by its vertex") {
   // A bow-tie has zero signed area and is still not convex.
   check_refused(with_polygon("[[0, 0], [2, 2], [2, 0], [0, 2]]"), "lights[0].polygon: not convex at vertex");
   // A spike that runs out along an edge and back folds at its tip.
-  check_refused(with_polygon("[[0, 0], [15, 0], [10, 0], [0, 10]]"), "lights[0].polygon: not convex at vertex");
+  check_refused(with_polygon("[[0, 0], [15, 0], [10, 0], [0, 10]]"), "lights[0].polygon: not convex at vertex 1");
+}
+
+TEST_CASE("polygon: folds (an edge running straight back) are refused at the fold's vertex, one or several") {
+  // Every other turn here is convex: only the fold check can refuse these.
+  check_refused(with_polygon("[[0, 0], [6, 0], [3, 0], [6, 0], [3, 3]]"), "lights[0].polygon: not convex at vertex 1");
+  check_refused(with_polygon("[[0, 0], [10, 0], [10, 10], [10, 5], [10, 10], [0, 10]]"),
+                "lights[0].polygon: not convex at vertex 2");
+  check_refused(with_polygon("[[0, 0], [10, 0], [5, 0], [10, 0], [5, 0], [10, 0], [10, 10], [0, 10]]"),
+                "lights[0].polygon: not convex at vertex 1");
+  check_refused(with_polygon("[[0, 0], [10, 0], [10, 10], [10, 5], [10, 10], [0, 10], [5, 10], [0, 10]]"),
+                "lights[0].polygon: not convex at vertex 2");
+  check_refused(with_polygon("[[0, 10], [10, 10], [10, 0], [10, 5], [10, 0], [0, 0]]"),
+                "lights[0].polygon: not convex at vertex 2");
+  // Property: a fold spliced into any edge of convex integer polygons (exact midpoints), either
+  // winding, is named at the edge's end vertex.
+  const int octagon[8][2] = {{4, 0}, {12, 0}, {16, 4}, {16, 12}, {12, 16}, {4, 16}, {0, 12}, {0, 4}};
+  for (int reversed = 0; reversed < 2; ++reversed) {
+    for (int k = 0; k < 8; ++k) {
+      std::string list;
+      int fold_vertex = -1, index = 0;
+      auto add = [&](int x, int y) {
+        list += (list.empty() ? "[" : ", ") + std::string("[") + std::to_string(x) + ", " + std::to_string(y) + "]";
+        ++index;
+      };
+      for (int i = 0; i < 8; ++i) {
+        const int* v = octagon[reversed ? 7 - i : i];
+        const int* w = octagon[reversed ? (14 - i) % 8 : (i + 1) % 8];
+        add(v[0], v[1]);
+        if (i == k && k < 7) {  // ..., v, w, mid(v, w), w, ...
+          fold_vertex = index;
+          add(w[0], w[1]);
+          add((v[0] + w[0]) / 2, (v[1] + w[1]) / 2);
+        }
+      }
+      if (fold_vertex < 0) continue;
+      list += "]";
+      check_refused(with_polygon(list), "lights[0].polygon: not convex at vertex " + std::to_string(fold_vertex));
+    }
+  }
 }
 
 TEST_CASE("polygon: a vertex list that winds around twice is refused") {

@@ -2,9 +2,11 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <new>
 #include <optional>
 #include <string>
@@ -29,6 +31,31 @@ int fail(const std::string& message, int code = kExitFailure) {
   while (!line.empty() && line.back() == ' ') line.pop_back();
   std::fprintf(stderr, "par2d: %s\n", line.c_str());
   return code;
+}
+
+// User text echoed in a message, cut so that a megabyte argument stays a short line.
+std::string shortened(const std::string& text) {
+  constexpr std::size_t kKeep = 32;
+  if (text.size() <= kKeep + 8) return text;
+  return text.substr(0, kKeep) + "... (" + std::to_string(text.size()) + " characters)";
+}
+
+// Whether two output paths name one file: by identity when it exists ("a.png", "./a.png",
+// a link to it), by resolved directory and name when it does not yet.
+bool same_output(const std::string& a, const std::string& b) {
+  if (a == "-" || b == "-") return a == b;
+  std::error_code ea, eb;
+  if (std::filesystem::equivalent(a, b, ea)) return true;
+  const auto ca = std::filesystem::weakly_canonical(std::filesystem::absolute(a, ea), ea);
+  const auto cb = std::filesystem::weakly_canonical(std::filesystem::absolute(b, eb), eb);
+  return !ea && !eb && ca == cb;
+}
+
+// SIGINT/SIGTERM/SIGHUP/SIGPIPE mid-write: delete the temporaries, then die of the signal as usual.
+extern "C" void on_fatal_signal(int sig) {
+  par2d::remove_pending_outputs();
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
 }
 
 // Options shared by `render` and `bench`, as typed on the command line.
@@ -74,7 +101,7 @@ const CLI::Validator kNonNegative(
       char* end = nullptr;
       const double v = std::strtod(value.c_str(), &end);
       if (end == value.c_str() || *end != '\0' || !std::isfinite(v) || v < 0.0)
-        return "must be a finite number >= 0, got '" + value + "'";
+        return "must be a finite number >= 0, got '" + shortened(value) + "'";
       return {};
     },
     "NUMBER >= 0", "non-negative");
@@ -137,8 +164,8 @@ bool allocate_image(int width, int height, std::vector<float>& storage, par2d::I
 int run_render(const CommonArgs& common, const RenderArgs& args) {
   if (args.png_path.empty() && args.pfm_path.empty())
     return fail("render: give -o OUT.png and/or --pfm OUT.pfm", kExitUsage);
-  if (args.png_path == args.pfm_path)
-    return fail("render: -o and --pfm name the same file '" + args.png_path + "'", kExitUsage);
+  if (!args.png_path.empty() && !args.pfm_path.empty() && same_output(args.png_path, args.pfm_path))
+    return fail("render: -o '" + args.png_path + "' and --pfm '" + args.pfm_path + "' name the same file", kExitUsage);
 
   par2d::Scene scene;
   if (par2d::Status s = par2d::load_scene_file(common.scene_path, scene); !s)
@@ -153,17 +180,13 @@ int run_render(const CommonArgs& common, const RenderArgs& args) {
   if (par2d::Status s = par2d::render(scene, make_options(common), image); !s)
     return fail(s.message());
 
-  if (!args.png_path.empty()) {
-    if (par2d::Status s = par2d::write_png(args.png_path, image, args.exposure); !s)
-      return fail(s.message());
-  }
-  if (!args.pfm_path.empty()) {
-    if (par2d::Status s = par2d::write_pfm(args.pfm_path, image); !s) {
-      // All or nothing: do not leave the PNG of a run that reported failure.
-      if (!args.png_path.empty()) std::remove(args.png_path.c_str());
-      return fail(s.message());
-    }
-  }
+  // All or nothing: both files are complete before either replaces what was there.
+  std::vector<par2d::ImageOutput> outputs;
+  if (!args.png_path.empty())
+    outputs.push_back({args.png_path, par2d::ImageOutput::Format::png, args.exposure});
+  if (!args.pfm_path.empty()) outputs.push_back({args.pfm_path, par2d::ImageOutput::Format::pfm, 1.0});
+  for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGPIPE}) std::signal(sig, on_fatal_signal);
+  if (par2d::Status s = par2d::write_images(outputs, image); !s) return fail(s.message());
   return 0;
 }
 
@@ -240,8 +263,8 @@ int main(int argc, char** argv) {
   RenderArgs render_args;
   CLI::App* render = app.add_subcommand("render", "Render a scene to an sRGB PNG and/or a linear PFM");
   add_common_options(*render, render_common);
-  render->add_option("-o,--output", render_args.png_path, "Output PNG (8-bit sRGB)");
-  render->add_option("--pfm", render_args.pfm_path, "Output PFM (linear float32 RGB)");
+  render->add_option("-o,--output", render_args.png_path, "Output PNG (8-bit sRGB); - for standard output");
+  render->add_option("--pfm", render_args.pfm_path, "Output PFM (linear float32 RGB); - for standard output");
   render->add_option("--exposure", render_args.exposure,
                      "PNG shows clamp(exposure * E, 0, 1), sRGB-encoded. Default: 1")
       ->check(kNonNegative);

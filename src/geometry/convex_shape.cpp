@@ -88,22 +88,71 @@ double point_core_distance(const ConvexShape& s, Vec2 p, Vec2& closest) noexcept
   return best;
 }
 
-// Calls fn(a0, a1, b0, b1) for every pair of core edges of a and b; stops when fn returns true.
+struct CoreBox {
+  Vec2 lo{kInfinity, kInfinity}, hi{-kInfinity, -kInfinity};
+};
+
+CoreBox core_box(const ConvexShape& s) noexcept {
+  CoreBox box;
+  for (Vec2 v : s.vertices) {
+    box.lo = {std::min(box.lo.x, v.x), std::min(box.lo.y, v.y)};
+    box.hi = {std::max(box.hi.x, v.x), std::max(box.hi.y, v.y)};
+  }
+  return box;
+}
+
+// Whether the closed segment's box meets the closed box (else the segment meets nothing in it).
+bool segment_meets_box(Vec2 a, Vec2 b, const CoreBox& box) noexcept {
+  return std::min(a.x, b.x) <= box.hi.x && std::max(a.x, b.x) >= box.lo.x && std::min(a.y, b.y) <= box.hi.y &&
+         std::max(a.y, b.y) >= box.lo.y;
+}
+
+// Calls fn(a0, a1, b0, b1) for the pairs of core edges of a and b that can share a point,
+// in row order (edges of a outer); stops when fn returns true. Edges meet only inside both
+// cores' boxes, so an edge of a outside b's box skips its whole row: two polygons of
+// thousands of vertices that are apart cost n + m box tests, not n * m.
 template <class Fn>
 bool any_edge_pair(const ConvexShape& a, const ConvexShape& b, Fn&& fn) {
+  const CoreBox box_a = core_box(a), box_b = core_box(b);
   for (int i = 0, n = core_edge_count(a); i < n; ++i) {
     Vec2 a0, a1;
     core_edge(a, i, a0, a1);
+    if (!segment_meets_box(a0, a1, box_b)) continue;
     for (int j = 0, m = core_edge_count(b); j < m; ++j) {
       Vec2 b0, b1;
       core_edge(b, j, b0, b1);
-      if (fn(a0, a1, b0, b1)) return true;
+      if (segment_meets_box(b0, b1, box_a) && fn(a0, a1, b0, b1)) return true;
     }
   }
   return false;
 }
 
-// Distance between the cores of two shapes with the closest points (pa on a, pb on b).
+// The vertices of `from` nearest the core of `to`, as core_distance's loops over them would
+// pick them: calls pick(d, v, q) for every vertex v whose distance d (closest point q) may be
+// at most `limit`, in vertex order. A vertex farther from `to`'s bounding circle than `limit`
+// is skipped: its distance is larger still. Returns the smallest distance seen.
+template <class Pick>
+double near_vertices(const ConvexShape& from, const ConvexShape& to, Vec2 center, double radius, double limit,
+                     Pick&& pick) noexcept {
+  double best = kInfinity;
+  for (Vec2 v : from.vertices) {
+    const double far = length(v - center);
+    // The bound is rounded; the margin keeps every vertex whose true distance could be <= limit.
+    if (far - radius - 1e-9 * (far + radius) > limit) continue;
+    Vec2 q;
+    const double d = point_core_distance(to, v, q);
+    best = std::min(best, d);
+    pick(d, v, q);
+  }
+  return best;
+}
+
+// Distance between the cores of two shapes with the closest points (pa on a, pb on b): the
+// first crossing edge pair, else the first vertex (of a, then of b) at the least distance.
+// Both searches skip what cannot matter (edge pairs outside the cores' boxes, vertices
+// beyond the reach of the other's bounding circle), so polygons of thousands of vertices that
+// are apart cost about n + m distance tests instead of n * m; the result is the one the full
+// double loop gives.
 double core_distance(const ConvexShape& a, const ConvexShape& b, Vec2& pa, Vec2& pb) noexcept {
   const bool crossing = any_edge_pair(a, b, [&](Vec2 a0, Vec2 a1, Vec2 b0, Vec2 b1) {
     if (!segments_intersect(a0, a1, b0, b1)) return false;
@@ -111,17 +160,38 @@ double core_distance(const ConvexShape& a, const ConvexShape& b, Vec2& pa, Vec2&
     return true;
   });
   if (crossing) return 0.0;
+  // Bounding circles of the cores about their centroids (inside them).
+  auto bounding_radius = [](const ConvexShape& s) {
+    double r = 0.0;
+    for (Vec2 v : s.vertices) r = std::max(r, length(v - s.centroid));
+    return r;
+  };
+  const double radius_a = bounding_radius(a), radius_b = bounding_radius(b);
+  // First the least distance, visiting likely vertices first so the bound tightens at once;
+  // then the first pair at that distance in the full loops' order.
+  double least = kInfinity;
+  {
+    auto none = [](double, Vec2, Vec2) {};
+    // The vertex of a nearest b's centroid, then all (pruned by what it found), then b's.
+    Vec2 seed_q;
+    double seed = kInfinity;
+    double nearest = kInfinity;
+    for (Vec2 v : a.vertices) nearest = std::min(nearest, length(v - b.centroid));
+    for (Vec2 v : a.vertices)
+      if (length(v - b.centroid) == nearest) {
+        seed = point_core_distance(b, v, seed_q);
+        break;
+      }
+    least = std::min(seed, near_vertices(a, b, b.centroid, radius_b, seed, none));
+    least = std::min(least, near_vertices(b, a, a.centroid, radius_a, least, none));
+  }
   double best = kInfinity;
-  for (Vec2 v : a.vertices) {
-    Vec2 q;
-    const double d = point_core_distance(b, v, q);
+  near_vertices(a, b, b.centroid, radius_b, least, [&](double d, Vec2 v, Vec2 q) {
     if (d < best) best = d, pa = v, pb = q;
-  }
-  for (Vec2 v : b.vertices) {
-    Vec2 q;
-    const double d = point_core_distance(a, v, q);
+  });
+  near_vertices(b, a, a.centroid, radius_a, least, [&](double d, Vec2 v, Vec2 q) {
     if (d < best) best = d, pa = q, pb = v;
-  }
+  });
   return best;
 }
 
@@ -365,6 +435,77 @@ bool arc_contains(Vec2 outer_cw, Vec2 outer_ccw, Vec2 inner_cw, Vec2 inner_ccw) 
 double shape_distance(const ConvexShape& a, const ConvexShape& b) noexcept {
   Vec2 pa, pb;
   return std::max(0.0, core_distance(a, b, pa, pb) - a.radius - b.radius);
+}
+
+double point_distance(const ConvexShape& s, Vec2 p) noexcept {
+  if (s.kind == ShapeKind::polygon && core_contains(s, p)) return 0.0;
+  Vec2 closest;
+  return std::max(0.0, point_core_distance(s, p, closest) - s.radius);
+}
+
+namespace {
+
+// t_S along dir from x outside the shape; for polygons the entry edge is found by walking
+// from `hint` (updated; -1 when the ray misses).
+double entry_with_hint(const ConvexShape& s, Vec2 x, Vec2 dir, int& hint) noexcept {
+  if (s.kind != ShapeKind::polygon) return ray_entry(s, x, dir);
+  const int n = static_cast<int>(s.vertices.size());
+  if (hint >= 0 && hint < n) {
+    for (int i = hint, from = -1, steps = 0; steps < n; ++steps) {
+      const Vec2 a = s.vertices[i], e = s.vertices[(i + 1) % n] - a, w = a - x;
+      const double denom = cross(dir, e);
+      if (denom == 0.0) break;
+      const double u = cross(w, dir) / denom;
+      if (u >= 0.0 && u <= 1.0) {
+        const double t = cross(w, e) / denom;
+        // The entry is on a front-facing edge (x outside it); a back edge means a scan is needed.
+        if (t >= 0.0 && cross(e, x - a) < 0.0) {
+          hint = i;
+          return t;
+        }
+        break;
+      }
+      const int next = u > 1.0 ? (i + 1) % n : (i + n - 1) % n;
+      if (next == from) break;  // rounding at a vertex: let the scan settle it
+      from = i;
+      i = next;
+    }
+  }
+  double best = kInfinity;
+  hint = -1;
+  for (int i = 0; i < n; ++i) {
+    const double t = ray_segment(x, dir, s.vertices[i], s.vertices[(i + 1) % n]);
+    if (t < best) best = t, hint = i;
+  }
+  return best;
+}
+
+}  // namespace
+
+bool occluder_first(const ConvexShape& occluder, const ConvexShape& light, Vec2 x, Vec2 dir) noexcept {
+  EntryHints hints;
+  return occluder_first(occluder, light, x, dir, hints);
+}
+
+bool occluder_first(const ConvexShape& occluder, const ConvexShape& light, Vec2 x, Vec2 dir,
+                    EntryHints& hints) noexcept {
+  const double t_light = entry_with_hint(light, x, dir, hints.light);
+  const double t_occluder = entry_with_hint(occluder, x, dir, hints.occluder);
+  if (t_occluder <= t_light) return true;
+  if (!(t_light < kInfinity)) return false;
+  const Vec2 entry = x + t_light * dir;
+  const double scale = std::max({std::abs(x.x), std::abs(x.y), std::abs(entry.x), std::abs(entry.y), t_light});
+  const double tolerance = kContactTolerance * scale;
+  if (occluder.kind != ShapeKind::polygon || hints.occluder < 0) return point_distance(occluder, entry) <= tolerance;
+  // The light's entry point lies before the occluder along the ray, so outside it; where it
+  // touches the occluder, the ray enters the occluder there too (a grazing ray that does not
+  // is a zero-measure case): the entry edge and its neighbours are the only edges to check.
+  const int n = static_cast<int>(occluder.vertices.size());
+  for (int k = -1; k <= 1; ++k) {
+    const int i = (hints.occluder + k + n) % n;
+    if (point_segment_distance(entry, occluder.vertices[i], occluder.vertices[(i + 1) % n]) <= tolerance) return true;
+  }
+  return false;
 }
 
 std::optional<Line> separating_line(const ConvexShape& positive, const ConvexShape& negative) noexcept {

@@ -73,6 +73,34 @@ bool arc_contains(Vec2 outer_cw, Vec2 outer_ccw, Vec2 inner_cw, Vec2 inner_ccw) 
 // Distance between the closed shapes (0 when they intersect or touch).
 double shape_distance(const ConvexShape& a, const ConvexShape& b) noexcept;
 
+// Distance from p to the closed shape (0 inside it).
+double point_distance(const ConvexShape& shape, Vec2 p) noexcept;
+
+// Relative size of a contact: a light point this close to an occluder (times the largest
+// coordinate involved) lies on it. Where a light's boundary runs along an occluder's
+// boundary, docs/contract.md gives t_occ == t_L there (the light is not visible), but the
+// two distances come from different edges and round apart by a few ulps; without a
+// tolerance such pixels flicker between 0 and the full arc. 2^-40 is ~4000 ulps: far above
+// rounding, far below any gap a scene can mean.
+inline constexpr double kContactTolerance = 0x1p-40;
+
+// Polygon edges where the last rays entered the two shapes (-1: none yet). Rays cast in
+// angular order from one point enter a convex polygon along its near chain in order, so
+// starting from the last entry edge and walking finds the next in O(1) amortized, where a
+// scan of every edge made two overlapping 7000-gons cost O(n^2) per pixel.
+struct EntryHints {
+  int light = -1;
+  int occluder = -1;
+};
+
+// Whether the occluder is hit no later than the light along the unit direction `dir` from x
+// (docs/contract.md: the light is visible only when t_L < t_occ), ties decided as contacts:
+// a light entry point within kContactTolerance of the occluder is behind it. x must lie in
+// neither shape.
+bool occluder_first(const ConvexShape& occluder, const ConvexShape& light, Vec2 x, Vec2 dir) noexcept;
+bool occluder_first(const ConvexShape& occluder, const ConvexShape& light, Vec2 x, Vec2 dir,
+                    EntryHints& hints) noexcept;
+
 // A line through `point` with unit normal n that strictly separates two disjoint shapes:
 // n.(p - point) > 0 on all of `positive`, < 0 on all of `negative`. Empty when they touch
 // or overlap. Kept as a point, not an offset n.point, so that sides can be tested with

@@ -1,5 +1,7 @@
-// Image files: 8-bit sRGB PNG (stb_image_write) and float PFM, written atomically; PFM reading.
+// Image files: 8-bit sRGB PNG (stb_image_write) and float PFM, written all or nothing; PFM reading.
 #include <fcntl.h>
+#include <limits.h>
+#include <stdlib.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -16,10 +18,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <new>
 #include <string>
 #include <vector>
 
+#include "io/output_file.hpp"
 #include "par2d/image_io.hpp"
 
 namespace par2d {
@@ -41,70 +45,6 @@ Status check_view(const ImageView& image, const std::string& path) {
                 " is less than 3 * width (" + std::to_string(3LL * image.width) + ")"};
   return {};
 }
-
-// A file that appears under its final name only when complete: the bytes go to a
-// uniquely named sibling (same directory, so rename() is atomic on POSIX), and the
-// destructor removes that sibling unless commit() succeeded. Readers therefore see
-// either the old file or the whole new one, never a partial write.
-class AtomicFile {
- public:
-  explicit AtomicFile(std::string path) : path_(std::move(path)) {}
-  AtomicFile(const AtomicFile&) = delete;
-  AtomicFile& operator=(const AtomicFile&) = delete;
-  ~AtomicFile() {
-    if (fd_ >= 0) ::close(fd_);
-    if (!temp_.empty()) ::unlink(temp_.c_str());
-  }
-
-  Status open() {
-    // open(O_EXCL) with 0666 rather than mkstemp: mkstemp creates mode 0600, while the
-    // caller's umask should decide the final file's permissions as for any other output.
-    static std::atomic<unsigned> counter{0};
-    for (int attempt = 0; attempt < 100; ++attempt) {
-      std::string name = path_ + ".tmp" + std::to_string(::getpid()) + "." +
-                         std::to_string(counter.fetch_add(1, std::memory_order_relaxed));
-      int fd = ::open(name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-      if (fd >= 0) {
-        fd_ = fd;
-        temp_ = std::move(name);
-        return {};
-      }
-      if (errno != EEXIST) return {StatusCode::io_error, errno_message(path_, "cannot create", errno)};
-    }
-    return {StatusCode::io_error, path_ + ": cannot create a unique temporary file next to it"};
-  }
-
-  Status write(const void* data, std::size_t size) {
-    const char* bytes = static_cast<const char*>(data);
-    while (size > 0) {
-      // Some kernels cap one write() at about 2 GiB; loop over partial writes.
-      ssize_t n = ::write(fd_, bytes, std::min<std::size_t>(size, std::size_t{1} << 30));
-      if (n < 0) {
-        if (errno == EINTR) continue;
-        return {StatusCode::io_error, errno_message(path_, "write failed", errno)};
-      }
-      bytes += n;
-      size -= static_cast<std::size_t>(n);
-    }
-    return {};
-  }
-
-  Status commit() {
-    int fd = fd_;
-    fd_ = -1;
-    // close() reports deferred write errors (NFS, quota), so its result matters.
-    if (::close(fd) != 0) return {StatusCode::io_error, errno_message(path_, "write failed", errno)};
-    if (::rename(temp_.c_str(), path_.c_str()) != 0)
-      return {StatusCode::io_error, errno_message(path_, "cannot write", errno)};
-    temp_.clear();
-    return {};
-  }
-
- private:
-  std::string path_;
-  std::string temp_;
-  int fd_ = -1;
-};
 
 // Linear values at which the rounded 8-bit sRGB code steps from k-1 to k, k = 1..255:
 // the exact inverse transfer function at (k - 0.5) / 255. Looking a value up among them
@@ -154,14 +94,10 @@ void append_bytes(void* context, void* data, int size) {
 
 }  // namespace
 
-Status write_png(const std::string& path, const ImageView& image, double exposure) {
-  if (Status s = check_view(image, path); !s) return s;
-  if (!std::isfinite(exposure) || exposure < 0.0)
-    return {StatusCode::invalid_argument, path + ": exposure must be finite and >= 0"};
-  // stb_image_write sizes its buffers with int arithmetic: (3 * width + 1) * height.
-  if ((3LL * image.width + 1) * image.height > INT_MAX / 2)
-    return {StatusCode::invalid_argument, path + ": image too large for PNG"};
+namespace {
 
+// The PNG file's bytes for clamp(exposure * E, 0, 1).
+Status encode_png(const std::string& path, const ImageView& image, double exposure, std::vector<unsigned char>& png) {
   std::pair<std::vector<unsigned char>, bool> encoded{{}, false};
   try {
     const auto& thresholds = srgb_thresholds();
@@ -179,31 +115,24 @@ Status write_png(const std::string& path, const ImageView& image, double exposur
   } catch (const std::bad_alloc&) {
     return {StatusCode::out_of_memory, path + ": out of memory while encoding PNG"};
   }
-
-  AtomicFile file(path);
-  if (Status s = file.open(); !s) return s;
-  if (Status s = file.write(encoded.first.data(), encoded.first.size()); !s) return s;
-  return file.commit();
+  png = std::move(encoded.first);
+  return {};
 }
 
-Status write_pfm(const std::string& path, const ImageView& image) {
-  if (Status s = check_view(image, path); !s) return s;
-  // Values are stored as they are (NaN and negatives included): PFM is the exact
-  // linear output that tests and image_diff compare, so it must not be cleaned up.
+// Streams the PFM rows (bottom row first) into the file.
+Status write_pfm_rows(detail::OutputFile& file, const ImageView& image) {
+  // Values are stored as they are: PFM is the exact linear output that tests and
+  // image_diff compare, so it must not be cleaned up.
   const bool swap = !host_is_little_endian();
   std::vector<float> row;
   try {
     row.resize(static_cast<std::size_t>(image.width) * 3);
   } catch (const std::bad_alloc&) {
-    return {StatusCode::out_of_memory, path + ": out of memory"};
+    return {StatusCode::out_of_memory, file.path() + ": out of memory"};
   }
-
-  AtomicFile file(path);
-  if (Status s = file.open(); !s) return s;
   const std::string header =
       "PF\n" + std::to_string(image.width) + " " + std::to_string(image.height) + "\n-1.0\n";
   if (Status s = file.write(header.data(), header.size()); !s) return s;
-  // PFM stores the bottom row first.
   for (int j = image.height - 1; j >= 0; --j) {
     const float* src = image.data + j * image.row_stride;
     std::copy(src, src + row.size(), row.begin());
@@ -217,7 +146,73 @@ Status write_pfm(const std::string& path, const ImageView& image) {
     }
     if (Status s = file.write(row.data(), row.size() * sizeof(float)); !s) return s;
   }
-  return file.commit();
+  return {};
+}
+
+bool same_target(const detail::OutputFile& a, const detail::OutputFile& b) {
+  if (a.path() == "-" || b.path() == "-") return a.path() == b.path();
+  if (a.inode() != 0 && a.inode() == b.inode() && a.device() == b.device()) return true;
+  char ra[PATH_MAX], rb[PATH_MAX];
+  // Neither exists yet: the same directory (by identity) and the same name.
+  const std::size_t sa = a.target().rfind('/'), sb = b.target().rfind('/');
+  const std::string da = sa == std::string::npos ? "." : a.target().substr(0, sa + 1);
+  const std::string db = sb == std::string::npos ? "." : b.target().substr(0, sb + 1);
+  const std::string na = sa == std::string::npos ? a.target() : a.target().substr(sa + 1);
+  const std::string nb = sb == std::string::npos ? b.target() : b.target().substr(sb + 1);
+  if (na != nb || ::realpath(da.c_str(), ra) == nullptr || ::realpath(db.c_str(), rb) == nullptr) return false;
+  return std::strcmp(ra, rb) == 0;
+}
+
+}  // namespace
+
+Status write_images(const std::vector<ImageOutput>& outputs, const ImageView& image) {
+  try {
+    for (const ImageOutput& out : outputs) {
+      if (Status s = check_view(image, out.path); !s) return s;
+      if (out.format == ImageOutput::Format::png) {
+        if (!std::isfinite(out.exposure) || out.exposure < 0.0)
+          return {StatusCode::invalid_argument, out.path + ": exposure must be finite and >= 0"};
+        // stb_image_write sizes its buffers with int arithmetic: (3 * width + 1) * height.
+        if ((3LL * image.width + 1) * image.height > INT_MAX / 2)
+          return {StatusCode::invalid_argument, out.path + ": image too large for PNG"};
+      }
+    }
+    std::vector<std::unique_ptr<detail::OutputFile>> files;
+    for (const ImageOutput& out : outputs) {
+      files.push_back(std::make_unique<detail::OutputFile>());
+      if (Status s = files.back()->open(out.path); !s) return s;
+      for (std::size_t k = 0; k + 1 < files.size(); ++k) {
+        if (same_target(*files[k], *files.back()))
+          return {StatusCode::invalid_argument, outputs[k].path + " and " + out.path + " are the same file"};
+      }
+    }
+    // Temporaries first, then what writes through (it cannot be taken back), then renames.
+    for (bool through : {false, true}) {
+      for (std::size_t k = 0; k < outputs.size(); ++k) {
+        if (files[k]->writes_through() != through) continue;
+        if (outputs[k].format == ImageOutput::Format::pfm) {
+          if (Status s = write_pfm_rows(*files[k], image); !s) return s;
+          continue;
+        }
+        std::vector<unsigned char> png;
+        if (Status s = encode_png(outputs[k].path, image, outputs[k].exposure, png); !s) return s;
+        if (Status s = files[k]->write(png.data(), png.size()); !s) return s;
+      }
+    }
+    for (auto& file : files)
+      if (Status s = file->commit(); !s) return s;
+    return {};
+  } catch (const std::bad_alloc&) {
+    return {StatusCode::out_of_memory, "writing images: out of memory"};
+  }
+}
+
+Status write_png(const std::string& path, const ImageView& image, double exposure) {
+  return write_images({ImageOutput{path, ImageOutput::Format::png, exposure}}, image);
+}
+
+Status write_pfm(const std::string& path, const ImageView& image) {
+  return write_images({ImageOutput{path, ImageOutput::Format::pfm, 1.0}}, image);
 }
 
 Status read_pfm(const std::string& path, int& width, int& height, std::vector<float>& pixels) {

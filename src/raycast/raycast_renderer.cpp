@@ -13,6 +13,10 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kTwoPi = 6.283185307179586476925286766559;
+// A light hit this close behind the first occluder hit (relative to the distances and
+// coordinates involved) is a contact: docs/contract.md has t_occ == t_L there, so the light
+// is not visible, but the two distances round apart by a few ulps.
+constexpr double kContactTolerance = 0x1p-40;
 
 Vec2 sub(Vec2 a, Vec2 b) noexcept { return {a.x - b.x, a.y - b.y}; }
 double dot(Vec2 a, Vec2 b) noexcept { return a.x * b.x + a.y * b.y; }
@@ -87,16 +91,54 @@ RaycastRenderer::RayShape RaycastRenderer::make_shape(const Shape& shape) {
   return s;
 }
 
-RaycastRenderer::RaycastRenderer(const Scene& validated_scene) {
+namespace {
+
+Shape scaled_shape(Shape shape, double f) {
+  if (auto* c = std::get_if<Circle>(&shape)) {
+    c->center = {f * c->center.x, f * c->center.y};
+    c->radius *= f;
+  } else if (auto* g = std::get_if<Segment>(&shape)) {
+    g->a = {f * g->a.x, f * g->a.y};
+    g->b = {f * g->b.x, f * g->b.y};
+  } else {
+    for (Vec2& v : std::get<Polygon>(shape).vertices) v = {f * v.x, f * v.y};
+  }
+  return shape;
+}
+
+// The view brought to about 1024 units, unless a coordinate would pass 2^500 (whose square
+// still fits a double); never beyond 2^1000 (views of normal pixels 2.2e-308 wide).
+double scene_scale(const Scene& scene) {
+  const View& v = scene.view;
+  double largest = std::max({std::fabs(v.x0), std::fabs(v.x1), std::fabs(v.y0), std::fabs(v.y1)});
+  auto grow = [&](const Shape& shape) {
+    if (const auto* c = std::get_if<Circle>(&shape))
+      largest = std::max({largest, std::fabs(c->center.x) + c->radius, std::fabs(c->center.y) + c->radius});
+    else if (const auto* g = std::get_if<Segment>(&shape))
+      largest = std::max({largest, std::fabs(g->a.x), std::fabs(g->a.y), std::fabs(g->b.x), std::fabs(g->b.y)});
+    else
+      for (const Vec2& p : std::get<Polygon>(shape).vertices) largest = std::max({largest, std::fabs(p.x), std::fabs(p.y)});
+  };
+  for (const auto& l : scene.lights) grow(l.shape);
+  for (const auto& o : scene.occluders) grow(o.shape);
+  int view_exponent = 0, coordinate_exponent = 0;
+  std::frexp(std::max(std::fabs(v.x1 - v.x0), std::fabs(v.y1 - v.y0)), &view_exponent);
+  std::frexp(largest, &coordinate_exponent);
+  return std::ldexp(1.0, std::min({10 - view_exponent, 500 - coordinate_exponent, 1000}));
+}
+
+}  // namespace
+
+RaycastRenderer::RaycastRenderer(const Scene& validated_scene) : scale_(scene_scale(validated_scene)) {
   std::size_t vertex_count = 0;
   for (const auto& l : validated_scene.lights)
     if (const auto* p = std::get_if<Polygon>(&l.shape)) vertex_count += p->vertices.size();
   for (const auto& o : validated_scene.occluders)
     if (const auto* p = std::get_if<Polygon>(&o.shape)) vertex_count += p->vertices.size();
   vertices_.reserve(vertex_count);
-  for (const auto& o : validated_scene.occluders) occluders_.push_back(make_shape(o.shape));
+  for (const auto& o : validated_scene.occluders) occluders_.push_back(make_shape(scaled_shape(o.shape, scale_)));
   for (const auto& l : validated_scene.lights) {
-    lights_.push_back(make_shape(l.shape));
+    lights_.push_back(make_shape(scaled_shape(l.shape, scale_)));
     emission_.push_back({l.intensity * l.color[0], l.intensity * l.color[1], l.intensity * l.color[2]});
   }
 }
@@ -171,7 +213,8 @@ double RaycastRenderer::hit_distance(const RayShape& s, Vec2 x, Vec2 d, double l
   return kInf;
 }
 
-Rgb RaycastRenderer::irradiance(Vec2 x, int rays, double jitter) const noexcept {
+Rgb RaycastRenderer::irradiance(Vec2 world, int rays, double jitter) const noexcept {
+  const Vec2 x{scale_ * world.x, scale_ * world.y};
   Rgb sum{0.0, 0.0, 0.0};
   if (rays <= 0 || lights_.empty()) return sum;
   // Inside a closed occluder t_occ = 0 in every direction and no light is visible.
@@ -200,8 +243,10 @@ Rgb RaycastRenderer::irradiance(Vec2 x, int rays, double jitter) const noexcept 
     double t_occ = kInf;
     for (const RayShape& o : occluders_) t_occ = std::min(t_occ, hit_distance(o, x, d, t_occ));
     // Lights do not block each other: every light in front of the first occluder counts.
+    const double contact =
+        t_occ < kInf ? kContactTolerance * std::max({t_occ, std::fabs(x.x), std::fabs(x.y)}) : 0.0;
     for (std::size_t l = 0; l < lights_.size(); ++l) {
-      if (hit_distance(lights_[l], x, d, t_occ) < t_occ) {
+      if (hit_distance(lights_[l], x, d, t_occ) < t_occ - contact) {
         sum[0] += emission_[l][0];
         sum[1] += emission_[l][1];
         sum[2] += emission_[l][2];

@@ -49,6 +49,9 @@ class RaycastRenderer {
   std::vector<RayShape> occluders_;
   std::vector<RayShape> lights_;
   std::vector<Rgb> emission_;  // e_L = intensity * color, parallel to lights_
+  // Shapes are stored, and points scaled, by this power of two (exact) so that products of
+  // coordinates neither overflow (coordinates of 1e300) nor underflow (views of 1e-300).
+  double scale_ = 1.0;
 };
 
 }  // namespace par2d::detail

@@ -46,7 +46,8 @@ double scene_scale(const View& view, double largest_coordinate) noexcept {
   int view_exponent = 0, coordinate_exponent = 0;
   std::frexp(std::max(std::abs(view.x1 - view.x0), std::abs(view.y1 - view.y0)), &view_exponent);
   std::frexp(largest_coordinate, &coordinate_exponent);
-  return std::ldexp(1.0, std::min(10 - view_exponent, 500 - coordinate_exponent));
+  // Capped at 2^1000: a view of normal pixels 2.2e-308 wide would otherwise ask for 2^1031 (inf).
+  return std::ldexp(1.0, std::min({10 - view_exponent, 500 - coordinate_exponent, 1000}));
 }
 
 PreparedScene prepare_scene(const Scene& scene) {

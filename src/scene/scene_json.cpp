@@ -1,4 +1,8 @@
 // JSON scene loading (SPEC.md section 3): strict schema, duplicate keys refused, every problem placed.
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
@@ -9,6 +13,7 @@
 #include <memory>
 #include <new>
 #include <string>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -28,15 +33,6 @@ constexpr std::size_t kMaxDepth = 64;
 constexpr std::size_t kReportedDepth = 6;
 // Reading stops here so that a device file or a runaway file cannot eat all memory.
 constexpr std::size_t kMaxFileBytes = std::size_t{1} << 30;
-
-// Thrown only inside this file and caught at the API boundary.
-struct SceneError {
-  detail::SceneProblem problem;
-};
-
-[[noreturn]] void fail(std::string place, std::string what) {
-  throw SceneError{{std::move(place), std::move(what)}};
-}
 
 bool is_identifier(const std::string& key) {
   if (key.empty()) return false;
@@ -74,38 +70,60 @@ std::string element_place(const std::string& parent, std::size_t index) {
   return parent + "[" + std::to_string(index) + "]";
 }
 
-// Builds the document like nlohmann's own DOM parser, but refuses a key its object already
-// holds (nlohmann would keep the last silently) and knows, at any error, where it is.
-class DocumentBuilder {
+// Builds the Scene straight from the parser's events (no JSON document: memory stays a
+// small multiple of the file, since a vertex costs 16 bytes against at least 6 of text).
+// A problem with the scene's content is remembered and the rest of the text is still
+// parsed, without building anything, so that syntax errors, duplicate keys and absurd
+// nesting anywhere in the file are reported first, as a parser that built the whole
+// document would; among content problems the first in the file is reported.
+class SceneBuilder {
  public:
-  explicit DocumentBuilder(Json& root) : root_(root) {}
+  bool null() { return scalar(Scalar{Scalar::kOther}); }
+  bool boolean(bool /*value*/) { return scalar(Scalar{Scalar::kOther}); }
+  bool number_integer(Json::number_integer_t value) {
+    Scalar v{Scalar::kInteger};
+    v.integer = value;
+    v.number = static_cast<double>(value);
+    return scalar(v);
+  }
+  bool number_unsigned(Json::number_unsigned_t value) {
+    Scalar v{Scalar::kUnsigned};
+    v.unsigned_integer = value;
+    v.number = static_cast<double>(value);
+    return scalar(v);
+  }
+  bool number_float(Json::number_float_t value, const Json::string_t& /*text*/) {
+    Scalar v{Scalar::kFloat};
+    v.number = value;
+    return scalar(v);
+  }
+  bool string(Json::string_t& /*value*/) { return scalar(Scalar{Scalar::kOther}); }
+  bool binary(Json::binary_t& /*value*/) { return scalar(Scalar{Scalar::kOther}); }
 
-  bool null() { return add(Json(nullptr)); }
-  bool boolean(bool value) { return add(Json(value)); }
-  bool number_integer(Json::number_integer_t value) { return add(Json(value)); }
-  bool number_unsigned(Json::number_unsigned_t value) { return add(Json(value)); }
-  bool number_float(Json::number_float_t value, const Json::string_t& /*text*/) { return add(Json(value)); }
-  bool string(Json::string_t& value) { return add(Json(std::move(value))); }
-  bool binary(Json::binary_t& value) { return add(Json(Json::binary_t(std::move(value)))); }
-
-  bool start_object(std::size_t /*size*/) { return open(Json::object()); }
-  bool start_array(std::size_t /*size*/) { return open(Json::array()); }
+  bool start_object(std::size_t /*size*/) { return open(true); }
+  bool start_array(std::size_t /*size*/) { return open(false); }
   bool end_object() { return close(); }
   bool end_array() { return close(); }
 
   bool key(Json::string_t& name) {
     Frame& frame = frames_.back();
-    if (frame.value->contains(name)) {
+    if (!frame.keys.insert(name).second) {
       problem_ = {member_place(frame.place, name), "duplicate key"};
       return false;
     }
-    key_ = std::move(name);
+    frame.key = std::move(name);
+    if (!failed_) check_key(frame);
     return true;
   }
 
   bool parse_error(std::size_t /*byte*/, const std::string& token, const nlohmann::detail::exception& error) {
     if (error.id == 406) {  // a number too large for a double (1e400)
-      problem_ = {next_place(), "number out of range (" + token + ")"};
+      // The token is user text of any length (a megabyte of digits): echo its start only.
+      constexpr std::size_t kEcho = 32;
+      const std::string shown = token.size() <= kEcho + 8
+                                    ? token
+                                    : token.substr(0, kEcho) + "... (" + std::to_string(token.size()) + " characters)";
+      problem_ = {next_place(), "number out of range (" + printable(shown) + ")"};
       return false;
     }
     // nlohmann's text already says "parse error at line L, column C: ..."; drop its id prefix.
@@ -116,227 +134,325 @@ class DocumentBuilder {
     return false;
   }
 
+  // After sax_parse returned false: the syntax (or nesting, duplicate) problem.
   const detail::SceneProblem& problem() const { return problem_; }
+  // After sax_parse returned true: the first content problem, if any.
+  bool failed() const { return failed_; }
+  const detail::SceneProblem& content_problem() const { return content_problem_; }
+  Scene& scene() { return scene_; }
 
  private:
+  // What a container holds, which decides what its values mean.
+  enum class Role { root, skip, view, list, element, polygon, point, circle, segment, color };
+
   struct Frame {
-    Json* value;
+    Role role;
+    bool object;
     std::string place;
+    std::size_t count = 0;  // arrays: values so far
+    std::string key;        // objects: the current key
+    std::unordered_set<std::string> keys;
   };
 
-  // Where the next value goes: after a key in an object, or at the end of an array.
+  struct Scalar {
+    enum Kind { kOther, kInteger, kUnsigned, kFloat } kind;
+    std::int64_t integer = 0;
+    std::uint64_t unsigned_integer = 0;
+    double number = 0.0;
+    bool is_number() const { return kind != kOther; }
+    std::string dump() const {
+      if (kind == kInteger) return Json(integer).dump();
+      if (kind == kUnsigned) return Json(unsigned_integer).dump();
+      return Json(number).dump();
+    }
+  };
+
+  // The light or occluder being read.
+  struct Element {
+    bool light = true;
+    const char* shape = nullptr;  // "polygon", "circle" or "segment" once seen
+    Light value;
+    Polygon polygon;
+    Circle circle;
+    bool has_center = false, has_radius = false;
+    Segment segment;
+  };
+
+  void fail(std::string place, std::string what) {
+    if (failed_) return;
+    failed_ = true;
+    content_problem_ = {std::move(place), std::move(what)};
+  }
+
   std::string next_place() const {
     if (frames_.empty()) return "";
     const Frame& frame = frames_.back();
-    if (frame.value->is_object()) return member_place(frame.place, key_);
-    return element_place(frame.place, frame.value->size());
+    if (frame.object) return member_place(frame.place, frame.key);
+    return element_place(frame.place, frame.count);
   }
 
-  Json* add_slot(Json&& value) {
-    if (frames_.empty()) {
-      root_ = std::move(value);
-      return &root_;
+  void check_key(const Frame& frame) {
+    const std::string place = member_place(frame.place, frame.key);
+    const std::string& k = frame.key;
+    if (frame.role == Role::root) {
+      if (k != "width" && k != "height" && k != "view" && k != "lights" && k != "occluders")
+        fail(place, "unknown key (expected width, height, view, lights, occluders)");
+    } else if (frame.role == Role::element) {
+      const bool shape = k == "polygon" || k == "circle" || k == "segment";
+      if (!element_.light && (k == "color" || k == "intensity")) {
+        fail(place, "occluders take no color or intensity");
+      } else if (!shape && !(element_.light && (k == "color" || k == "intensity"))) {
+        fail(place, element_.light ? "unknown key (expected polygon, circle, segment, color, intensity)"
+                                   : "unknown key (expected polygon, circle, segment)");
+      } else if (shape && element_.shape != nullptr) {
+        // Named in a fixed order, whatever the order in the file.
+        static constexpr const char* kShapes[] = {"polygon", "circle", "segment"};
+        const char* first = nullptr;
+        const char* second = nullptr;
+        for (const char* name : kShapes) {
+          if (name != k && std::strcmp(name, element_.shape) != 0) continue;
+          (first == nullptr ? first : second) = name;
+        }
+        fail(frame.place, std::string("has both ") + first + " and " + second +
+                              "; needs exactly one of polygon, circle, segment");
+      } else if (shape) {
+        element_.shape = k == "polygon" ? "polygon" : (k == "circle" ? "circle" : "segment");
+      }
+    } else if (frame.role == Role::circle) {
+      if (k != "center" && k != "radius") fail(place, "unknown key (expected center, radius)");
     }
-    Json& parent = *frames_.back().value;
-    if (parent.is_object()) return &(parent[key_] = std::move(value));
-    parent.push_back(std::move(value));
-    return &parent.back();
   }
 
-  bool add(Json&& value) {
-    add_slot(std::move(value));
+  // A number or other non-container value in the current frame.
+  bool scalar(const Scalar& v) {
+    const std::string place = next_place();
+    if (frames_.empty()) {
+      fail("", "expected a JSON object at the top level");
+    } else if (!failed_) {
+      Frame& frame = frames_.back();
+      switch (frame.role) {
+        case Role::root:
+          if (frame.key == "width" || frame.key == "height") image_side(v, place, frame.key == "width");
+          else if (frame.key == "view") fail("view", "expected [x0, y0, x1, y1]");
+          else fail(frame.key, "expected an array");
+          break;
+        case Role::view:
+          if (!v.is_number() || frame.count >= 4) fail("view", "expected [x0, y0, x1, y1]");
+          else view_[frame.count] = v.number;
+          break;
+        case Role::list: fail(place, "expected an object"); break;
+        case Role::element: element_scalar(frame, v, place); break;
+        case Role::polygon: fail(place, "expected [x, y]"); break;
+        case Role::point:
+          if (!v.is_number() || frame.count >= 2) fail(frame.place, "expected [x, y]");
+          else point_[frame.count] = v.number;
+          break;
+        case Role::circle:
+          if (frame.key == "radius") {
+            if (!v.is_number()) fail(place, "expected a number");
+            element_.circle.radius = v.number;
+            element_.has_radius = true;
+          } else {
+            fail(place, "expected [x, y]");
+          }
+          break;
+        case Role::segment:
+          if (frame.count >= 2) fail(frame.place, "expected [[x, y], [x, y]]");
+          else fail(place, "expected [x, y]");
+          break;
+        case Role::color:
+          if (!v.is_number() || frame.count >= 3) fail(frame.place, "expected [r, g, b]");
+          else element_.value.color[frame.count] = v.number;
+          break;
+        case Role::skip: break;
+      }
+    }
+    if (!frames_.empty() && !frames_.back().object) ++frames_.back().count;
     return true;
   }
 
-  bool open(Json&& container) {
+  // Integer-valued numbers only (64 or 64.0), range-checked before any cast so 1e30 or
+  // 2^63 cannot overflow an int.
+  void image_side(const Scalar& v, const std::string& place, bool width) {
+    bool in_range = false;
+    if (v.kind == Scalar::kUnsigned) {
+      in_range = v.unsigned_integer >= 1 && v.unsigned_integer <= static_cast<std::uint64_t>(kMaxImageSide);
+    } else if (v.kind == Scalar::kInteger) {
+      in_range = v.integer >= 1 && v.integer <= kMaxImageSide;
+    } else if (v.kind == Scalar::kFloat) {
+      if (std::floor(v.number) != v.number) return fail(place, "expected an integer, got " + v.dump());
+      in_range = v.number >= 1.0 && v.number <= static_cast<double>(kMaxImageSide);
+    } else {
+      return fail(place, "expected an integer");
+    }
+    if (!in_range) return fail(place, detail::image_side_range_text() + ", got " + v.dump());
+    (width ? scene_.width : scene_.height) = static_cast<int>(v.number);
+    (width ? has_width_ : has_height_) = true;
+  }
+
+  void element_scalar(const Frame& frame, const Scalar& v, const std::string& place) {
+    const std::string& k = frame.key;
+    if (k == "intensity") {
+      if (!v.is_number()) return fail(place, "expected a number");
+      element_.value.intensity = v.number;
+    } else if (k == "color") {
+      fail(place, "expected [r, g, b]");
+    } else if (k == "polygon") {
+      fail(place, "expected an array of [x, y] vertices");
+    } else if (k == "circle") {
+      fail(place, "expected {\"center\": [x, y], \"radius\": r}");
+    } else {
+      fail(place, "expected [[x, y], [x, y]]");
+    }
+  }
+
+  // The role of a container opening at `place` in the current frame; fails for one that
+  // does not belong there.
+  Role container_role(bool object, const std::string& place) {
+    if (frames_.empty()) {
+      if (!object) fail("", "expected a JSON object at the top level");
+      return object ? Role::root : Role::skip;
+    }
+    if (failed_) return Role::skip;
+    Frame& frame = frames_.back();
+    const std::string& k = frame.key;
+    auto refuse = [&](std::string at, const char* what) {
+      fail(std::move(at), what);
+      return Role::skip;
+    };
+    switch (frame.role) {
+      case Role::root:
+        if (k == "width" || k == "height") return refuse(place, "expected an integer");
+        if (k == "view") return object ? refuse("view", "expected [x0, y0, x1, y1]") : Role::view;
+        if (object) return refuse(k, "expected an array");
+        list_is_lights_ = k == "lights";
+        return Role::list;
+      case Role::view: return refuse("view", "expected [x0, y0, x1, y1]");
+      case Role::list:
+        if (!object) return refuse(place, "expected an object");
+        element_ = Element{};
+        element_.light = list_is_lights_;
+        return Role::element;
+      case Role::element:
+        if (k == "polygon") return object ? refuse(place, "expected an array of [x, y] vertices") : Role::polygon;
+        if (k == "circle") return object ? Role::circle : refuse(place, "expected {\"center\": [x, y], \"radius\": r}");
+        if (k == "segment") return object ? refuse(place, "expected [[x, y], [x, y]]") : Role::segment;
+        if (k == "color") return object ? refuse(place, "expected [r, g, b]") : Role::color;
+        return refuse(place, "expected a number");  // intensity
+      case Role::segment:
+        if (frame.count >= 2) return refuse(frame.place, "expected [[x, y], [x, y]]");
+        return object ? refuse(place, "expected [x, y]") : Role::point;
+      case Role::polygon: return object ? refuse(place, "expected [x, y]") : Role::point;
+      case Role::circle:
+        if (k == "center") return object ? refuse(place, "expected [x, y]") : Role::point;
+        return refuse(place, "expected a number");  // radius
+      case Role::point: return refuse(frame.place, "expected [x, y]");
+      case Role::color: return refuse(frame.place, "expected [r, g, b]");
+      case Role::skip: return Role::skip;
+    }
+    return Role::skip;
+  }
+
+  bool open(bool object) {
     if (frames_.size() >= kMaxDepth) {
       // Name where the nesting went wrong, not the whole 64-level path.
       problem_ = {frames_[kReportedDepth].place, "nested too deeply (more than " + std::to_string(kMaxDepth) + " levels)"};
       return false;
     }
     std::string place = next_place();
-    Json* slot = add_slot(std::move(container));
-    frames_.push_back({slot, std::move(place)});
+    const Role role = container_role(object, place);
+    frames_.push_back(Frame{role, object, std::move(place), 0, {}, {}});
     return true;
   }
 
   bool close() {
+    Frame frame = std::move(frames_.back());
     frames_.pop_back();
+    if (!failed_) finish(frame);
+    if (!frames_.empty() && !frames_.back().object) ++frames_.back().count;
     return true;
   }
 
-  Json& root_;
+  // A container ended: check what needs all of it, and hand its value to its parent.
+  void finish(const Frame& frame) {
+    switch (frame.role) {
+      case Role::view:
+        if (frame.count != 4) return fail("view", "expected [x0, y0, x1, y1]");
+        has_view_ = true;
+        return;
+      case Role::point: {
+        if (frame.count != 2) return fail(frame.place, "expected [x, y]");
+        const Vec2 p{point_[0], point_[1]};
+        const Frame& parent = frames_.back();
+        if (parent.role == Role::polygon) {
+          element_.polygon.vertices.push_back(p);
+        } else if (parent.role == Role::circle) {
+          element_.circle.center = p;
+          element_.has_center = true;
+        } else {
+          (parent.count == 0 ? element_.segment.a : element_.segment.b) = p;
+        }
+        return;
+      }
+      case Role::segment:
+        if (frame.count != 2) return fail(frame.place, "expected [[x, y], [x, y]]");
+        return;
+      case Role::color:
+        if (frame.count != 3) return fail(frame.place, "expected [r, g, b]");
+        return;
+      case Role::circle:
+        if (!element_.has_center) return fail(member_place(frame.place, "center"), "missing (required)");
+        if (!element_.has_radius) return fail(member_place(frame.place, "radius"), "missing (required)");
+        return;
+      case Role::element: return finish_element(frame.place);
+      case Role::root: return finish_root();
+      case Role::list:
+        if (list_is_lights_) {
+          if (auto problem = detail::check_emission_total(scene_.lights)) fail(problem->place, problem->what);
+        }
+        return;
+      case Role::polygon:
+      case Role::skip: return;
+    }
+  }
+
+  void finish_element(const std::string& place) {
+    Element& e = element_;
+    if (e.shape == nullptr) return fail(place, "needs one of polygon, circle, segment");
+    Shape shape;
+    if (e.shape[0] == 'p') shape = std::move(e.polygon);
+    else if (e.shape[0] == 'c') shape = e.circle;
+    else shape = e.segment;
+    if (e.light) {
+      e.value.shape = std::move(shape);
+      if (auto problem = detail::check_light(e.value, place)) return fail(problem->place, problem->what);
+      scene_.lights.push_back(std::move(e.value));
+    } else {
+      Occluder occluder{std::move(shape)};
+      if (auto problem = detail::check_occluder(occluder, place)) return fail(problem->place, problem->what);
+      scene_.occluders.push_back(std::move(occluder));
+    }
+  }
+
+  void finish_root() {
+    if (!has_width_) return fail("width", "missing (required)");
+    if (!has_height_) return fail("height", "missing (required)");
+    scene_.view = has_view_ ? View{view_[0], view_[1], view_[2], view_[3]}
+                            : View{0.0, 0.0, static_cast<double>(scene_.width), static_cast<double>(scene_.height)};
+    if (auto problem = detail::check_view(scene_.view, scene_.width, scene_.height)) fail(problem->place, problem->what);
+  }
+
   std::vector<Frame> frames_;
-  std::string key_;
   detail::SceneProblem problem_;
+  detail::SceneProblem content_problem_;
+  bool failed_ = false;
+  Scene scene_;
+  bool has_width_ = false, has_height_ = false, has_view_ = false;
+  double view_[4] = {0, 0, 0, 0};
+  bool list_is_lights_ = true;
+  Element element_;
+  double point_[2] = {0, 0};
 };
-
-const Json* find(const Json& object, const char* key) {
-  const auto it = object.find(key);
-  return it == object.end() ? nullptr : &*it;
-}
-
-void check_keys(const Json& object, const std::string& place, std::initializer_list<const char*> allowed) {
-  for (const auto& item : object.items()) {
-    bool known = false;
-    for (const char* name : allowed) known = known || item.key() == name;
-    if (known) continue;
-    std::string list;
-    for (const char* name : allowed) list += (list.empty() ? "" : ", ") + std::string(name);
-    fail(member_place(place, item.key()), "unknown key (expected " + list + ")");
-  }
-}
-
-const Json& require(const Json& object, const std::string& place, const char* key) {
-  const Json* value = find(object, key);
-  if (value == nullptr) fail(member_place(place, key), "missing (required)");
-  return *value;
-}
-
-double read_number(const Json& value, const std::string& place) {
-  if (!value.is_number()) fail(place, "expected a number");
-  return value.get<double>();
-}
-
-// Integer-valued numbers only (64 or 64.0), range-checked before any cast so 1e30 or
-// 2^63 cannot overflow an int.
-int read_image_side(const Json& value, const std::string& place) {
-  bool in_range = false;
-  if (value.is_number_unsigned()) {
-    const auto v = value.get<std::uint64_t>();
-    in_range = v >= 1 && v <= static_cast<std::uint64_t>(kMaxImageSide);
-  } else if (value.is_number_integer()) {
-    const auto v = value.get<std::int64_t>();
-    in_range = v >= 1 && v <= kMaxImageSide;
-  } else if (value.is_number_float()) {
-    const double v = value.get<double>();
-    if (std::floor(v) != v) fail(place, "expected an integer, got " + value.dump());
-    in_range = v >= 1.0 && v <= static_cast<double>(kMaxImageSide);
-  } else {
-    fail(place, "expected an integer");
-  }
-  if (!in_range) fail(place, detail::image_side_range_text() + ", got " + value.dump());
-  return static_cast<int>(value.get<double>());
-}
-
-Vec2 read_point(const Json& value, const std::string& place) {
-  if (!value.is_array() || value.size() != 2 || !value[0].is_number() || !value[1].is_number()) {
-    fail(place, "expected [x, y]");
-  }
-  return {value[0].get<double>(), value[1].get<double>()};
-}
-
-Polygon read_polygon(const Json& value, const std::string& place) {
-  if (!value.is_array()) fail(place, "expected an array of [x, y] vertices");
-  Polygon polygon;
-  polygon.vertices.reserve(value.size());
-  for (std::size_t i = 0; i < value.size(); ++i) polygon.vertices.push_back(read_point(value[i], element_place(place, i)));
-  return polygon;
-}
-
-Circle read_circle(const Json& value, const std::string& place) {
-  if (!value.is_object()) fail(place, "expected {\"center\": [x, y], \"radius\": r}");
-  check_keys(value, place, {"center", "radius"});
-  Circle circle;
-  circle.center = read_point(require(value, place, "center"), member_place(place, "center"));
-  circle.radius = read_number(require(value, place, "radius"), member_place(place, "radius"));
-  return circle;
-}
-
-Segment read_segment(const Json& value, const std::string& place) {
-  if (!value.is_array() || value.size() != 2) fail(place, "expected [[x, y], [x, y]]");
-  return {read_point(value[0], element_place(place, 0)), read_point(value[1], element_place(place, 1))};
-}
-
-Shape read_shape(const Json& object, const std::string& place) {
-  static constexpr const char* kShapes[] = {"polygon", "circle", "segment"};
-  const char* found = nullptr;
-  for (const char* name : kShapes) {
-    if (find(object, name) == nullptr) continue;
-    if (found != nullptr) {
-      fail(place, std::string("has both ") + found + " and " + name + "; needs exactly one of polygon, circle, segment");
-    }
-    found = name;
-  }
-  if (found == nullptr) fail(place, "needs one of polygon, circle, segment");
-  const Json& value = *find(object, found);
-  const std::string shape_place = member_place(place, found);
-  if (std::strcmp(found, "polygon") == 0) return read_polygon(value, shape_place);
-  if (std::strcmp(found, "circle") == 0) return read_circle(value, shape_place);
-  return read_segment(value, shape_place);
-}
-
-Light read_light(const Json& value, const std::string& place) {
-  if (!value.is_object()) fail(place, "expected an object");
-  check_keys(value, place, {"polygon", "circle", "segment", "color", "intensity"});
-  Light light;
-  light.shape = read_shape(value, place);
-  if (const Json* color = find(value, "color")) {
-    const std::string color_place = member_place(place, "color");
-    if (!color->is_array() || color->size() != 3) fail(color_place, "expected [r, g, b]");
-    for (std::size_t c = 0; c < 3; ++c) {
-      if (!(*color)[c].is_number()) fail(color_place, "expected [r, g, b]");
-      light.color[c] = (*color)[c].get<double>();
-    }
-  }
-  if (const Json* intensity = find(value, "intensity")) {
-    light.intensity = read_number(*intensity, member_place(place, "intensity"));
-  }
-  if (auto problem = detail::check_light(light, place)) throw SceneError{std::move(*problem)};
-  return light;
-}
-
-Occluder read_occluder(const Json& value, const std::string& place) {
-  if (!value.is_object()) fail(place, "expected an object");
-  // Said plainly, because "unknown key" would suggest a typo rather than a misplaced emitter.
-  for (const char* key : {"color", "intensity"}) {
-    if (find(value, key) != nullptr) fail(member_place(place, key), "occluders take no color or intensity");
-  }
-  check_keys(value, place, {"polygon", "circle", "segment"});
-  Occluder occluder{read_shape(value, place)};
-  if (auto problem = detail::check_occluder(occluder, place)) throw SceneError{std::move(*problem)};
-  return occluder;
-}
-
-const Json* read_array(const Json& root, const char* key) {
-  const Json* value = find(root, key);
-  if (value != nullptr && !value->is_array()) fail(key, "expected an array");
-  return value;
-}
-
-Scene read_scene(const Json& root) {
-  if (!root.is_object()) fail("", "expected a JSON object at the top level");
-  check_keys(root, "", {"width", "height", "view", "lights", "occluders"});
-  Scene scene;
-  scene.width = read_image_side(require(root, "", "width"), "width");
-  scene.height = read_image_side(require(root, "", "height"), "height");
-  if (const Json* view = find(root, "view")) {
-    if (!view->is_array() || view->size() != 4) fail("view", "expected [x0, y0, x1, y1]");
-    double v[4];
-    for (std::size_t i = 0; i < 4; ++i) {
-      if (!(*view)[i].is_number()) fail("view", "expected [x0, y0, x1, y1]");
-      v[i] = (*view)[i].get<double>();
-    }
-    scene.view = View{v[0], v[1], v[2], v[3]};
-  } else {
-    scene.view = View{0.0, 0.0, static_cast<double>(scene.width), static_cast<double>(scene.height)};
-  }
-  if (auto problem = detail::check_view(scene.view)) throw SceneError{std::move(*problem)};
-
-  if (const Json* lights = read_array(root, "lights")) {
-    scene.lights.reserve(lights->size());
-    for (std::size_t i = 0; i < lights->size(); ++i) {
-      scene.lights.push_back(read_light((*lights)[i], element_place("lights", i)));
-    }
-  }
-  if (const Json* occluders = read_array(root, "occluders")) {
-    scene.occluders.reserve(occluders->size());
-    for (std::size_t i = 0; i < occluders->size(); ++i) {
-      scene.occluders.push_back(read_occluder((*occluders)[i], element_place("occluders", i)));
-    }
-  }
-  return scene;
-}
 
 Status out_of_memory(std::string_view name) {
   try {
@@ -346,20 +462,24 @@ Status out_of_memory(std::string_view name) {
   }
 }
 
+
+// Runs the builder: `run(builder)` calls Json::sax_parse on some input (text, a FILE*).
+template <class Run>
+Status parse_with(Run&& run, std::string_view name, Scene& out) {
+  SceneBuilder builder;
+  if (!run(builder)) return detail::scene_error(name, builder.problem());
+  if (builder.failed()) return detail::scene_error(name, builder.content_problem());
+  out = std::move(builder.scene());
+  return Status::success();
+}
+
 }  // namespace
 
 Status parse_scene(std::string_view json_text, std::string_view name, Scene& out) {
   try {
-    Json root;
-    DocumentBuilder builder(root);
-    if (!Json::sax_parse(json_text.data(), json_text.data() + json_text.size(), &builder)) {
-      return detail::scene_error(name, builder.problem());
-    }
-    Scene scene = read_scene(root);
-    out = std::move(scene);
-    return Status::success();
-  } catch (const SceneError& error) {
-    return detail::scene_error(name, error.problem);
+    return parse_with(
+        [&](SceneBuilder& b) { return Json::sax_parse(json_text.data(), json_text.data() + json_text.size(), &b); },
+        name, out);
   } catch (const std::bad_alloc&) {
     return out_of_memory(name);
   } catch (const std::exception& error) {
@@ -372,27 +492,37 @@ Status parse_scene(std::string_view json_text, std::string_view name, Scene& out
 
 Status load_scene_file(const std::string& path, Scene& out) {
   try {
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
-    if (!file) {
+    // O_NONBLOCK: opening a FIFO that has no writer must not wait for one. Only regular
+    // files are read; their size is known, and nothing else is a scene.
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+    if (fd < 0) {
       const int error = errno;
       return Status(StatusCode::io_error, path + ": cannot open: " + std::strerror(error));
     }
-    std::string text;
-    char buffer[1 << 16];
-    for (;;) {
-      const std::size_t got = std::fread(buffer, 1, sizeof buffer, file.get());
-      if (got < sizeof buffer && std::ferror(file.get())) {
-        const int error = errno;  // before anything else can overwrite it
-        return Status(StatusCode::io_error, path + ": cannot read: " + std::strerror(error));
-      }
-      text.append(buffer, got);
-      if (text.size() > kMaxFileBytes) {
-        return Status(StatusCode::io_error, path + ": cannot read: larger than " +
-                                                std::to_string(kMaxFileBytes >> 20) + " MiB");
-      }
-      if (got < sizeof buffer) break;
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(::fdopen(fd, "rb"), &std::fclose);
+    if (!file) {
+      const int error = errno;
+      ::close(fd);
+      return Status(StatusCode::io_error, path + ": cannot open: " + std::strerror(error));
     }
-    return parse_scene(text, path, out);
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) {
+      const int error = errno;
+      return Status(StatusCode::io_error, path + ": cannot read: " + std::strerror(error));
+    }
+    if (S_ISDIR(st.st_mode)) return Status(StatusCode::io_error, path + ": cannot read: " + std::strerror(EISDIR));
+    if (!S_ISREG(st.st_mode)) return Status(StatusCode::io_error, path + ": cannot read: not a regular file");
+    if (static_cast<unsigned long long>(st.st_size) > kMaxFileBytes) {
+      return Status(StatusCode::io_error, path + ": cannot read: larger than " +
+                                              std::to_string(kMaxFileBytes >> 20) + " MiB");
+    }
+    ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+    // Parsed as it is read: no copy of the text is kept.
+    Status status = parse_with([&](SceneBuilder& b) { return Json::sax_parse(file.get(), &b); }, path, out);
+    if (std::ferror(file.get())) {
+      return Status(StatusCode::io_error, path + ": cannot read: " + std::strerror(errno ? errno : EIO));
+    }
+    return status;
   } catch (const std::bad_alloc&) {
     return out_of_memory(path);
   } catch (...) {

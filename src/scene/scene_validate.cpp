@@ -183,7 +183,7 @@ MaybeProblem check_image_size(int width, int height) {
   return std::nullopt;
 }
 
-MaybeProblem check_view(const View& view) {
+MaybeProblem check_view(const View& view, int width, int height) {
   const std::array<double, 4> values{view.x0, view.y0, view.x1, view.y1};
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (auto problem = check_finite(values[i], indexed("view", i))) return problem;
@@ -193,6 +193,29 @@ MaybeProblem check_view(const View& view) {
   // Pixel positions are computed from x1 - x0; an extent that overflows would make every one inf.
   if (!std::isfinite(view.x1 - view.x0) || !std::isfinite(view.y1 - view.y0)) {
     return SceneProblem{"view", "extent is too large to represent"};
+  }
+  // A subnormal pixel size has lost bits (1e-310 has 14 of 53 left): pixel centers would not be
+  // the contract's, and rescaling the scene could not restore them.
+  const double pixel = std::min(std::fabs(view.x1 - view.x0) / std::max(width, 1),
+                                std::fabs(view.y1 - view.y0) / std::max(height, 1));
+  if (!(pixel >= std::numeric_limits<double>::min())) {
+    return SceneProblem{"view", "pixel size " + format_number(pixel) +
+                                    " is below the smallest normal double (2.2250738585072014e-308)"};
+  }
+  return std::nullopt;
+}
+
+MaybeProblem check_emission_total(const std::vector<Light>& lights) {
+  Rgb total{0.0, 0.0, 0.0};
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      total[c] += lights[i].intensity * lights[i].color[c];
+      if (!(total[c] <= kMaxTotalEmission)) {
+        return SceneProblem{indexed("lights", i), "emission too large: the lights' total intensity * color reaches " +
+                                                      format_number(total[c]) + " (at most 1e38, so that float32 "
+                                                      "output stays finite)"};
+      }
+    }
   }
   return std::nullopt;
 }
@@ -241,10 +264,11 @@ std::string format_number(double value) {
 Status validate_scene(const Scene& scene, std::string_view name) {
   try {
     detail::MaybeProblem problem = detail::check_image_size(scene.width, scene.height);
-    if (!problem) problem = detail::check_view(scene.view);
+    if (!problem) problem = detail::check_view(scene.view, scene.width, scene.height);
     for (std::size_t i = 0; !problem && i < scene.lights.size(); ++i) {
       problem = detail::check_light(scene.lights[i], "lights[" + std::to_string(i) + "]");
     }
+    if (!problem) problem = detail::check_emission_total(scene.lights);
     for (std::size_t i = 0; !problem && i < scene.occluders.size(); ++i) {
       problem = detail::check_occluder(scene.occluders[i], "occluders[" + std::to_string(i) + "]");
     }

@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "par2d/scene.hpp"
 #include "par2d/status.hpp"
@@ -23,7 +24,15 @@ using MaybeProblem = std::optional<SceneProblem>;
 std::string image_side_range_text();
 
 MaybeProblem check_image_size(int width, int height);
-MaybeProblem check_view(const View& view);
+// Also needs the image size: a view's pixel size must be a normal double.
+MaybeProblem check_view(const View& view, int width, int height);
+
+// Largest total emission per channel: E never exceeds the lights' total (docs/contract.md),
+// and this keeps it, and every float the SIMD path forms from it, finite in float32 output
+// (FLT_MAX is 3.4e38; the margin covers 2*pi-scaled partial sums and rounding).
+inline constexpr double kMaxTotalEmission = 1e38;
+// The first light at which the running total of some channel passes kMaxTotalEmission.
+MaybeProblem check_emission_total(const std::vector<Light>& lights);
 
 // `place` names the light or occluder ("lights[2]"); shape problems add ".polygon" etc.
 MaybeProblem check_shape(const Shape& shape, const std::string& place);

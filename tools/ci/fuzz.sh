@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
 # CI: builds the libFuzzer targets with clang (ASan+UBSan) and fuzzes each for a bounded time; any finding fails.
+# Targets: the scene loader on arbitrary bytes, the renderer on decoded degenerate geometry, and
+# contact cases with huge emissions and extreme views (tests/fuzz/fuzz_contact_checks.hpp).
 #
 # Env: FUZZ_SECONDS (per target, default 60), JOBS (build, default nproc), CXX_CLANG (default clang++-14).
 # Findings land in build-fuzz/artifacts/; turn each into a file under tests/fuzz/corpus/ (it is then
@@ -18,7 +20,7 @@ cmake -S . -B "$BUILD" -DCMAKE_CXX_COMPILER="$CXX_CLANG" -DCMAKE_BUILD_TYPE=RelW
       -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" \
       -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
       -DPAR2D_BUILD_TESTS=OFF -DPAR2D_BUILD_TOOLS=OFF -DPAR2D_BUILD_BENCH=OFF -DPAR2D_BUILD_FUZZ=ON >/dev/null
-cmake --build "$BUILD" -j"$JOBS" --target fuzz_scene_loader fuzz_render
+cmake --build "$BUILD" -j"$JOBS" --target fuzz_scene_loader fuzz_render fuzz_contact
 t1=$(date +%s)
 echo "fuzz.sh: build $((t1 - t0)) s"
 
@@ -44,5 +46,8 @@ run_target() {  # target, seed corpus dir, max input length
 }
 run_target fuzz_scene_loader "$ROOT/tests/fuzz/corpus/loader" 4096
 run_target fuzz_render "$ROOT/tests/fuzz/corpus/render" 2048
+# Lights on occluder edges, equal shapes, touching circles, emissions up to 1e37 each, views
+# of 1e-300 to 1e300 units per pixel: 0 everywhere (docs/contract.md: t_occ == t_L hides).
+run_target fuzz_contact "$ROOT/tests/fuzz/corpus/contact" 256
 echo "fuzz.sh: total $(( $(date +%s) - t0 )) s"
 exit $status

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# CI: the CLI under memory pressure and past SPEC limits must fail with one clear line, no crash, no output file.
+# CI: the CLI under memory pressure (rendering and loading), past the contract's limits, and with special
+# output files (FIFOs, stdout) and signals during writes: one clear line, no crash, no partial or lost file.
 #
 # Usage: tools/ci/resources.sh [BUILD_DIR]  (default: build; needs the par2d CLI built there, no sanitizer:
 # ASan cannot start under ulimit -v).
@@ -49,5 +50,72 @@ expect_clean_failure "height beyond 16384" "too_tall.json: height" -- \
   "$CLI" render "$WORK/too_tall.json" -o "$WORK/out.png"
 expect_clean_failure "bench --width beyond 16384" "16384" -- \
   "$CLI" bench "$WORK/big.json" --width 100000 --height 4 --frames 1
+
+# --- Memory limits while loading: the loader builds no JSON document (~2x the file at most),
+# and every allocation failure is the one-line "out of memory", never an abort.
+python3 - "$WORK/level.json" <<'PY'
+import sys
+parts = ['{"circle":{"center":[%d,%d],"radius":1}}' % (100 + k % 997, 100 + k % 991) for k in range(500000)]
+open(sys.argv[1], "w").write('{"width": 4, "height": 4, "lights": [{"circle": {"center": [2, 2], "radius": 1}}], '
+                             '"occluders": [' + ",".join(parts) + "]}")
+PY
+echo "resources.sh: level.json is $(( $(stat -c %s "$WORK/level.json") >> 20 )) MiB"
+expect_clean_failure "loading a 20 MB scene under ulimit -v 30000" "level.json: out of memory while loading" -- \
+  bash -c 'ulimit -v 30000; exec "$0" render "$1" -o "$2/out.png" --threads 1' "$CLI" "$WORK/level.json" "$WORK"
+# The issue's case: 300 MB is enough to load and render it (it aborted with SIGABRT before).
+rc=0
+bash -c 'ulimit -v 300000; exec "$0" render "$1" --pfm "$2/level.pfm" --threads 1' "$CLI" "$WORK/level.json" "$WORK" \
+  2>"$WORK/err" || rc=$?
+if [ "$rc" -ne 0 ] && { [ "$rc" -ge 128 ] || [ "$(wc -l <"$WORK/err")" -ne 1 ]; }; then
+  echo "resources.sh: FAIL 20 MB scene under ulimit -v 300000: exit $rc" >&2; cat "$WORK/err" >&2; failures=$((failures + 1))
+else
+  echo "resources.sh: ok   20 MB scene under ulimit -v 300000 (exit $rc)"
+fi
+rm -f "$WORK/level.pfm"
+# A FIFO with no writer as the scene: refused at once, not waited on.
+mkfifo "$WORK/scene.fifo"
+expect_clean_failure "a FIFO scene file with no writer" "not a regular file" -- \
+  timeout 20 "$CLI" render "$WORK/scene.fifo" -o "$WORK/out.png"
+rm -f "$WORK/scene.fifo"
+
+# --- Huge emissions: refused at load time, naming the light.
+echo "{\"width\": 8, \"height\": 8, \"lights\": [{\"circle\": {\"center\": [4, 4], \"radius\": 1}, \"intensity\": 2.2e39}]}" \
+  >"$WORK/bright.json"
+expect_clean_failure "emission beyond float output" "bright.json: lights\[0\]: emission too large" -- \
+  "$CLI" render "$WORK/bright.json" -o "$WORK/out.png"
+
+# --- Special output files and signals during writes.
+echo '{"width": 256, "height": 256, "lights": [{"circle": {"center": [64, 64], "radius": 8}}]}' >"$WORK/s.json"
+mkfifo "$WORK/pipe"
+cat "$WORK/pipe" >"$WORK/from_pipe" &
+reader=$!
+if "$CLI" render "$WORK/s.json" --pfm "$WORK/pipe" && wait "$reader" && [ -p "$WORK/pipe" ] \
+   && [ "$(stat -c %s "$WORK/from_pipe")" -eq $((16 + 256 * 256 * 12)) ]; then
+  echo "resources.sh: ok   --pfm to a FIFO is written through, the FIFO stays"
+else
+  echo "resources.sh: FAIL --pfm to a FIFO" >&2; failures=$((failures + 1))
+fi
+if "$CLI" render "$WORK/s.json" -o - | cmp -s - <("$CLI" render "$WORK/s.json" -o "$WORK/o.png" && cat "$WORK/o.png"); then
+  echo "resources.sh: ok   -o - writes the PNG to stdout"
+else
+  echo "resources.sh: FAIL -o -" >&2; failures=$((failures + 1))
+fi
+# SIGTERM while the PFM blocks on a full FIFO (opened, never read): no file may remain but
+# the ones that were there, unchanged.
+echo "old" >"$WORK/old.png"
+exec 7<>"$WORK/pipe"  # a reader that never reads
+"$CLI" render "$WORK/s.json" -o "$WORK/old.png" --pfm "$WORK/pipe" &
+victim=$!
+sleep 2
+kill -TERM "$victim"; rc=0; wait "$victim" || rc=$?
+exec 7<&-
+leftover=$(find "$WORK" -name '*.tmp*' | wc -l)
+if [ "$rc" -eq 143 ] && [ "$(cat "$WORK/old.png")" = "old" ] && [ "$leftover" -eq 0 ]; then
+  echo "resources.sh: ok   SIGTERM mid-write leaves old.png as it was and no temporary"
+else
+  echo "resources.sh: FAIL SIGTERM mid-write: exit $rc, $leftover temporaries, old.png: $(head -c 8 "$WORK/old.png" | od -c | head -1)" >&2
+  failures=$((failures + 1))
+fi
+rm -f "$WORK/pipe" "$WORK/from_pipe" "$WORK/o.png" "$WORK/old.png"
 
 exit $((failures > 0))

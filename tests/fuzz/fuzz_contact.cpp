@@ -1,0 +1,16 @@
+// libFuzzer target: lights in contact with occluders (and huge emissions, extreme views) must render 0, finite, on every backend.
+#include <cstdio>
+#include <cstdlib>
+
+#include "fuzz/fuzz_contact_checks.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string problem = par2d::fuzz::check_contact_bytes(data, size);
+  if (!problem.empty()) {
+    par2d::fuzz::ByteReader in(data, size);
+    std::fprintf(stderr, "fuzz_contact: %s\nscene:\n%s", problem.c_str(),
+                 par2d::fuzz::scene_json(par2d::fuzz::decode_contact_scene(in).scene).c_str());
+    std::abort();  // libFuzzer saves the input as a crash file
+  }
+  return 0;
+}

@@ -1,0 +1,146 @@
+// Light reach where it bites: closed rings and rooms just inside and just outside each radius of the reach ladder.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "par2d/par2d.hpp"
+#include "render/light_reach.hpp"
+#include "render/prepared_scene.hpp"
+#include "support/random_scenes.hpp"
+
+namespace {
+
+using namespace par2d;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kLightRadius = 2.0;
+constexpr Vec2 kCenter{64, 64};
+
+// The ladder of src/render/light_reach.cpp for a light of radius 2 and 1-unit pixels:
+// radius + 8 * 2^j (j = 0..3 fit in a 128 x 128 view, whose farthest corner is 90.5 away).
+double ladder(int j) { return kLightRadius + 8.0 * std::ldexp(1.0, j); }
+
+// How close the chord that a sector proof at radius r tests comes to the center: r·cos(half),
+// half = half a sector (pi/16) widened by asin(light radius / r).
+double chord_distance(double r) { return r * std::cos(kPi / 16 + std::asin(kLightRadius / r)); }
+
+// A closed ring of 64 overlapping wall pieces between radii r_in and r_out around `center`.
+std::vector<Occluder> ring(double r_in, double r_out, Vec2 center = kCenter) {
+  std::vector<Occluder> out;
+  constexpr int kPieces = 64;
+  for (int i = 0; i < kPieces; ++i) {
+    const double a0 = 2 * kPi * (i - 0.25) / kPieces, a1 = 2 * kPi * (i + 1.25) / kPieces;
+    auto at = [&](double r, double a) { return Vec2{center.x + r * std::cos(a), center.y + r * std::sin(a)}; };
+    out.push_back({Polygon{{at(r_in, a0), at(r_out, a0), at(r_out, a1), at(r_in, a1)}}});
+  }
+  return out;
+}
+
+// A closed square room (four walls of thickness 1) whose inner half-width is `half`.
+std::vector<Occluder> room(double half) {
+  const double a = half, b = half + 1;
+  auto rect = [](double x0, double y0, double x1, double y1) {
+    return Occluder{Polygon{{{kCenter.x + x0, kCenter.y + y0}, {kCenter.x + x1, kCenter.y + y0},
+                             {kCenter.x + x1, kCenter.y + y1}, {kCenter.x + x0, kCenter.y + y1}}}};
+  };
+  return {rect(-b, -b, b, -a), rect(-b, a, b, b), rect(-b, -a, -a, a), rect(a, -a, b, a)};
+}
+
+Scene lit_enclosure(std::vector<Occluder> walls, Vec2 center = kCenter) {
+  Scene s;
+  s.width = s.height = 128;
+  s.view = {0, 0, 128, 128};
+  Light l;
+  l.shape = Circle{center, kLightRadius};
+  s.lights.push_back(l);
+  s.occluders = std::move(walls);
+  return s;
+}
+
+// Largest difference between two renders at pixels farther than 0.05 px from every boundary.
+double worst_difference(const Scene& scene, const RenderOptions& a, const RenderOptions& b, int& count_over) {
+  Status status;
+  const test::RenderedImage ia = test::render_image(scene, a, status);
+  REQUIRE_MESSAGE(status.ok(), status.message());
+  const test::RenderedImage ib = test::render_image(scene, b, status);
+  REQUIRE_MESSAGE(status.ok(), status.message());
+  double worst = 0.0;
+  count_over = 0;
+  for (int j = 0; j < scene.height; ++j)
+    for (int i = 0; i < scene.width; ++i) {
+      if (test::near_boundary(scene, test::pixel_center(scene, i, j), 0.05)) continue;
+      const double d = std::fabs(double(ia.at(i, j, 0)) - double(ib.at(i, j, 0)));
+      worst = std::max(worst, d);
+      count_over += d > 1e-4;
+    }
+  return worst;
+}
+
+}  // namespace
+
+TEST_CASE("light reach of a closed ring is the first ladder radius whose sector chords clear the ring") {
+  for (int j = 0; j <= 3; ++j) {
+    // Just inside the ladder radius: the chord at ladder(j) passes 0.3 outside the ring.
+    const double r_out = chord_distance(ladder(j)) - 0.3, r_in = r_out - 1.0;
+    REQUIRE(r_in > (j == 0 ? kLightRadius : ladder(j - 1)));  // the previous radius lies inside the ring
+    const auto prepared = detail::prepare_scene(lit_enclosure(ring(r_in, r_out)));
+    detail::LightReachScratch scratch;
+    const detail::LightReach reach = detail::compute_light_reach(prepared, 0, scratch);
+    const double scale = prepared.view.x1 / 128.0;
+    for (int k = 0; k < detail::LightReach::kSectors; ++k) {
+      INFO("ring just inside ladder radius ", ladder(j), ", sector ", k);
+      CHECK(reach.reach[static_cast<std::size_t>(k)] == doctest::Approx(ladder(j) * scale).epsilon(1e-12));
+    }
+    // Just outside the ladder radius: that radius fails, the next one (if any) holds.
+    const double out_in = ladder(j) + 0.3;
+    const auto outside = detail::prepare_scene(lit_enclosure(ring(out_in, out_in + 1.0)));
+    const detail::LightReach far = detail::compute_light_reach(outside, 0, scratch);
+    for (int k = 0; k < detail::LightReach::kSectors; ++k) {
+      INFO("ring just outside ladder radius ", ladder(j), ", sector ", k);
+      const double r = far.reach[static_cast<std::size_t>(k)];
+      if (j < 3) CHECK(r == doctest::Approx(ladder(j + 1) * scale).epsilon(1e-12));
+      else CHECK(std::isinf(r));  // 130 is past the farthest corner: not tried
+    }
+  }
+}
+
+TEST_CASE("culled renders equal unculled ones and the scalar reference inside rings and rooms at every ladder radius") {
+  // A reach 5% short of the proof culls the lit band between 0.95·r and the wall: ~100
+  // pixels at up to 26x the SIMD bound. Every ring and room here sits where that band is lit.
+  std::vector<std::pair<std::string, Scene>> scenes;
+  for (int j = 0; j <= 3; ++j) {
+    const double inside = chord_distance(ladder(j)) - 0.3;
+    scenes.emplace_back("ring inside " + std::to_string(j), lit_enclosure(ring(inside - 1.0, inside)));
+    scenes.emplace_back("ring outside " + std::to_string(j), lit_enclosure(ring(ladder(j) + 0.3, ladder(j) + 1.3)));
+    scenes.emplace_back("room inside " + std::to_string(j), lit_enclosure(room(inside / std::sqrt(2.0) - 1.0)));
+  }
+  // The reach is tested per 64-pixel block, so a block must straddle the lit band: the light
+  // 62.8 from the edge x = 64 of the block [64, 128] x [0, 64], the ring from 63.7 to 64.1
+  // (the proof at ladder radius 66 reaches in to 64.3): pixel column 64.5 is lit within ~7
+  // rows of y = 32, and a reach of 0.95·66 = 62.7 would skip the light in the whole block.
+  const Vec2 near_block{64.0 - 62.8, 32.0};
+  scenes.emplace_back("ring across a block edge", lit_enclosure(ring(63.7, 64.1, near_block), near_block));
+  for (const auto& [name, scene] : scenes) {
+    RenderOptions culled;
+    culled.backend = Backend::simd;
+    RenderOptions unculled = culled;
+    unculled.culling = false;
+    int over = 0;
+    const double worst = worst_difference(scene, culled, unculled, over);
+    INFO(name, ": culled vs unculled worst ", worst, ", pixels over 1e-4: ", over);
+    CHECK(worst <= 1e-4);
+  }
+  // One of each against the scalar reference (slow: every pixel sees 64 wall pieces).
+  for (int k : {4, 5}) {
+    RenderOptions culled;
+    culled.backend = Backend::simd;
+    RenderOptions scalar;
+    scalar.backend = Backend::scalar;
+    int over = 0;
+    const double worst = worst_difference(scenes[static_cast<std::size_t>(k)].second, culled, scalar, over);
+    INFO(scenes[static_cast<std::size_t>(k)].first, ": culled SIMD vs scalar worst ", worst);
+    CHECK(worst <= 1e-4);
+  }
+}
