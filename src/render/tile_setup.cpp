@@ -89,12 +89,13 @@ TileFrame tile_frame(const PreparedScene& scene, Vec2 origin) noexcept {
   return {origin, std::ldexp(1.0, std::min(-pixel_exponent, 60 - extent_exponent))};
 }
 
+// `whole`: keep every vertex and edge (a general pair's depth test needs the shape itself).
 KernelShape kernel_shape(const ConvexShape& s, const TileFrame& frame, const std::array<Vec2, 4>& corners,
-                         TileWork& work) {
+                         bool whole, TileWork& work) {
   KernelShape k;
   k.kind = s.kind;
   const Vec2 tile_center = 0.5 * (corners[0] + corners[2]);
-  if (int cw, ccw; tile_tangent_pair(s, corners, cw, ccw)) {
+  if (int cw, ccw; !whole && tile_tangent_pair(s, corners, cw, ccw)) {
     k.kind = ShapeKind::segment;
     k.first = static_cast<std::uint32_t>(work.vx.size());
     k.count = 2;
@@ -225,7 +226,7 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
   }
 }
 
-bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, bool culling, TileWork& work,
+void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, bool culling, TileWork& work,
                      TileSetupScratch& scratch) {
   work.clear();
   const Vec2 origin = sample_position(scene, tile.x0, tile.y0, 0.0, 0.0);
@@ -254,27 +255,47 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     for (std::uint32_t k : scratch.used) scratch.local_index[k] = -1;
   }
   scratch.used.clear();
+  scratch.used_whole.clear();
 
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
     if (scratch.block_shadowed[l]) continue;
     const PreparedLight& light = scene.lights[l];
     const std::vector<std::uint32_t>& candidates = scratch.block_candidates[l];
-    for (std::uint32_t k : light.overlapping_occluders) {
-      if (std::binary_search(candidates.begin(), candidates.end(), k)) return false;
-    }
     std::optional<BoxPairHull> tile_hull;
     CornerTangents light_tangents;
     if (culling && !candidates.empty()) tile_hull.emplace(box, bounds_of(light.shape));
     KernelLight kl;
     kl.first_pair = static_cast<std::uint32_t>(work.pairs.size());
+    const std::size_t first_point = work.point_x.size();
     bool shadowed = false;
+    bool general = false;
     for (std::uint32_t k : candidates) {
       const ConvexShape& occluder = scene.occluders[k];
       if (tile_hull && !tile_hull->touches(bounds_of(occluder))) continue;
-      const auto line = scene.separators.get(l, k, light.shape, occluder);
-      if (!line) return false;  // touching shapes: leave them to the reference
       KernelPair pair;
       pair.occluder = k;
+      const auto overlap =
+          std::lower_bound(light.overlapping_occluders.begin(), light.overlapping_occluders.end(), k);
+      const bool overlapping = overlap != light.overlapping_occluders.end() && *overlap == k;
+      const auto line = overlapping ? std::nullopt : scene.separators.get(l, k, light.shape, occluder);
+      if (!line) {
+        // Overlapping or touching shapes (or disjoint ones too close for a separating
+        // line, where the depth test alone is exact): the kernel's general pair.
+        pair.general = true;
+        general = true;
+        pair.first_point = static_cast<std::uint32_t>(work.point_x.size());
+        if (overlapping) {
+          for (Vec2 p : light.overlap_points[static_cast<std::size_t>(overlap - light.overlapping_occluders.begin())]) {
+            float x, y;
+            frame.point(p, x, y);
+            work.point_x.push_back(x);
+            work.point_y.push_back(y);
+          }
+        }
+        pair.point_count = static_cast<std::uint32_t>(work.point_x.size()) - pair.first_point;
+        work.pairs.push_back(pair);
+        continue;
+      }
       pair.nx = static_cast<float>(line->normal.x);
       pair.ny = static_cast<float>(line->normal.y);
       pair.c = frame.line_offset(line->normal, line->point);
@@ -292,6 +313,8 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       }
       work.pairs.push_back(pair);
     }
+    // The proof holds whatever the pairs' overlaps: every segment from the tile to a light
+    // point meets an occluder before it, so every ray meets one before its first light point.
     if (!shadowed && culling && work.pairs.size() - kl.first_pair >= kTileProofMinPairs) {
       scratch.pair_occluders.clear();
       for (std::uint32_t p = kl.first_pair; p < work.pairs.size(); ++p) scratch.pair_occluders.push_back(work.pairs[p].occluder);
@@ -301,24 +324,31 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     }
     if (shadowed) {
       work.pairs.resize(kl.first_pair);
+      work.point_x.resize(first_point);
+      work.point_y.resize(first_point);
       continue;
     }
     kl.pair_count = static_cast<std::uint32_t>(work.pairs.size()) - kl.first_pair;
     for (std::uint32_t p = kl.first_pair; p < work.pairs.size(); ++p) {
-      std::int32_t& local = scratch.local_index[work.pairs[p].occluder];
+      KernelPair& pair = work.pairs[p];
+      kl.interval_count += pair.general ? pair.point_count + 1 : 1;
+      work.max_points_per_pair = std::max(work.max_points_per_pair, pair.point_count);
+      std::int32_t& local = scratch.local_index[pair.occluder];
       if (local < 0) {
         local = static_cast<std::int32_t>(scratch.used.size());
-        scratch.used.push_back(work.pairs[p].occluder);
+        scratch.used.push_back(pair.occluder);
+        scratch.used_whole.push_back(0);
       }
-      work.pairs[p].occluder = static_cast<std::uint32_t>(local);
+      if (pair.general) scratch.used_whole[static_cast<std::size_t>(local)] = 1;
+      pair.occluder = static_cast<std::uint32_t>(local);
     }
-    kl.shape = kernel_shape(light.shape, frame, corners, work);
+    kl.shape = kernel_shape(light.shape, frame, corners, general, work);
     for (int c = 0; c < 3; ++c) kl.emission[c] = static_cast<float>(light.emission[c] / kTwoPi);
-    work.max_pairs_per_light = std::max(work.max_pairs_per_light, kl.pair_count);
+    work.max_intervals_per_light = std::max(work.max_intervals_per_light, kl.interval_count);
     work.lights.push_back(kl);
   }
-  for (std::uint32_t k : scratch.used) work.occluders.push_back(kernel_shape(scene.occluders[k], frame, corners, work));
-  return true;
+  for (std::size_t u = 0; u < scratch.used.size(); ++u)
+    work.occluders.push_back(kernel_shape(scene.occluders[scratch.used[u]], frame, corners, scratch.used_whole[u] != 0, work));
 }
 
 }  // namespace par2d::detail

@@ -221,6 +221,131 @@ inline std::size_t sort_slots(std::size_t count) noexcept {
   return slots;
 }
 
+// t_S of SPEC.md section 1 along the unit direction (dx, dy) from (px, py), for a ray
+// that meets the shape from outside it (reference: ray_entry in geometry/convex_shape.cpp).
+// `s` must be a whole shape, not a tile tangent pair.
+template <class A>
+inline xsimd::batch<float, A> shape_ray_entry(const TileWork& work, const KernelShape& s,
+                                              const xsimd::batch<float, A>& px, const xsimd::batch<float, A>& py,
+                                              const xsimd::batch<float, A>& dx,
+                                              const xsimd::batch<float, A>& dy) noexcept {
+  using B = xsimd::batch<float, A>;
+  if (s.kind == ShapeKind::circle) {
+    const B vx = B(s.cx) - px, vy = B(s.cy) - py;
+    const B along = xsimd::fma(vx, dx, vy * dy);
+    const B across = xsimd::fms(vx, dy, vy * dx);
+    const B disc = xsimd::fnma(across, across, B(s.r * s.r));
+    return along - xsimd::sqrt(xsimd::max(disc, B(0.0f)));
+  }
+  const float* vx = work.vx.data() + s.first;
+  const float* vy = work.vy.data() + s.first;
+  if (s.kind == ShapeKind::segment) {
+    const B ax = B(vx[0]) - px, ay = B(vy[0]) - py;
+    const B bx = B(vx[1]) - px, by = B(vy[1]) - py;
+    const B ex(vx[1] - vx[0]), ey(vy[1] - vy[0]);
+    // x + t d on the segment's line: t cross(d, e) = cross(a - x, e).
+    const B den = xsimd::fms(dx, ey, dy * ex);
+    const B num = xsimd::fms(ax, ey, ay * ex);
+    // Along the segment's own line: the nearer end point.
+    const B along = xsimd::max(xsimd::min(xsimd::fma(ax, dx, ay * dy), xsimd::fma(bx, dx, by * dy)), B(0.0f));
+    return xsimd::select(den == B(0.0f), along, num / xsimd::select(den == B(0.0f), B(1.0f), den));
+  }
+  const float* nx = work.edge_nx.data() + s.first;
+  const float* ny = work.edge_ny.data() + s.first;
+  const float* nc = work.edge_c.data() + s.first;
+  // The ray enters the inside half-plane of every edge it moves into (n.d > 0); it is in
+  // the polygon from the last of those entries on.
+  B t(0.0f);
+  for (std::uint32_t i = 0; i < s.count; ++i) {
+    const B den = xsimd::fma(B(nx[i]), dx, B(ny[i]) * dy);
+    const B num = B(nc[i]) - xsimd::fma(B(nx[i]), px, B(ny[i]) * py);
+    const auto entering = den > B(0.0f);
+    t = xsimd::select(entering, xsimd::max(t, num / xsimd::select(entering, den, B(1.0f))), t);
+  }
+  return t;
+}
+
+// Sorts `slots` (a power of two) batches of keys ascending, per lane.
+template <class A>
+inline void sort_keys(float* keys, std::size_t slots) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  if (slots == 2) {
+    const B a = B::load_aligned(keys), b = B::load_aligned(keys + W);
+    xsimd::min(a, b).store_aligned(keys);
+    xsimd::max(a, b).store_aligned(keys + W);
+    return;
+  }
+  for (std::size_t k = 2; k <= slots; k <<= 1) {  // bitonic
+    for (std::size_t j = k >> 1; j > 0; j >>= 1) {
+      for (std::size_t i = 0; i < slots; ++i) {
+        const std::size_t l = i ^ j;
+        if (l <= i) continue;
+        const B a = B::load_aligned(keys + i * W), b = B::load_aligned(keys + l * W);
+        const bool ascending = (i & k) == 0;
+        (ascending ? xsimd::min(a, b) : xsimd::max(a, b)).store_aligned(keys + i * W);
+        (ascending ? xsimd::max(a, b) : xsimd::min(a, b)).store_aligned(keys + l * W);
+      }
+    }
+  }
+}
+
+// Blocked intervals of a general pair (shapes that overlap or touch), written to
+// lo/hi slots [0, pair.point_count]: the occluder's arc clipped to the light's, cut at the
+// directions of the pair's boundary meeting points. For a pixel outside both shapes the
+// nearer of the two can change only at those directions (and at the arcs' ends), so a
+// depth test along each piece's middle direction decides the whole piece; a piece
+// narrower than float can split costs at most its width. Reference: the overlap branch of
+// visible_measure in scalar/scalar_renderer.cpp.
+template <class A>
+inline void general_pair_intervals(const TileWork& work, const KernelLight& light, const KernelPair& pair,
+                                   const Arc<A>& arc, const xsimd::batch<float, A>& width,
+                                   const xsimd::batch<float, A>& occ_start, const xsimd::batch<float, A>& occ_width,
+                                   const xsimd::batch<float, A>& px, const xsimd::batch<float, A>& py, float* events,
+                                   float* lo, float* hi) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  // The occluder's arc in the light's frame: [o, o + occ_width], o in [0, 2*pi). Both arcs
+  // are narrower than pi outside the shapes, so they share at most one interval: the
+  // part before 2*pi, or else the part that wraps past the light's start.
+  B o = occ_start - arc.start;
+  o -= B(kTwoPiF) * xsimd::floor(o * B(kInvTwoPiF));
+  const B end = o + occ_width;
+  const auto first_turn = o < width;
+  const B from = xsimd::select(first_turn, o, B(0.0f));
+  const B to = xsimd::max(xsimd::select(first_turn, xsimd::min(end, width), xsimd::min(end - B(kTwoPiF), width)), from);
+  const std::uint32_t m = pair.point_count;
+  const float* qx = work.point_x.data() + pair.first_point;
+  const float* qy = work.point_y.data() + pair.first_point;
+  for (std::uint32_t j = 0; j < m; ++j) {
+    B a = fast_atan2(B(qy[j]) - py, B(qx[j]) - px) - arc.start;
+    a -= B(kTwoPiF) * xsimd::floor(a * B(kInvTwoPiF));
+    // Directions outside the interval cut nothing: clamped, they make empty pieces.
+    xsimd::min(xsimd::max(a, from), to).store_aligned(events + j * W);
+  }
+  const std::size_t slots = sort_slots<A>(m);
+  if (m > 1) {
+    for (std::size_t j = m; j < slots; ++j) to.store_aligned(events + j * W);
+    sort_keys<A>(events, slots);
+  }
+  const KernelShape& occluder = work.occluders[pair.occluder];
+  // Inside the light nothing comes first (t_L = 0).
+  const auto outside_light = ~arc.inside;
+  B prev = from;
+  for (std::uint32_t j = 0; j <= m; ++j) {
+    const B next = j < m ? B::load_aligned(events + j * W) : to;
+    const auto sc = xsimd::sincos(arc.start + B(0.5f) * (prev + next));
+    const B t_light = shape_ray_entry<A>(work, light.shape, px, py, sc.second, sc.first);
+    const B t_occluder = shape_ray_entry<A>(work, occluder, px, py, sc.second, sc.first);
+    // The light is visible only where t_L < t_occ; float ties (shared edges, contact
+    // along a line) go to the occluder, as exact ties do.
+    const auto blocks = (t_occluder <= xsimd::fma(t_light, B(1.0f + 1e-5f), B(1e-5f))) & outside_light;
+    xsimd::select(blocks, prev, width).store_aligned(lo + j * W);
+    xsimd::select(blocks, next, width).store_aligned(hi + j * W);
+    prev = next;
+  }
+}
+
 // Irradiance (times 1/(2*pi), folded into the emissions) of one packet at (px, py).
 template <class A>
 inline void packet_irradiance(const TileWork& work, const xsimd::batch<float, A>& px,
@@ -228,17 +353,18 @@ inline void packet_irradiance(const TileWork& work, const xsimd::batch<float, A>
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   const std::size_t occluder_count = work.occluders.size();
-  float* occ_start = scratch;
-  float* occ_width = occ_start + occluder_count * W;
+  float* occ_start_all = scratch;
+  float* occ_width = occ_start_all + occluder_count * W;
   float* lo = occ_width + occluder_count * W;
-  const std::size_t slots = sort_slots<A>(work.max_pairs_per_light);
+  const std::size_t slots = sort_slots<A>(work.max_intervals_per_light);
   float* hi = lo + slots * W;
+  float* events = hi + slots * W;
 
   auto in_occluder = B(0.0f) > B(0.0f);
   for (std::size_t k = 0; k < occluder_count; ++k) {
     const Arc<A> arc = shape_arc<A>(work, work.occluders[k], px, py);
     in_occluder = in_occluder | arc.inside;
-    arc.start.store_aligned(occ_start + k * W);
+    arc.start.store_aligned(occ_start_all + k * W);
     arc.width.store_aligned(occ_width + k * W);
   }
   for (int c = 0; c < 3; ++c) e[c] = B(0.0f);
@@ -252,18 +378,27 @@ inline void packet_irradiance(const TileWork& work, const xsimd::batch<float, A>
     const Arc<A> arc = shape_arc<A>(work, light.shape, px, py);
     const B width = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
     B reach0(0.0f);
-    const std::size_t n = light.pair_count;
-    for (std::size_t p = 0; p < n; ++p) {
+    std::size_t n = 0;  // intervals written
+    for (std::size_t p = 0; p < light.pair_count; ++p) {
       const KernelPair& pair = work.pairs[light.first_pair + p];
+      const B occ_start = B::load_aligned(occ_start_all + pair.occluder * W);
+      const B occ_w = B::load_aligned(occ_width + pair.occluder * W);
+      if (pair.general) {
+        general_pair_intervals<A>(work, light, pair, arc, width, occ_start, occ_w, px, py, events, lo + n * W,
+                                  hi + n * W);
+        n += pair.point_count + 1;
+        continue;
+      }
       // Disjoint convex shapes: the occluder is in front along every shared direction
       // exactly when the pixel is on its side of a separating line. Inside the light
       // nothing is in front (t_L = 0).
       const auto blocks = (xsimd::fma(B(pair.nx), px, B(pair.ny) * py) >= B(pair.c)) & ~arc.inside;
-      B o = B::load_aligned(occ_start + pair.occluder * W) - arc.start;
+      B o = occ_start - arc.start;
       o -= B(kTwoPiF) * xsimd::floor(o * B(kInvTwoPiF));  // into [0, 2*pi)
-      const B end = o + B::load_aligned(occ_width + pair.occluder * W);
-      xsimd::select(blocks, xsimd::min(o, width), width).store_aligned(lo + p * W);
-      xsimd::select(blocks, xsimd::min(end, width), width).store_aligned(hi + p * W);
+      const B end = o + occ_w;
+      xsimd::select(blocks, xsimd::min(o, width), width).store_aligned(lo + n * W);
+      xsimd::select(blocks, xsimd::min(end, width), width).store_aligned(hi + n * W);
+      ++n;
       // The part that wraps past the light's start begins at 0: a running max suffices.
       reach0 = xsimd::select(blocks, xsimd::max(reach0, xsimd::min(end - B(kTwoPiF), width)), reach0);
     }
