@@ -175,6 +175,139 @@ bool rect_in_umbra(const ConvexShape& light, const ConvexShape& occluder, const 
   return true;
 }
 
+// A light's tangent points (where its arc's two bounding rays touch it) seen from the four
+// corners of a rectangle, on first use.
+struct CornerTangentPoints {
+  Vec2 point[4][2];
+  signed char state[4] = {-1, -1, -1, -1};  // -1: not computed yet, 0: corner inside the light, 1: known
+};
+
+bool tangent_points(const ConvexShape& light, Vec2 x, Vec2 (&out)[2]) noexcept {
+  if (contains(light, x)) return false;
+  if (light.kind == ShapeKind::circle) {
+    // tangent_directions' vectors have length |d|^2 and the tangent length is t.
+    Vec2 cw, ccw;
+    tangent_directions(light, x, cw, ccw);
+    const Vec2 d = light.vertices[0] - x;
+    const double dd = dot(d, d);
+    const double t = std::sqrt(std::max(0.0, dd - light.radius * light.radius));
+    out[0] = x + (t / dd) * cw;
+    out[1] = x + (t / dd) * ccw;
+    return true;
+  }
+  int cw = 0, ccw = 1;
+  if (light.kind == ShapeKind::polygon) tangent_vertices(light, x, cw, ccw);
+  out[0] = light.vertices[static_cast<std::size_t>(cw)];
+  out[1] = light.vertices[static_cast<std::size_t>(ccw)];
+  return true;
+}
+
+// Whether an occluder that overlaps or touches a light blocks none of the light's directions
+// at any point of the rectangle: some line has the occluder on one side (side >= 0) and the
+// whole rectangle strictly on the other, and from every rectangle point both of the light's
+// tangent points lie on the rectangle's side (side <= 0). Then the light's near boundary seen
+// from such a point x lies in the triangle of x and the two tangent points, so every ray meets
+// the light no later than it crosses the line, before any point of the occluder. The points
+// that see no light point beyond the line form a convex set (an intersection of the inner
+// half-planes of the light's supporting lines at those points), so the four corners decide.
+// Lines tried: a polygon's edge lines, a circle's tangent facing the rectangle, a segment's line.
+bool general_pair_behind(const ConvexShape& light, const ConvexShape& occluder, const std::array<Vec2, 4>& corners,
+                         CornerTangentPoints& tangents) noexcept {
+  const Vec2 center = 0.5 * (corners[0] + corners[2]);
+  auto decides = [&](const Line& line) {
+    for (const Vec2& c : corners)
+      if (!(line.side(c) < 0.0)) return false;
+    for (int i = 0; i < 4; ++i) {
+      if (tangents.state[i] < 0) tangents.state[i] = tangent_points(light, corners[i], tangents.point[i]) ? 1 : 0;
+      if (tangents.state[i] == 0) return false;
+      if (line.side(tangents.point[i][0]) > 0.0 || line.side(tangents.point[i][1]) > 0.0) return false;
+    }
+    return true;
+  };
+  if (occluder.kind == ShapeKind::polygon) {
+    for (std::size_t i = 0; i < occluder.vertices.size(); ++i)
+      if (decides(Line{occluder.edge_normals[i], occluder.vertices[i]})) return true;
+    return false;
+  }
+  if (occluder.kind == ShapeKind::circle) {
+    Vec2 u = center - occluder.vertices[0];
+    const double len = length(u);
+    if (!(len > 0.0)) return false;
+    u = (1.0 / len) * u;
+    return decides(Line{-1.0 * u, occluder.vertices[0] + occluder.radius * u});
+  }
+  const Vec2 e = occluder.vertices[1] - occluder.vertices[0];
+  const double len = length(e);
+  Vec2 n{-e.y / len, e.x / len};
+  if (dot(n, center - occluder.vertices[0]) > 0.0) n = -1.0 * n;
+  return decides(Line{n, occluder.vertices[0]});
+}
+
+// A light clipped to one side of a line for one tile: the kernel sees it as the light's part
+// with side <= 0 (the chord's end points are where the line crosses the light's boundary).
+struct LightClip {
+  Line line;
+  Vec2 chord[2];
+};
+
+// A light that overlaps a polygon occluder whose edge line cuts off a cap of the light lying
+// inside the occluder: along any ray from a point outside the occluder whose first light point
+// is in the cap, the occluder comes first (that point is in it), and such a ray meets the
+// light's near part (side <= 0 of the line) only later. So everywhere the light can be replaced
+// by its near part, which the edge line separates from the occluder (the occluder on side >= 0,
+// in front of the near part exactly where side >= 0: a ray from there meets the occluder's side
+// before crossing to the near part). The pair becomes an ordinary separated pair. Finds such an
+// edge and the chord (where the line crosses the light's boundary); false if none qualifies.
+bool clip_light_by_occluder(const ConvexShape& light, const ConvexShape& occluder, LightClip& clip) noexcept {
+  if (occluder.kind != ShapeKind::polygon || light.kind == ShapeKind::segment) return false;
+  const std::size_t n = occluder.vertices.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    // Occluder on side >= 0 (its inward normal).
+    const Line line{occluder.edge_normals[i], occluder.vertices[i]};
+    // The chord: where the light's boundary crosses the line.
+    int found = 0;
+    if (light.kind == ShapeKind::circle) {
+      const double h = line.side(light.vertices[0]);
+      if (!(std::abs(h) < light.radius)) continue;
+      const Vec2 foot = light.vertices[0] - h * line.normal;
+      const double half = std::sqrt(light.radius * light.radius - h * h);
+      const Vec2 along{-line.normal.y, line.normal.x};
+      clip.chord[0] = foot + half * along;
+      clip.chord[1] = foot - half * along;
+      found = 2;
+    } else {
+      const std::size_t m = light.vertices.size();
+      for (std::size_t k = 0; k < m && found < 3; ++k) {
+        const Vec2 a = light.vertices[k], b = light.vertices[(k + 1) % m];
+        const double sa = line.side(a), sb = line.side(b);
+        if ((sa > 0.0) == (sb > 0.0)) continue;
+        if (found < 2) clip.chord[found] = a + (sa / (sa - sb)) * (b - a);
+        ++found;
+      }
+    }
+    if (found != 2) continue;
+    // The cap inside the occluder: against every other edge, its least point is a chord end
+    // or (a polygon light's vertex / the circle's extreme point) on the far side of the line.
+    bool inside = true;
+    for (std::size_t j = 0; j < n && inside; ++j) {
+      if (j == i) continue;
+      const Line edge{occluder.edge_normals[j], occluder.vertices[j]};
+      inside = edge.side(clip.chord[0]) >= 0.0 && edge.side(clip.chord[1]) >= 0.0;
+      if (light.kind == ShapeKind::circle) {
+        const Vec2 extreme = light.vertices[0] - light.radius * edge.normal;
+        if (line.side(extreme) > 0.0) inside = inside && edge.side(extreme) >= 0.0;
+      } else {
+        for (Vec2 v : light.vertices)
+          if (line.side(v) > 0.0) inside = inside && edge.side(v) >= 0.0;
+      }
+    }
+    if (!inside) continue;
+    clip.line = line;
+    return true;
+  }
+  return false;
+}
+
 // How many corners lie on the occluder's side of the line (n.p >= offset).
 int corners_in_front(const Line& line, const std::array<Vec2, 4>& corners) noexcept {
   int front = 0;
@@ -263,6 +396,8 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     const std::vector<std::uint32_t>& candidates = scratch.block_candidates[l];
     std::optional<BoxPairHull> tile_hull;
     CornerTangents light_tangents;
+    CornerTangentPoints light_tangent_points;
+    std::optional<LightClip> clip;
     if (culling && !candidates.empty()) tile_hull.emplace(box, bounds_of(light.shape));
     KernelLight kl;
     kl.first_pair = static_cast<std::uint32_t>(work.pairs.size());
@@ -277,10 +412,21 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       const auto overlap =
           std::lower_bound(light.overlapping_occluders.begin(), light.overlapping_occluders.end(), k);
       const bool overlapping = overlap != light.overlapping_occluders.end() && *overlap == k;
-      const auto line = overlapping ? std::nullopt : scene.separators.get(l, k, light.shape, occluder);
+      std::optional<Line> line;
+      if (!overlapping) {
+        line = scene.separators.get(l, k, light.shape, occluder);
+      } else if (!clip) {
+        LightClip c;
+        if (clip_light_by_occluder(light.shape, occluder, c)) {
+          clip = c;
+          line = c.line;  // separates the light's near part from the occluder
+        }
+      }
       if (!line) {
         // Overlapping or touching shapes (or disjoint ones too close for a separating
-        // line, where the depth test alone is exact): the kernel's general pair.
+        // line, where the depth test alone is exact): the kernel's general pair, unless
+        // the occluder lies wholly behind the light over this tile.
+        if (culling && general_pair_behind(light.shape, occluder, corners, light_tangent_points)) continue;
         pair.general = true;
         general = true;
         pair.first_point = static_cast<std::uint32_t>(work.point_x.size());
@@ -343,6 +489,14 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       pair.occluder = static_cast<std::uint32_t>(local);
     }
     kl.shape = kernel_shape(light.shape, frame, corners, general, work);
+    if (clip) {
+      kl.shape.clipped = true;
+      kl.shape.clip_nx = static_cast<float>(clip->line.normal.x);
+      kl.shape.clip_ny = static_cast<float>(clip->line.normal.y);
+      kl.shape.clip_c = frame.line_offset(clip->line.normal, clip->line.point);
+      frame.point(clip->chord[0], kl.shape.chord_x[0], kl.shape.chord_y[0]);
+      frame.point(clip->chord[1], kl.shape.chord_x[1], kl.shape.chord_y[1]);
+    }
     for (int c = 0; c < 3; ++c) kl.emission[c] = static_cast<float>(light.emission[c] / kTwoPi);
     work.max_intervals_per_light = std::max(work.max_intervals_per_light, kl.interval_count);
     work.lights.push_back(kl);

@@ -49,50 +49,88 @@ inline Arc<A> shape_arc(const TileWork& work, const KernelShape& s, const xsimd:
                         const xsimd::batch<float, A>& py) noexcept {
   using B = xsimd::batch<float, A>;
   Arc<A> arc;
+  B lox, loy, hix, hiy;
   if (s.kind == ShapeKind::circle) {
     const B qx = B(s.px) - px, qy = B(s.py) - py;
     // |x - c|^2 - r^2 without cancellation (see KernelShape).
     const B excess = xsimd::fma(qx, qx, qy * qy) - B(2.0f * s.r) * xsimd::fma(B(s.ux), qx, B(s.uy) * qy);
     arc.inside = excess <= B(0.0f);
-    const B half = fast_atan2(B(s.r), xsimd::sqrt(xsimd::max(excess, B(0.0f))));
-    arc.width = half + half;
-    if constexpr (kWithStart) {
-      const B dx = B(s.cx) - px, dy = B(s.cy) - py;
-      arc.start = fast_atan2(dy, dx) - half;
+    const B tangent = xsimd::sqrt(xsimd::max(excess, B(0.0f)));
+    if (!s.clipped) {
+      const B half = fast_atan2(B(s.r), tangent);
+      arc.width = half + half;
+      if constexpr (kWithStart) {
+        const B dx = B(s.cx) - px, dy = B(s.cy) - py;
+        arc.start = fast_atan2(dy, dx) - half;
+      }
+      return arc;
     }
-    return arc;
-  }
-  const float* vx = work.vx.data() + s.first;
-  const float* vy = work.vy.data() + s.first;
-  B lox = B(vx[0]) - px, loy = B(vy[0]) - py;
-  B hix = lox, hiy = loy;
-  if (s.kind == ShapeKind::segment) {
-    const B bx = B(vx[1]) - px, by = B(vy[1]) - py;
-    const auto swap = (lox * by - loy * bx) < B(0.0f);
-    hix = xsimd::select(swap, lox, bx);
-    hiy = xsimd::select(swap, loy, by);
-    lox = xsimd::select(swap, bx, lox);
-    loy = xsimd::select(swap, by, loy);
-    arc.inside = B(0.0f) > B(0.0f);  // a segment has no interior
+    // The tangent directions: the center direction d turned by -+asin(r/|d|), scaled by |d|.
+    const B dx = B(s.cx) - px, dy = B(s.cy) - py, r(s.r);
+    lox = xsimd::fma(dx, tangent, dy * r);
+    loy = xsimd::fms(dy, tangent, dx * r);
+    hix = xsimd::fms(dx, tangent, dy * r);
+    hiy = xsimd::fma(dy, tangent, dx * r);
   } else {
-    const float* nx = work.edge_nx.data() + s.first;
-    const float* ny = work.edge_ny.data() + s.first;
-    const float* nc = work.edge_c.data() + s.first;
-    // Distance outside the polygon (<= 0 inside), only where the tile meets its box.
-    B outside_by = s.may_contain ? B(nc[0]) - xsimd::fma(B(nx[0]), px, B(ny[0]) * py) : B(1.0f);
-    for (std::uint32_t i = 1; i < s.count; ++i) {
-      const B dx = B(vx[i]) - px, dy = B(vy[i]) - py;
-      // Outside a convex polygon all vertices lie in an open half-plane of directions,
-      // where the pseudo-cross sign is a total order: running min and max find the tangents.
-      const auto more_cw = (lox * dy - loy * dx) < B(0.0f);
-      lox = xsimd::select(more_cw, dx, lox);
-      loy = xsimd::select(more_cw, dy, loy);
-      const auto more_ccw = (hix * dy - hiy * dx) > B(0.0f);
-      hix = xsimd::select(more_ccw, dx, hix);
-      hiy = xsimd::select(more_ccw, dy, hiy);
-      if (s.may_contain) outside_by = xsimd::max(outside_by, B(nc[i]) - xsimd::fma(B(nx[i]), px, B(ny[i]) * py));
+    const float* vx = work.vx.data() + s.first;
+    const float* vy = work.vy.data() + s.first;
+    lox = B(vx[0]) - px, loy = B(vy[0]) - py;
+    hix = lox, hiy = loy;
+    if (s.kind == ShapeKind::segment) {
+      const B bx = B(vx[1]) - px, by = B(vy[1]) - py;
+      const auto swap = (lox * by - loy * bx) < B(0.0f);
+      hix = xsimd::select(swap, lox, bx);
+      hiy = xsimd::select(swap, loy, by);
+      lox = xsimd::select(swap, bx, lox);
+      loy = xsimd::select(swap, by, loy);
+      arc.inside = B(0.0f) > B(0.0f);  // a segment has no interior
+    } else {
+      const float* nx = work.edge_nx.data() + s.first;
+      const float* ny = work.edge_ny.data() + s.first;
+      const float* nc = work.edge_c.data() + s.first;
+      // Distance outside the polygon (<= 0 inside), only where the tile meets its box.
+      B outside_by = s.may_contain ? B(nc[0]) - xsimd::fma(B(nx[0]), px, B(ny[0]) * py) : B(1.0f);
+      for (std::uint32_t i = 1; i < s.count; ++i) {
+        const B dx = B(vx[i]) - px, dy = B(vy[i]) - py;
+        // Outside a convex polygon all vertices lie in an open half-plane of directions,
+        // where the pseudo-cross sign is a total order: running min and max find the tangents.
+        const auto more_cw = (lox * dy - loy * dx) < B(0.0f);
+        lox = xsimd::select(more_cw, dx, lox);
+        loy = xsimd::select(more_cw, dy, loy);
+        const auto more_ccw = (hix * dy - hiy * dx) > B(0.0f);
+        hix = xsimd::select(more_ccw, dx, hix);
+        hiy = xsimd::select(more_ccw, dy, hiy);
+        if (s.may_contain) outside_by = xsimd::max(outside_by, B(nc[i]) - xsimd::fma(B(nx[i]), px, B(ny[i]) * py));
+      }
+      arc.inside = outside_by <= B(0.0f);
     }
-    arc.inside = outside_by <= B(0.0f);
+  }
+  if (s.clipped) {
+    // The kept part's arc: a tangent point beyond the clip line gives way to the chord end on
+    // its side (the kept part is the hull of the light's near boundary and the chord).
+    const B cnx(s.clip_nx), cny(s.clip_ny);
+    const B room = B(s.clip_c) - xsimd::fma(cnx, px, cny * py);  // > 0 on the kept side
+    const B ax = B(s.chord_x[0]) - px, ay = B(s.chord_y[0]) - py;
+    const B bx = B(s.chord_x[1]) - px, by = B(s.chord_y[1]) - py;
+    const auto a_first = xsimd::fms(ax, by, ay * bx) >= B(0.0f);  // chord end a is the clockwise one
+    const B cwx = xsimd::select(a_first, ax, bx), cwy = xsimd::select(a_first, ay, by);
+    const B ccwx = xsimd::select(a_first, bx, ax), ccwy = xsimd::select(a_first, by, ay);
+    // Tangent point x + k v with k = 1 (vertices) or tangent/|d|^2 (circles, |v| = |d|^2):
+    // beyond the line when k (n.v) > room.
+    B scale_v(1.0f), scale_room(1.0f);
+    if (s.kind == ShapeKind::circle) {
+      const B dx = B(s.cx) - px, dy = B(s.cy) - py;
+      scale_v = xsimd::sqrt(xsimd::max(xsimd::fma(dx, dx, dy * dy) - B(s.r * s.r), B(0.0f)));
+      scale_room = xsimd::fma(dx, dx, dy * dy);
+    }
+    auto beyond = [&](const B& vx_, const B& vy_) {
+      return xsimd::fma(cnx, vx_, cny * vy_) * scale_v > room * scale_room;
+    };
+    const auto lo_beyond = beyond(lox, loy), hi_beyond = beyond(hix, hiy);
+    lox = xsimd::select(lo_beyond, cwx, lox);
+    loy = xsimd::select(lo_beyond, cwy, loy);
+    hix = xsimd::select(hi_beyond, ccwx, hix);
+    hiy = xsimd::select(hi_beyond, ccwy, hiy);
   }
   if constexpr (kWithStart) {
     arc.start = fast_atan2(loy, lox);

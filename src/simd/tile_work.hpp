@@ -38,6 +38,13 @@ struct KernelShape {
   bool may_contain = true;  // polygons: whether the tile meets the bounding box (else skip the inside test)
   float cx = 0, cy = 0, r = 0;
   float px = 0, py = 0, ux = 0, uy = 0;
+  // Lights only: the part with clip_nx*x + clip_ny*y <= clip_c (an occluder overlapping the
+  // light holds the rest, see clip_light_by_occluder in tile_setup.cpp). The arc's ends are
+  // the light's tangent points where they lie on that side, else the chord's ends, where the
+  // line crosses the light's boundary.
+  bool clipped = false;
+  float clip_nx = 0, clip_ny = 0, clip_c = 0;
+  float chord_x[2] = {0, 0}, chord_y[2] = {0, 0};
 };
 
 // An occluder in front of a light for some pixels of the tile: in front where
