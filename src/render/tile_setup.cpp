@@ -97,6 +97,7 @@ KernelShape kernel_shape(const ConvexShape& s, const TileFrame& frame, const std
   const Vec2 tile_center = 0.5 * (corners[0] + corners[2]);
   if (int cw, ccw; !whole && tile_tangent_pair(s, corners, cw, ccw)) {
     k.kind = ShapeKind::segment;
+    k.ordered = true;
     k.first = static_cast<std::uint32_t>(work.vx.size());
     k.count = 2;
     for (int i : {cw, ccw}) {

@@ -39,99 +39,23 @@ struct Arc {
   xsimd::batch_bool<float, A> inside;
 };
 
-// Arc of directions in which `shape` is seen from (px, py), per lane. Tangent
-// directions come from pseudo-cross products (compare + select per vertex); only the
-// two tangents go through atan2.
-// kWithStart = false computes only `width` and `inside` (a light no occluder can block
-// in this tile needs no start angle), with one atan2 instead of two.
-template <class A, bool kWithStart = true>
-inline Arc<A> shape_arc(const TileWork& work, const KernelShape& s, const xsimd::batch<float, A>& px,
-                        const xsimd::batch<float, A>& py) noexcept {
+// Shape arcs are inlined into the packet loop (three call sites), so that nothing passes
+// through memory and tile-constant branches fold into straight code.
+#if defined(__GNUC__)
+#define PAR2D_KERNEL_INLINE inline __attribute__((always_inline))
+#define PAR2D_KERNEL_NOINLINE __attribute__((noinline))
+#else
+#define PAR2D_KERNEL_INLINE inline
+#define PAR2D_KERNEL_NOINLINE
+#endif
+
+// The arc between the clockwise tangent direction lo and the counter-clockwise one hi.
+// kWithStart = false computes only the width (one atan2 instead of two).
+template <class A, bool kWithStart>
+PAR2D_KERNEL_INLINE void arc_from_tangents(const xsimd::batch<float, A>& lox, const xsimd::batch<float, A>& loy,
+                                           const xsimd::batch<float, A>& hix, const xsimd::batch<float, A>& hiy,
+                                           Arc<A>& arc) noexcept {
   using B = xsimd::batch<float, A>;
-  Arc<A> arc;
-  B lox, loy, hix, hiy;
-  if (s.kind == ShapeKind::circle) {
-    const B qx = B(s.px) - px, qy = B(s.py) - py;
-    // |x - c|^2 - r^2 without cancellation (see KernelShape).
-    const B excess = xsimd::fma(qx, qx, qy * qy) - B(2.0f * s.r) * xsimd::fma(B(s.ux), qx, B(s.uy) * qy);
-    arc.inside = excess <= B(0.0f);
-    const B tangent = xsimd::sqrt(xsimd::max(excess, B(0.0f)));
-    if (!s.clipped) {
-      const B half = fast_atan2(B(s.r), tangent);
-      arc.width = half + half;
-      if constexpr (kWithStart) {
-        const B dx = B(s.cx) - px, dy = B(s.cy) - py;
-        arc.start = fast_atan2(dy, dx) - half;
-      }
-      return arc;
-    }
-    // The tangent directions: the center direction d turned by -+asin(r/|d|), scaled by |d|.
-    const B dx = B(s.cx) - px, dy = B(s.cy) - py, r(s.r);
-    lox = xsimd::fma(dx, tangent, dy * r);
-    loy = xsimd::fms(dy, tangent, dx * r);
-    hix = xsimd::fms(dx, tangent, dy * r);
-    hiy = xsimd::fma(dy, tangent, dx * r);
-  } else {
-    const float* vx = work.vx.data() + s.first;
-    const float* vy = work.vy.data() + s.first;
-    lox = B(vx[0]) - px, loy = B(vy[0]) - py;
-    hix = lox, hiy = loy;
-    if (s.kind == ShapeKind::segment) {
-      const B bx = B(vx[1]) - px, by = B(vy[1]) - py;
-      const auto swap = (lox * by - loy * bx) < B(0.0f);
-      hix = xsimd::select(swap, lox, bx);
-      hiy = xsimd::select(swap, loy, by);
-      lox = xsimd::select(swap, bx, lox);
-      loy = xsimd::select(swap, by, loy);
-      arc.inside = B(0.0f) > B(0.0f);  // a segment has no interior
-    } else {
-      const float* nx = work.edge_nx.data() + s.first;
-      const float* ny = work.edge_ny.data() + s.first;
-      const float* nc = work.edge_c.data() + s.first;
-      // Distance outside the polygon (<= 0 inside), only where the tile meets its box.
-      B outside_by = s.may_contain ? B(nc[0]) - xsimd::fma(B(nx[0]), px, B(ny[0]) * py) : B(1.0f);
-      for (std::uint32_t i = 1; i < s.count; ++i) {
-        const B dx = B(vx[i]) - px, dy = B(vy[i]) - py;
-        // Outside a convex polygon all vertices lie in an open half-plane of directions,
-        // where the pseudo-cross sign is a total order: running min and max find the tangents.
-        const auto more_cw = (lox * dy - loy * dx) < B(0.0f);
-        lox = xsimd::select(more_cw, dx, lox);
-        loy = xsimd::select(more_cw, dy, loy);
-        const auto more_ccw = (hix * dy - hiy * dx) > B(0.0f);
-        hix = xsimd::select(more_ccw, dx, hix);
-        hiy = xsimd::select(more_ccw, dy, hiy);
-        if (s.may_contain) outside_by = xsimd::max(outside_by, B(nc[i]) - xsimd::fma(B(nx[i]), px, B(ny[i]) * py));
-      }
-      arc.inside = outside_by <= B(0.0f);
-    }
-  }
-  if (s.clipped) {
-    // The kept part's arc: a tangent point beyond the clip line gives way to the chord end on
-    // its side (the kept part is the hull of the light's near boundary and the chord).
-    const B cnx(s.clip_nx), cny(s.clip_ny);
-    const B room = B(s.clip_c) - xsimd::fma(cnx, px, cny * py);  // > 0 on the kept side
-    const B ax = B(s.chord_x[0]) - px, ay = B(s.chord_y[0]) - py;
-    const B bx = B(s.chord_x[1]) - px, by = B(s.chord_y[1]) - py;
-    const auto a_first = xsimd::fms(ax, by, ay * bx) >= B(0.0f);  // chord end a is the clockwise one
-    const B cwx = xsimd::select(a_first, ax, bx), cwy = xsimd::select(a_first, ay, by);
-    const B ccwx = xsimd::select(a_first, bx, ax), ccwy = xsimd::select(a_first, by, ay);
-    // Tangent point x + k v with k = 1 (vertices) or tangent/|d|^2 (circles, |v| = |d|^2):
-    // beyond the line when k (n.v) > room.
-    B scale_v(1.0f), scale_room(1.0f);
-    if (s.kind == ShapeKind::circle) {
-      const B dx = B(s.cx) - px, dy = B(s.cy) - py;
-      scale_v = xsimd::sqrt(xsimd::max(xsimd::fma(dx, dx, dy * dy) - B(s.r * s.r), B(0.0f)));
-      scale_room = xsimd::fma(dx, dx, dy * dy);
-    }
-    auto beyond = [&](const B& vx_, const B& vy_) {
-      return xsimd::fma(cnx, vx_, cny * vy_) * scale_v > room * scale_room;
-    };
-    const auto lo_beyond = beyond(lox, loy), hi_beyond = beyond(hix, hiy);
-    lox = xsimd::select(lo_beyond, cwx, lox);
-    loy = xsimd::select(lo_beyond, cwy, loy);
-    hix = xsimd::select(hi_beyond, ccwx, hix);
-    hiy = xsimd::select(hi_beyond, ccwy, hiy);
-  }
   if constexpr (kWithStart) {
     arc.start = fast_atan2(loy, lox);
     B width = fast_atan2(hiy, hix) - arc.start;
@@ -142,6 +66,145 @@ inline Arc<A> shape_arc(const TileWork& work, const KernelShape& s, const xsimd:
     // The angle from the clockwise to the counter-clockwise tangent, in [0, pi].
     arc.width = xsimd::max(fast_atan2(lox * hiy - loy * hix, xsimd::fma(lox, hix, loy * hiy)), B(0.0f));
   }
+}
+
+// Tangent directions of a circle from (px, py): the center direction d turned by -+asin(r/|d|),
+// scaled by |d| (`tangent` is the tangent length).
+template <class A>
+PAR2D_KERNEL_INLINE void circle_tangents(const KernelShape& s, const xsimd::batch<float, A>& px,
+                                         const xsimd::batch<float, A>& py, const xsimd::batch<float, A>& tangent,
+                                         xsimd::batch<float, A>& lox, xsimd::batch<float, A>& loy,
+                                         xsimd::batch<float, A>& hix, xsimd::batch<float, A>& hiy) noexcept {
+  using B = xsimd::batch<float, A>;
+  const B dx = B(s.cx) - px, dy = B(s.cy) - py, r(s.r);
+  lox = xsimd::fma(dx, tangent, dy * r);
+  loy = xsimd::fms(dy, tangent, dx * r);
+  hix = xsimd::fms(dx, tangent, dy * r);
+  hiy = xsimd::fma(dy, tangent, dx * r);
+}
+
+// |x - c|^2 - r^2 of a circle without cancellation (see KernelShape).
+template <class A>
+PAR2D_KERNEL_INLINE xsimd::batch<float, A> circle_excess(const KernelShape& s, const xsimd::batch<float, A>& px,
+                                                         const xsimd::batch<float, A>& py) noexcept {
+  using B = xsimd::batch<float, A>;
+  const B qx = B(s.px) - px, qy = B(s.py) - py;
+  return xsimd::fma(qx, qx, qy * qy) - B(2.0f * s.r) * xsimd::fma(B(s.ux), qx, B(s.uy) * qy);
+}
+
+// Tangent directions (lo clockwise, hi counter-clockwise) of a polygon or segment from
+// (px, py), and whether the point is inside. Outside a convex polygon all vertices lie in an
+// open half-plane of directions, where the pseudo-cross sign is a total order: running min
+// and max find the tangents. A tile tangent pair (`ordered`) is already in order.
+template <class A>
+PAR2D_KERNEL_INLINE void vertex_tangents(const TileWork& work, const KernelShape& s, const xsimd::batch<float, A>& px,
+                                         const xsimd::batch<float, A>& py, xsimd::batch<float, A>& lox,
+                                         xsimd::batch<float, A>& loy, xsimd::batch<float, A>& hix,
+                                         xsimd::batch<float, A>& hiy, xsimd::batch_bool<float, A>& inside) noexcept {
+  using B = xsimd::batch<float, A>;
+  const float* vx = work.vx.data() + s.first;
+  const float* vy = work.vy.data() + s.first;
+  lox = B(vx[0]) - px, loy = B(vy[0]) - py;
+  if (s.kind == ShapeKind::segment) {
+    inside = B(0.0f) > B(0.0f);  // a segment has no interior
+    hix = B(vx[1]) - px, hiy = B(vy[1]) - py;
+    if (s.ordered) return;
+    const auto swap = (lox * hiy - loy * hix) < B(0.0f);
+    const B bx = hix, by = hiy;
+    hix = xsimd::select(swap, lox, bx);
+    hiy = xsimd::select(swap, loy, by);
+    lox = xsimd::select(swap, bx, lox);
+    loy = xsimd::select(swap, by, loy);
+    return;
+  }
+  hix = lox, hiy = loy;
+  for (std::uint32_t i = 1; i < s.count; ++i) {
+    const B dx = B(vx[i]) - px, dy = B(vy[i]) - py;
+    const auto more_cw = (lox * dy - loy * dx) < B(0.0f);
+    lox = xsimd::select(more_cw, dx, lox);
+    loy = xsimd::select(more_cw, dy, loy);
+    const auto more_ccw = (hix * dy - hiy * dx) > B(0.0f);
+    hix = xsimd::select(more_ccw, dx, hix);
+    hiy = xsimd::select(more_ccw, dy, hiy);
+  }
+  if (!s.may_contain) {  // the tile misses the polygon's box
+    inside = B(0.0f) > B(0.0f);
+    return;
+  }
+  // Distance outside the polygon (<= 0 inside).
+  const float* nx = work.edge_nx.data() + s.first;
+  const float* ny = work.edge_ny.data() + s.first;
+  const float* nc = work.edge_c.data() + s.first;
+  B outside_by = B(nc[0]) - xsimd::fma(B(nx[0]), px, B(ny[0]) * py);
+  for (std::uint32_t i = 1; i < s.count; ++i)
+    outside_by = xsimd::max(outside_by, B(nc[i]) - xsimd::fma(B(nx[i]), px, B(ny[i]) * py));
+  inside = outside_by <= B(0.0f);
+}
+
+// Arc of a light clipped to one side of a line (KernelShape::clipped): the kept part's arc
+// ends are the light's tangent points where they lie on that side, else the chord ends (the
+// kept part is the hull of the light's near boundary and the chord). Kept out of line: only
+// lights overlapping a wall take it.
+template <class A, bool kWithStart>
+PAR2D_KERNEL_NOINLINE Arc<A> clipped_shape_arc(const TileWork& work, const KernelShape& s,
+                                                   const xsimd::batch<float, A>& px,
+                                                   const xsimd::batch<float, A>& py) noexcept {
+  using B = xsimd::batch<float, A>;
+  Arc<A> arc;
+  B lox, loy, hix, hiy;
+  B scale_v(1.0f), scale_room(1.0f);  // tangent point = x + (scale_v / scale_room) * direction
+  if (s.kind == ShapeKind::circle) {
+    const B excess = circle_excess<A>(s, px, py);
+    arc.inside = excess <= B(0.0f);
+    scale_v = xsimd::sqrt(xsimd::max(excess, B(0.0f)));
+    circle_tangents<A>(s, px, py, scale_v, lox, loy, hix, hiy);
+    const B dx = B(s.cx) - px, dy = B(s.cy) - py;
+    scale_room = xsimd::fma(dx, dx, dy * dy);  // |d|^2, the length of the circle's tangent vectors times |d|
+  } else {
+    vertex_tangents<A>(work, s, px, py, lox, loy, hix, hiy, arc.inside);
+  }
+  const B cnx(s.clip_nx), cny(s.clip_ny);
+  const B room = B(s.clip_c) - xsimd::fma(cnx, px, cny * py);  // > 0 on the kept side
+  const B ax = B(s.chord_x[0]) - px, ay = B(s.chord_y[0]) - py;
+  const B bx = B(s.chord_x[1]) - px, by = B(s.chord_y[1]) - py;
+  const auto a_first = xsimd::fms(ax, by, ay * bx) >= B(0.0f);  // chord end a is the clockwise one
+  // A tangent point beyond the line: k (n.v) > room with k = scale_v / scale_room.
+  const auto lo_beyond = xsimd::fma(cnx, lox, cny * loy) * scale_v > room * scale_room;
+  const auto hi_beyond = xsimd::fma(cnx, hix, cny * hiy) * scale_v > room * scale_room;
+  lox = xsimd::select(lo_beyond, xsimd::select(a_first, ax, bx), lox);
+  loy = xsimd::select(lo_beyond, xsimd::select(a_first, ay, by), loy);
+  hix = xsimd::select(hi_beyond, xsimd::select(a_first, bx, ax), hix);
+  hiy = xsimd::select(hi_beyond, xsimd::select(a_first, by, ay), hiy);
+  arc_from_tangents<A, kWithStart>(lox, loy, hix, hiy, arc);
+  return arc;
+}
+
+// Arc of directions in which `shape` is seen from (px, py), per lane. Tangent
+// directions come from pseudo-cross products (compare + select per vertex); only the
+// two tangents go through atan2 (a circle's through one, its center direction, and asin as
+// an atan2 of the radius and the tangent length).
+// kWithStart = false computes only `width` and `inside` (a light no occluder can block
+// in this tile needs no start angle), with one atan2 instead of two.
+template <class A, bool kWithStart = true>
+PAR2D_KERNEL_INLINE Arc<A> shape_arc(const TileWork& work, const KernelShape& s, const xsimd::batch<float, A>& px,
+                                     const xsimd::batch<float, A>& py) noexcept {
+  using B = xsimd::batch<float, A>;
+  if (s.clipped) return clipped_shape_arc<A, kWithStart>(work, s, px, py);
+  Arc<A> arc;
+  if (s.kind == ShapeKind::circle) {
+    const B excess = circle_excess<A>(s, px, py);
+    arc.inside = excess <= B(0.0f);
+    const B half = fast_atan2(B(s.r), xsimd::sqrt(xsimd::max(excess, B(0.0f))));
+    arc.width = half + half;
+    if constexpr (kWithStart) {
+      const B dx = B(s.cx) - px, dy = B(s.cy) - py;
+      arc.start = fast_atan2(dy, dx) - half;
+    }
+    return arc;
+  }
+  B lox, loy, hix, hiy;
+  vertex_tangents<A>(work, s, px, py, lox, loy, hix, hiy, arc.inside);
+  arc_from_tangents<A, kWithStart>(lox, loy, hix, hiy, arc);
   return arc;
 }
 

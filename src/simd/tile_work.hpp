@@ -36,6 +36,7 @@ struct KernelShape {
   std::uint32_t first = 0;
   std::uint32_t count = 0;
   bool may_contain = true;  // polygons: whether the tile meets the bounding box (else skip the inside test)
+  bool ordered = false;     // segments: vertex first is the clockwise tangent over the whole tile (a tile tangent pair)
   float cx = 0, cy = 0, r = 0;
   float px = 0, py = 0, ux = 0, uy = 0;
   // Lights only: the part with clip_nx*x + clip_ny*y <= clip_c (an occluder overlapping the
