@@ -452,6 +452,7 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
         if (front == 4) {
           pair.nx = pair.ny = 0.0f;
           pair.c = -1.0f;
+          pair.front = true;
           if (rect_in_umbra(light.shape, occluder, corners, light_tangents)) {
             shadowed = true;
             break;

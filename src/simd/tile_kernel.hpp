@@ -16,6 +16,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 
 #include "simd/fast_atan2.hpp"
 #include "simd/tile_work.hpp"
@@ -299,6 +300,52 @@ inline void sort_by_lo(float* lo, float* hi, std::size_t slots) noexcept {
   }
 }
 
+// The same network on N intervals held in registers (N = 2 or 4, the common case: a light
+// with one to four occluders in front somewhere in the tile), then the union sweep: no
+// loads and stores per comparator.
+template <class A>
+PAR2D_KERNEL_INLINE void compare_exchange(xsimd::batch<float, A>& lo_i, xsimd::batch<float, A>& lo_j,
+                                          xsimd::batch<float, A>& hi_i, xsimd::batch<float, A>& hi_j) noexcept {
+  using B = xsimd::batch<float, A>;
+  const auto swap = lo_i > lo_j;
+  const B a = lo_i, ha = hi_i;
+  lo_i = xsimd::min(a, lo_j);
+  lo_j = xsimd::max(a, lo_j);
+  hi_i = xsimd::select(swap, hi_j, ha);
+  hi_j = xsimd::select(swap, ha, hi_j);
+}
+
+template <class A, std::size_t N, std::size_t... C>
+PAR2D_KERNEL_INLINE void sort_in_registers(xsimd::batch<float, A> (&lo)[N], xsimd::batch<float, A> (&hi)[N],
+                                           std::index_sequence<C...>) noexcept {
+  static constexpr SortingNetwork<N> kNetwork{};
+  (compare_exchange<A>(lo[kNetwork.first[C]], lo[kNetwork.second[C]], hi[kNetwork.first[C]], hi[kNetwork.second[C]]),
+   ...);
+}
+
+// Measure of the union of `count` <= N intervals lo/hi (lane-minor in memory, N slots with
+// padding `pad` past count) and [0, reach0].
+template <class A, std::size_t N>
+PAR2D_KERNEL_INLINE xsimd::batch<float, A> union_measure_in_registers(const float* lo_mem, const float* hi_mem,
+                                                                      std::size_t count,
+                                                                      const xsimd::batch<float, A>& pad,
+                                                                      xsimd::batch<float, A> reach0) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  B lo[N], hi[N];
+  for (std::size_t i = 0; i < N; ++i) {
+    lo[i] = i < count ? B::load_aligned(lo_mem + i * W) : pad;
+    hi[i] = i < count ? B::load_aligned(hi_mem + i * W) : pad;
+  }
+  sort_in_registers<A, N>(lo, hi, std::make_index_sequence<SortingNetwork<N>::kSize>{});
+  B covered = reach0, reach = reach0;
+  for (std::size_t i = 0; i < N; ++i) {
+    covered += xsimd::max(hi[i] - xsimd::max(lo[i], reach), B(0.0f));
+    reach = xsimd::max(reach, hi[i]);
+  }
+  return covered;
+}
+
 // Measure of the union of intervals [lo[i], hi[i]] (i < count, sorted by lo) and [0, reach0]:
 // a running-max sweep; each interval adds only the part beyond everything before it.
 template <class A>
@@ -449,7 +496,7 @@ inline void general_pair_intervals(const TileWork& work, const KernelLight& ligh
 
 // Irradiance (times 1/(2*pi), folded into the emissions) of one packet at (px, py).
 template <class A>
-inline void packet_irradiance(const TileWork& work, const xsimd::batch<float, A>& px,
+PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const xsimd::batch<float, A>& px,
                               const xsimd::batch<float, A>& py, float* scratch, xsimd::batch<float, A> (&e)[3]) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
@@ -493,7 +540,8 @@ inline void packet_irradiance(const TileWork& work, const xsimd::batch<float, A>
       // Disjoint convex shapes: the occluder is in front along every shared direction
       // exactly when the pixel is on its side of a separating line. Inside the light
       // nothing is in front (t_L = 0).
-      const auto blocks = (xsimd::fma(B(pair.nx), px, B(pair.ny) * py) >= B(pair.c)) & ~arc.inside;
+      const auto blocks =
+          pair.front ? ~arc.inside : (xsimd::fma(B(pair.nx), px, B(pair.ny) * py) >= B(pair.c)) & ~arc.inside;
       B o = occ_start - arc.start;
       o -= B(kTwoPiF) * xsimd::floor(o * B(kInvTwoPiF));  // into [0, 2*pi)
       const B end = o + occ_w;
@@ -504,14 +552,21 @@ inline void packet_irradiance(const TileWork& work, const xsimd::batch<float, A>
       reach0 = xsimd::select(blocks, xsimd::max(reach0, xsimd::min(end - B(kTwoPiF), width)), reach0);
     }
     B visible = width;
-    if (n > 0) {
+    const B reach = xsimd::max(reach0, B(0.0f));
+    if (n == 1) {
+      visible = xsimd::max(width - union_measure_in_registers<A, 1>(lo, hi, 1, width, reach), B(0.0f));
+    } else if (n == 2) {
+      visible = xsimd::max(width - union_measure_in_registers<A, 2>(lo, hi, 2, width, reach), B(0.0f));
+    } else if (n <= 4) {
+      visible = xsimd::max(width - union_measure_in_registers<A, 4>(lo, hi, n, width, reach), B(0.0f));
+    } else {
       const std::size_t used = sort_slots<A>(n);
       for (std::size_t p = n; p < used; ++p) {  // empty padding sorts last
         width.store_aligned(lo + p * W);
         width.store_aligned(hi + p * W);
       }
       sort_by_lo<A>(lo, hi, used);
-      visible = xsimd::max(width - sorted_union_measure<A>(lo, hi, n, xsimd::max(reach0, B(0.0f))), B(0.0f));
+      visible = xsimd::max(width - sorted_union_measure<A>(lo, hi, n, reach), B(0.0f));
     }
     for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]), visible, e[c]);
   }
@@ -524,6 +579,16 @@ void render_tile(const TileWork& work, float* scratch, TileResult& out) noexcept
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   static_assert(detail::kTileSize % W == 0, "a packet must not straddle a tile row");
+  if (work.spp == 1) {  // the pixel centers: no sum, no division
+    for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
+      const B px = B::load_unaligned(work.sample_x.data() + first % detail::kTileSize);
+      const B py(work.sample_y[first / detail::kTileSize]);
+      B e[3];
+      packet_irradiance<A>(work, px, py, scratch, e);
+      for (int c = 0; c < 3; ++c) e[c].store_aligned(out.rgb[c] + first);
+    }
+    return;
+  }
   const B inv_spp(1.0f / static_cast<float>(work.spp));
   for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
     B sum[3] = {B(0.0f), B(0.0f), B(0.0f)};

@@ -50,7 +50,7 @@ struct KernelShape {
 
 // An occluder in front of a light for some pixels of the tile: in front where
 // nx*x + ny*y >= c (the occluder's side of a line separating the two shapes).
-// A pair in front for the whole tile has nx = ny = 0, c = -1.
+// A pair in front for the whole tile has `front` set (and nx = ny = 0, c = -1).
 // A `general` pair has no separating line (the shapes overlap or touch): which of the two
 // a ray meets first can change only at the directions of the points where their
 // boundaries meet, points [first_point, first_point + point_count) of
@@ -63,6 +63,7 @@ struct KernelPair {
   std::uint32_t first_point = 0;
   std::uint32_t point_count = 0;
   bool general = false;
+  bool front = false;
 };
 
 struct KernelLight {
