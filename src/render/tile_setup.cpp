@@ -37,10 +37,19 @@ bool boxes_meet(const Aabb& a, const Aabb& b) noexcept {
 bool tile_tangent_pair(const ConvexShape& s, const std::array<Vec2, 4>& corners, int& cw, int& ccw) noexcept {
   if (s.kind != ShapeKind::polygon || boxes_meet(bounds_of(s), bounds_of(corners))) return false;
   tangent_vertices(s, corners[0], cw, ccw);
+  // At the other corners only a check: seen from outside a convex polygon, a vertex both of
+  // whose neighbours lie strictly counter-clockwise of it (clockwise, for the other tangent)
+  // is the clockwise (counter-clockwise) tangent vertex.
+  const std::size_t n = s.vertices.size();
+  const Vec2 cw_prev = s.vertices[(static_cast<std::size_t>(cw) + n - 1) % n], cw_v = s.vertices[static_cast<std::size_t>(cw)],
+             cw_next = s.vertices[(static_cast<std::size_t>(cw) + 1) % n];
+  const Vec2 ccw_prev = s.vertices[(static_cast<std::size_t>(ccw) + n - 1) % n],
+             ccw_v = s.vertices[static_cast<std::size_t>(ccw)], ccw_next = s.vertices[(static_cast<std::size_t>(ccw) + 1) % n];
   for (int i = 1; i < 4; ++i) {
-    int c, cc;
-    tangent_vertices(s, corners[i], c, cc);
-    if (c != cw || cc != ccw) return false;
+    const Vec2 x = corners[static_cast<std::size_t>(i)];
+    const Vec2 a = cw_v - x, b = ccw_v - x;
+    if (!(cross(a, cw_prev - x) > 0.0 && cross(a, cw_next - x) > 0.0)) return false;
+    if (!(cross(b, ccw_prev - x) < 0.0 && cross(b, ccw_next - x) < 0.0)) return false;
   }
   return true;
 }
@@ -89,6 +98,18 @@ TileFrame tile_frame(const PreparedScene& scene, Vec2 origin) noexcept {
   return {origin, std::ldexp(1.0, std::min(-pixel_exponent, 60 - extent_exponent))};
 }
 
+// Takes `count` vertex slots (edge lines only meaningful for polygons) and returns the first
+// index. The arrays only grow, so that a tile's setup writes in place without bookkeeping.
+std::uint32_t grow_vertices(TileWork& work, std::size_t count) {
+  const std::size_t first = work.vertex_count, size = first + count;
+  if (size > work.vx.size()) {
+    const std::size_t grown = std::max<std::size_t>(2 * size, 64);
+    for (std::vector<float>* v : {&work.vx, &work.vy, &work.edge_nx, &work.edge_ny, &work.edge_c}) v->resize(grown);
+  }
+  work.vertex_count = static_cast<std::uint32_t>(size);
+  return static_cast<std::uint32_t>(first);
+}
+
 // `whole`: keep every vertex and edge (a general pair's depth test needs the shape itself).
 KernelShape kernel_shape(const ConvexShape& s, const TileFrame& frame, const std::array<Vec2, 4>& corners,
                          bool whole, TileWork& work) {
@@ -98,17 +119,10 @@ KernelShape kernel_shape(const ConvexShape& s, const TileFrame& frame, const std
   if (int cw, ccw; !whole && tile_tangent_pair(s, corners, cw, ccw)) {
     k.kind = ShapeKind::segment;
     k.ordered = true;
-    k.first = static_cast<std::uint32_t>(work.vx.size());
     k.count = 2;
-    for (int i : {cw, ccw}) {
-      float x, y;
-      frame.point(s.vertices[i], x, y);
-      work.vx.push_back(x);
-      work.vy.push_back(y);
-      work.edge_nx.push_back(0.0f);
-      work.edge_ny.push_back(0.0f);
-      work.edge_c.push_back(0.0f);
-    }
+    k.first = grow_vertices(work, 2);
+    frame.point(s.vertices[static_cast<std::size_t>(cw)], work.vx[k.first], work.vy[k.first]);
+    frame.point(s.vertices[static_cast<std::size_t>(ccw)], work.vx[k.first + 1], work.vy[k.first + 1]);
     return k;
   }
   if (s.kind == ShapeKind::circle) {
@@ -127,25 +141,19 @@ KernelShape kernel_shape(const ConvexShape& s, const TileFrame& frame, const std
     k.uy = static_cast<float>(u.y);
     return k;
   }
-  k.first = static_cast<std::uint32_t>(work.vx.size());
-  k.count = static_cast<std::uint32_t>(s.vertices.size());
-  k.may_contain = boxes_meet(bounds_of(s), bounds_of(corners));
   const std::size_t n = s.vertices.size();
+  k.count = static_cast<std::uint32_t>(n);
+  k.may_contain = boxes_meet(bounds_of(s), bounds_of(corners));
+  k.first = grow_vertices(work, n);
   for (std::size_t i = 0; i < n; ++i) {
     const Vec2 v = s.vertices[i];
-    float x, y;
-    frame.point(v, x, y);
-    work.vx.push_back(x);
-    work.vy.push_back(y);
+    const std::size_t j = k.first + i;
+    frame.point(v, work.vx[j], work.vy[j]);
     if (s.kind == ShapeKind::polygon) {
       const Vec2 normal = s.edge_normals[i];
-      work.edge_nx.push_back(static_cast<float>(normal.x));
-      work.edge_ny.push_back(static_cast<float>(normal.y));
-      work.edge_c.push_back(frame.line_offset(normal, v));
-    } else {
-      work.edge_nx.push_back(0.0f);
-      work.edge_ny.push_back(0.0f);
-      work.edge_c.push_back(0.0f);
+      work.edge_nx[j] = static_cast<float>(normal.x);
+      work.edge_ny[j] = static_cast<float>(normal.y);
+      work.edge_c[j] = frame.line_offset(normal, v);
     }
   }
   return k;

@@ -88,6 +88,7 @@ struct TileWork {
   std::vector<KernelPair> pairs;
   std::vector<float> vx, vy;
   std::vector<float> edge_nx, edge_ny, edge_c;
+  std::uint32_t vertex_count = 0;  // entries in use of vx, vy, edge_* (which only grow)
   std::vector<float> point_x, point_y;  // boundary meeting points of general pairs
   std::uint32_t max_intervals_per_light = 0;
   std::uint32_t max_points_per_pair = 0;
@@ -96,11 +97,7 @@ struct TileWork {
     occluders.clear();
     lights.clear();
     pairs.clear();
-    vx.clear();
-    vy.clear();
-    edge_nx.clear();
-    edge_ny.clear();
-    edge_c.clear();
+    vertex_count = 0;
     point_x.clear();
     point_y.clear();
     max_intervals_per_light = 0;
