@@ -220,19 +220,25 @@ bool tangent_points(const ConvexShape& light, Vec2 x, Vec2 (&out)[2]) noexcept {
 // that see no light point beyond the line form a convex set (an intersection of the inner
 // half-planes of the light's supporting lines at those points), so the four corners decide.
 // Lines tried: a polygon's edge lines, a circle's tangent facing the rectangle, a segment's line.
+// Whether the rectangle lies strictly on the negative side of `line` and, from each of its
+// points, both of the light's tangent points lie on the non-positive side (see
+// general_pair_behind for why the corners decide).
+bool light_before_line(const ConvexShape& light, const Line& line, const std::array<Vec2, 4>& corners,
+                       CornerTangentPoints& tangents) noexcept {
+  for (const Vec2& c : corners)
+    if (!(line.side(c) < 0.0)) return false;
+  for (int i = 0; i < 4; ++i) {
+    if (tangents.state[i] < 0) tangents.state[i] = tangent_points(light, corners[i], tangents.point[i]) ? 1 : 0;
+    if (tangents.state[i] == 0) return false;
+    if (line.side(tangents.point[i][0]) > 0.0 || line.side(tangents.point[i][1]) > 0.0) return false;
+  }
+  return true;
+}
+
 bool general_pair_behind(const ConvexShape& light, const ConvexShape& occluder, const std::array<Vec2, 4>& corners,
                          CornerTangentPoints& tangents) noexcept {
   const Vec2 center = 0.5 * (corners[0] + corners[2]);
-  auto decides = [&](const Line& line) {
-    for (const Vec2& c : corners)
-      if (!(line.side(c) < 0.0)) return false;
-    for (int i = 0; i < 4; ++i) {
-      if (tangents.state[i] < 0) tangents.state[i] = tangent_points(light, corners[i], tangents.point[i]) ? 1 : 0;
-      if (tangents.state[i] == 0) return false;
-      if (line.side(tangents.point[i][0]) > 0.0 || line.side(tangents.point[i][1]) > 0.0) return false;
-    }
-    return true;
-  };
+  auto decides = [&](const Line& line) { return light_before_line(light, line, corners, tangents); };
   if (occluder.kind == ShapeKind::polygon) {
     for (std::size_t i = 0; i < occluder.vertices.size(); ++i)
       if (decides(Line{occluder.edge_normals[i], occluder.vertices[i]})) return true;
@@ -499,6 +505,9 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       pair.occluder = static_cast<std::uint32_t>(local);
     }
     kl.shape = kernel_shape(light.shape, frame, corners, general, work);
+    // Over a tile wholly before the clip line that sees no light point past it, the clipped
+    // light's arc is the whole light's (and the pair was dropped as behind): skip the clip.
+    if (clip && culling && light_before_line(light.shape, clip->line, corners, light_tangent_points)) clip.reset();
     if (clip) {
       kl.shape.clipped = true;
       kl.shape.clip_nx = static_cast<float>(clip->line.normal.x);
