@@ -51,7 +51,7 @@ RenderOptions options_for(Backend backend, std::optional<Isa> isa = std::nullopt
   return o;
 }
 
-// SPEC.md section 5: |E_simd - E_scalar| <= 1e-4 e_max at pixels farther than 0.05 pixel
+// The contract's SIMD bound: |E_simd - E_scalar| <= 1e-4 e_max at pixels farther than 0.05 pixel
 // widths from every boundary; for every ISA, culling on and off.
 void check_simd_matches_scalar(const Scene& scene, const std::string& what) {
   REQUIRE(validate_scene(scene).ok());

@@ -369,8 +369,9 @@ inline std::size_t sort_slots(std::size_t count) noexcept {
   return slots;
 }
 
-// t_S of SPEC.md section 1 along the unit direction (dx, dy) from (px, py), for a ray
-// that meets the shape from outside it (reference: ray_entry in geometry/convex_shape.cpp).
+// The distance t_S to the shape's first point along the unit direction (dx, dy) from
+// (px, py), for a ray that meets the shape from outside it (reference: ray_entry in
+// geometry/convex_shape.cpp).
 // `s` must be a whole shape, not a tile tangent pair.
 template <class A>
 inline xsimd::batch<float, A> shape_ray_entry(const TileWork& work, const KernelShape& s,
