@@ -34,8 +34,9 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
                              TileSetupScratch& scratch);
 
 // Fills `work` for `tile` at `spp` samples per pixel, a tile of the block last given to gather_block_candidates.
-// Every tile goes to the kernel: a light that overlaps or touches an occluder makes a
-// general pair (simd/tile_work.hpp). With `culling`, occluders behind a light for the whole
+// Every tile goes to the kernel: a light that overlaps or touches an occluder is clipped at
+// one of the occluder's edges where its cap lies inside it, or else makes a general pair
+// (simd/tile_work.hpp). With `culling`, occluders behind a light for the whole
 // tile are dropped, and lights in the umbra of one occluder over the whole tile, or
 // proven hidden by several (geometry/occlusion_proof.hpp), are skipped; the image is the
 // same either way.
