@@ -488,7 +488,7 @@ inline void general_pair_intervals(const TileWork& work, const KernelLight& ligh
     const B t_occluder = shape_ray_entry<A>(work, occluder, px, py, sc.second, sc.first);
     // The light is visible only where t_L < t_occ; float ties (shared edges, contact
     // along a line) go to the occluder, as exact ties do.
-    const auto blocks = (t_occluder <= xsimd::fma(t_light, B(1.0f + 1e-5f), B(1e-5f))) & outside_light;
+    const auto blocks = (t_occluder <= t_light * B(1.0f + 1e-5f)) & outside_light;
     xsimd::select(blocks, prev, width).store_aligned(lo + j * W);
     xsimd::select(blocks, next, width).store_aligned(hi + j * W);
     prev = next;
