@@ -560,6 +560,8 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const xsimd::ba
       visible = xsimd::max(width - union_measure_in_registers<A, 2>(lo, hi, 2, width, reach), B(0.0f));
     } else if (n <= 4) {
       visible = xsimd::max(width - union_measure_in_registers<A, 4>(lo, hi, n, width, reach), B(0.0f));
+    } else if (n <= 8) {
+      visible = xsimd::max(width - union_measure_in_registers<A, 8>(lo, hi, n, width, reach), B(0.0f));
     } else {
       const std::size_t used = sort_slots<A>(n);
       for (std::size_t p = n; p < used; ++p) {  // empty padding sorts last
