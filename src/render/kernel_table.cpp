@@ -7,7 +7,6 @@
 #include "render/light_reach.hpp"
 #include "render/tile_setup.hpp"
 #include "render/tiling.hpp"
-#include "render/scalar_tiles.hpp"
 
 namespace par2d::simd {
 #define PAR2D_DECLARE_KERNELS(suffix)                                                                       \
@@ -33,7 +32,6 @@ constexpr KernelSet kKernels[] = {
 struct ThreadState {
   TileWork work;
   TileSetupScratch setup;
-  ScalarScratch scalar;
   std::unique_ptr<float[]> scratch;  // 64-byte aligned view into it via `aligned`
   std::size_t scratch_floats = 0;
   float* aligned = nullptr;
@@ -79,10 +77,7 @@ void render_simd(const PreparedScene& scene, const RenderOptions& options, Isa i
     TileWork& work = state.work;
     gather_block_candidates(scene, block, options.culling ? &reach : nullptr, state.setup);
     for_each_cell(block, kTileSize, [&](const TileRect& tile) {
-      if (!build_tile_work(scene, tile, options.spp, options.culling, work, state.setup)) {
-        render_rect_scalar(scene, options.spp, tile, state.scalar, image);
-        return;
-      }
+      build_tile_work(scene, tile, options.spp, options.culling, work, state.setup);
       float* scratch = state.kernel_scratch(kernel_scratch_floats(work, kernels->lanes));
       kernels->render_tile(work, scratch, state.result);
       for (int j = tile.y0; j < tile.y1; ++j) {

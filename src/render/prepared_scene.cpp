@@ -5,6 +5,22 @@
 #include <cmath>
 
 namespace par2d::detail {
+namespace {
+
+// Whether `line` really has all of `positive` strictly on its positive side and `negative`
+// strictly on the other: separating_line loses its way for shapes far longer than their gap
+// (a segment from -1e17 to 1e17), and a wrong line would make the kernel's depth test and
+// the culling wrong. A pair without a checked line takes the kernel's exact general path.
+bool separates(const Line& line, const ConvexShape& positive, const ConvexShape& negative) noexcept {
+  for (Vec2 v : positive.vertices)
+    if (!(line.side(v) - positive.radius > 0.0)) return false;
+  for (Vec2 v : negative.vertices)
+    if (!(line.side(v) + negative.radius < 0.0)) return false;
+  return true;
+}
+
+}  // namespace
+
 void PairSeparators::reset(std::size_t lights, std::size_t occluders) {
   occluders_ = occluders;
   state_ = std::make_unique<std::atomic<std::uint8_t>[]>(lights * occluders);
@@ -18,7 +34,8 @@ std::optional<Line> PairSeparators::get(std::size_t light, std::size_t occluder,
   const std::uint8_t seen = state.load(std::memory_order_acquire);
   if (seen == kSeparated) return lines_[index];
   if (seen == kTouching) return std::nullopt;
-  const std::optional<Line> line = separating_line(occluder_shape, light_shape);
+  std::optional<Line> line = separating_line(occluder_shape, light_shape);
+  if (line && !separates(*line, occluder_shape, light_shape)) line.reset();
   // Only the thread that claims the slot writes it; a thread that loses the race just
   // uses its own (identical) result.
   std::uint8_t expected = kUnknown;

@@ -37,10 +37,19 @@ bool boxes_meet(const Aabb& a, const Aabb& b) noexcept {
 bool tile_tangent_pair(const ConvexShape& s, const std::array<Vec2, 4>& corners, int& cw, int& ccw) noexcept {
   if (s.kind != ShapeKind::polygon || boxes_meet(bounds_of(s), bounds_of(corners))) return false;
   tangent_vertices(s, corners[0], cw, ccw);
+  // At the other corners only a check: seen from outside a convex polygon, a vertex both of
+  // whose neighbours lie strictly counter-clockwise of it (clockwise, for the other tangent)
+  // is the clockwise (counter-clockwise) tangent vertex.
+  const std::size_t n = s.vertices.size();
+  const Vec2 cw_prev = s.vertices[(static_cast<std::size_t>(cw) + n - 1) % n], cw_v = s.vertices[static_cast<std::size_t>(cw)],
+             cw_next = s.vertices[(static_cast<std::size_t>(cw) + 1) % n];
+  const Vec2 ccw_prev = s.vertices[(static_cast<std::size_t>(ccw) + n - 1) % n],
+             ccw_v = s.vertices[static_cast<std::size_t>(ccw)], ccw_next = s.vertices[(static_cast<std::size_t>(ccw) + 1) % n];
   for (int i = 1; i < 4; ++i) {
-    int c, cc;
-    tangent_vertices(s, corners[i], c, cc);
-    if (c != cw || cc != ccw) return false;
+    const Vec2 x = corners[static_cast<std::size_t>(i)];
+    const Vec2 a = cw_v - x, b = ccw_v - x;
+    if (!(cross(a, cw_prev - x) > 0.0 && cross(a, cw_next - x) > 0.0)) return false;
+    if (!(cross(b, ccw_prev - x) < 0.0 && cross(b, ccw_next - x) < 0.0)) return false;
   }
   return true;
 }
@@ -89,24 +98,31 @@ TileFrame tile_frame(const PreparedScene& scene, Vec2 origin) noexcept {
   return {origin, std::ldexp(1.0, std::min(-pixel_exponent, 60 - extent_exponent))};
 }
 
+// Takes `count` vertex slots (edge lines only meaningful for polygons) and returns the first
+// index. The arrays only grow, so that a tile's setup writes in place without bookkeeping.
+std::uint32_t grow_vertices(TileWork& work, std::size_t count) {
+  const std::size_t first = work.vertex_count, size = first + count;
+  if (size > work.vx.size()) {
+    const std::size_t grown = std::max<std::size_t>(2 * size, 64);
+    for (std::vector<float>* v : {&work.vx, &work.vy, &work.edge_nx, &work.edge_ny, &work.edge_c}) v->resize(grown);
+  }
+  work.vertex_count = static_cast<std::uint32_t>(size);
+  return static_cast<std::uint32_t>(first);
+}
+
+// `whole`: keep every vertex and edge (a general pair's depth test needs the shape itself).
 KernelShape kernel_shape(const ConvexShape& s, const TileFrame& frame, const std::array<Vec2, 4>& corners,
-                         TileWork& work) {
+                         bool whole, TileWork& work) {
   KernelShape k;
   k.kind = s.kind;
   const Vec2 tile_center = 0.5 * (corners[0] + corners[2]);
-  if (int cw, ccw; tile_tangent_pair(s, corners, cw, ccw)) {
+  if (int cw, ccw; !whole && tile_tangent_pair(s, corners, cw, ccw)) {
     k.kind = ShapeKind::segment;
-    k.first = static_cast<std::uint32_t>(work.vx.size());
+    k.ordered = true;
     k.count = 2;
-    for (int i : {cw, ccw}) {
-      float x, y;
-      frame.point(s.vertices[i], x, y);
-      work.vx.push_back(x);
-      work.vy.push_back(y);
-      work.edge_nx.push_back(0.0f);
-      work.edge_ny.push_back(0.0f);
-      work.edge_c.push_back(0.0f);
-    }
+    k.first = grow_vertices(work, 2);
+    frame.point(s.vertices[static_cast<std::size_t>(cw)], work.vx[k.first], work.vy[k.first]);
+    frame.point(s.vertices[static_cast<std::size_t>(ccw)], work.vx[k.first + 1], work.vy[k.first + 1]);
     return k;
   }
   if (s.kind == ShapeKind::circle) {
@@ -125,25 +141,19 @@ KernelShape kernel_shape(const ConvexShape& s, const TileFrame& frame, const std
     k.uy = static_cast<float>(u.y);
     return k;
   }
-  k.first = static_cast<std::uint32_t>(work.vx.size());
-  k.count = static_cast<std::uint32_t>(s.vertices.size());
-  k.may_contain = boxes_meet(bounds_of(s), bounds_of(corners));
   const std::size_t n = s.vertices.size();
+  k.count = static_cast<std::uint32_t>(n);
+  k.may_contain = boxes_meet(bounds_of(s), bounds_of(corners));
+  k.first = grow_vertices(work, n);
   for (std::size_t i = 0; i < n; ++i) {
     const Vec2 v = s.vertices[i];
-    float x, y;
-    frame.point(v, x, y);
-    work.vx.push_back(x);
-    work.vy.push_back(y);
+    const std::size_t j = k.first + i;
+    frame.point(v, work.vx[j], work.vy[j]);
     if (s.kind == ShapeKind::polygon) {
       const Vec2 normal = s.edge_normals[i];
-      work.edge_nx.push_back(static_cast<float>(normal.x));
-      work.edge_ny.push_back(static_cast<float>(normal.y));
-      work.edge_c.push_back(frame.line_offset(normal, v));
-    } else {
-      work.edge_nx.push_back(0.0f);
-      work.edge_ny.push_back(0.0f);
-      work.edge_c.push_back(0.0f);
+      work.edge_nx[j] = static_cast<float>(normal.x);
+      work.edge_ny[j] = static_cast<float>(normal.y);
+      work.edge_c[j] = frame.line_offset(normal, v);
     }
   }
   return k;
@@ -172,6 +182,145 @@ bool rect_in_umbra(const ConvexShape& light, const ConvexShape& occluder, const 
       return false;
   }
   return true;
+}
+
+// A light's tangent points (where its arc's two bounding rays touch it) seen from the four
+// corners of a rectangle, on first use.
+struct CornerTangentPoints {
+  Vec2 point[4][2];
+  signed char state[4] = {-1, -1, -1, -1};  // -1: not computed yet, 0: corner inside the light, 1: known
+};
+
+bool tangent_points(const ConvexShape& light, Vec2 x, Vec2 (&out)[2]) noexcept {
+  if (contains(light, x)) return false;
+  if (light.kind == ShapeKind::circle) {
+    // tangent_directions' vectors have length |d|^2 and the tangent length is t.
+    Vec2 cw, ccw;
+    tangent_directions(light, x, cw, ccw);
+    const Vec2 d = light.vertices[0] - x;
+    const double dd = dot(d, d);
+    const double t = std::sqrt(std::max(0.0, dd - light.radius * light.radius));
+    out[0] = x + (t / dd) * cw;
+    out[1] = x + (t / dd) * ccw;
+    return true;
+  }
+  int cw = 0, ccw = 1;
+  if (light.kind == ShapeKind::polygon) tangent_vertices(light, x, cw, ccw);
+  out[0] = light.vertices[static_cast<std::size_t>(cw)];
+  out[1] = light.vertices[static_cast<std::size_t>(ccw)];
+  return true;
+}
+
+// Whether an occluder that overlaps or touches a light blocks none of the light's directions
+// at any point of the rectangle: some line has the occluder on one side (side >= 0) and the
+// whole rectangle strictly on the other, and from every rectangle point both of the light's
+// tangent points lie on the rectangle's side (side <= 0). Then the light's near boundary seen
+// from such a point x lies in the triangle of x and the two tangent points, so every ray meets
+// the light no later than it crosses the line, before any point of the occluder. The points
+// that see no light point beyond the line form a convex set (an intersection of the inner
+// half-planes of the light's supporting lines at those points), so the four corners decide.
+// Lines tried: a polygon's edge lines, a circle's tangent facing the rectangle, a segment's line.
+// Whether the rectangle lies strictly on the negative side of `line` and, from each of its
+// points, both of the light's tangent points lie on the non-positive side (see
+// general_pair_behind for why the corners decide).
+bool light_before_line(const ConvexShape& light, const Line& line, const std::array<Vec2, 4>& corners,
+                       CornerTangentPoints& tangents) noexcept {
+  for (const Vec2& c : corners)
+    if (!(line.side(c) < 0.0)) return false;
+  for (int i = 0; i < 4; ++i) {
+    if (tangents.state[i] < 0) tangents.state[i] = tangent_points(light, corners[i], tangents.point[i]) ? 1 : 0;
+    if (tangents.state[i] == 0) return false;
+    if (line.side(tangents.point[i][0]) > 0.0 || line.side(tangents.point[i][1]) > 0.0) return false;
+  }
+  return true;
+}
+
+bool general_pair_behind(const ConvexShape& light, const ConvexShape& occluder, const std::array<Vec2, 4>& corners,
+                         CornerTangentPoints& tangents) noexcept {
+  const Vec2 center = 0.5 * (corners[0] + corners[2]);
+  auto decides = [&](const Line& line) { return light_before_line(light, line, corners, tangents); };
+  if (occluder.kind == ShapeKind::polygon) {
+    for (std::size_t i = 0; i < occluder.vertices.size(); ++i)
+      if (decides(Line{occluder.edge_normals[i], occluder.vertices[i]})) return true;
+    return false;
+  }
+  if (occluder.kind == ShapeKind::circle) {
+    Vec2 u = center - occluder.vertices[0];
+    const double len = length(u);
+    if (!(len > 0.0)) return false;
+    u = (1.0 / len) * u;
+    return decides(Line{-1.0 * u, occluder.vertices[0] + occluder.radius * u});
+  }
+  const Vec2 e = occluder.vertices[1] - occluder.vertices[0];
+  const double len = length(e);
+  Vec2 n{-e.y / len, e.x / len};
+  if (dot(n, center - occluder.vertices[0]) > 0.0) n = -1.0 * n;
+  return decides(Line{n, occluder.vertices[0]});
+}
+
+// A light clipped to one side of a line for one tile: the kernel sees it as the light's part
+// with side <= 0 (the chord's end points are where the line crosses the light's boundary).
+struct LightClip {
+  Line line;
+  Vec2 chord[2];
+};
+
+// A light that overlaps a polygon occluder whose edge line cuts off a cap of the light lying
+// inside the occluder: along any ray from a point outside the occluder whose first light point
+// is in the cap, the occluder comes first (that point is in it), and such a ray meets the
+// light's near part (side <= 0 of the line) only later. So everywhere the light can be replaced
+// by its near part, which the edge line separates from the occluder (the occluder on side >= 0,
+// in front of the near part exactly where side >= 0: a ray from there meets the occluder's side
+// before crossing to the near part). The pair becomes an ordinary separated pair. Finds such an
+// edge and the chord (where the line crosses the light's boundary); false if none qualifies.
+bool clip_light_by_occluder(const ConvexShape& light, const ConvexShape& occluder, LightClip& clip) noexcept {
+  if (occluder.kind != ShapeKind::polygon || light.kind == ShapeKind::segment) return false;
+  const std::size_t n = occluder.vertices.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    // Occluder on side >= 0 (its inward normal).
+    const Line line{occluder.edge_normals[i], occluder.vertices[i]};
+    // The chord: where the light's boundary crosses the line.
+    int found = 0;
+    if (light.kind == ShapeKind::circle) {
+      const double h = line.side(light.vertices[0]);
+      if (!(std::abs(h) < light.radius)) continue;
+      const Vec2 foot = light.vertices[0] - h * line.normal;
+      const double half = std::sqrt(light.radius * light.radius - h * h);
+      const Vec2 along{-line.normal.y, line.normal.x};
+      clip.chord[0] = foot + half * along;
+      clip.chord[1] = foot - half * along;
+      found = 2;
+    } else {
+      const std::size_t m = light.vertices.size();
+      for (std::size_t k = 0; k < m && found < 3; ++k) {
+        const Vec2 a = light.vertices[k], b = light.vertices[(k + 1) % m];
+        const double sa = line.side(a), sb = line.side(b);
+        if ((sa > 0.0) == (sb > 0.0)) continue;
+        if (found < 2) clip.chord[found] = a + (sa / (sa - sb)) * (b - a);
+        ++found;
+      }
+    }
+    if (found != 2) continue;
+    // The cap inside the occluder: against every other edge, its least point is a chord end
+    // or (a polygon light's vertex / the circle's extreme point) on the far side of the line.
+    bool inside = true;
+    for (std::size_t j = 0; j < n && inside; ++j) {
+      if (j == i) continue;
+      const Line edge{occluder.edge_normals[j], occluder.vertices[j]};
+      inside = edge.side(clip.chord[0]) >= 0.0 && edge.side(clip.chord[1]) >= 0.0;
+      if (light.kind == ShapeKind::circle) {
+        const Vec2 extreme = light.vertices[0] - light.radius * edge.normal;
+        if (line.side(extreme) > 0.0) inside = inside && edge.side(extreme) >= 0.0;
+      } else {
+        for (Vec2 v : light.vertices)
+          if (line.side(v) > 0.0) inside = inside && edge.side(v) >= 0.0;
+      }
+    }
+    if (!inside) continue;
+    clip.line = line;
+    return true;
+  }
+  return false;
 }
 
 // How many corners lie on the occluder's side of the line (n.p >= offset).
@@ -225,7 +374,7 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
   }
 }
 
-bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, bool culling, TileWork& work,
+void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, bool culling, TileWork& work,
                      TileSetupScratch& scratch) {
   work.clear();
   const Vec2 origin = sample_position(scene, tile.x0, tile.y0, 0.0, 0.0);
@@ -254,27 +403,60 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     for (std::uint32_t k : scratch.used) scratch.local_index[k] = -1;
   }
   scratch.used.clear();
+  scratch.used_whole.clear();
 
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
     if (scratch.block_shadowed[l]) continue;
     const PreparedLight& light = scene.lights[l];
     const std::vector<std::uint32_t>& candidates = scratch.block_candidates[l];
-    for (std::uint32_t k : light.overlapping_occluders) {
-      if (std::binary_search(candidates.begin(), candidates.end(), k)) return false;
-    }
     std::optional<BoxPairHull> tile_hull;
     CornerTangents light_tangents;
+    CornerTangentPoints light_tangent_points;
+    std::optional<LightClip> clip;
     if (culling && !candidates.empty()) tile_hull.emplace(box, bounds_of(light.shape));
     KernelLight kl;
     kl.first_pair = static_cast<std::uint32_t>(work.pairs.size());
+    const std::size_t first_point = work.point_x.size();
     bool shadowed = false;
+    bool general = false;
     for (std::uint32_t k : candidates) {
       const ConvexShape& occluder = scene.occluders[k];
       if (tile_hull && !tile_hull->touches(bounds_of(occluder))) continue;
-      const auto line = scene.separators.get(l, k, light.shape, occluder);
-      if (!line) return false;  // touching shapes: leave them to the reference
       KernelPair pair;
       pair.occluder = k;
+      const auto overlap =
+          std::lower_bound(light.overlapping_occluders.begin(), light.overlapping_occluders.end(), k);
+      const bool overlapping = overlap != light.overlapping_occluders.end() && *overlap == k;
+      std::optional<Line> line;
+      if (!overlapping) {
+        line = scene.separators.get(l, k, light.shape, occluder);
+      } else if (!clip) {
+        LightClip c;
+        if (clip_light_by_occluder(light.shape, occluder, c)) {
+          clip = c;
+          line = c.line;  // separates the light's near part from the occluder
+        }
+      }
+      if (!line) {
+        // Overlapping or touching shapes (or disjoint ones too close for a separating
+        // line, where the depth test alone is exact): the kernel's general pair, unless
+        // the occluder lies wholly behind the light over this tile.
+        if (culling && general_pair_behind(light.shape, occluder, corners, light_tangent_points)) continue;
+        pair.general = true;
+        general = true;
+        pair.first_point = static_cast<std::uint32_t>(work.point_x.size());
+        if (overlapping) {
+          for (Vec2 p : light.overlap_points[static_cast<std::size_t>(overlap - light.overlapping_occluders.begin())]) {
+            float x, y;
+            frame.point(p, x, y);
+            work.point_x.push_back(x);
+            work.point_y.push_back(y);
+          }
+        }
+        pair.point_count = static_cast<std::uint32_t>(work.point_x.size()) - pair.first_point;
+        work.pairs.push_back(pair);
+        continue;
+      }
       pair.nx = static_cast<float>(line->normal.x);
       pair.ny = static_cast<float>(line->normal.y);
       pair.c = frame.line_offset(line->normal, line->point);
@@ -284,6 +466,7 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
         if (front == 4) {
           pair.nx = pair.ny = 0.0f;
           pair.c = -1.0f;
+          pair.front = true;
           if (rect_in_umbra(light.shape, occluder, corners, light_tangents)) {
             shadowed = true;
             break;
@@ -292,6 +475,8 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       }
       work.pairs.push_back(pair);
     }
+    // The proof holds whatever the pairs' overlaps: every segment from the tile to a light
+    // point meets an occluder before it, so every ray meets one before its first light point.
     if (!shadowed && culling && work.pairs.size() - kl.first_pair >= kTileProofMinPairs) {
       scratch.pair_occluders.clear();
       for (std::uint32_t p = kl.first_pair; p < work.pairs.size(); ++p) scratch.pair_occluders.push_back(work.pairs[p].occluder);
@@ -301,24 +486,42 @@ bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     }
     if (shadowed) {
       work.pairs.resize(kl.first_pair);
+      work.point_x.resize(first_point);
+      work.point_y.resize(first_point);
       continue;
     }
     kl.pair_count = static_cast<std::uint32_t>(work.pairs.size()) - kl.first_pair;
     for (std::uint32_t p = kl.first_pair; p < work.pairs.size(); ++p) {
-      std::int32_t& local = scratch.local_index[work.pairs[p].occluder];
+      KernelPair& pair = work.pairs[p];
+      kl.interval_count += pair.general ? pair.point_count + 1 : 1;
+      work.max_points_per_pair = std::max(work.max_points_per_pair, pair.point_count);
+      std::int32_t& local = scratch.local_index[pair.occluder];
       if (local < 0) {
         local = static_cast<std::int32_t>(scratch.used.size());
-        scratch.used.push_back(work.pairs[p].occluder);
+        scratch.used.push_back(pair.occluder);
+        scratch.used_whole.push_back(0);
       }
-      work.pairs[p].occluder = static_cast<std::uint32_t>(local);
+      if (pair.general) scratch.used_whole[static_cast<std::size_t>(local)] = 1;
+      pair.occluder = static_cast<std::uint32_t>(local);
     }
-    kl.shape = kernel_shape(light.shape, frame, corners, work);
+    kl.shape = kernel_shape(light.shape, frame, corners, general, work);
+    // Over a tile wholly before the clip line that sees no light point past it, the clipped
+    // light's arc is the whole light's (and the pair was dropped as behind): skip the clip.
+    if (clip && culling && light_before_line(light.shape, clip->line, corners, light_tangent_points)) clip.reset();
+    if (clip) {
+      kl.shape.clipped = true;
+      kl.shape.clip_nx = static_cast<float>(clip->line.normal.x);
+      kl.shape.clip_ny = static_cast<float>(clip->line.normal.y);
+      kl.shape.clip_c = frame.line_offset(clip->line.normal, clip->line.point);
+      frame.point(clip->chord[0], kl.shape.chord_x[0], kl.shape.chord_y[0]);
+      frame.point(clip->chord[1], kl.shape.chord_x[1], kl.shape.chord_y[1]);
+    }
     for (int c = 0; c < 3; ++c) kl.emission[c] = static_cast<float>(light.emission[c] / kTwoPi);
-    work.max_pairs_per_light = std::max(work.max_pairs_per_light, kl.pair_count);
+    work.max_intervals_per_light = std::max(work.max_intervals_per_light, kl.interval_count);
     work.lights.push_back(kl);
   }
-  for (std::uint32_t k : scratch.used) work.occluders.push_back(kernel_shape(scene.occluders[k], frame, corners, work));
-  return true;
+  for (std::size_t u = 0; u < scratch.used.size(); ++u)
+    work.occluders.push_back(kernel_shape(scene.occluders[scratch.used[u]], frame, corners, scratch.used_whole[u] != 0, work));
 }
 
 }  // namespace par2d::detail

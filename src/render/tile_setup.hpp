@@ -21,6 +21,7 @@ struct TileSetupScratch {
   std::vector<unsigned char> block_shadowed;  // per light: in one occluder's umbra over the whole block
   std::vector<std::int32_t> local_index;  // occluder -> index in TileWork::occluders, or -1
   std::vector<std::uint32_t> used;
+  std::vector<unsigned char> used_whole;  // per entry of `used`: in a general pair (kernel shape kept whole)
   std::vector<Vec2> hull_points, hull;
   std::vector<std::uint32_t> pair_occluders;
   OcclusionProofScratch occlusion;
@@ -33,13 +34,13 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
                              TileSetupScratch& scratch);
 
 // Fills `work` for `tile` at `spp` samples per pixel, a tile of the block last given to gather_block_candidates.
-// Returns false when the tile must be computed by the scalar reference instead (a light
-// that overlaps or touches an occluder matters to it: the kernel's separating-line depth
-// test needs disjoint shapes). With `culling`, occluders behind a light for the whole
+// Every tile goes to the kernel: a light that overlaps or touches an occluder is clipped at
+// one of the occluder's edges where its cap lies inside it, or else makes a general pair
+// (simd/tile_work.hpp). With `culling`, occluders behind a light for the whole
 // tile are dropped, and lights in the umbra of one occluder over the whole tile, or
 // proven hidden by several (geometry/occlusion_proof.hpp), are skipped; the image is the
 // same either way.
-bool build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, bool culling, TileWork& work,
+void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, bool culling, TileWork& work,
                      TileSetupScratch& scratch);
 
 }  // namespace par2d::detail

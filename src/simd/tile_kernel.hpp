@@ -16,6 +16,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 
 #include "simd/fast_atan2.hpp"
 #include "simd/tile_work.hpp"
@@ -39,61 +40,23 @@ struct Arc {
   xsimd::batch_bool<float, A> inside;
 };
 
-// Arc of directions in which `shape` is seen from (px, py), per lane. Tangent
-// directions come from pseudo-cross products (compare + select per vertex); only the
-// two tangents go through atan2.
-// kWithStart = false computes only `width` and `inside` (a light no occluder can block
-// in this tile needs no start angle), with one atan2 instead of two.
-template <class A, bool kWithStart = true>
-inline Arc<A> shape_arc(const TileWork& work, const KernelShape& s, const xsimd::batch<float, A>& px,
-                        const xsimd::batch<float, A>& py) noexcept {
+// Shape arcs are inlined into the packet loop (three call sites), so that nothing passes
+// through memory and tile-constant branches fold into straight code.
+#if defined(__GNUC__)
+#define PAR2D_KERNEL_INLINE inline __attribute__((always_inline))
+#define PAR2D_KERNEL_NOINLINE __attribute__((noinline))
+#else
+#define PAR2D_KERNEL_INLINE inline
+#define PAR2D_KERNEL_NOINLINE
+#endif
+
+// The arc between the clockwise tangent direction lo and the counter-clockwise one hi.
+// kWithStart = false computes only the width (one atan2 instead of two).
+template <class A, bool kWithStart>
+PAR2D_KERNEL_INLINE void arc_from_tangents(const xsimd::batch<float, A>& lox, const xsimd::batch<float, A>& loy,
+                                           const xsimd::batch<float, A>& hix, const xsimd::batch<float, A>& hiy,
+                                           Arc<A>& arc) noexcept {
   using B = xsimd::batch<float, A>;
-  Arc<A> arc;
-  if (s.kind == ShapeKind::circle) {
-    const B qx = B(s.px) - px, qy = B(s.py) - py;
-    // |x - c|^2 - r^2 without cancellation (see KernelShape).
-    const B excess = xsimd::fma(qx, qx, qy * qy) - B(2.0f * s.r) * xsimd::fma(B(s.ux), qx, B(s.uy) * qy);
-    arc.inside = excess <= B(0.0f);
-    const B half = fast_atan2(B(s.r), xsimd::sqrt(xsimd::max(excess, B(0.0f))));
-    arc.width = half + half;
-    if constexpr (kWithStart) {
-      const B dx = B(s.cx) - px, dy = B(s.cy) - py;
-      arc.start = fast_atan2(dy, dx) - half;
-    }
-    return arc;
-  }
-  const float* vx = work.vx.data() + s.first;
-  const float* vy = work.vy.data() + s.first;
-  B lox = B(vx[0]) - px, loy = B(vy[0]) - py;
-  B hix = lox, hiy = loy;
-  if (s.kind == ShapeKind::segment) {
-    const B bx = B(vx[1]) - px, by = B(vy[1]) - py;
-    const auto swap = (lox * by - loy * bx) < B(0.0f);
-    hix = xsimd::select(swap, lox, bx);
-    hiy = xsimd::select(swap, loy, by);
-    lox = xsimd::select(swap, bx, lox);
-    loy = xsimd::select(swap, by, loy);
-    arc.inside = B(0.0f) > B(0.0f);  // a segment has no interior
-  } else {
-    const float* nx = work.edge_nx.data() + s.first;
-    const float* ny = work.edge_ny.data() + s.first;
-    const float* nc = work.edge_c.data() + s.first;
-    // Distance outside the polygon (<= 0 inside), only where the tile meets its box.
-    B outside_by = s.may_contain ? B(nc[0]) - xsimd::fma(B(nx[0]), px, B(ny[0]) * py) : B(1.0f);
-    for (std::uint32_t i = 1; i < s.count; ++i) {
-      const B dx = B(vx[i]) - px, dy = B(vy[i]) - py;
-      // Outside a convex polygon all vertices lie in an open half-plane of directions,
-      // where the pseudo-cross sign is a total order: running min and max find the tangents.
-      const auto more_cw = (lox * dy - loy * dx) < B(0.0f);
-      lox = xsimd::select(more_cw, dx, lox);
-      loy = xsimd::select(more_cw, dy, loy);
-      const auto more_ccw = (hix * dy - hiy * dx) > B(0.0f);
-      hix = xsimd::select(more_ccw, dx, hix);
-      hiy = xsimd::select(more_ccw, dy, hiy);
-      if (s.may_contain) outside_by = xsimd::max(outside_by, B(nc[i]) - xsimd::fma(B(nx[i]), px, B(ny[i]) * py));
-    }
-    arc.inside = outside_by <= B(0.0f);
-  }
   if constexpr (kWithStart) {
     arc.start = fast_atan2(loy, lox);
     B width = fast_atan2(hiy, hix) - arc.start;
@@ -104,6 +67,145 @@ inline Arc<A> shape_arc(const TileWork& work, const KernelShape& s, const xsimd:
     // The angle from the clockwise to the counter-clockwise tangent, in [0, pi].
     arc.width = xsimd::max(fast_atan2(lox * hiy - loy * hix, xsimd::fma(lox, hix, loy * hiy)), B(0.0f));
   }
+}
+
+// Tangent directions of a circle from (px, py): the center direction d turned by -+asin(r/|d|),
+// scaled by |d| (`tangent` is the tangent length).
+template <class A>
+PAR2D_KERNEL_INLINE void circle_tangents(const KernelShape& s, const xsimd::batch<float, A>& px,
+                                         const xsimd::batch<float, A>& py, const xsimd::batch<float, A>& tangent,
+                                         xsimd::batch<float, A>& lox, xsimd::batch<float, A>& loy,
+                                         xsimd::batch<float, A>& hix, xsimd::batch<float, A>& hiy) noexcept {
+  using B = xsimd::batch<float, A>;
+  const B dx = B(s.cx) - px, dy = B(s.cy) - py, r(s.r);
+  lox = xsimd::fma(dx, tangent, dy * r);
+  loy = xsimd::fms(dy, tangent, dx * r);
+  hix = xsimd::fms(dx, tangent, dy * r);
+  hiy = xsimd::fma(dy, tangent, dx * r);
+}
+
+// |x - c|^2 - r^2 of a circle without cancellation (see KernelShape).
+template <class A>
+PAR2D_KERNEL_INLINE xsimd::batch<float, A> circle_excess(const KernelShape& s, const xsimd::batch<float, A>& px,
+                                                         const xsimd::batch<float, A>& py) noexcept {
+  using B = xsimd::batch<float, A>;
+  const B qx = B(s.px) - px, qy = B(s.py) - py;
+  return xsimd::fma(qx, qx, qy * qy) - B(2.0f * s.r) * xsimd::fma(B(s.ux), qx, B(s.uy) * qy);
+}
+
+// Tangent directions (lo clockwise, hi counter-clockwise) of a polygon or segment from
+// (px, py), and whether the point is inside. Outside a convex polygon all vertices lie in an
+// open half-plane of directions, where the pseudo-cross sign is a total order: running min
+// and max find the tangents. A tile tangent pair (`ordered`) is already in order.
+template <class A>
+PAR2D_KERNEL_INLINE void vertex_tangents(const TileWork& work, const KernelShape& s, const xsimd::batch<float, A>& px,
+                                         const xsimd::batch<float, A>& py, xsimd::batch<float, A>& lox,
+                                         xsimd::batch<float, A>& loy, xsimd::batch<float, A>& hix,
+                                         xsimd::batch<float, A>& hiy, xsimd::batch_bool<float, A>& inside) noexcept {
+  using B = xsimd::batch<float, A>;
+  const float* vx = work.vx.data() + s.first;
+  const float* vy = work.vy.data() + s.first;
+  lox = B(vx[0]) - px, loy = B(vy[0]) - py;
+  if (s.kind == ShapeKind::segment) {
+    inside = B(0.0f) > B(0.0f);  // a segment has no interior
+    hix = B(vx[1]) - px, hiy = B(vy[1]) - py;
+    if (s.ordered) return;
+    const auto swap = (lox * hiy - loy * hix) < B(0.0f);
+    const B bx = hix, by = hiy;
+    hix = xsimd::select(swap, lox, bx);
+    hiy = xsimd::select(swap, loy, by);
+    lox = xsimd::select(swap, bx, lox);
+    loy = xsimd::select(swap, by, loy);
+    return;
+  }
+  hix = lox, hiy = loy;
+  for (std::uint32_t i = 1; i < s.count; ++i) {
+    const B dx = B(vx[i]) - px, dy = B(vy[i]) - py;
+    const auto more_cw = (lox * dy - loy * dx) < B(0.0f);
+    lox = xsimd::select(more_cw, dx, lox);
+    loy = xsimd::select(more_cw, dy, loy);
+    const auto more_ccw = (hix * dy - hiy * dx) > B(0.0f);
+    hix = xsimd::select(more_ccw, dx, hix);
+    hiy = xsimd::select(more_ccw, dy, hiy);
+  }
+  if (!s.may_contain) {  // the tile misses the polygon's box
+    inside = B(0.0f) > B(0.0f);
+    return;
+  }
+  // Distance outside the polygon (<= 0 inside).
+  const float* nx = work.edge_nx.data() + s.first;
+  const float* ny = work.edge_ny.data() + s.first;
+  const float* nc = work.edge_c.data() + s.first;
+  B outside_by = B(nc[0]) - xsimd::fma(B(nx[0]), px, B(ny[0]) * py);
+  for (std::uint32_t i = 1; i < s.count; ++i)
+    outside_by = xsimd::max(outside_by, B(nc[i]) - xsimd::fma(B(nx[i]), px, B(ny[i]) * py));
+  inside = outside_by <= B(0.0f);
+}
+
+// Arc of a light clipped to one side of a line (KernelShape::clipped): the kept part's arc
+// ends are the light's tangent points where they lie on that side, else the chord ends (the
+// kept part is the hull of the light's near boundary and the chord). Kept out of line: only
+// lights overlapping a wall take it.
+template <class A, bool kWithStart>
+PAR2D_KERNEL_NOINLINE Arc<A> clipped_shape_arc(const TileWork& work, const KernelShape& s,
+                                                   const xsimd::batch<float, A>& px,
+                                                   const xsimd::batch<float, A>& py) noexcept {
+  using B = xsimd::batch<float, A>;
+  Arc<A> arc;
+  B lox, loy, hix, hiy;
+  B scale_v(1.0f), scale_room(1.0f);  // tangent point = x + (scale_v / scale_room) * direction
+  if (s.kind == ShapeKind::circle) {
+    const B excess = circle_excess<A>(s, px, py);
+    arc.inside = excess <= B(0.0f);
+    scale_v = xsimd::sqrt(xsimd::max(excess, B(0.0f)));
+    circle_tangents<A>(s, px, py, scale_v, lox, loy, hix, hiy);
+    const B dx = B(s.cx) - px, dy = B(s.cy) - py;
+    scale_room = xsimd::fma(dx, dx, dy * dy);  // |d|^2, the length of the circle's tangent vectors times |d|
+  } else {
+    vertex_tangents<A>(work, s, px, py, lox, loy, hix, hiy, arc.inside);
+  }
+  const B cnx(s.clip_nx), cny(s.clip_ny);
+  const B room = B(s.clip_c) - xsimd::fma(cnx, px, cny * py);  // > 0 on the kept side
+  const B ax = B(s.chord_x[0]) - px, ay = B(s.chord_y[0]) - py;
+  const B bx = B(s.chord_x[1]) - px, by = B(s.chord_y[1]) - py;
+  const auto a_first = xsimd::fms(ax, by, ay * bx) >= B(0.0f);  // chord end a is the clockwise one
+  // A tangent point beyond the line: k (n.v) > room with k = scale_v / scale_room.
+  const auto lo_beyond = xsimd::fma(cnx, lox, cny * loy) * scale_v > room * scale_room;
+  const auto hi_beyond = xsimd::fma(cnx, hix, cny * hiy) * scale_v > room * scale_room;
+  lox = xsimd::select(lo_beyond, xsimd::select(a_first, ax, bx), lox);
+  loy = xsimd::select(lo_beyond, xsimd::select(a_first, ay, by), loy);
+  hix = xsimd::select(hi_beyond, xsimd::select(a_first, bx, ax), hix);
+  hiy = xsimd::select(hi_beyond, xsimd::select(a_first, by, ay), hiy);
+  arc_from_tangents<A, kWithStart>(lox, loy, hix, hiy, arc);
+  return arc;
+}
+
+// Arc of directions in which `shape` is seen from (px, py), per lane. Tangent
+// directions come from pseudo-cross products (compare + select per vertex); only the
+// two tangents go through atan2 (a circle's through one, its center direction, and asin as
+// an atan2 of the radius and the tangent length).
+// kWithStart = false computes only `width` and `inside` (a light no occluder can block
+// in this tile needs no start angle), with one atan2 instead of two.
+template <class A, bool kWithStart = true>
+PAR2D_KERNEL_INLINE Arc<A> shape_arc(const TileWork& work, const KernelShape& s, const xsimd::batch<float, A>& px,
+                                     const xsimd::batch<float, A>& py) noexcept {
+  using B = xsimd::batch<float, A>;
+  if (s.clipped) return clipped_shape_arc<A, kWithStart>(work, s, px, py);
+  Arc<A> arc;
+  if (s.kind == ShapeKind::circle) {
+    const B excess = circle_excess<A>(s, px, py);
+    arc.inside = excess <= B(0.0f);
+    const B half = fast_atan2(B(s.r), xsimd::sqrt(xsimd::max(excess, B(0.0f))));
+    arc.width = half + half;
+    if constexpr (kWithStart) {
+      const B dx = B(s.cx) - px, dy = B(s.cy) - py;
+      arc.start = fast_atan2(dy, dx) - half;
+    }
+    return arc;
+  }
+  B lox, loy, hix, hiy;
+  vertex_tangents<A>(work, s, px, py, lox, loy, hix, hiy, arc.inside);
+  arc_from_tangents<A, kWithStart>(lox, loy, hix, hiy, arc);
   return arc;
 }
 
@@ -198,6 +300,52 @@ inline void sort_by_lo(float* lo, float* hi, std::size_t slots) noexcept {
   }
 }
 
+// The same network on N intervals held in registers (N = 2 or 4, the common case: a light
+// with one to four occluders in front somewhere in the tile), then the union sweep: no
+// loads and stores per comparator.
+template <class A>
+PAR2D_KERNEL_INLINE void compare_exchange(xsimd::batch<float, A>& lo_i, xsimd::batch<float, A>& lo_j,
+                                          xsimd::batch<float, A>& hi_i, xsimd::batch<float, A>& hi_j) noexcept {
+  using B = xsimd::batch<float, A>;
+  const auto swap = lo_i > lo_j;
+  const B a = lo_i, ha = hi_i;
+  lo_i = xsimd::min(a, lo_j);
+  lo_j = xsimd::max(a, lo_j);
+  hi_i = xsimd::select(swap, hi_j, ha);
+  hi_j = xsimd::select(swap, ha, hi_j);
+}
+
+template <class A, std::size_t N, std::size_t... C>
+PAR2D_KERNEL_INLINE void sort_in_registers(xsimd::batch<float, A> (&lo)[N], xsimd::batch<float, A> (&hi)[N],
+                                           std::index_sequence<C...>) noexcept {
+  static constexpr SortingNetwork<N> kNetwork{};
+  (compare_exchange<A>(lo[kNetwork.first[C]], lo[kNetwork.second[C]], hi[kNetwork.first[C]], hi[kNetwork.second[C]]),
+   ...);
+}
+
+// Measure of the union of `count` <= N intervals lo/hi (lane-minor in memory, N slots with
+// padding `pad` past count) and [0, reach0].
+template <class A, std::size_t N>
+PAR2D_KERNEL_INLINE xsimd::batch<float, A> union_measure_in_registers(const float* lo_mem, const float* hi_mem,
+                                                                      std::size_t count,
+                                                                      const xsimd::batch<float, A>& pad,
+                                                                      xsimd::batch<float, A> reach0) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  B lo[N], hi[N];
+  for (std::size_t i = 0; i < N; ++i) {
+    lo[i] = i < count ? B::load_aligned(lo_mem + i * W) : pad;
+    hi[i] = i < count ? B::load_aligned(hi_mem + i * W) : pad;
+  }
+  sort_in_registers<A, N>(lo, hi, std::make_index_sequence<SortingNetwork<N>::kSize>{});
+  B covered = reach0, reach = reach0;
+  for (std::size_t i = 0; i < N; ++i) {
+    covered += xsimd::max(hi[i] - xsimd::max(lo[i], reach), B(0.0f));
+    reach = xsimd::max(reach, hi[i]);
+  }
+  return covered;
+}
+
 // Measure of the union of intervals [lo[i], hi[i]] (i < count, sorted by lo) and [0, reach0]:
 // a running-max sweep; each interval adds only the part beyond everything before it.
 template <class A>
@@ -221,24 +369,151 @@ inline std::size_t sort_slots(std::size_t count) noexcept {
   return slots;
 }
 
+// The distance t_S to the shape's first point along the unit direction (dx, dy) from
+// (px, py), for a ray that meets the shape from outside it (reference: ray_entry in
+// geometry/convex_shape.cpp).
+// `s` must be a whole shape, not a tile tangent pair.
+template <class A>
+inline xsimd::batch<float, A> shape_ray_entry(const TileWork& work, const KernelShape& s,
+                                              const xsimd::batch<float, A>& px, const xsimd::batch<float, A>& py,
+                                              const xsimd::batch<float, A>& dx,
+                                              const xsimd::batch<float, A>& dy) noexcept {
+  using B = xsimd::batch<float, A>;
+  if (s.kind == ShapeKind::circle) {
+    const B vx = B(s.cx) - px, vy = B(s.cy) - py;
+    const B along = xsimd::fma(vx, dx, vy * dy);
+    const B across = xsimd::fms(vx, dy, vy * dx);
+    const B disc = xsimd::fnma(across, across, B(s.r * s.r));
+    return along - xsimd::sqrt(xsimd::max(disc, B(0.0f)));
+  }
+  const float* vx = work.vx.data() + s.first;
+  const float* vy = work.vy.data() + s.first;
+  if (s.kind == ShapeKind::segment) {
+    const B ax = B(vx[0]) - px, ay = B(vy[0]) - py;
+    const B bx = B(vx[1]) - px, by = B(vy[1]) - py;
+    const B ex(vx[1] - vx[0]), ey(vy[1] - vy[0]);
+    // x + t d on the segment's line: t cross(d, e) = cross(a - x, e).
+    const B den = xsimd::fms(dx, ey, dy * ex);
+    const B num = xsimd::fms(ax, ey, ay * ex);
+    // Along the segment's own line: the nearer end point.
+    const B along = xsimd::max(xsimd::min(xsimd::fma(ax, dx, ay * dy), xsimd::fma(bx, dx, by * dy)), B(0.0f));
+    return xsimd::select(den == B(0.0f), along, num / xsimd::select(den == B(0.0f), B(1.0f), den));
+  }
+  const float* nx = work.edge_nx.data() + s.first;
+  const float* ny = work.edge_ny.data() + s.first;
+  const float* nc = work.edge_c.data() + s.first;
+  // The ray enters the inside half-plane of every edge it moves into (n.d > 0); it is in
+  // the polygon from the last of those entries on.
+  B t(0.0f);
+  for (std::uint32_t i = 0; i < s.count; ++i) {
+    const B den = xsimd::fma(B(nx[i]), dx, B(ny[i]) * dy);
+    const B num = B(nc[i]) - xsimd::fma(B(nx[i]), px, B(ny[i]) * py);
+    const auto entering = den > B(0.0f);
+    t = xsimd::select(entering, xsimd::max(t, num / xsimd::select(entering, den, B(1.0f))), t);
+  }
+  return t;
+}
+
+// Sorts `slots` (a power of two) batches of keys ascending, per lane.
+template <class A>
+inline void sort_keys(float* keys, std::size_t slots) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  if (slots == 2) {
+    const B a = B::load_aligned(keys), b = B::load_aligned(keys + W);
+    xsimd::min(a, b).store_aligned(keys);
+    xsimd::max(a, b).store_aligned(keys + W);
+    return;
+  }
+  for (std::size_t k = 2; k <= slots; k <<= 1) {  // bitonic
+    for (std::size_t j = k >> 1; j > 0; j >>= 1) {
+      for (std::size_t i = 0; i < slots; ++i) {
+        const std::size_t l = i ^ j;
+        if (l <= i) continue;
+        const B a = B::load_aligned(keys + i * W), b = B::load_aligned(keys + l * W);
+        const bool ascending = (i & k) == 0;
+        (ascending ? xsimd::min(a, b) : xsimd::max(a, b)).store_aligned(keys + i * W);
+        (ascending ? xsimd::max(a, b) : xsimd::min(a, b)).store_aligned(keys + l * W);
+      }
+    }
+  }
+}
+
+// Blocked intervals of a general pair (shapes that overlap or touch), written to
+// lo/hi slots [0, pair.point_count]: the occluder's arc clipped to the light's, cut at the
+// directions of the pair's boundary meeting points. For a pixel outside both shapes the
+// nearer of the two can change only at those directions (and at the arcs' ends), so a
+// depth test along each piece's middle direction decides the whole piece; a piece
+// narrower than float can split costs at most its width. Reference: the overlap branch of
+// visible_measure in scalar/scalar_renderer.cpp.
+template <class A>
+inline void general_pair_intervals(const TileWork& work, const KernelLight& light, const KernelPair& pair,
+                                   const Arc<A>& arc, const xsimd::batch<float, A>& width,
+                                   const xsimd::batch<float, A>& occ_start, const xsimd::batch<float, A>& occ_width,
+                                   const xsimd::batch<float, A>& px, const xsimd::batch<float, A>& py, float* events,
+                                   float* lo, float* hi) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  // The occluder's arc in the light's frame: [o, o + occ_width], o in [0, 2*pi). Both arcs
+  // are narrower than pi outside the shapes, so they share at most one interval: the
+  // part before 2*pi, or else the part that wraps past the light's start.
+  B o = occ_start - arc.start;
+  o -= B(kTwoPiF) * xsimd::floor(o * B(kInvTwoPiF));
+  const B end = o + occ_width;
+  const auto first_turn = o < width;
+  const B from = xsimd::select(first_turn, o, B(0.0f));
+  const B to = xsimd::max(xsimd::select(first_turn, xsimd::min(end, width), xsimd::min(end - B(kTwoPiF), width)), from);
+  const std::uint32_t m = pair.point_count;
+  const float* qx = work.point_x.data() + pair.first_point;
+  const float* qy = work.point_y.data() + pair.first_point;
+  for (std::uint32_t j = 0; j < m; ++j) {
+    B a = fast_atan2(B(qy[j]) - py, B(qx[j]) - px) - arc.start;
+    a -= B(kTwoPiF) * xsimd::floor(a * B(kInvTwoPiF));
+    // Directions outside the interval cut nothing: clamped, they make empty pieces.
+    xsimd::min(xsimd::max(a, from), to).store_aligned(events + j * W);
+  }
+  const std::size_t slots = sort_slots<A>(m);
+  if (m > 1) {
+    for (std::size_t j = m; j < slots; ++j) to.store_aligned(events + j * W);
+    sort_keys<A>(events, slots);
+  }
+  const KernelShape& occluder = work.occluders[pair.occluder];
+  // Inside the light nothing comes first (t_L = 0).
+  const auto outside_light = ~arc.inside;
+  B prev = from;
+  for (std::uint32_t j = 0; j <= m; ++j) {
+    const B next = j < m ? B::load_aligned(events + j * W) : to;
+    const auto sc = xsimd::sincos(arc.start + B(0.5f) * (prev + next));
+    const B t_light = shape_ray_entry<A>(work, light.shape, px, py, sc.second, sc.first);
+    const B t_occluder = shape_ray_entry<A>(work, occluder, px, py, sc.second, sc.first);
+    // The light is visible only where t_L < t_occ; float ties (shared edges, contact
+    // along a line) go to the occluder, as exact ties do.
+    const auto blocks = (t_occluder <= t_light * B(1.0f + 1e-5f)) & outside_light;
+    xsimd::select(blocks, prev, width).store_aligned(lo + j * W);
+    xsimd::select(blocks, next, width).store_aligned(hi + j * W);
+    prev = next;
+  }
+}
+
 // Irradiance (times 1/(2*pi), folded into the emissions) of one packet at (px, py).
 template <class A>
-inline void packet_irradiance(const TileWork& work, const xsimd::batch<float, A>& px,
+PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const xsimd::batch<float, A>& px,
                               const xsimd::batch<float, A>& py, float* scratch, xsimd::batch<float, A> (&e)[3]) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   const std::size_t occluder_count = work.occluders.size();
-  float* occ_start = scratch;
-  float* occ_width = occ_start + occluder_count * W;
+  float* occ_start_all = scratch;
+  float* occ_width = occ_start_all + occluder_count * W;
   float* lo = occ_width + occluder_count * W;
-  const std::size_t slots = sort_slots<A>(work.max_pairs_per_light);
+  const std::size_t slots = sort_slots<A>(work.max_intervals_per_light);
   float* hi = lo + slots * W;
+  float* events = hi + slots * W;
 
   auto in_occluder = B(0.0f) > B(0.0f);
   for (std::size_t k = 0; k < occluder_count; ++k) {
     const Arc<A> arc = shape_arc<A>(work, work.occluders[k], px, py);
     in_occluder = in_occluder | arc.inside;
-    arc.start.store_aligned(occ_start + k * W);
+    arc.start.store_aligned(occ_start_all + k * W);
     arc.width.store_aligned(occ_width + k * W);
   }
   for (int c = 0; c < 3; ++c) e[c] = B(0.0f);
@@ -252,30 +527,49 @@ inline void packet_irradiance(const TileWork& work, const xsimd::batch<float, A>
     const Arc<A> arc = shape_arc<A>(work, light.shape, px, py);
     const B width = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
     B reach0(0.0f);
-    const std::size_t n = light.pair_count;
-    for (std::size_t p = 0; p < n; ++p) {
+    std::size_t n = 0;  // intervals written
+    for (std::size_t p = 0; p < light.pair_count; ++p) {
       const KernelPair& pair = work.pairs[light.first_pair + p];
+      const B occ_start = B::load_aligned(occ_start_all + pair.occluder * W);
+      const B occ_w = B::load_aligned(occ_width + pair.occluder * W);
+      if (pair.general) {
+        general_pair_intervals<A>(work, light, pair, arc, width, occ_start, occ_w, px, py, events, lo + n * W,
+                                  hi + n * W);
+        n += pair.point_count + 1;
+        continue;
+      }
       // Disjoint convex shapes: the occluder is in front along every shared direction
       // exactly when the pixel is on its side of a separating line. Inside the light
       // nothing is in front (t_L = 0).
-      const auto blocks = (xsimd::fma(B(pair.nx), px, B(pair.ny) * py) >= B(pair.c)) & ~arc.inside;
-      B o = B::load_aligned(occ_start + pair.occluder * W) - arc.start;
+      const auto blocks =
+          pair.front ? ~arc.inside : (xsimd::fma(B(pair.nx), px, B(pair.ny) * py) >= B(pair.c)) & ~arc.inside;
+      B o = occ_start - arc.start;
       o -= B(kTwoPiF) * xsimd::floor(o * B(kInvTwoPiF));  // into [0, 2*pi)
-      const B end = o + B::load_aligned(occ_width + pair.occluder * W);
-      xsimd::select(blocks, xsimd::min(o, width), width).store_aligned(lo + p * W);
-      xsimd::select(blocks, xsimd::min(end, width), width).store_aligned(hi + p * W);
+      const B end = o + occ_w;
+      xsimd::select(blocks, xsimd::min(o, width), width).store_aligned(lo + n * W);
+      xsimd::select(blocks, xsimd::min(end, width), width).store_aligned(hi + n * W);
+      ++n;
       // The part that wraps past the light's start begins at 0: a running max suffices.
       reach0 = xsimd::select(blocks, xsimd::max(reach0, xsimd::min(end - B(kTwoPiF), width)), reach0);
     }
     B visible = width;
-    if (n > 0) {
+    const B reach = xsimd::max(reach0, B(0.0f));
+    if (n == 1) {
+      visible = xsimd::max(width - union_measure_in_registers<A, 1>(lo, hi, 1, width, reach), B(0.0f));
+    } else if (n == 2) {
+      visible = xsimd::max(width - union_measure_in_registers<A, 2>(lo, hi, 2, width, reach), B(0.0f));
+    } else if (n <= 4) {
+      visible = xsimd::max(width - union_measure_in_registers<A, 4>(lo, hi, n, width, reach), B(0.0f));
+    } else if (n <= 8) {
+      visible = xsimd::max(width - union_measure_in_registers<A, 8>(lo, hi, n, width, reach), B(0.0f));
+    } else {
       const std::size_t used = sort_slots<A>(n);
       for (std::size_t p = n; p < used; ++p) {  // empty padding sorts last
         width.store_aligned(lo + p * W);
         width.store_aligned(hi + p * W);
       }
       sort_by_lo<A>(lo, hi, used);
-      visible = xsimd::max(width - sorted_union_measure<A>(lo, hi, n, xsimd::max(reach0, B(0.0f))), B(0.0f));
+      visible = xsimd::max(width - sorted_union_measure<A>(lo, hi, n, reach), B(0.0f));
     }
     for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]), visible, e[c]);
   }
@@ -288,6 +582,16 @@ void render_tile(const TileWork& work, float* scratch, TileResult& out) noexcept
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   static_assert(detail::kTileSize % W == 0, "a packet must not straddle a tile row");
+  if (work.spp == 1) {  // the pixel centers: no sum, no division
+    for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
+      const B px = B::load_unaligned(work.sample_x.data() + first % detail::kTileSize);
+      const B py(work.sample_y[first / detail::kTileSize]);
+      B e[3];
+      packet_irradiance<A>(work, px, py, scratch, e);
+      for (int c = 0; c < 3; ++c) e[c].store_aligned(out.rgb[c] + first);
+    }
+    return;
+  }
   const B inv_spp(1.0f / static_cast<float>(work.spp));
   for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
     B sum[3] = {B(0.0f), B(0.0f), B(0.0f)};

@@ -36,16 +36,34 @@ struct KernelShape {
   std::uint32_t first = 0;
   std::uint32_t count = 0;
   bool may_contain = true;  // polygons: whether the tile meets the bounding box (else skip the inside test)
+  bool ordered = false;     // segments: vertex first is the clockwise tangent over the whole tile (a tile tangent pair)
   float cx = 0, cy = 0, r = 0;
   float px = 0, py = 0, ux = 0, uy = 0;
+  // Lights only: the part with clip_nx*x + clip_ny*y <= clip_c (an occluder overlapping the
+  // light holds the rest, see clip_light_by_occluder in tile_setup.cpp). The arc's ends are
+  // the light's tangent points where they lie on that side, else the chord's ends, where the
+  // line crosses the light's boundary.
+  bool clipped = false;
+  float clip_nx = 0, clip_ny = 0, clip_c = 0;
+  float chord_x[2] = {0, 0}, chord_y[2] = {0, 0};
 };
 
 // An occluder in front of a light for some pixels of the tile: in front where
 // nx*x + ny*y >= c (the occluder's side of a line separating the two shapes).
-// A pair in front for the whole tile has nx = ny = 0, c = -1.
+// A pair in front for the whole tile has `front` set (and nx = ny = 0, c = -1).
+// A `general` pair has no separating line (the shapes overlap or touch): which of the two
+// a ray meets first can change only at the directions of the points where their
+// boundaries meet, points [first_point, first_point + point_count) of
+// TileWork::point_x/point_y, so the kernel cuts the occluder's arc there and decides each
+// piece by a depth test along its middle direction. Both shapes of a general pair are
+// given whole (never reduced to a tile tangent pair), since the depth test needs them.
 struct KernelPair {
   std::uint32_t occluder = 0;  // index into TileWork::occluders
   float nx = 0, ny = 0, c = 0;
+  std::uint32_t first_point = 0;
+  std::uint32_t point_count = 0;
+  bool general = false;
+  bool front = false;
 };
 
 struct KernelLight {
@@ -53,6 +71,9 @@ struct KernelLight {
   float emission[3] = {0, 0, 0};  // already divided by 2*pi
   std::uint32_t first_pair = 0;   // pairs [first_pair, first_pair + pair_count)
   std::uint32_t pair_count = 0;
+  // Blocked intervals the pairs can add to the light's union: 1 per separated pair,
+  // point_count + 1 per general pair.
+  std::uint32_t interval_count = 0;
 };
 
 struct TileWork {
@@ -67,18 +88,20 @@ struct TileWork {
   std::vector<KernelPair> pairs;
   std::vector<float> vx, vy;
   std::vector<float> edge_nx, edge_ny, edge_c;
-  std::uint32_t max_pairs_per_light = 0;
+  std::uint32_t vertex_count = 0;  // entries in use of vx, vy, edge_* (which only grow)
+  std::vector<float> point_x, point_y;  // boundary meeting points of general pairs
+  std::uint32_t max_intervals_per_light = 0;
+  std::uint32_t max_points_per_pair = 0;
 
   void clear() noexcept {
     occluders.clear();
     lights.clear();
     pairs.clear();
-    vx.clear();
-    vy.clear();
-    edge_nx.clear();
-    edge_ny.clear();
-    edge_c.clear();
-    max_pairs_per_light = 0;
+    vertex_count = 0;
+    point_x.clear();
+    point_y.clear();
+    max_intervals_per_light = 0;
+    max_points_per_pair = 0;
   }
 };
 
@@ -93,8 +116,10 @@ struct TileResult {
 // aligned, so the kernel never allocates).
 inline std::size_t kernel_scratch_floats(const TileWork& work, int lanes) noexcept {
   std::size_t sort_slots = 1;
-  while (sort_slots < work.max_pairs_per_light) sort_slots *= 2;
-  return static_cast<std::size_t>(lanes) * (2 * work.occluders.size() + 2 * sort_slots + 2);
+  while (sort_slots < work.max_intervals_per_light) sort_slots *= 2;
+  std::size_t event_slots = 1;
+  while (event_slots < work.max_points_per_pair) event_slots *= 2;
+  return static_cast<std::size_t>(lanes) * (2 * work.occluders.size() + 2 * sort_slots + event_slots + 2);
 }
 
 }  // namespace par2d::detail
