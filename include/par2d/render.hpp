@@ -21,6 +21,16 @@ enum class Backend {
 const char* backend_name(Backend backend) noexcept;
 std::optional<Backend> parse_backend(const char* name) noexcept;
 
+// Where render's parallel work runs.
+enum class Threading {
+  // par2d's own pool of `threads` workers: a one-shot render makes one per call; a Renderer
+  // makes one in set_options and keeps it.
+  own_pool,
+  // The TBB arena render is called from: the host calls render inside its own
+  // tbb::task_arena::execute, and `threads` is ignored.
+  caller_arena,
+};
+
 struct RenderOptions {
   // Which path computes the image. Default: automatic.
   Backend backend = Backend::automatic;
@@ -38,7 +48,14 @@ struct RenderOptions {
   // Per-tile culling of lights and occluders that cannot matter (issue: scale).
   // Only switch off to measure what culling saves; the image is the same. Default: true.
   bool culling = true;
+  // See Threading. Default: own_pool.
+  Threading threading = Threading::own_pool;
 };
+
+// The worker count a render with these options uses from the calling thread: `threads`
+// capped at the hardware thread count, 0 meaning all of them (TBB's concurrency limit from
+// here); in caller_arena mode the calling arena's concurrency. What a benchmark should report.
+int resolved_threads(const RenderOptions& options) noexcept;
 
 // A float RGB image owned by the caller. Pixel (i, j) channel c lives at
 // data[j * row_stride + 3 * i + c]; row 0 is the top row. `row_stride` counts

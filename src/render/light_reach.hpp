@@ -29,6 +29,9 @@ struct LightReachScratch {
   std::vector<Vec2> hull_points, hull;
   std::vector<std::uint32_t> candidates;
   OcclusionProofScratch proof;
+  // After compute_light_reach: a box holding every region whose occluders the proofs
+  // looked at (empty when none). Occluders changing outside it cannot change the reach.
+  Aabb depends_on{};
 };
 
 // The reach of scene light `light`, proven for radii of the form radius + 8 px * 2^j, each

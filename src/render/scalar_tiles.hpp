@@ -13,6 +13,11 @@ namespace par2d::detail {
 void render_rect_scalar(const PreparedScene& scene, int spp, const TileRect& rect, ScalarScratch& scratch,
                         const ImageView& image);
 
+// The same for pixels `rect` of the tile whose top-left pixel is (tile_x0, tile_y0), into
+// the tile's result planes (as the SIMD kernel writes them).
+void render_tile_scalar(const PreparedScene& scene, int spp, const TileRect& rect, int tile_x0, int tile_y0,
+                        ScalarScratch& scratch, TileResult& out);
+
 // Mean of the ray caster over the samples of each pixel of `rect`; each sample's ray
 // pattern is offset by a hash of (pixel, sample), the same on every run.
 // `scene` is the source scene the caster was built from (the ray caster works in its
