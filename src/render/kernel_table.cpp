@@ -39,7 +39,9 @@ const KernelSet* kernels_for(Isa isa) noexcept {
   return nullptr;
 }
 
-// Everything one worker thread reuses from tile to tile and frame to frame.
+constexpr int kLanesPerWorker = 4;
+
+// Everything one lane of blocks reuses from tile to tile and frame to frame.
 struct FrameEngine::ThreadState {
   TileWork work;
   TileSetupScratch setup;
@@ -68,16 +70,15 @@ FrameEngine& FrameEngine::operator=(FrameEngine&&) noexcept = default;
 void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReach>* reach,
                          const FrameSettings& settings, const Scheduler& scheduler, const FrameTarget& target) {
   const KernelSet* kernels = kernels_for(settings.isa);
-  const auto workers = static_cast<std::size_t>(scheduler.workers());
-  if (states_.size() < workers) states_.resize(workers);
   const TileRect& region = target.region;
   // Blocks of the whole frame that meet the region.
   const int bx0 = region.x0 / kBlockSize, bx1 = (region.x1 - 1) / kBlockSize + 1;
   const int by0 = region.y0 / kBlockSize, by1 = (region.y1 - 1) / kBlockSize + 1;
   const int columns = bx1 - bx0;
+  const int blocks = columns * (by1 - by0);
   const bool cull = settings.culling && reach != nullptr;
-  scheduler.for_each_index(columns * (by1 - by0), [&](int b, int worker) {
-    ThreadState& state = states_[static_cast<std::size_t>(worker)];
+
+  auto render_block = [&](int b, ThreadState& state) {
     const int x0 = (bx0 + b % columns) * kBlockSize, y0 = (by0 + b / columns) * kBlockSize;
     const TileRect block{x0, y0, std::min(x0 + kBlockSize, scene.width), std::min(y0 + kBlockSize, scene.height)};
     if (kernels) gather_block_candidates(scene, block, cull ? reach : nullptr, state.setup);
@@ -93,6 +94,18 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
       }
       store_tile(state.result, tile.x0, tile.y0, part, target);
     });
+  };
+
+  // Blocks are dealt to lanes (lane l takes blocks l, l + lanes, ...), each lane with its own
+  // buffers, and lanes to threads: which buffers serve which block does not depend on the
+  // scheduler, so once a frame has sized them, the same frame never needs more (per-thread
+  // buffers would meet a new, larger block whenever TBB deals blocks differently). Several
+  // lanes per worker keep the load balanced.
+  const int lanes = std::min(blocks, kLanesPerWorker * scheduler.workers());
+  if (states_.size() < static_cast<std::size_t>(lanes)) states_.resize(static_cast<std::size_t>(lanes));
+  scheduler.for_each_index(lanes, [&](int lane, int) {
+    ThreadState& state = states_[static_cast<std::size_t>(lane)];
+    for (int b = lane; b < blocks; b += lanes) render_block(b, state);
   });
 }
 

@@ -236,6 +236,7 @@ void World::erase_lit(std::size_t p) {
     reach_[p] = reach_[m];
     reach_depends_[p] = reach_depends_[m];
     reach_stale_[p] = reach_stale_[m];
+    if (m < reach_scratch_.size()) std::swap(reach_scratch_[p], reach_scratch_[m]);
     scene_.separators.move_light(m, p);
     slots_[light_slots_[p]].where = static_cast<std::int32_t>(p);
   }
@@ -452,11 +453,12 @@ const PreparedScene& World::commit(bool culling, const Scheduler& scheduler) {
     if (reach_stale_[p]) stale_list_.push_back(static_cast<std::uint32_t>(p));
   }
   if (stale_list_.empty()) return scene_;
-  const auto workers = static_cast<std::size_t>(scheduler.workers());
-  if (reach_scratch_.size() < workers) reach_scratch_.resize(workers);
-  scheduler.for_each_index(static_cast<int>(stale_list_.size()), [&](int i, int worker) {
+  // Scratch per light, not per thread: a light's proofs need the same room each time it
+  // is proven at the same place, whichever thread runs them, so steady state allocates nothing.
+  if (reach_scratch_.size() < reach_.size()) reach_scratch_.resize(reach_.size());
+  scheduler.for_each_index(static_cast<int>(stale_list_.size()), [&](int i, int) {
     const std::uint32_t p = stale_list_[static_cast<std::size_t>(i)];
-    LightReachScratch& scratch = reach_scratch_[static_cast<std::size_t>(worker)];
+    LightReachScratch& scratch = reach_scratch_[p];
     reach_[p] = compute_light_reach(scene_, p, scratch);
     reach_depends_[p] = scratch.depends_on;
   });
