@@ -7,6 +7,8 @@
 #include "par2d/render.hpp"
 #include "par2d/status.hpp"
 
+// The public API is what the shared library exports (built with hidden visibility).
+#pragma GCC visibility push(default)
 namespace par2d {
 
 // Writes clamp(exposure * E, 0, 1), sRGB-encoded, as an 8-bit RGB PNG.
@@ -21,3 +23,4 @@ Status write_pfm(const std::string& path, const ImageView& image);
 Status read_pfm(const std::string& path, int& width, int& height, std::vector<float>& pixels);
 
 }  // namespace par2d
+#pragma GCC visibility pop

@@ -8,6 +8,8 @@
 #include "par2d/scene.hpp"
 #include "par2d/status.hpp"
 
+// The public API is what the shared library exports (built with hidden visibility).
+#pragma GCC visibility push(default)
 namespace par2d {
 
 enum class Backend {
@@ -81,3 +83,4 @@ Status render(const Scene& scene, const RenderOptions& options, const ImageView&
 Isa resolved_isa(const RenderOptions& options) noexcept;
 
 }  // namespace par2d
+#pragma GCC visibility pop

@@ -11,6 +11,8 @@
 #include "par2d/scene.hpp"
 #include "par2d/status.hpp"
 
+// The public API is what the shared library exports (built with hidden visibility).
+#pragma GCC visibility push(default)
 namespace par2d {
 
 // Names a light of one Renderer for as long as it exists; a removed light's handle is never
@@ -129,3 +131,4 @@ class Renderer {
 };
 
 }  // namespace par2d
+#pragma GCC visibility pop

@@ -48,7 +48,7 @@ void PairSeparators::forget_occluder(std::size_t occluder) noexcept {
 void PairSeparators::copy_pair(std::size_t from, std::size_t to) noexcept {
   const std::uint8_t seen = state_[from].load(std::memory_order_relaxed);
   const bool known = seen == kSeparated || seen == kTouching;
-  state_[to].store(known ? seen : kUnknown, std::memory_order_relaxed);
+  state_[to].store(known ? seen : static_cast<std::uint8_t>(kUnknown), std::memory_order_relaxed);
   if (known) lines_[to] = lines_[from];
 }
 

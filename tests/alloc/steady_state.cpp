@@ -73,7 +73,7 @@ int thread_count() {
   return n;
 }
 
-constexpr int kFrames = 16;
+constexpr int kFrames = 8;  // two open/close cycles of the door
 
 // One animation frame as a game would do it: torches move and flicker, a door slides.
 bool frame(par2d::Renderer& r, const std::vector<par2d::LightHandle>& torches, par2d::OccluderHandle door,
@@ -82,7 +82,7 @@ bool frame(par2d::Renderer& r, const std::vector<par2d::LightHandle>& torches, p
     if (!r.update_light(torches[static_cast<std::size_t>(t)], par2d::bench::torch_at(t, f)).ok()) return false;
   }
   auto& poly = std::get<par2d::Polygon>(door_shape.shape);
-  const double x = 10.0 * 32.0 + (f % 8 < 4 ? 0.0 : 6.0);  // in the wall at column 10, rows 5-6
+  const double x = 10.0 * 32.0 + (f % 4 < 2 ? 0.0 : 6.0);  // in the wall at column 10, rows 5-6
   poly.vertices[0] = {x, 5 * 32.0};
   poly.vertices[1] = {x + 8.0, 5 * 32.0};
   poly.vertices[2] = {x + 8.0, 7 * 32.0};
@@ -91,14 +91,14 @@ bool frame(par2d::Renderer& r, const std::vector<par2d::LightHandle>& torches, p
   return r.render(buffer).ok();
 }
 
-int run(const char* what, par2d::Renderer& r, par2d::PixelFormat format, tbb::task_arena* host) {
+int run(const char* what, par2d::Renderer& r, par2d::PixelFormat format, tbb::task_arena* host, int width, int height) {
   std::vector<par2d::LightHandle> torches;
-  if (!r.set_scene(par2d::bench::game_level(320, 176), &torches).ok()) return 1;
+  if (!r.set_scene(par2d::bench::game_level(width, height), &torches).ok()) return 1;
   par2d::Occluder door{par2d::Polygon{{{0, 0}, {1, 0}, {1, 1}, {0, 1}}}};
   par2d::OccluderHandle door_handle;
   if (!r.add_occluder(door, &door_handle).ok()) return 1;
-  std::vector<unsigned char> pixels(static_cast<std::size_t>(320) * 176 * 16);
-  par2d::FrameBuffer buffer{pixels.data(), format, 320 * par2d::bytes_per_pixel(format), 1.5};
+  std::vector<unsigned char> pixels(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 16);
+  par2d::FrameBuffer buffer{pixels.data(), format, width * par2d::bytes_per_pixel(format), 1.5};
   bool ok = true;
   auto animation = [&](bool armed) {
     if (armed) g_armed = true;
@@ -119,8 +119,8 @@ int run(const char* what, par2d::Renderer& r, par2d::PixelFormat format, tbb::ta
   in_host(true);
   const int threads_after = thread_count();
   const par2d::RendererStats stats = r.stats();
-  std::printf("%s: %d frames: %ld operator new, %ld malloc/calloc/realloc, threads %d -> %d, index builds %llu\n",
-              what, kFrames, g_news.load(), g_mallocs.load(), threads_before, threads_after,
+  std::printf("%s, %dx%d: %d frames: %ld operator new, %ld malloc/calloc/realloc, threads %d -> %d, index builds %llu\n",
+              what, width, height, kFrames, g_news.load(), g_mallocs.load(), threads_before, threads_after,
               static_cast<unsigned long long>(stats.index_builds));
   if (!ok) {
     std::printf("%s: a frame failed\n", what);
@@ -138,7 +138,7 @@ int main() {
     par2d::RenderOptions o;
     o.threads = 2;
     if (!r.set_options(o).ok()) return 1;
-    failures += run("own pool, 2 threads, rgba8_srgb", r, par2d::PixelFormat::rgba8_srgb, nullptr);
+    failures += run("own pool, 2 threads, rgba8_srgb", r, par2d::PixelFormat::rgba8_srgb, nullptr, 320, 176);
   }
   {
     par2d::Renderer r;
@@ -146,7 +146,7 @@ int main() {
     o.backend = par2d::Backend::scalar;
     o.threads = 1;
     if (!r.set_options(o).ok()) return 1;
-    failures += run("scalar, 1 thread, rgb_f32", r, par2d::PixelFormat::rgb_f32, nullptr);
+    failures += run("scalar, 1 thread, rgb_f32", r, par2d::PixelFormat::rgb_f32, nullptr, 80, 44);
   }
   {
     par2d::Renderer r;
@@ -154,7 +154,7 @@ int main() {
     o.threading = par2d::Threading::caller_arena;
     if (!r.set_options(o).ok()) return 1;
     tbb::task_arena host(2);
-    failures += run("host arena, rgba_f32", r, par2d::PixelFormat::rgba_f32, &host);
+    failures += run("host arena, rgba_f32", r, par2d::PixelFormat::rgba_f32, &host, 320, 176);
   }
   std::printf(failures == 0 ? "steady state: no allocation, no new thread\n" : "steady state: FAILED\n");
   return failures == 0 ? 0 : 1;
