@@ -12,6 +12,7 @@
 
 #include "game_level.hpp"
 #include "par2d/renderer.hpp"
+#include "render/frame_output.hpp"
 #include "render/occluder_bvh.hpp"
 #include "support/random_scenes.hpp"
 
@@ -404,4 +405,26 @@ TEST_CASE("OccluderBvh updated in place (refit, insert, remove) answers as a fre
   CHECK(rebuilds > 0);
 }
 
+}  // namespace par2d::test
+
+namespace par2d::test {
+TEST_CASE("8-bit sRGB table look-up equals the threshold search at every threshold and 1e6 random values") {
+  std::mt19937_64 rng(3);
+  std::uint64_t differences = 0;
+  auto check = [&](double v) { differences += detail::encode_srgb8(v) != detail::encode_srgb8_search(v); };
+  for (int k = 1; k <= 255; ++k) {
+    const double s = (k - 0.5) / 255.0;
+    const double t = s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
+    for (double v : {t, std::nextafter(t, 0.0), std::nextafter(t, 1.0)}) check(v);
+  }
+  for (int i = 0; i < 1000000; ++i) {
+    const double u = static_cast<double>(rng() >> 11) * 0x1p-53;
+    check(u);
+    check(u * u * u * 0.01);  // dense near 0, where the codes step fastest
+  }
+  for (double v : {0.0, -0.0, -1.0, 1.0, 2.0, std::nan(""), 1e-300, std::nextafter(1.0, 0.0)}) check(v);
+  CHECK(differences == 0);
+  CHECK(detail::encode_srgb8(std::nextafter(1.0, 0.0)) == 255);
+  CHECK(detail::encode_srgb8(0.5) == 188);  // round(255 * (1.055 * 0.5^(1/2.4) - 0.055)) = 188
+}
 }  // namespace par2d::test

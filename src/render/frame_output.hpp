@@ -24,8 +24,9 @@ struct FrameTarget {
 void store_tile(const TileResult& result, int tile_x0, int tile_y0, const TileRect& part,
                 const FrameTarget& target) noexcept;
 
-// round(255 * srgb(clamp(v, 0, 1))), NaN and negatives to 0, by a search over the 255
-// exact thresholds (no pow per channel).
+// round(255 * srgb(clamp(v, 0, 1))), NaN and negatives to 0, from a table (no pow per channel).
 unsigned char encode_srgb8(double linear) noexcept;
+// The same by a binary search over the 255 thresholds: the table's reference in tests.
+unsigned char encode_srgb8_search(double linear) noexcept;
 
 }  // namespace par2d::detail
