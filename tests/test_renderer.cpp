@@ -13,7 +13,7 @@
 #include "game_level.hpp"
 #include "par2d/renderer.hpp"
 #include "render/frame_output.hpp"
-#include "render/occluder_bvh.hpp"
+#include "world/occluder_bvh.hpp"
 #include "support/random_scenes.hpp"
 
 namespace par2d::test {

@@ -4,7 +4,7 @@
 #include <memory>
 #include <vector>
 
-#include "render/light_reach.hpp"
+#include "culling/light_reach.hpp"
 #include "render/tile_setup.hpp"
 #include "render/tiling.hpp"
 #include "render/scalar_tiles.hpp"

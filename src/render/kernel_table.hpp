@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "render/frame_output.hpp"
-#include "render/light_reach.hpp"
-#include "render/prepared_scene.hpp"
+#include "culling/light_reach.hpp"
+#include "world/prepared_scene.hpp"
 #include "render/scheduler.hpp"
 #include "simd/tile_work.hpp"
 

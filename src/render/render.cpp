@@ -16,7 +16,7 @@
 #include "render/kernel_table.hpp"
 #include "render/render_arguments.hpp"
 #include "render/scheduler.hpp"
-#include "render/prepared_scene.hpp"
+#include "world/prepared_scene.hpp"
 #include "render/scalar_tiles.hpp"
 #include "render/tiling.hpp"
 #include "world/world.hpp"

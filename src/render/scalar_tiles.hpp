@@ -3,7 +3,7 @@
 
 #include "par2d/render.hpp"
 #include "raycast/raycast_renderer.hpp"
-#include "render/prepared_scene.hpp"
+#include "world/prepared_scene.hpp"
 #include "render/tiling.hpp"
 #include "scalar/scalar_renderer.hpp"
 

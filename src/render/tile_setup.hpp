@@ -5,9 +5,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "geometry/occlusion_proof.hpp"
-#include "render/light_reach.hpp"
-#include "render/prepared_scene.hpp"
+#include "culling/occlusion_proof.hpp"
+#include "culling/light_reach.hpp"
+#include "world/prepared_scene.hpp"
 #include "render/tiling.hpp"
 #include "simd/tile_work.hpp"
 

@@ -9,8 +9,8 @@
 #include "par2d/renderer.hpp"
 #include "par2d/scene.hpp"
 #include "par2d/status.hpp"
-#include "render/light_reach.hpp"
-#include "render/prepared_scene.hpp"
+#include "culling/light_reach.hpp"
+#include "world/prepared_scene.hpp"
 #include "render/scheduler.hpp"
 
 namespace par2d::detail {

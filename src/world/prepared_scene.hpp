@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "geometry/convex_shape.hpp"
-#include "render/occluder_bvh.hpp"
+#include "world/occluder_bvh.hpp"
 #include "par2d/scene.hpp"
 
 namespace par2d::detail {

@@ -6,9 +6,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "geometry/occlusion_proof.hpp"
-#include "render/occluder_bvh.hpp"
-#include "render/prepared_scene.hpp"
+#include "culling/occlusion_proof.hpp"
+#include "world/occluder_bvh.hpp"
+#include "world/prepared_scene.hpp"
 
 namespace par2d::detail {
 

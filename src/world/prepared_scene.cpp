@@ -1,5 +1,5 @@
 // Builds the prepared scene: canonical shapes and the overlap relation between lights and occluders.
-#include "render/prepared_scene.hpp"
+#include "world/prepared_scene.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // Light reach: per-sector proofs that the occluders around a light hide it from everything farther away.
-#include "render/light_reach.hpp"
+#include "culling/light_reach.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // Binned-SAH BVH build and separating-axis queries for occluder gathering, plus the convex hull helper.
-#include "render/occluder_bvh.hpp"
+#include "world/occluder_bvh.hpp"
 
 #include "geometry/convex_shape.hpp"
 
