@@ -20,3 +20,14 @@ fi
   { cat "$work/configure.log"; exit 1; }
 "$cmake_cmd" --build "$work/build" >"$work/build.log" 2>&1 || { cat "$work/build.log"; exit 1; }
 "$work/build/par2d_embed"
+"$work/build/par2d_game_loop"
+
+# The C example through pkg-config, against the installed shared library.
+pc_dir=$(dirname "$(find "$work/prefix" -name par2d.pc | head -1)")
+[[ -f $pc_dir/par2d.pc ]] || { echo "par2d.pc was not installed" >&2; exit 1; }
+[[ $(dirname "$(find "$work/prefix" -path '*/cmake/par2d/par2dConfig.cmake' | head -1)") == "$(dirname "$pc_dir")/cmake/par2d" ]] ||
+  { echo "par2d.pc is not next to the CMake package" >&2; exit 1; }
+read -r -a pc_flags <<<"$(PKG_CONFIG_PATH=$pc_dir pkg-config --cflags --libs par2d)"
+cc -std=c99 $extra_flags "$example_dir/../embed_c/game_loop.c" "${pc_flags[@]}" -lm -o "$work/game_loop_c" \
+  >"$work/c_build.log" 2>&1 || { cat "$work/c_build.log"; exit 1; }
+LD_LIBRARY_PATH="$(dirname "$(find "$work/prefix" -name 'libpar2d.so' | head -1)")" "$work/game_loop_c"

@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "par2d/par2d.hpp"
-#include "render/light_reach.hpp"
-#include "render/prepared_scene.hpp"
+#include "culling/light_reach.hpp"
+#include "world/prepared_scene.hpp"
 #include "support/random_scenes.hpp"
 
 namespace {

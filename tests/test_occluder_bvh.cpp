@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "render/occluder_bvh.hpp"
+#include "world/occluder_bvh.hpp"
 
 namespace {
 

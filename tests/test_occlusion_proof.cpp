@@ -1,4 +1,4 @@
-// Occlusion proofs (geometry/occlusion_proof) and light reach (render/light_reach): closed
+// Occlusion proofs (culling/occlusion_proof) and light reach (culling/light_reach): closed
 // cases, and every proof checked against a brute-force segment test and the scalar reference
 // on random scenes with fixed seeds.
 #include <doctest/doctest.h>
@@ -10,9 +10,9 @@
 #include <variant>
 #include <vector>
 
-#include "geometry/occlusion_proof.hpp"
-#include "render/light_reach.hpp"
-#include "render/prepared_scene.hpp"
+#include "culling/occlusion_proof.hpp"
+#include "culling/light_reach.hpp"
+#include "world/prepared_scene.hpp"
 #include "scalar/scalar_renderer.hpp"
 #include "scattered_scene.hpp"
 #include "support/random_scenes.hpp"

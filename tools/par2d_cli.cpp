@@ -138,10 +138,12 @@ par2d::RenderOptions make_options(const CommonArgs& args) {
   return options;
 }
 
+// What the library resolves the thread count to (capped at the hardware), so that what is
+// reported is what ran.
 int resolved_threads(int requested) {
-  if (requested > 0) return requested;
-  unsigned n = std::thread::hardware_concurrency();
-  return n == 0 ? 1 : static_cast<int>(n);
+  par2d::RenderOptions options;
+  options.threads = requested;
+  return par2d::resolved_threads(options);
 }
 
 // Allocates the caller-owned float RGB buffer the library renders into.

@@ -7,6 +7,8 @@
 #include "par2d/render.hpp"
 #include "par2d/status.hpp"
 
+// The public API is what the shared library exports (built with hidden visibility).
+#pragma GCC visibility push(default)
 namespace par2d {
 
 // Where each output goes. A regular file (or a new one) is written to a hidden temporary in
@@ -46,3 +48,4 @@ void remove_pending_outputs() noexcept;
 Status read_pfm(const std::string& path, int& width, int& height, std::vector<float>& pixels);
 
 }  // namespace par2d
+#pragma GCC visibility pop

@@ -4,6 +4,8 @@
 #include <optional>
 #include <string_view>
 
+// The public API is what the shared library exports (built with hidden visibility).
+#pragma GCC visibility push(default)
 namespace par2d {
 
 // Ordered from least to most capable. `scalar` is the double-precision reference path.
@@ -34,3 +36,4 @@ std::optional<Isa> parse_isa(std::string_view name) noexcept;
 int isa_lanes(Isa isa) noexcept;
 
 }  // namespace par2d
+#pragma GCC visibility pop

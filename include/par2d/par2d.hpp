@@ -1,9 +1,10 @@
-// Everything an embedding engine needs: scene model, loader, render entry point, image files.
+// Everything an embedding engine needs: scene model, loader, one-shot render, persistent Renderer, image files.
 #pragma once
 
 #include "par2d/image_io.hpp"
 #include "par2d/isa.hpp"
 #include "par2d/render.hpp"
+#include "par2d/renderer.hpp"
 #include "par2d/scene.hpp"
 #include "par2d/scene_write.hpp"
 #include "par2d/status.hpp"

@@ -8,6 +8,8 @@
 #include "par2d/scene.hpp"
 #include "par2d/status.hpp"
 
+// The public API is what the shared library exports (built with hidden visibility).
+#pragma GCC visibility push(default)
 namespace par2d {
 
 enum class Backend {
@@ -20,6 +22,16 @@ enum class Backend {
 // "auto", "simd", "scalar", "raycast".
 const char* backend_name(Backend backend) noexcept;
 std::optional<Backend> parse_backend(const char* name) noexcept;
+
+// Where render's parallel work runs.
+enum class Threading {
+  // par2d's own pool of `threads` workers: a one-shot render makes one per call; a Renderer
+  // makes one in set_options and keeps it.
+  own_pool,
+  // The TBB arena render is called from: the host calls render inside its own
+  // tbb::task_arena::execute, and `threads` is ignored.
+  caller_arena,
+};
 
 struct RenderOptions {
   // Which path computes the image. Default: automatic.
@@ -38,7 +50,14 @@ struct RenderOptions {
   // Per-tile culling of lights and occluders that cannot matter (issue: scale).
   // Only switch off to measure what culling saves; the image is the same. Default: true.
   bool culling = true;
+  // See Threading. Default: own_pool.
+  Threading threading = Threading::own_pool;
 };
+
+// The worker count a render with these options uses from the calling thread: `threads`
+// capped at the hardware thread count, 0 meaning all of them (TBB's concurrency limit from
+// here); in caller_arena mode the calling arena's concurrency. What a benchmark should report.
+int resolved_threads(const RenderOptions& options) noexcept;
 
 // A float RGB image owned by the caller. Pixel (i, j) channel c lives at
 // data[j * row_stride + 3 * i + c]; row 0 is the top row. `row_stride` counts
@@ -64,3 +83,4 @@ Status render(const Scene& scene, const RenderOptions& options, const ImageView&
 Isa resolved_isa(const RenderOptions& options) noexcept;
 
 }  // namespace par2d
+#pragma GCC visibility pop

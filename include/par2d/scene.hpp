@@ -9,6 +9,8 @@
 
 #include "par2d/status.hpp"
 
+// The public API is what the shared library exports (built with hidden visibility).
+#pragma GCC visibility push(default)
 namespace par2d {
 
 // World coordinates: x to the right, y down (SPEC.md section 2).
@@ -84,3 +86,4 @@ Status load_scene_file(const std::string& path, Scene& out);
 double max_emission_sum(const Scene& scene) noexcept;
 
 }  // namespace par2d
+#pragma GCC visibility pop

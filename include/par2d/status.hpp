@@ -4,6 +4,8 @@
 #include <string>
 #include <utility>
 
+// The public API is what the shared library exports (built with hidden visibility).
+#pragma GCC visibility push(default)
 namespace par2d {
 
 enum class StatusCode {
@@ -37,3 +39,4 @@ class Status {
 const char* status_code_name(StatusCode code) noexcept;
 
 }  // namespace par2d
+#pragma GCC visibility pop

@@ -257,16 +257,25 @@ double length(Vec2 a) noexcept {
 
 ConvexShape make_convex_shape(const Shape& shape) {
   ConvexShape s;
+  make_convex_shape(shape, s);
+  return s;
+}
+
+void make_convex_shape(const Shape& shape, ConvexShape& s) {
+  s.vertices.clear();
+  s.edge_normals.clear();
+  s.radius = 0.0;
   if (const auto* circle = std::get_if<Circle>(&shape)) {
     s.kind = ShapeKind::circle;
-    s.vertices = {circle->center};
+    s.vertices.push_back(circle->center);
     s.radius = circle->radius;
   } else if (const auto* segment = std::get_if<Segment>(&shape)) {
     s.kind = ShapeKind::segment;
-    s.vertices = {segment->a, segment->b};
+    s.vertices.push_back(segment->a);
+    s.vertices.push_back(segment->b);
   } else {
     s.kind = ShapeKind::polygon;
-    std::vector<Vec2> v;
+    std::vector<Vec2>& v = s.vertices;
     for (Vec2 p : std::get<Polygon>(shape).vertices) {
       if (v.empty() || p.x != v.back().x || p.y != v.back().y) v.push_back(p);
     }
@@ -301,7 +310,6 @@ ConvexShape make_convex_shape(const Shape& shape) {
         }
       }
     }
-    s.vertices = std::move(v);
     const std::size_t n = s.vertices.size();
     for (std::size_t i = 0; i < n; ++i) {
       const Vec2 e = scaled(s.vertices[(i + 1) % n]) - scaled(s.vertices[i]);
@@ -324,7 +332,6 @@ ConvexShape make_convex_shape(const Shape& shape) {
   }
   const Vec2 mean = (1.0 / static_cast<double>(s.vertices.size())) * sum;
   s.centroid = {std::ldexp(mean.x, exponent), std::ldexp(mean.y, exponent)};
-  return s;
 }
 
 bool contains(const ConvexShape& s, Vec2 x) noexcept {

@@ -40,6 +40,8 @@ struct ConvexShape {
 
 // Canonical form of a shape that passed validate_scene.
 ConvexShape make_convex_shape(const Shape& shape);
+// The same into `out`, reusing its buffers (no allocation once they have grown).
+void make_convex_shape(const Shape& shape, ConvexShape& out);
 
 // Whether x lies in the closed shape.
 bool contains(const ConvexShape& shape, Vec2 x) noexcept;

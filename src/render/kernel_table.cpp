@@ -4,9 +4,11 @@
 #include <memory>
 #include <vector>
 
-#include "render/light_reach.hpp"
+#include "culling/light_reach.hpp"
 #include "render/tile_setup.hpp"
 #include "render/tiling.hpp"
+#include "render/scalar_tiles.hpp"
+#include "render/frame_output.hpp"
 
 namespace par2d::simd {
 #define PAR2D_DECLARE_KERNELS(suffix)                                                                       \
@@ -28,10 +30,22 @@ constexpr KernelSet kKernels[] = {
     {Isa::avx512, 16, simd::render_tile_avx512, simd::union_measure_avx512, simd::atan2_avx512},
 };
 
-// Everything one worker thread reuses from tile to tile.
-struct ThreadState {
+}  // namespace
+
+const KernelSet* kernels_for(Isa isa) noexcept {
+  for (const KernelSet& k : kKernels) {
+    if (k.isa == isa) return &k;
+  }
+  return nullptr;
+}
+
+constexpr int kLanesPerWorker = 4;
+
+// Everything one lane of blocks reuses from tile to tile and frame to frame.
+struct FrameEngine::ThreadState {
   TileWork work;
   TileSetupScratch setup;
+  ScalarScratch scalar;
   std::unique_ptr<float[]> scratch;  // 64-byte aligned view into it via `aligned`
   std::size_t scratch_floats = 0;
   float* aligned = nullptr;
@@ -48,50 +62,51 @@ struct ThreadState {
   }
 };
 
-}  // namespace
+FrameEngine::FrameEngine() = default;
+FrameEngine::~FrameEngine() = default;
+FrameEngine::FrameEngine(FrameEngine&&) noexcept = default;
+FrameEngine& FrameEngine::operator=(FrameEngine&&) noexcept = default;
 
-const KernelSet* kernels_for(Isa isa) noexcept {
-  for (const KernelSet& k : kKernels) {
-    if (k.isa == isa) return &k;
-  }
-  return nullptr;
-}
+void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReach>* reach,
+                         const FrameSettings& settings, const Scheduler& scheduler, const FrameTarget& target) {
+  const KernelSet* kernels = kernels_for(settings.isa);
+  const TileRect& region = target.region;
+  // Blocks of the whole frame that meet the region.
+  const int bx0 = region.x0 / kBlockSize, bx1 = (region.x1 - 1) / kBlockSize + 1;
+  const int by0 = region.y0 / kBlockSize, by1 = (region.y1 - 1) / kBlockSize + 1;
+  const int columns = bx1 - bx0;
+  const int blocks = columns * (by1 - by0);
+  const bool cull = settings.culling && reach != nullptr;
 
-void render_simd(const PreparedScene& scene, const RenderOptions& options, Isa isa, int threads,
-                 const ImageView& image) {
-  const KernelSet* kernels = kernels_for(isa);
-  std::vector<ThreadState> states(static_cast<std::size_t>(threads));
-  // Each light's reach first (a few proofs per light), so that blocks far from a light it
-  // cannot reach skip it before any spatial query.
-  std::vector<LightReach> reach;
-  if (options.culling) {
-    reach.resize(scene.lights.size());
-    std::vector<LightReachScratch> reach_scratch(static_cast<std::size_t>(threads));
-    for_each_index(static_cast<int>(scene.lights.size()), threads, [&](int l, int worker) {
-      reach[static_cast<std::size_t>(l)] =
-          compute_light_reach(scene, static_cast<std::size_t>(l), reach_scratch[static_cast<std::size_t>(worker)]);
-    });
-  }
-  for_each_block(scene.width, scene.height, threads, [&](const TileRect& block, int worker) {
-    ThreadState& state = states[static_cast<std::size_t>(worker)];
-    TileWork& work = state.work;
-    gather_block_candidates(scene, block, options.culling ? &reach : nullptr, state.setup);
+  auto render_block = [&](int b, ThreadState& state) {
+    const int x0 = (bx0 + b % columns) * kBlockSize, y0 = (by0 + b / columns) * kBlockSize;
+    const TileRect block{x0, y0, std::min(x0 + kBlockSize, scene.width), std::min(y0 + kBlockSize, scene.height)};
+    if (kernels) gather_block_candidates(scene, block, cull ? reach : nullptr, state.setup);
     for_each_cell(block, kTileSize, [&](const TileRect& tile) {
-      build_tile_work(scene, tile, options.spp, options.culling, work, state.setup);
-      float* scratch = state.kernel_scratch(kernel_scratch_floats(work, kernels->lanes));
-      kernels->render_tile(work, scratch, state.result);
-      for (int j = tile.y0; j < tile.y1; ++j) {
-        float* row = image.data + static_cast<std::ptrdiff_t>(j) * image.row_stride;
-        const float* r = state.result.rgb[0] + (j - tile.y0) * kTileSize - tile.x0;
-        const float* g = state.result.rgb[1] + (j - tile.y0) * kTileSize - tile.x0;
-        const float* b = state.result.rgb[2] + (j - tile.y0) * kTileSize - tile.x0;
-        for (int i = tile.x0; i < tile.x1; ++i) {
-          row[3 * i] = r[i];
-          row[3 * i + 1] = g[i];
-          row[3 * i + 2] = b[i];
-        }
+      const TileRect part{std::max(tile.x0, region.x0), std::max(tile.y0, region.y0), std::min(tile.x1, region.x1),
+                          std::min(tile.y1, region.y1)};
+      if (part.x0 >= part.x1 || part.y0 >= part.y1) return;
+      if (!kernels) {  // Isa::scalar: the reference, tile by tile
+        render_tile_scalar(scene, settings.spp, part, tile.x0, tile.y0, state.scalar, state.result);
+      } else {
+        build_tile_work(scene, tile, settings.spp, cull, state.work, state.setup);
+        float* scratch = state.kernel_scratch(kernel_scratch_floats(state.work, kernels->lanes));
+        kernels->render_tile(state.work, scratch, state.result);
       }
+      store_tile(state.result, tile.x0, tile.y0, part, target);
     });
+  };
+
+  // Blocks are dealt to lanes (lane l takes blocks l, l + lanes, ...), each lane with its own
+  // buffers, and lanes to threads: which buffers serve which block does not depend on the
+  // scheduler, so once a frame has sized them, the same frame never needs more (per-thread
+  // buffers would meet a new, larger block whenever TBB deals blocks differently). Several
+  // lanes per worker keep the load balanced.
+  const int lanes = std::min(blocks, kLanesPerWorker * scheduler.workers());
+  if (states_.size() < static_cast<std::size_t>(lanes)) states_.resize(static_cast<std::size_t>(lanes));
+  scheduler.for_each_index(lanes, [&](int lane, int) {
+    ThreadState& state = states_[static_cast<std::size_t>(lane)];
+    for (int b = lane; b < blocks; b += lanes) render_block(b, state);
   });
 }
 

@@ -5,7 +5,12 @@
 
 #include "par2d/isa.hpp"
 #include "par2d/render.hpp"
-#include "render/prepared_scene.hpp"
+#include <vector>
+
+#include "render/frame_output.hpp"
+#include "culling/light_reach.hpp"
+#include "world/prepared_scene.hpp"
+#include "render/scheduler.hpp"
 #include "simd/tile_work.hpp"
 
 namespace par2d::detail {
@@ -25,8 +30,33 @@ struct KernelSet {
 // The kernels for `isa`, or null for Isa::scalar (the scalar path is the reference renderer).
 const KernelSet* kernels_for(Isa isa) noexcept;
 
-// Renders with the tile kernel of `isa` (which the CPU must support).
-void render_simd(const PreparedScene& scene, const RenderOptions& options, Isa isa, int threads,
-                 const ImageView& image);
+// What one frame computes: samples per pixel, culling, and the kernel ISA (Isa::scalar:
+// the reference path, pixel by pixel).
+struct FrameSettings {
+  int spp = 1;
+  bool culling = true;
+  Isa isa = Isa::scalar;
+};
+
+// Renders frames of prepared scenes into host buffers, tile by tile, keeping every
+// per-thread buffer from frame to frame: after the first frame at a size (and worker
+// count) a frame allocates nothing.
+class FrameEngine {
+ public:
+  FrameEngine();
+  ~FrameEngine();
+  FrameEngine(FrameEngine&&) noexcept;
+  FrameEngine& operator=(FrameEngine&&) noexcept;
+
+  // The pixels of target.region, each tile computed whole and stored straight into the
+  // target's format. Tiles and blocks are those of the whole frame, so a region's pixels
+  // equal the same pixels of a whole frame bit for bit. `reach` (with culling): per light.
+  void render(const PreparedScene& scene, const std::vector<LightReach>* reach, const FrameSettings& settings,
+              const Scheduler& scheduler, const FrameTarget& target);
+
+ private:
+  struct ThreadState;
+  std::vector<ThreadState> states_;
+};
 
 }  // namespace par2d::detail

@@ -12,10 +12,14 @@
 #include <vector>
 
 #include "par2d/render.hpp"
+#include "render/frame_output.hpp"
 #include "render/kernel_table.hpp"
-#include "render/prepared_scene.hpp"
+#include "render/render_arguments.hpp"
+#include "render/scheduler.hpp"
+#include "world/prepared_scene.hpp"
 #include "render/scalar_tiles.hpp"
 #include "render/tiling.hpp"
+#include "world/world.hpp"
 
 namespace par2d {
 namespace {
@@ -33,30 +37,13 @@ Status check_arguments(const Scene& scene, const RenderOptions& options, const I
                " but the scene is " + std::to_string(scene.width) + "x" + std::to_string(scene.height));
   if (image.row_stride < 3 * static_cast<std::ptrdiff_t>(image.width))
     return bad("render: row_stride " + std::to_string(image.row_stride) + " is less than 3 * width");
-  if (options.threads < 0) return bad("render: threads must be >= 0 (0 = all hardware threads)");
-  if (options.spp < 1 || options.spp > kMaxSpp) return bad("render: spp must be in 1.." + std::to_string(kMaxSpp));
-  if (options.backend == Backend::raycast && (options.rays < 1 || options.rays > kMaxRays))
-    return bad("render: rays must be in 1.." + std::to_string(kMaxRays));
-  if (options.isa && (static_cast<int>(*options.isa) < static_cast<int>(Isa::scalar) ||
-                      static_cast<int>(*options.isa) > static_cast<int>(Isa::avx512)))
-    return bad("render: unknown isa " + std::to_string(static_cast<int>(*options.isa)));
-  if (static_cast<int>(options.backend) < static_cast<int>(Backend::automatic) ||
-      static_cast<int>(options.backend) > static_cast<int>(Backend::raycast))
-    return bad("render: unknown backend " + std::to_string(static_cast<int>(options.backend)));
-  return {};
+  return detail::check_options(options, "render");
 }
 
 int worker_threads(int requested) noexcept {
   const int hardware = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   if (requested == 0) return tbb::this_task_arena::max_concurrency();
   return std::min(requested, hardware);  // more only adds scheduling overhead
-}
-
-void render_scalar(const PreparedScene& scene, const RenderOptions& options, int threads, const ImageView& image) {
-  std::vector<detail::ScalarScratch> scratches(static_cast<std::size_t>(threads));
-  detail::for_each_block(scene.width, scene.height, threads, [&](const detail::TileRect& block, int worker) {
-    detail::render_rect_scalar(scene, options.spp, block, scratches[static_cast<std::size_t>(worker)], image);
-  });
 }
 
 void render_raycast(const Scene& scene, const RenderOptions& options, int threads, const ImageView& image) {
@@ -107,22 +94,78 @@ Isa resolved_isa(const RenderOptions& options) noexcept {
   return static_cast<int>(*options.isa) < static_cast<int>(detect_isa()) ? *options.isa : detect_isa();
 }
 
+int resolved_threads(const RenderOptions& options) noexcept {
+  if (options.threading == Threading::caller_arena) return tbb::this_task_arena::max_concurrency();
+  return worker_threads(std::max(0, options.threads));
+}
+
+namespace detail {
+
+Status check_options(const RenderOptions& options, const char* who) {
+  auto bad = [who](std::string message) {
+    return Status(StatusCode::invalid_argument, std::string(who) + ": " + std::move(message));
+  };
+  if (options.threads < 0) return bad("threads must be >= 0 (0 = all hardware threads)");
+  if (options.spp < 1 || options.spp > kMaxSpp) return bad("spp must be in 1.." + std::to_string(kMaxSpp));
+  if (options.backend == Backend::raycast && (options.rays < 1 || options.rays > kMaxRays))
+    return bad("rays must be in 1.." + std::to_string(kMaxRays));
+  if (options.isa && (static_cast<int>(*options.isa) < static_cast<int>(Isa::scalar) ||
+                      static_cast<int>(*options.isa) > static_cast<int>(Isa::avx512)))
+    return bad("unknown isa " + std::to_string(static_cast<int>(*options.isa)));
+  if (static_cast<int>(options.backend) < static_cast<int>(Backend::automatic) ||
+      static_cast<int>(options.backend) > static_cast<int>(Backend::raycast))
+    return bad("unknown backend " + std::to_string(static_cast<int>(options.backend)));
+  if (options.threading != Threading::own_pool && options.threading != Threading::caller_arena)
+    return bad("unknown threading " + std::to_string(static_cast<int>(options.threading)));
+  return {};
+}
+
+Status check_frame_buffer(const FrameBuffer& buffer, const PixelRect& region, int width, int height, const char* who) {
+  auto bad = [who](std::string message) {
+    return Status(StatusCode::invalid_argument, std::string(who) + ": " + std::move(message));
+  };
+  if (buffer.data == nullptr) return bad("buffer data is null");
+  const int pixel = bytes_per_pixel(buffer.format);
+  if (pixel == 0) return bad("unknown pixel format " + std::to_string(static_cast<int>(buffer.format)));
+  if (!(std::isfinite(buffer.exposure) && buffer.exposure >= 0.0)) return bad("exposure must be finite and >= 0");
+  if (!(0 <= region.x0 && region.x0 < region.x1 && region.x1 <= width && 0 <= region.y0 && region.y0 < region.y1 &&
+        region.y1 <= height))
+    return bad("region [" + std::to_string(region.x0) + ", " + std::to_string(region.y0) + ", " +
+               std::to_string(region.x1) + ", " + std::to_string(region.y1) + ") is empty or outside the " +
+               std::to_string(width) + "x" + std::to_string(height) + " frame");
+  const std::ptrdiff_t row_bytes = static_cast<std::ptrdiff_t>(region.x1 - region.x0) * pixel;
+  if (buffer.row_stride < row_bytes)
+    return bad("row_stride " + std::to_string(buffer.row_stride) + " bytes is less than a row of the region (" +
+               std::to_string(row_bytes) + " bytes)");
+  return {};
+}
+
+}  // namespace detail
+
 Status render(const Scene& scene, const RenderOptions& options, const ImageView& image) {
   try {
     if (Status s = check_arguments(scene, options, image); !s.ok()) return s;
-    if (Status s = validate_scene(scene); !s.ok()) return s;
-    const int threads = worker_threads(options.threads);
     if (options.backend == Backend::raycast) {
-      render_raycast(scene, options, threads, image);
+      if (Status s = validate_scene(scene); !s.ok()) return s;
+      render_raycast(scene, options, worker_threads(options.threads), image);
       return {};
     }
-    const PreparedScene prepared = detail::prepare_scene(scene);
+    // The same machinery as a persistent Renderer, for one frame.
+    detail::World world;
+    if (Status s = world.set_scene(scene, nullptr, nullptr); !s.ok()) return s;
+    detail::Scheduler scheduler;
+    scheduler.configure(resolved_threads(options), options.threading);
     const Isa isa = resolved_isa(options);
-    if (isa == Isa::scalar) {
-      render_scalar(prepared, options, threads, image);
-      return {};
-    }
-    detail::render_simd(prepared, options, isa, threads, image);
+    const bool culling = options.culling && isa != Isa::scalar;
+    const PreparedScene& prepared = world.commit(culling, scheduler);
+    detail::FrameTarget target;
+    target.data = reinterpret_cast<unsigned char*>(image.data);
+    target.format = PixelFormat::rgb_f32;
+    target.row_stride = image.row_stride * static_cast<std::ptrdiff_t>(sizeof(float));
+    target.region = {0, 0, scene.width, scene.height};
+    detail::FrameEngine engine;
+    engine.render(prepared, culling ? &world.reach() : nullptr, detail::FrameSettings{options.spp, culling, isa},
+                  scheduler, target);
     return {};
   } catch (const std::bad_alloc&) {
     return Status(StatusCode::out_of_memory, "render: out of memory");

@@ -16,12 +16,12 @@ double hash_to_unit(std::uint64_t v) noexcept {
   return static_cast<double>(v >> 11) * (1.0 / 9007199254740992.0);
 }
 
-template <class SampleFn>
-void average_samples(const View& view, int width, int height, int spp, const TileRect& rect, const ImageView& image,
-                     SampleFn&& sample) {
+// Calls put(i, j, channel, value) with each pixel's mean over its samples.
+template <class SampleFn, class PutFn>
+void average_samples(const View& view, int width, int height, int spp, const TileRect& rect, SampleFn&& sample,
+                     PutFn&& put) {
   const double inv_spp = 1.0 / spp;
   for (int j = rect.y0; j < rect.y1; ++j) {
-    float* row = image.data + static_cast<std::ptrdiff_t>(j) * image.row_stride;
     for (int i = rect.x0; i < rect.x1; ++i) {
       Rgb sum{0.0, 0.0, 0.0};
       for (int k = 0; k < spp; ++k) {
@@ -30,7 +30,7 @@ void average_samples(const View& view, int width, int height, int spp, const Til
         const Rgb e = sample(sample_position(view, width, height, i, j, sx, sy), i, j, k);
         for (int c = 0; c < 3; ++c) sum[c] += e[c];
       }
-      for (int c = 0; c < 3; ++c) row[3 * i + c] = static_cast<float>(sum[c] * inv_spp);
+      for (int c = 0; c < 3; ++c) put(i, j, c, static_cast<float>(sum[c] * inv_spp));
     }
   }
 }
@@ -39,19 +39,31 @@ void average_samples(const View& view, int width, int height, int spp, const Til
 
 void render_rect_scalar(const PreparedScene& scene, int spp, const TileRect& rect, ScalarScratch& scratch,
                         const ImageView& image) {
-  average_samples(scene.view, scene.width, scene.height, spp, rect, image,
-                  [&](Vec2 x, int, int, int) { return scalar_irradiance(scene, x, scratch); });
+  average_samples(
+      scene.view, scene.width, scene.height, spp, rect,
+      [&](Vec2 x, int, int, int) { return scalar_irradiance(scene, x, scratch); },
+      [&](int i, int j, int c, float v) { image.data[static_cast<std::ptrdiff_t>(j) * image.row_stride + 3 * i + c] = v; });
+}
+
+void render_tile_scalar(const PreparedScene& scene, int spp, const TileRect& rect, int tile_x0, int tile_y0,
+                        ScalarScratch& scratch, TileResult& out) {
+  average_samples(
+      scene.view, scene.width, scene.height, spp, rect,
+      [&](Vec2 x, int, int, int) { return scalar_irradiance(scene, x, scratch); },
+      [&](int i, int j, int c, float v) {
+        out.rgb[c][static_cast<std::size_t>(j - tile_y0) * kTileSize + static_cast<std::size_t>(i - tile_x0)] = v;
+      });
 }
 
 void render_rect_raycast(const Scene& scene, const RaycastRenderer& caster, int spp, int rays, const TileRect& rect,
                          const ImageView& image) {
-  average_samples(scene.view, scene.width, scene.height, spp, rect, image, [&](Vec2 x, int i, int j, int k) {
+  average_samples(scene.view, scene.width, scene.height, spp, rect, [&](Vec2 x, int i, int j, int k) {
     const std::uint64_t id = ((static_cast<std::uint64_t>(j) * static_cast<std::uint64_t>(scene.width) +
                                static_cast<std::uint64_t>(i))
                               << 8) |
                              static_cast<std::uint64_t>(k);
     return caster.irradiance(x, rays, hash_to_unit(id));
-  });
+  }, [&](int i, int j, int c, float v) { image.data[static_cast<std::ptrdiff_t>(j) * image.row_stride + 3 * i + c] = v; });
 }
 
 }  // namespace par2d::detail

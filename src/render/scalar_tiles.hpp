@@ -3,7 +3,7 @@
 
 #include "par2d/render.hpp"
 #include "raycast/raycast_renderer.hpp"
-#include "render/prepared_scene.hpp"
+#include "world/prepared_scene.hpp"
 #include "render/tiling.hpp"
 #include "scalar/scalar_renderer.hpp"
 
@@ -12,6 +12,11 @@ namespace par2d::detail {
 // Mean of the scalar reference over the samples of each pixel of `rect`.
 void render_rect_scalar(const PreparedScene& scene, int spp, const TileRect& rect, ScalarScratch& scratch,
                         const ImageView& image);
+
+// The same for pixels `rect` of the tile whose top-left pixel is (tile_x0, tile_y0), into
+// the tile's result planes (as the SIMD kernel writes them).
+void render_tile_scalar(const PreparedScene& scene, int spp, const TileRect& rect, int tile_x0, int tile_y0,
+                        ScalarScratch& scratch, TileResult& out);
 
 // Mean of the ray caster over the samples of each pixel of `rect`; each sample's ray
 // pattern is offset by a hash of (pixel, sample), the same on every run.

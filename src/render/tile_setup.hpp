@@ -5,9 +5,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "geometry/occlusion_proof.hpp"
-#include "render/light_reach.hpp"
-#include "render/prepared_scene.hpp"
+#include "culling/occlusion_proof.hpp"
+#include "culling/light_reach.hpp"
+#include "world/prepared_scene.hpp"
 #include "render/tiling.hpp"
 #include "simd/tile_work.hpp"
 
@@ -38,7 +38,7 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
 // one of the occluder's edges where its cap lies inside it, or else makes a general pair
 // (simd/tile_work.hpp). With `culling`, occluders behind a light for the whole
 // tile are dropped, and lights in the umbra of one occluder over the whole tile, or
-// proven hidden by several (geometry/occlusion_proof.hpp), are skipped; the image is the
+// proven hidden by several (culling/occlusion_proof.hpp), are skipped; the image is the
 // same either way.
 void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, bool culling, TileWork& work,
                      TileSetupScratch& scratch);

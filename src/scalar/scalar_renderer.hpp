@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "geometry/angular_intervals.hpp"
-#include "render/prepared_scene.hpp"
+#include "world/prepared_scene.hpp"
 
 namespace par2d::detail {
 

@@ -67,7 +67,9 @@ MaybeProblem check_polygon(const Polygon& polygon, const std::string& place) {
     Vec2 d;
     std::size_t end;
   };
-  std::vector<Edge> edges;
+  // Reused per thread: a game's Renderer validates shapes every frame without allocating.
+  thread_local std::vector<Edge> edges;
+  edges.clear();
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t j = (i + 1) % n;
     const Vec2 a = scaled(i);
@@ -86,7 +88,8 @@ MaybeProblem check_polygon(const Polygon& polygon, const std::string& place) {
     double angle;
     std::size_t vertex;
   };
-  std::vector<Turn> turns;
+  thread_local std::vector<Turn> turns;
+  turns.clear();
   turns.reserve(edges.size());
   int left = 0;
   int right = 0;

@@ -81,8 +81,12 @@ class BoxPairHull {
   int cut_count_ = 0;
 };
 
-// A binned-SAH BVH over boxes, rebuilt whenever the occluders move (so build is linear per level,
-// O(n log n) total, and reuses its buffers across builds).
+// A binned-SAH BVH over boxes (build is linear per level, O(n log n) total, and reuses its
+// buffers across builds), updated in place when occluders move, appear or disappear (a
+// persistent Renderer): a moved box is refitted along its leaf's path to the root, a removed
+// one leaves its leaf, an added one waits in a short unindexed list that every query also
+// scans. needs_rebuild() says when the refitted tree has degraded enough that a fresh build
+// pays off. Queries give the same answer either way: they are exact box tests.
 //
 // Layout: nodes are flattened depth-first; an interior node's left child is the next node, its
 // right child index is stored. Leaves hold at most kLeafSize items, whose boxes are copied in
@@ -116,12 +120,26 @@ class OccluderBvh {
   void query_box(const Aabb& query, std::vector<uint32_t>& out) const noexcept;
 
   size_t node_count() const noexcept { return nodes_.size(); }
+  // Boxes indexed: those in the tree plus the unindexed ones.
+  size_t size() const noexcept { return position_.size(); }
+
+  // Incremental updates. Indices stay dense: insert appends index size(); remove(i) drops
+  // box i and gives the last box index i (the caller's arrays do the same swap).
+  // None allocates once the buffers have grown, except insert past earlier capacity.
+  void update(uint32_t index, const Aabb& box) noexcept;
+  void insert(const Aabb& box);
+  void remove(uint32_t index) noexcept;
+  // Whether a fresh build would pay off: many unindexed boxes, or refits have grown the
+  // nodes' summed half-perimeters (the SAH cost) to twice what the last build gave.
+  bool needs_rebuild() const noexcept;
 
  private:
+  static constexpr uint32_t kInterior = 0xffffffffu;  // Node::count of interior nodes
+  static constexpr uint32_t kUnindexed = 0x80000000u;  // position_ flag: in unindexed_
   struct Node {
     Aabb box;
     uint32_t offset;  // leaf: first item in items_; interior: index of the right child
-    uint32_t count;   // leaf: number of items (>= 1); interior: 0
+    uint32_t count;   // leaf: number of items (0 once all were removed); interior: kInterior
   };
   struct BuildTask {
     uint32_t begin, end;
@@ -140,9 +158,20 @@ class OccluderBvh {
   template <class NodeTest, class ItemTest>
   void collect(NodeTest&& node_test, ItemTest&& item_test, std::vector<uint32_t>& out) const noexcept;
 
+  void refit_from(uint32_t node) noexcept;
+  void set_position(uint32_t index, uint32_t position) noexcept;
+
   std::vector<Node> nodes_;
   std::vector<uint32_t> items_;  // occluder indices in leaf order
   std::vector<Aabb> item_boxes_;  // boxes in leaf order
+  // Incremental state: parent of each node, leaf of each item slot, and where each index
+  // lives (an item slot, or kUnindexed | position in unindexed_).
+  std::vector<uint32_t> parent_;
+  std::vector<uint32_t> item_leaf_;
+  std::vector<uint32_t> position_;
+  std::vector<BuildRef> unindexed_;
+  double built_cost_ = 0.0;  // summed half-perimeters right after build
+  double cost_ = 0.0;        // the same now
   // Build scratch, kept so a per-frame rebuild does not reallocate.
   std::vector<BuildRef> refs_;
   std::vector<BuildTask> tasks_;

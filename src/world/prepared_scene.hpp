@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "geometry/convex_shape.hpp"
-#include "render/occluder_bvh.hpp"
+#include "world/occluder_bvh.hpp"
 #include "par2d/scene.hpp"
 
 namespace par2d::detail {
@@ -29,14 +29,25 @@ struct PreparedLight {
 // matters to many tiles, and the exact closest-point computation costs more than a tile.
 class PairSeparators {
  public:
+  // All pairs unknown, for `lights` x `occluders`.
   void reset(std::size_t lights, std::size_t occluders);
+  // Persistent worlds (single-threaded, between frames): room for `lights` x `occluders`
+  // keeping what is known (grows capacity geometrically, so steady state never allocates);
+  // forget a light's row or an occluder's column; move one (swap-removal).
+  void resize(std::size_t lights, std::size_t occluders);
+  void forget_light(std::size_t light) noexcept;
+  void forget_occluder(std::size_t occluder) noexcept;
+  void move_light(std::size_t from, std::size_t to) noexcept;
+  void move_occluder(std::size_t from, std::size_t to) noexcept;
   // The line for (light, occluder), or empty when the shapes touch or overlap.
   std::optional<Line> get(std::size_t light, std::size_t occluder, const ConvexShape& light_shape,
                           const ConvexShape& occluder_shape) const noexcept;
 
  private:
   enum : std::uint8_t { kUnknown = 0, kComputing = 1, kSeparated = 2, kTouching = 3 };
-  std::size_t occluders_ = 0;
+  void copy_pair(std::size_t from, std::size_t to) noexcept;
+  std::size_t lights_ = 0, occluders_ = 0;
+  std::size_t rows_ = 0, stride_ = 0;  // capacity: lights x occluders
   std::unique_ptr<std::atomic<std::uint8_t>[]> state_;
   std::unique_ptr<Line[]> lines_;
 };
@@ -58,6 +69,15 @@ struct PreparedScene {
 
 // Builds the prepared form of a scene that passed validate_scene.
 PreparedScene prepare_scene(const Scene& scene);
+
+// The pieces prepare_scene is made of, for worlds that change shape by shape.
+// The power of two all prepared coordinates are scaled by (see PreparedScene).
+double scene_scale(const View& view, double largest_coordinate) noexcept;
+void scale_shape(ConvexShape& shape, double factor) noexcept;
+// e_max and extent of a prepared scene from its view, lights and occluders.
+void update_scene_bounds(PreparedScene& scene) noexcept;
+// light.overlapping_occluders / overlap_points from scratch, with the scene's index.
+void find_light_overlaps(const PreparedScene& scene, PreparedLight& light, std::vector<std::uint32_t>& scratch);
 
 // World position of sample (sx, sy) in [0,1)^2 of pixel (i, j) of a width x height
 // image of `view` (SPEC.md section 2).

@@ -6,9 +6,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "geometry/occlusion_proof.hpp"
-#include "render/occluder_bvh.hpp"
-#include "render/prepared_scene.hpp"
+#include "culling/occlusion_proof.hpp"
+#include "world/occluder_bvh.hpp"
+#include "world/prepared_scene.hpp"
 
 namespace par2d::detail {
 
@@ -29,6 +29,9 @@ struct LightReachScratch {
   std::vector<Vec2> hull_points, hull;
   std::vector<std::uint32_t> candidates;
   OcclusionProofScratch proof;
+  // After compute_light_reach: a box holding every region whose occluders the proofs
+  // looked at (empty when none). Occluders changing outside it cannot change the reach.
+  Aabb depends_on{};
 };
 
 // The reach of scene light `light`, proven for radii of the form radius + 8 px * 2^j, each

@@ -1,5 +1,5 @@
 // Light reach: per-sector proofs that the occluders around a light hide it from everything farther away.
-#include "render/light_reach.hpp"
+#include "culling/light_reach.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -33,6 +33,11 @@ bool sector_hidden(const PreparedScene& scene, const ConvexShape& light, const L
   const Vec2 chord[2] = {c + r * Vec2{std::cos(mid - half), std::sin(mid - half)},
                          c + r * Vec2{std::cos(mid + half), std::sin(mid + half)}};
   hull_with_shape(chord, 2, light, scratch.hull_points, scratch.hull);
+  // The answer depends on the occluders meeting this hull and nothing else.
+  for (const Vec2 p : scratch.hull) {
+    Aabb& d = scratch.depends_on;
+    d = {std::min(d.min_x, p.x), std::min(d.min_y, p.y), std::max(d.max_x, p.x), std::max(d.max_y, p.y)};
+  }
   scratch.candidates.clear();
   scene.occluder_bvh.query_convex(scratch.hull.data(), static_cast<int>(scratch.hull.size()), scratch.candidates);
   if (scratch.candidates.empty()) return false;
@@ -74,6 +79,7 @@ LightReach compute_light_reach(const PreparedScene& scene, std::size_t light_ind
   const ConvexShape& light = scene.lights[light_index].shape;
   LightReach reach;
   reach.reach.fill(kInf);
+  scratch.depends_on = {kInf, kInf, -kInf, -kInf};
   reach.center = light.centroid;
   if (light.kind == ShapeKind::circle) {
     reach.radius = light.radius;

@@ -1,5 +1,5 @@
 // Builds the prepared scene: canonical shapes and the overlap relation between lights and occluders.
-#include "render/prepared_scene.hpp"
+#include "world/prepared_scene.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -22,14 +22,63 @@ bool separates(const Line& line, const ConvexShape& positive, const ConvexShape&
 }  // namespace
 
 void PairSeparators::reset(std::size_t lights, std::size_t occluders) {
-  occluders_ = occluders;
+  lights_ = rows_ = lights;
+  occluders_ = stride_ = occluders;
   state_ = std::make_unique<std::atomic<std::uint8_t>[]>(lights * occluders);
   lines_ = std::make_unique<Line[]>(lights * occluders);
 }
 
+void PairSeparators::resize(std::size_t lights, std::size_t occluders) {
+  if (lights > rows_ || occluders > stride_) {
+    const std::size_t rows = std::max(lights, 2 * rows_), stride = std::max(occluders, 2 * stride_);
+    auto state = std::make_unique<std::atomic<std::uint8_t>[]>(rows * stride);  // value-initialized: kUnknown
+    auto lines = std::make_unique<Line[]>(rows * stride);
+    for (std::size_t l = 0; l < lights_; ++l) {
+      for (std::size_t k = 0; k < occluders_; ++k) {
+        const std::uint8_t seen = state_[l * stride_ + k].load(std::memory_order_relaxed);
+        // A slot some thread was computing is simply forgotten.
+        if (seen == kSeparated || seen == kTouching) {
+          state[l * stride + k].store(seen, std::memory_order_relaxed);
+          lines[l * stride + k] = lines_[l * stride_ + k];
+        }
+      }
+    }
+    state_ = std::move(state);
+    lines_ = std::move(lines);
+    rows_ = rows;
+    stride_ = stride;
+  }
+  // Slots past the old counts are unknown: forget_* cleared them when they were given up.
+  lights_ = lights;
+  occluders_ = occluders;
+}
+
+void PairSeparators::forget_light(std::size_t light) noexcept {
+  for (std::size_t k = 0; k < stride_; ++k) state_[light * stride_ + k].store(kUnknown, std::memory_order_relaxed);
+}
+
+void PairSeparators::forget_occluder(std::size_t occluder) noexcept {
+  for (std::size_t l = 0; l < rows_; ++l) state_[l * stride_ + occluder].store(kUnknown, std::memory_order_relaxed);
+}
+
+void PairSeparators::copy_pair(std::size_t from, std::size_t to) noexcept {
+  const std::uint8_t seen = state_[from].load(std::memory_order_relaxed);
+  const bool known = seen == kSeparated || seen == kTouching;
+  state_[to].store(known ? seen : static_cast<std::uint8_t>(kUnknown), std::memory_order_relaxed);
+  if (known) lines_[to] = lines_[from];
+}
+
+void PairSeparators::move_light(std::size_t from, std::size_t to) noexcept {
+  for (std::size_t k = 0; k < stride_; ++k) copy_pair(from * stride_ + k, to * stride_ + k);
+}
+
+void PairSeparators::move_occluder(std::size_t from, std::size_t to) noexcept {
+  for (std::size_t l = 0; l < rows_; ++l) copy_pair(l * stride_ + from, l * stride_ + to);
+}
+
 std::optional<Line> PairSeparators::get(std::size_t light, std::size_t occluder, const ConvexShape& light_shape,
                                         const ConvexShape& occluder_shape) const noexcept {
-  const std::size_t index = light * occluders_ + occluder;
+  const std::size_t index = light * stride_ + occluder;
   std::atomic<std::uint8_t>& state = state_[index];
   const std::uint8_t seen = state.load(std::memory_order_acquire);
   if (seen == kSeparated) return lines_[index];
@@ -78,7 +127,6 @@ PreparedScene prepare_scene(const Scene& scene) {
     for (int c = 0; c < 3; ++c) light.emission[c] = l.intensity * l.color[c];
     const double e = std::max({light.emission[0], light.emission[1], light.emission[2]});
     if (!(e > 0.0)) continue;  // contributes nothing anywhere
-    out.e_max += e;
     light.shape = make_convex_shape(l.shape);
     out.lights.push_back(std::move(light));
   }
@@ -96,14 +144,7 @@ PreparedScene prepare_scene(const Scene& scene) {
   for (PreparedLight& l : out.lights) scale_shape(l.shape, factor);
   for (ConvexShape& o : out.occluders) scale_shape(o, factor);
 
-  const Vec2 center{0.5 * out.view.x0 + 0.5 * out.view.x1, 0.5 * out.view.y0 + 0.5 * out.view.y1};
-  auto grow_extent = [&](Vec2 lo, Vec2 hi) {
-    for (double v : {lo.x - center.x, hi.x - center.x, lo.y - center.y, hi.y - center.y})
-      out.extent = std::max(out.extent, std::abs(v));
-  };
-  grow_extent({out.view.x0, out.view.y0}, {out.view.x1, out.view.y1});
-  for (const PreparedLight& l : out.lights) grow_extent(l.shape.bounds_min, l.shape.bounds_max);
-  for (const ConvexShape& o : out.occluders) grow_extent(o.bounds_min, o.bounds_max);
+  update_scene_bounds(out);
 
   std::vector<Aabb> boxes;
   boxes.reserve(out.occluders.size());
@@ -112,20 +153,38 @@ PreparedScene prepare_scene(const Scene& scene) {
   out.occluder_bvh.build(boxes);
 
   std::vector<std::uint32_t> near;
-  for (PreparedLight& light : out.lights) {
-    near.clear();
-    const ConvexShape& ls = light.shape;
-    out.occluder_bvh.query_box({ls.bounds_min.x, ls.bounds_min.y, ls.bounds_max.x, ls.bounds_max.y}, near);
-    for (std::uint32_t k : near) {
-      const ConvexShape& occ = out.occluders[k];
-      if (shape_distance(ls, occ) > 0.0) continue;
-      light.overlapping_occluders.push_back(k);
-      light.overlap_points.emplace_back();
-      boundary_intersections(ls, occ, light.overlap_points.back());
-    }
-  }
+  for (PreparedLight& light : out.lights) find_light_overlaps(out, light, near);
   out.separators.reset(out.lights.size(), out.occluders.size());
   return out;
+}
+
+void update_scene_bounds(PreparedScene& out) noexcept {
+  out.e_max = 0.0;
+  for (const PreparedLight& l : out.lights) out.e_max += std::max({l.emission[0], l.emission[1], l.emission[2]});
+  out.extent = 0.0;
+  const Vec2 center{0.5 * out.view.x0 + 0.5 * out.view.x1, 0.5 * out.view.y0 + 0.5 * out.view.y1};
+  auto grow_extent = [&](Vec2 lo, Vec2 hi) {
+    for (double v : {lo.x - center.x, hi.x - center.x, lo.y - center.y, hi.y - center.y})
+      out.extent = std::max(out.extent, std::abs(v));
+  };
+  grow_extent({out.view.x0, out.view.y0}, {out.view.x1, out.view.y1});
+  for (const PreparedLight& l : out.lights) grow_extent(l.shape.bounds_min, l.shape.bounds_max);
+  for (const ConvexShape& o : out.occluders) grow_extent(o.bounds_min, o.bounds_max);
+}
+
+void find_light_overlaps(const PreparedScene& scene, PreparedLight& light, std::vector<std::uint32_t>& near) {
+  light.overlapping_occluders.clear();
+  light.overlap_points.clear();
+  near.clear();
+  const ConvexShape& ls = light.shape;
+  scene.occluder_bvh.query_box({ls.bounds_min.x, ls.bounds_min.y, ls.bounds_max.x, ls.bounds_max.y}, near);
+  for (std::uint32_t k : near) {
+    const ConvexShape& occ = scene.occluders[k];
+    if (shape_distance(ls, occ) > 0.0) continue;
+    light.overlapping_occluders.push_back(k);
+    light.overlap_points.emplace_back();
+    boundary_intersections(ls, occ, light.overlap_points.back());
+  }
 }
 
 }  // namespace par2d::detail

@@ -1,5 +1,5 @@
 // From-region occlusion by a union of occluders: interval cover of the lines across a slab.
-#include "geometry/occlusion_proof.hpp"
+#include "culling/occlusion_proof.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // Binned-SAH BVH build and separating-axis queries for occluder gathering, plus the convex hull helper.
-#include "render/occluder_bvh.hpp"
+#include "world/occluder_bvh.hpp"
 
 #include "geometry/convex_shape.hpp"
 
@@ -191,6 +191,11 @@ void OccluderBvh::build(const std::vector<Aabb>& boxes) {
   item_boxes_.clear();
   tasks_.clear();
   refs_.clear();
+  parent_.clear();
+  item_leaf_.clear();
+  unindexed_.clear();
+  position_.clear();
+  built_cost_ = cost_ = 0.0;
   const size_t n = boxes.size();
   if (n == 0) return;
   if (n >= kNoParent) throw std::length_error("OccluderBvh: too many boxes");
@@ -207,6 +212,8 @@ void OccluderBvh::build(const std::vector<Aabb>& boxes) {
     tasks_.pop_back();
     const auto index = static_cast<uint32_t>(nodes_.size());
     if (task.parent != kNoParent) nodes_[task.parent].offset = index;
+    // The left child directly follows its parent, which is then the node before it.
+    parent_.push_back(task.parent != kNoParent ? task.parent : (index == 0 ? kNoParent : index - 1));
 
     Aabb bounds = kEmptyBox;
     Aabb centroid_bounds = kEmptyBox;
@@ -219,7 +226,7 @@ void OccluderBvh::build(const std::vector<Aabb>& boxes) {
       nodes_.push_back({bounds, task.begin, count});
       continue;
     }
-    nodes_.push_back({bounds, 0, 0});
+    nodes_.push_back({bounds, 0, kInterior});
     const uint32_t mid = split(task.begin, task.end, centroid_bounds, task.depth);
     tasks_.push_back({mid, task.end, index, task.depth + 1});
     tasks_.push_back({task.begin, mid, kNoParent, task.depth + 1});
@@ -227,10 +234,98 @@ void OccluderBvh::build(const std::vector<Aabb>& boxes) {
 
   items_.resize(n);
   item_boxes_.resize(n);
+  position_.resize(n);
+  item_leaf_.resize(n);
   for (size_t i = 0; i < n; ++i) {
     items_[i] = refs_[i].index;
     item_boxes_[i] = refs_[i].box;
+    position_[refs_[i].index] = static_cast<uint32_t>(i);
   }
+  for (uint32_t node = 0; node < nodes_.size(); ++node) {
+    const Node& nd = nodes_[node];
+    if (nd.count != kInterior) std::fill_n(item_leaf_.begin() + nd.offset, nd.count, node);
+    built_cost_ += half_perimeter(nd.box);
+  }
+  cost_ = built_cost_;
+}
+
+void OccluderBvh::refit_from(uint32_t node) noexcept {
+  while (node != kNoParent) {
+    Node& nd = nodes_[node];
+    Aabb box = kEmptyBox;
+    if (nd.count == kInterior) {
+      grow(box, nodes_[node + 1].box);
+      grow(box, nodes_[nd.offset].box);
+    } else {
+      for (uint32_t i = nd.offset; i < nd.offset + nd.count; ++i) grow(box, item_boxes_[i]);
+    }
+    if (box.min_x == nd.box.min_x && box.min_y == nd.box.min_y && box.max_x == nd.box.max_x &&
+        box.max_y == nd.box.max_y)
+      return;  // nothing above changes either
+    // An empty leaf's box is the empty box, whose half-perimeter is -inf: count it as 0.
+    const auto cost = [](const Aabb& b) { return b.min_x <= b.max_x ? half_perimeter(b) : 0.0; };
+    cost_ += cost(box) - cost(nd.box);
+    nd.box = box;
+    node = parent_[node];
+  }
+}
+
+void OccluderBvh::set_position(uint32_t index, uint32_t position) noexcept {
+  position_[index] = position;
+  if (position & kUnindexed) {
+    unindexed_[position & ~kUnindexed].index = index;
+  } else {
+    items_[position] = index;
+  }
+}
+
+void OccluderBvh::update(uint32_t index, const Aabb& box) noexcept {
+  const uint32_t position = position_[index];
+  if (position & kUnindexed) {
+    unindexed_[position & ~kUnindexed].box = box;
+    return;
+  }
+  item_boxes_[position] = box;
+  refit_from(item_leaf_[position]);
+}
+
+void OccluderBvh::insert(const Aabb& box) {
+  if (position_.size() + 1 >= kUnindexed) throw std::length_error("OccluderBvh: too many boxes");
+  const auto index = static_cast<uint32_t>(position_.size());
+  position_.push_back(kUnindexed | static_cast<uint32_t>(unindexed_.size()));
+  unindexed_.push_back({box, index});
+}
+
+void OccluderBvh::remove(uint32_t index) noexcept {
+  const uint32_t position = position_[index];
+  if (position & kUnindexed) {
+    // Swap with the last unindexed box.
+    const uint32_t slot = position & ~kUnindexed;
+    unindexed_[slot] = unindexed_.back();
+    unindexed_.pop_back();
+    if (slot < unindexed_.size()) position_[unindexed_[slot].index] = kUnindexed | slot;
+  } else {
+    // Swap with the last item of the same leaf, which shrinks by one.
+    const uint32_t leaf = item_leaf_[position];
+    Node& nd = nodes_[leaf];
+    const uint32_t last = nd.offset + nd.count - 1;
+    if (position != last) {
+      items_[position] = items_[last];
+      item_boxes_[position] = item_boxes_[last];
+      position_[items_[position]] = position;
+    }
+    --nd.count;
+    refit_from(leaf);
+  }
+  // The last index takes the removed one's place.
+  const auto last_index = static_cast<uint32_t>(position_.size() - 1);
+  if (index != last_index) set_position(index, position_[last_index]);
+  position_.pop_back();
+}
+
+bool OccluderBvh::needs_rebuild() const noexcept {
+  const size_t limit = std::max<size_t>(8, position_.size() / 8);
+  return unindexed_.size() > limit || cost_ > 2.0 * built_cost_ + 1e-300;
 }
 
 // Returns the split point of items_[begin, end), reordered; both sides are non-empty.
@@ -308,15 +403,21 @@ uint32_t OccluderBvh::split(uint32_t begin, uint32_t end, const Aabb& cb, int de
 // decides each item of a reached leaf. Appends the hits in increasing index order.
 template <class NodeTest, class ItemTest>
 void OccluderBvh::collect(NodeTest&& node_test, ItemTest&& item_test, std::vector<uint32_t>& out) const noexcept {
-  if (nodes_.empty()) return;
   const size_t first_out = out.size();
+  for (const BuildRef& ref : unindexed_) {
+    if (item_test(ref.box)) out.push_back(ref.index);
+  }
+  if (nodes_.empty()) {
+    std::sort(out.begin() + static_cast<std::ptrdiff_t>(first_out), out.end());
+    return;
+  }
   uint32_t stack[kMaxDepth];
   int top = 0;
   uint32_t node = 0;
   for (;;) {
     const Node& nd = nodes_[node];
     if (node_test(nd.box)) {
-      if (nd.count == 0) {
+      if (nd.count == kInterior) {
         stack[top++] = nd.offset;
         node += 1;
         continue;

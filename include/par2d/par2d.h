@@ -1,0 +1,119 @@
+/* par2d C API: a persistent soft-shadow renderer for game loops, through opaque handles.
+ *
+ * Every function that can fail returns a par2d_status; on failure par2d_last_error()
+ * gives a one-line message (per thread, until the next failing call on that thread).
+ * Nothing here allocates per frame once a renderer has rendered a frame of its size.
+ * See docs/api.md for the full reference and docs/contract.md for what is computed. */
+#ifndef PAR2D_PAR2D_H
+#define PAR2D_PAR2D_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#if defined(_WIN32)
+#define PAR2D_C_API
+#else
+#define PAR2D_C_API __attribute__((visibility("default")))
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum par2d_status {
+  PAR2D_OK = 0,
+  PAR2D_INVALID_ARGUMENT = 1, /* API misuse: null pointer, bad size, stride, option, handle */
+  PAR2D_INVALID_SCENE = 2,    /* a shape, color or frame breaks the scene rules */
+  PAR2D_IO_ERROR = 3,         /* a file could not be read */
+  PAR2D_OUT_OF_MEMORY = 4,
+  PAR2D_UNSUPPORTED = 5
+} par2d_status;
+
+typedef enum par2d_backend {
+  PAR2D_BACKEND_AUTO = 0,   /* fastest path this CPU supports */
+  PAR2D_BACKEND_SIMD = 1,
+  PAR2D_BACKEND_SCALAR = 2  /* the double-precision reference */
+} par2d_backend;
+
+typedef enum par2d_pixel_format {
+  PAR2D_RGB_F32 = 0,    /* 3 floats per pixel: linear irradiance */
+  PAR2D_RGBA_F32 = 1,   /* 4 floats: irradiance, alpha 1 */
+  PAR2D_RGBA8_SRGB = 2  /* 4 bytes: sRGB of clamp(exposure * E, 0, 1), alpha 255 */
+} par2d_pixel_format;
+
+typedef enum par2d_shape_kind {
+  PAR2D_SHAPE_POLYGON = 0, /* convex, either winding, >= 3 vertices */
+  PAR2D_SHAPE_CIRCLE = 1,  /* a disc */
+  PAR2D_SHAPE_SEGMENT = 2  /* a line segment */
+} par2d_shape_kind;
+
+/* A shape in world coordinates (x right, y down). Only the fields of `kind` are read. */
+typedef struct par2d_shape {
+  par2d_shape_kind kind;
+  const double* vertices; /* polygon: x0, y0, x1, y1, ... */
+  size_t vertex_count;    /* polygon: number of (x, y) pairs */
+  double circle[3];       /* circle: center x, center y, radius (> 0) */
+  double segment[4];      /* segment: ax, ay, bx, by (distinct points) */
+} par2d_shape;
+
+typedef struct par2d_options {
+  par2d_backend backend; /* default PAR2D_BACKEND_AUTO */
+  int threads;           /* worker threads, 0 = all hardware threads (default) */
+  int spp;               /* samples per pixel, 1..256 (default 1) */
+  int culling;           /* nonzero (default): skip lights proven hidden; same image */
+} par2d_options;
+
+typedef struct par2d_renderer par2d_renderer; /* opaque */
+typedef uint64_t par2d_light;                 /* 0 never names a light */
+typedef uint64_t par2d_occluder;              /* 0 never names an occluder */
+
+/* Library version at run time ("0.1.0") and as numbers. */
+PAR2D_C_API const char* par2d_version(void);
+PAR2D_C_API void par2d_version_numbers(int* major, int* minor, int* patch);
+
+/* The message of the last failed call on this thread ("" when none failed). */
+PAR2D_C_API const char* par2d_last_error(void);
+
+/* Fills `options` with the defaults. */
+PAR2D_C_API void par2d_options_default(par2d_options* options);
+
+/* A renderer with an empty world and its own thread pool (created here, never per frame).
+ * `options` may be NULL for the defaults. */
+PAR2D_C_API par2d_status par2d_renderer_create(const par2d_options* options, par2d_renderer** out);
+PAR2D_C_API void par2d_renderer_destroy(par2d_renderer* renderer); /* NULL is ignored */
+/* Worker threads the renderer uses. */
+PAR2D_C_API int par2d_renderer_threads(const par2d_renderer* renderer);
+
+/* The lightmap: width x height pixels showing the world rectangle view = {x0, y0, x1, y1}
+ * (NULL: {0, 0, width, height}). Independent of the host's screen size. */
+PAR2D_C_API par2d_status par2d_set_frame(par2d_renderer* renderer, int width, int height, const double* view);
+
+/* Replaces the world (frame included) with a scene file (docs/contract.md, section 3). */
+PAR2D_C_API par2d_status par2d_load_scene(par2d_renderer* renderer, const char* path);
+
+/* Lights: color is linear RGB (each >= 0), emission = intensity * color. */
+PAR2D_C_API par2d_status par2d_add_light(par2d_renderer* renderer, const par2d_shape* shape, const double color[3],
+                                         double intensity, par2d_light* out);
+PAR2D_C_API par2d_status par2d_update_light(par2d_renderer* renderer, par2d_light light, const par2d_shape* shape,
+                                            const double color[3], double intensity);
+PAR2D_C_API par2d_status par2d_set_light_emission(par2d_renderer* renderer, par2d_light light,
+                                                  const double color[3], double intensity);
+PAR2D_C_API par2d_status par2d_remove_light(par2d_renderer* renderer, par2d_light light);
+
+PAR2D_C_API par2d_status par2d_add_occluder(par2d_renderer* renderer, const par2d_shape* shape, par2d_occluder* out);
+PAR2D_C_API par2d_status par2d_update_occluder(par2d_renderer* renderer, par2d_occluder occluder,
+                                               const par2d_shape* shape);
+PAR2D_C_API par2d_status par2d_remove_occluder(par2d_renderer* renderer, par2d_occluder occluder);
+
+/* Renders region = {x0, y0, x1, y1} (pixels [x0, x1) x [y0, y1); NULL: the whole frame)
+ * into `pixels`, whose first byte is the region's top-left pixel, rows `row_stride` bytes
+ * apart. `exposure` (finite, >= 0) is used by PAR2D_RGBA8_SRGB only. A region's pixels are
+ * bit-identical to the same pixels of a whole frame. */
+PAR2D_C_API par2d_status par2d_render(par2d_renderer* renderer, void* pixels, par2d_pixel_format format,
+                                      ptrdiff_t row_stride, double exposure, const int* region);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* PAR2D_PAR2D_H */

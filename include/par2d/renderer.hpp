@@ -1,0 +1,134 @@
+// Persistent renderer for a game loop: a world of lights and occluders kept prepared across
+// frames, changed through stable handles, rendered into the host's own pixel buffers.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "par2d/render.hpp"
+#include "par2d/scene.hpp"
+#include "par2d/status.hpp"
+
+// The public API is what the shared library exports (built with hidden visibility).
+#pragma GCC visibility push(default)
+namespace par2d {
+
+// Names a light of one Renderer for as long as it exists; a removed light's handle is never
+// valid again (handles carry a generation). id 0 never names anything.
+struct LightHandle {
+  std::uint64_t id = 0;
+};
+struct OccluderHandle {
+  std::uint64_t id = 0;
+};
+
+// Pixel layouts a frame can be written in. Every format is written by the tiles directly.
+enum class PixelFormat {
+  rgb_f32,     // 3 floats per pixel: linear irradiance E (docs/contract.md section 1)
+  rgba_f32,    // 4 floats: E and alpha 1
+  rgba8_srgb,  // 4 bytes: round(255 * srgb(clamp(exposure * E, 0, 1))) per channel, alpha 255
+};
+
+// Bytes one pixel of `format` takes (12, 16, 4).
+int bytes_per_pixel(PixelFormat format) noexcept;
+
+// Pixel columns [x0, x1) and rows [y0, y1) of the lightmap.
+struct PixelRect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
+// The host's buffer for a frame or a region of it: the region's top-left pixel is at `data`,
+// row r of the region starts `r * row_stride` bytes after it.
+struct FrameBuffer {
+  void* data = nullptr;
+  PixelFormat format = PixelFormat::rgb_f32;
+  // Bytes between the starts of consecutive rows; at least region width * bytes_per_pixel.
+  std::ptrdiff_t row_stride = 0;
+  // Multiplies E before sRGB encoding (rgba8_srgb only); finite, >= 0. Default: 1.
+  double exposure = 1.0;
+};
+
+// What the renderer has done so far (for tests and profiling).
+struct RendererStats {
+  std::uint64_t frames = 0;             // successful render calls
+  std::uint64_t index_builds = 0;       // occluder index (BVH) built from scratch
+  std::uint64_t index_updates = 0;      // occluder index updated in place (refit, insert, remove)
+  std::uint64_t reach_computations = 0; // per-light reach proofs run (lights changed or near changes)
+  std::uint64_t full_prepares = 0;      // whole world re-prepared (frame or coordinate scale changed)
+};
+
+// A persistent world and renderer. Not thread-safe: one thread at a time calls its methods
+// (render itself runs on many threads). Every update is validated when it is made; a refused
+// update returns a Status naming the handle and the problem and leaves the world unchanged.
+//
+// Cost model: changing a light (shape, position, color, intensity) never touches the occluder
+// index; changing an occluder updates the index in place and re-proves the reach of the lights
+// whose earlier proofs looked at its old or new place. After the first frame at a given size,
+// a frame allocates no memory and creates no threads.
+class Renderer {
+ public:
+  Renderer();
+  ~Renderer();
+  Renderer(Renderer&&) noexcept;
+  Renderer& operator=(Renderer&&) noexcept;
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // Backend (automatic, simd or scalar; raycast is refused), spp, isa, culling and threading.
+  // Creates the renderer's thread pool here (never per frame) unless
+  // options.threading == Threading::caller_arena.
+  Status set_options(const RenderOptions& options);
+  const RenderOptions& options() const noexcept;
+  // The worker count render uses: resolved_threads(options()), or in caller_arena mode the
+  // concurrency of the arena render was last called from.
+  int threads() const noexcept;
+
+  // The lightmap: width x height pixels showing the world rectangle `view`
+  // (docs/contract.md section 2). Independent of the host's screen. Default view: [0, 0, width, height].
+  Status set_frame(int width, int height);
+  Status set_frame(int width, int height, const View& view);
+  int width() const noexcept;
+  int height() const noexcept;
+  const View& view() const noexcept;
+
+  // Replaces the whole world (frame included) with a validated scene; `lights` and
+  // `occluders`, when given, receive the handles in the scene's order.
+  Status set_scene(const Scene& scene, std::vector<LightHandle>* lights = nullptr,
+                   std::vector<OccluderHandle>* occluders = nullptr);
+
+  Status add_light(const Light& light, LightHandle* handle);
+  Status update_light(LightHandle handle, const Light& light);
+  // Color and intensity only: the light's shape and everything derived from it stay.
+  Status set_light_emission(LightHandle handle, const Rgb& color, double intensity);
+  Status remove_light(LightHandle handle);
+
+  Status add_occluder(const Occluder& occluder, OccluderHandle* handle);
+  Status update_occluder(OccluderHandle handle, const Occluder& occluder);
+  Status remove_occluder(OccluderHandle handle);
+
+  std::size_t light_count() const noexcept;
+  std::size_t occluder_count() const noexcept;
+
+  // Renders the whole frame into `buffer` (width x height pixels).
+  Status render(const FrameBuffer& buffer);
+  // Renders only `region` (inside the frame); its pixels are bit-identical to the same
+  // pixels of a whole frame. `buffer` holds just the region.
+  Status render(const FrameBuffer& buffer, const PixelRect& region);
+  // The whole frame as float RGB into an ImageView of the frame's size.
+  Status render(const ImageView& image);
+
+  // The world as a Scene: lights that emit (in the renderer's internal order), then dark
+  // ones, then occluders. Rendering it with par2d::render gives the same image.
+  Scene snapshot() const;
+
+  RendererStats stats() const noexcept;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace par2d
+#pragma GCC visibility pop

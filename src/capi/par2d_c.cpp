@@ -1,0 +1,228 @@
+// The C API (include/par2d/par2d.h) over par2d::Renderer: shapes converted into reused
+// buffers (no allocation per update), errors kept per thread.
+#include "par2d/par2d.h"
+
+#include <exception>
+#include <new>
+#include <string>
+
+#include "par2d/renderer.hpp"
+#include "par2d/version.hpp"
+
+struct par2d_renderer {
+  par2d::Renderer renderer;
+  par2d::Light light;        // conversion buffers, reused from call to call
+  par2d::Occluder occluder;
+};
+
+namespace {
+
+thread_local std::string g_last_error;
+
+par2d_status to_c(const par2d::Status& s) {
+  if (s.ok()) return PAR2D_OK;
+  try {
+    g_last_error = s.message();
+  } catch (...) {
+    g_last_error.clear();
+  }
+  switch (s.code()) {
+    case par2d::StatusCode::ok: return PAR2D_OK;
+    case par2d::StatusCode::invalid_argument: return PAR2D_INVALID_ARGUMENT;
+    case par2d::StatusCode::invalid_scene: return PAR2D_INVALID_SCENE;
+    case par2d::StatusCode::io_error: return PAR2D_IO_ERROR;
+    case par2d::StatusCode::out_of_memory: return PAR2D_OUT_OF_MEMORY;
+    case par2d::StatusCode::unsupported: return PAR2D_UNSUPPORTED;
+  }
+  return PAR2D_INVALID_ARGUMENT;
+}
+
+par2d_status fail(const char* message) { return to_c(par2d::Status(par2d::StatusCode::invalid_argument, message)); }
+
+// Runs fn, turning exceptions into statuses (nothing may unwind into C).
+template <class Fn>
+par2d_status guarded(Fn&& fn) noexcept {
+  try {
+    return fn();
+  } catch (const std::bad_alloc&) {
+    return to_c(par2d::Status(par2d::StatusCode::out_of_memory, "out of memory"));
+  } catch (const std::exception& e) {
+    return to_c(par2d::Status(par2d::StatusCode::invalid_argument, e.what()));
+  } catch (...) {
+    return fail("unexpected error");
+  }
+}
+
+// Converts into `out`, reusing a polygon's vertex buffer when the shape stays a polygon.
+par2d_status convert_shape(const par2d_shape* in, par2d::Shape& out) {
+  if (in == nullptr) return fail("shape is null");
+  switch (in->kind) {
+    case PAR2D_SHAPE_POLYGON: {
+      if (in->vertices == nullptr && in->vertex_count > 0) return fail("polygon vertices are null");
+      if (!std::holds_alternative<par2d::Polygon>(out)) out = par2d::Polygon{};
+      auto& v = std::get<par2d::Polygon>(out).vertices;
+      v.resize(in->vertex_count);
+      for (std::size_t i = 0; i < in->vertex_count; ++i) v[i] = {in->vertices[2 * i], in->vertices[2 * i + 1]};
+      return PAR2D_OK;
+    }
+    case PAR2D_SHAPE_CIRCLE:
+      out = par2d::Circle{{in->circle[0], in->circle[1]}, in->circle[2]};
+      return PAR2D_OK;
+    case PAR2D_SHAPE_SEGMENT:
+      out = par2d::Segment{{in->segment[0], in->segment[1]}, {in->segment[2], in->segment[3]}};
+      return PAR2D_OK;
+  }
+  return fail("unknown shape kind");
+}
+
+par2d_status fill_light(par2d_renderer* r, const par2d_shape* shape, const double color[3], double intensity) {
+  if (color == nullptr) return fail("color is null");
+  if (par2d_status s = convert_shape(shape, r->light.shape); s != PAR2D_OK) return s;
+  r->light.color = {color[0], color[1], color[2]};
+  r->light.intensity = intensity;
+  return PAR2D_OK;
+}
+
+}  // namespace
+
+extern "C" {
+
+const char* par2d_version(void) { return par2d::kVersion; }
+
+void par2d_version_numbers(int* major, int* minor, int* patch) {
+  if (major) *major = PAR2D_VERSION_MAJOR;
+  if (minor) *minor = PAR2D_VERSION_MINOR;
+  if (patch) *patch = PAR2D_VERSION_PATCH;
+}
+
+const char* par2d_last_error(void) { return g_last_error.c_str(); }
+
+void par2d_options_default(par2d_options* options) {
+  if (options == nullptr) return;
+  options->backend = PAR2D_BACKEND_AUTO;
+  options->threads = 0;
+  options->spp = 1;
+  options->culling = 1;
+}
+
+par2d_status par2d_renderer_create(const par2d_options* options, par2d_renderer** out) {
+  if (out == nullptr) return fail("par2d_renderer_create: out is null");
+  *out = nullptr;
+  return guarded([&] {
+    par2d::RenderOptions o;
+    if (options) {
+      switch (options->backend) {
+        case PAR2D_BACKEND_AUTO: o.backend = par2d::Backend::automatic; break;
+        case PAR2D_BACKEND_SIMD: o.backend = par2d::Backend::simd; break;
+        case PAR2D_BACKEND_SCALAR: o.backend = par2d::Backend::scalar; break;
+        default: return fail("par2d_renderer_create: unknown backend");
+      }
+      o.threads = options->threads;
+      o.spp = options->spp;
+      o.culling = options->culling != 0;
+    }
+    auto r = std::make_unique<par2d_renderer>();
+    if (par2d::Status s = r->renderer.set_options(o); !s.ok()) return to_c(s);
+    *out = r.release();
+    return PAR2D_OK;
+  });
+}
+
+void par2d_renderer_destroy(par2d_renderer* renderer) { delete renderer; }
+
+int par2d_renderer_threads(const par2d_renderer* renderer) { return renderer ? renderer->renderer.threads() : 0; }
+
+par2d_status par2d_set_frame(par2d_renderer* r, int width, int height, const double* view) {
+  if (r == nullptr) return fail("par2d_set_frame: renderer is null");
+  return guarded([&] {
+    if (view == nullptr) return to_c(r->renderer.set_frame(width, height));
+    return to_c(r->renderer.set_frame(width, height, par2d::View{view[0], view[1], view[2], view[3]}));
+  });
+}
+
+par2d_status par2d_load_scene(par2d_renderer* r, const char* path) {
+  if (r == nullptr || path == nullptr) return fail("par2d_load_scene: renderer or path is null");
+  return guarded([&] {
+    par2d::Scene scene;
+    if (par2d::Status s = par2d::load_scene_file(path, scene); !s.ok()) return to_c(s);
+    return to_c(r->renderer.set_scene(scene));
+  });
+}
+
+par2d_status par2d_add_light(par2d_renderer* r, const par2d_shape* shape, const double color[3], double intensity,
+                             par2d_light* out) {
+  if (r == nullptr || out == nullptr) return fail("par2d_add_light: renderer or out is null");
+  return guarded([&] {
+    if (par2d_status s = fill_light(r, shape, color, intensity); s != PAR2D_OK) return s;
+    par2d::LightHandle h;
+    if (par2d::Status s = r->renderer.add_light(r->light, &h); !s.ok()) return to_c(s);
+    *out = h.id;
+    return PAR2D_OK;
+  });
+}
+
+par2d_status par2d_update_light(par2d_renderer* r, par2d_light light, const par2d_shape* shape, const double color[3],
+                                double intensity) {
+  if (r == nullptr) return fail("par2d_update_light: renderer is null");
+  return guarded([&] {
+    if (par2d_status s = fill_light(r, shape, color, intensity); s != PAR2D_OK) return s;
+    return to_c(r->renderer.update_light(par2d::LightHandle{light}, r->light));
+  });
+}
+
+par2d_status par2d_set_light_emission(par2d_renderer* r, par2d_light light, const double color[3], double intensity) {
+  if (r == nullptr || color == nullptr) return fail("par2d_set_light_emission: renderer or color is null");
+  return guarded([&] {
+    return to_c(r->renderer.set_light_emission(par2d::LightHandle{light}, {color[0], color[1], color[2]}, intensity));
+  });
+}
+
+par2d_status par2d_remove_light(par2d_renderer* r, par2d_light light) {
+  if (r == nullptr) return fail("par2d_remove_light: renderer is null");
+  return guarded([&] { return to_c(r->renderer.remove_light(par2d::LightHandle{light})); });
+}
+
+par2d_status par2d_add_occluder(par2d_renderer* r, const par2d_shape* shape, par2d_occluder* out) {
+  if (r == nullptr || out == nullptr) return fail("par2d_add_occluder: renderer or out is null");
+  return guarded([&] {
+    if (par2d_status s = convert_shape(shape, r->occluder.shape); s != PAR2D_OK) return s;
+    par2d::OccluderHandle h;
+    if (par2d::Status s = r->renderer.add_occluder(r->occluder, &h); !s.ok()) return to_c(s);
+    *out = h.id;
+    return PAR2D_OK;
+  });
+}
+
+par2d_status par2d_update_occluder(par2d_renderer* r, par2d_occluder occluder, const par2d_shape* shape) {
+  if (r == nullptr) return fail("par2d_update_occluder: renderer is null");
+  return guarded([&] {
+    if (par2d_status s = convert_shape(shape, r->occluder.shape); s != PAR2D_OK) return s;
+    return to_c(r->renderer.update_occluder(par2d::OccluderHandle{occluder}, r->occluder));
+  });
+}
+
+par2d_status par2d_remove_occluder(par2d_renderer* r, par2d_occluder occluder) {
+  if (r == nullptr) return fail("par2d_remove_occluder: renderer is null");
+  return guarded([&] { return to_c(r->renderer.remove_occluder(par2d::OccluderHandle{occluder})); });
+}
+
+par2d_status par2d_render(par2d_renderer* r, void* pixels, par2d_pixel_format format, ptrdiff_t row_stride,
+                          double exposure, const int* region) {
+  if (r == nullptr) return fail("par2d_render: renderer is null");
+  return guarded([&] {
+    par2d::FrameBuffer buffer;
+    buffer.data = pixels;
+    switch (format) {
+      case PAR2D_RGB_F32: buffer.format = par2d::PixelFormat::rgb_f32; break;
+      case PAR2D_RGBA_F32: buffer.format = par2d::PixelFormat::rgba_f32; break;
+      case PAR2D_RGBA8_SRGB: buffer.format = par2d::PixelFormat::rgba8_srgb; break;
+      default: return fail("par2d_render: unknown pixel format");
+    }
+    buffer.row_stride = row_stride;
+    buffer.exposure = exposure;
+    if (region == nullptr) return to_c(r->renderer.render(buffer));
+    return to_c(r->renderer.render(buffer, par2d::PixelRect{region[0], region[1], region[2], region[3]}));
+  });
+}
+
+}  // extern "C"

@@ -1,0 +1,123 @@
+// Tile stores for each pixel format: float RGB, float RGBA, 8-bit sRGB RGBA with exposure.
+#include "render/frame_output.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace par2d {
+
+int bytes_per_pixel(PixelFormat format) noexcept {
+  switch (format) {
+    case PixelFormat::rgb_f32: return 12;
+    case PixelFormat::rgba_f32: return 16;
+    case PixelFormat::rgba8_srgb: return 4;
+  }
+  return 0;
+}
+
+namespace detail {
+namespace {
+
+// Linear values at which the rounded 8-bit sRGB code steps from k-1 to k, k = 1..255: the
+// inverse transfer function at (k - 0.5) / 255 (the PNG writer encodes the same way). The
+// code of v is the number of thresholds <= v. A search over them costs ~10 ns a channel,
+// as much as the lighting of a simple pixel, so the table below answers in one look-up:
+// [0, 1) is cut into kBuckets equal buckets; the thresholds are more than 1/kBuckets apart
+// (the steepest slope of the encoding is 12.92 * 255 codes per unit < kBuckets), so a bucket
+// holds at most one, and code(v) = below[b] + (v >= inside[b]) exactly.
+struct SrgbTable {
+  static constexpr int kBuckets = 4096;
+  std::array<double, 255> thresholds{};
+  std::array<unsigned char, kBuckets> below{};
+  std::array<double, kBuckets> inside{};
+  SrgbTable() {
+    for (int k = 1; k <= 255; ++k) {
+      const double s = (k - 0.5) / 255.0;
+      thresholds[static_cast<std::size_t>(k - 1)] = s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
+    }
+    for (int b = 0; b < kBuckets; ++b) {
+      const double lo = static_cast<double>(b) / kBuckets, hi = static_cast<double>(b + 1) / kBuckets;
+      const auto first = std::lower_bound(thresholds.begin(), thresholds.end(), lo);
+      below[static_cast<std::size_t>(b)] = static_cast<unsigned char>(first - thresholds.begin());
+      inside[static_cast<std::size_t>(b)] =
+          first != thresholds.end() && *first < hi ? *first : std::numeric_limits<double>::infinity();
+    }
+  }
+};
+const SrgbTable kSrgb;
+
+// Interleaves each row of `part` into a small local buffer with put(dst, r, g, b) and
+// copies it to the host row in one memcpy: host rows need not be aligned for float, and
+// one copy per row is cheaper than one per pixel.
+template <int kChannels, class T, class Put>
+void store_rows(const TileResult& result, int tile_x0, int tile_y0, const TileRect& part, const FrameTarget& target,
+                Put&& put) noexcept {
+  T row_buffer[kTileSize * kChannels];
+  const int count = part.x1 - part.x0;
+  const std::size_t first = static_cast<std::size_t>(part.x0 - tile_x0);
+  for (int j = part.y0; j < part.y1; ++j) {
+    const std::size_t base = static_cast<std::size_t>(j - tile_y0) * kTileSize + first;
+    const float* r = result.rgb[0] + base;
+    const float* g = result.rgb[1] + base;
+    const float* b = result.rgb[2] + base;
+    for (int i = 0; i < count; ++i) put(row_buffer + i * kChannels, r[i], g[i], b[i]);
+    unsigned char* row = target.data + static_cast<std::ptrdiff_t>(j - target.region.y0) * target.row_stride +
+                         static_cast<std::ptrdiff_t>(part.x0 - target.region.x0) * kChannels * sizeof(T);
+    std::memcpy(row, row_buffer, static_cast<std::size_t>(count) * kChannels * sizeof(T));
+  }
+}
+
+}  // namespace
+
+unsigned char encode_srgb8(double linear) noexcept {
+  if (!(linear > 0.0)) return 0;
+  if (linear >= 1.0) return 255;
+  // linear * kBuckets is exact (a power of two), so the bucket is exactly floor of it.
+  const auto b = static_cast<std::size_t>(linear * SrgbTable::kBuckets);
+  return static_cast<unsigned char>(kSrgb.below[b] + (linear >= kSrgb.inside[b] ? 1 : 0));
+}
+
+unsigned char encode_srgb8_search(double linear) noexcept {
+  if (!(linear > 0.0)) return 0;
+  if (linear >= 1.0) return 255;
+  return static_cast<unsigned char>(std::upper_bound(kSrgb.thresholds.begin(), kSrgb.thresholds.end(), linear) -
+                                    kSrgb.thresholds.begin());
+}
+
+void store_tile(const TileResult& result, int tile_x0, int tile_y0, const TileRect& part,
+                const FrameTarget& target) noexcept {
+  switch (target.format) {
+    case PixelFormat::rgb_f32:
+      store_rows<3, float>(result, tile_x0, tile_y0, part, target, [](float* p, float r, float g, float b) {
+        p[0] = r;
+        p[1] = g;
+        p[2] = b;
+      });
+      break;
+    case PixelFormat::rgba_f32:
+      store_rows<4, float>(result, tile_x0, tile_y0, part, target, [](float* p, float r, float g, float b) {
+        p[0] = r;
+        p[1] = g;
+        p[2] = b;
+        p[3] = 1.0f;
+      });
+      break;
+    case PixelFormat::rgba8_srgb: {
+      const double exposure = target.exposure;
+      store_rows<4, unsigned char>(result, tile_x0, tile_y0, part, target,
+                                   [exposure](unsigned char* p, float r, float g, float b) {
+                                     p[0] = encode_srgb8(exposure * static_cast<double>(r));
+                                     p[1] = encode_srgb8(exposure * static_cast<double>(g));
+                                     p[2] = encode_srgb8(exposure * static_cast<double>(b));
+                                     p[3] = 255;
+                                   });
+      break;
+    }
+  }
+}
+
+}  // namespace detail
+}  // namespace par2d

@@ -1,0 +1,32 @@
+// Storing finished tiles straight into the host's buffer in its pixel format (no second pass).
+#pragma once
+
+#include <cstddef>
+
+#include "par2d/renderer.hpp"
+#include "render/tiling.hpp"
+#include "simd/tile_work.hpp"
+
+namespace par2d::detail {
+
+// Where a frame goes: `region` (pixels of the whole frame) is stored with its top-left pixel
+// at `data`, rows `row_stride` bytes apart.
+struct FrameTarget {
+  unsigned char* data = nullptr;
+  PixelFormat format = PixelFormat::rgb_f32;
+  std::ptrdiff_t row_stride = 0;
+  double exposure = 1.0;
+  TileRect region{0, 0, 0, 0};
+};
+
+// Stores pixels `part` (inside the target's region) of the tile whose top-left pixel is
+// (tile_x0, tile_y0), from its kernel result.
+void store_tile(const TileResult& result, int tile_x0, int tile_y0, const TileRect& part,
+                const FrameTarget& target) noexcept;
+
+// round(255 * srgb(clamp(v, 0, 1))), NaN and negatives to 0, from a table (no pow per channel).
+unsigned char encode_srgb8(double linear) noexcept;
+// The same by a binary search over the 255 thresholds: the table's reference in tests.
+unsigned char encode_srgb8_search(double linear) noexcept;
+
+}  // namespace par2d::detail

@@ -1,0 +1,147 @@
+// par2d::Renderer: options and threading, the persistent world, and frames into host buffers.
+#include "par2d/renderer.hpp"
+
+#include <cmath>
+#include <new>
+#include <string>
+
+#include "render/frame_output.hpp"
+#include "render/kernel_table.hpp"
+#include "render/render_arguments.hpp"
+#include "render/scheduler.hpp"
+#include "world/world.hpp"
+
+namespace par2d {
+
+struct Renderer::Impl {
+  RenderOptions options;
+  Isa isa = Isa::scalar;
+  detail::Scheduler scheduler;
+  detail::World world;
+  detail::FrameEngine engine;
+};
+
+namespace {
+
+Status bad(std::string message) { return Status(StatusCode::invalid_argument, std::move(message)); }
+
+// Runs an update, turning exceptions (out of memory) into a status.
+template <class Fn>
+Status guarded(const char* what, Fn&& fn) {
+  try {
+    return fn();
+  } catch (const std::bad_alloc&) {
+    return Status(StatusCode::out_of_memory, std::string(what) + ": out of memory");
+  } catch (const std::exception& e) {
+    return Status(StatusCode::invalid_argument, std::string(what) + ": " + e.what());
+  }
+}
+
+}  // namespace
+
+Renderer::Renderer() : impl_(std::make_unique<Impl>()) { impl_->isa = resolved_isa(impl_->options); }
+Renderer::~Renderer() = default;
+Renderer::Renderer(Renderer&&) noexcept = default;
+Renderer& Renderer::operator=(Renderer&&) noexcept = default;
+
+Status Renderer::set_options(const RenderOptions& options) {
+  return guarded("set_options", [&]() -> Status {
+    if (Status s = detail::check_options(options, "set_options"); !s.ok()) return s;
+    if (options.backend == Backend::raycast)
+      return Status(StatusCode::unsupported, "set_options: the raycast backend is for one-shot render only");
+    impl_->scheduler.configure(resolved_threads(options), options.threading);
+    impl_->options = options;
+    impl_->isa = resolved_isa(options);
+    return {};
+  });
+}
+
+const RenderOptions& Renderer::options() const noexcept { return impl_->options; }
+
+int Renderer::threads() const noexcept {
+  return impl_->scheduler.configured() ? impl_->scheduler.workers() : resolved_threads(impl_->options);
+}
+
+Status Renderer::set_frame(int width, int height) { return set_frame(width, height, View{0.0, 0.0, double(width), double(height)}); }
+
+Status Renderer::set_frame(int width, int height, const View& view) {
+  return guarded("set_frame", [&] { return impl_->world.set_frame(width, height, view); });
+}
+
+int Renderer::width() const noexcept { return impl_->world.prepared().width; }
+int Renderer::height() const noexcept { return impl_->world.prepared().height; }
+const View& Renderer::view() const noexcept { return impl_->world.view(); }
+
+Status Renderer::set_scene(const Scene& scene, std::vector<LightHandle>* lights, std::vector<OccluderHandle>* occluders) {
+  return guarded("set_scene", [&] { return impl_->world.set_scene(scene, lights, occluders); });
+}
+
+Status Renderer::add_light(const Light& light, LightHandle* handle) {
+  return guarded("add_light", [&] { return impl_->world.add_light(light, handle); });
+}
+Status Renderer::update_light(LightHandle handle, const Light& light) {
+  return guarded("update_light", [&] { return impl_->world.update_light(handle, light); });
+}
+Status Renderer::set_light_emission(LightHandle handle, const Rgb& color, double intensity) {
+  return guarded("set_light_emission", [&] { return impl_->world.set_light_emission(handle, color, intensity); });
+}
+Status Renderer::remove_light(LightHandle handle) {
+  return guarded("remove_light", [&] { return impl_->world.remove_light(handle); });
+}
+Status Renderer::add_occluder(const Occluder& occluder, OccluderHandle* handle) {
+  return guarded("add_occluder", [&] { return impl_->world.add_occluder(occluder, handle); });
+}
+Status Renderer::update_occluder(OccluderHandle handle, const Occluder& occluder) {
+  return guarded("update_occluder", [&] { return impl_->world.update_occluder(handle, occluder); });
+}
+Status Renderer::remove_occluder(OccluderHandle handle) {
+  return guarded("remove_occluder", [&] { return impl_->world.remove_occluder(handle); });
+}
+
+std::size_t Renderer::light_count() const noexcept { return impl_->world.light_count(); }
+std::size_t Renderer::occluder_count() const noexcept { return impl_->world.occluder_count(); }
+
+Status Renderer::render(const FrameBuffer& buffer) {
+  return render(buffer, PixelRect{0, 0, width(), height()});
+}
+
+Status Renderer::render(const ImageView& image) {
+  if (image.data == nullptr) return bad("render: image data is null");
+  if (image.width != width() || image.height != height())
+    return bad("render: image is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+               " but the frame is " + std::to_string(width()) + "x" + std::to_string(height()));
+  if (image.row_stride < 3 * static_cast<std::ptrdiff_t>(image.width))
+    return bad("render: row_stride " + std::to_string(image.row_stride) + " is less than 3 * width");
+  FrameBuffer buffer;
+  buffer.data = image.data;
+  buffer.format = PixelFormat::rgb_f32;
+  buffer.row_stride = image.row_stride * static_cast<std::ptrdiff_t>(sizeof(float));
+  return render(buffer);
+}
+
+Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
+  Impl& impl = *impl_;
+  if (!impl.world.has_frame()) return bad("render: no frame size (call set_frame or set_scene first)");
+  if (Status s = detail::check_frame_buffer(buffer, region, width(), height(), "render"); !s.ok()) return s;
+  return guarded("render", [&]() -> Status {
+    if (!impl.scheduler.configured()) impl.scheduler.configure(resolved_threads(impl.options), impl.options.threading);
+    const bool culling = impl.options.culling && impl.isa != Isa::scalar;
+    const detail::PreparedScene& scene = impl.world.commit(culling, impl.scheduler);
+    detail::FrameTarget target;
+    target.data = static_cast<unsigned char*>(buffer.data);
+    target.format = buffer.format;
+    target.row_stride = buffer.row_stride;
+    target.exposure = buffer.exposure;
+    target.region = {region.x0, region.y0, region.x1, region.y1};
+    impl.engine.render(scene, culling ? &impl.world.reach() : nullptr,
+                       detail::FrameSettings{impl.options.spp, culling, impl.isa}, impl.scheduler, target);
+    ++impl.world.stats().frames;
+    return {};
+  });
+}
+
+Scene Renderer::snapshot() const { return impl_->world.snapshot(); }
+
+RendererStats Renderer::stats() const noexcept { return impl_->world.stats(); }
+
+}  // namespace par2d

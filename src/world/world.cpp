@@ -1,0 +1,481 @@
+// The persistent world: validated, prepared shape by shape; the occluder index and light reach
+// follow each change incrementally (docs/contract.md describes what is computed).
+#include "world/world.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "scene/scene_validate.hpp"
+
+namespace par2d::detail {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr Aabb kEmpty{kInf, kInf, -kInf, -kInf};
+
+Aabb box_of(const ConvexShape& s) noexcept { return {s.bounds_min.x, s.bounds_min.y, s.bounds_max.x, s.bounds_max.y}; }
+
+bool meet(const Aabb& a, const Aabb& b) noexcept {
+  return a.min_x <= b.max_x && b.min_x <= a.max_x && a.min_y <= b.max_y && b.min_y <= a.max_y;
+}
+
+bool emits(const Light& light) noexcept {
+  const double e = std::max({light.intensity * light.color[0], light.intensity * light.color[1],
+                             light.intensity * light.color[2]});
+  return e > 0.0;
+}
+
+// `who: place: what`, e.g. `light 4294967298: polygon: not convex at vertex 3`.
+Status refused(const std::string& who, const SceneProblem& problem) {
+  std::string message = who + ": ";
+  if (!problem.place.empty()) {
+    // Places come as ".polygon..." relative to the object.
+    message += problem.place[0] == '.' ? problem.place.substr(1) : problem.place;
+    message += ": ";
+  }
+  message += problem.what;
+  return Status(StatusCode::invalid_scene, std::move(message));
+}
+
+Status unknown_handle(const char* kind, std::uint64_t id) {
+  return Status(StatusCode::invalid_argument, std::string("unknown ") + kind + " handle " + std::to_string(id));
+}
+
+// Keeps a light's overlap list sorted by occluder, its points in step.
+void erase_overlap(PreparedLight& light, std::uint32_t k) {
+  auto& list = light.overlapping_occluders;
+  const auto it = std::lower_bound(list.begin(), list.end(), k);
+  if (it == list.end() || *it != k) return;
+  const auto i = it - list.begin();
+  list.erase(it);
+  light.overlap_points.erase(light.overlap_points.begin() + i);
+}
+
+void insert_overlap(PreparedLight& light, std::uint32_t k, std::vector<Vec2> points) {
+  auto& list = light.overlapping_occluders;
+  const auto it = std::lower_bound(list.begin(), list.end(), k);
+  const auto i = it - list.begin();
+  list.insert(it, k);
+  light.overlap_points.insert(light.overlap_points.begin() + i, std::move(points));
+}
+
+}  // namespace
+
+World::World() { scene_.separators.reset(0, 0); }
+
+std::uint64_t World::make_handle(std::uint32_t slot) const noexcept {
+  return (static_cast<std::uint64_t>(slots_[slot].generation) << 32) | (static_cast<std::uint64_t>(slot) + 1);
+}
+
+World::Slot* World::find(std::uint64_t id, bool occluder) noexcept {
+  const std::uint64_t low = id & 0xffffffffu;
+  if (low == 0 || low > slots_.size()) return nullptr;
+  Slot& slot = slots_[low - 1];
+  if (slot.where < 0 || slot.generation != (id >> 32)) return nullptr;
+  if ((slot.list == kOccluder) != occluder) return nullptr;
+  return &slot;
+}
+
+std::uint32_t World::new_slot(std::uint8_t list, std::int32_t where) {
+  std::uint32_t slot;
+  if (!free_slots_.empty()) {
+    slot = free_slots_.back();
+    free_slots_.pop_back();
+  } else {
+    slot = static_cast<std::uint32_t>(slots_.size());
+    slots_.emplace_back();
+  }
+  slots_[slot].list = list;
+  slots_[slot].where = where;
+  return slot;
+}
+
+Status World::set_frame(int width, int height, const View& view) {
+  if (auto problem = check_image_size(width, height)) return scene_error("set_frame", *problem);
+  if (auto problem = check_view(view)) return scene_error("set_frame", *problem);
+  scene_.width = width;
+  scene_.height = height;
+  view_ = view;
+  scene_.view = {view.x0 * factor_, view.y0 * factor_, view.x1 * factor_, view.y1 * factor_};
+  // Reach radii are measured in pixels and end at the view's corners.
+  std::fill(reach_stale_.begin(), reach_stale_.end(), 1);
+  return {};
+}
+
+Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, std::vector<OccluderHandle>* occluders) {
+  if (Status s = validate_scene(scene); !s.ok()) return s;
+  // Build the new state aside, so that a failure (out of memory) keeps the old one.
+  World next;
+  next.stats_ = stats_;
+  next.scene_.width = scene.width;
+  next.scene_.height = scene.height;
+  next.view_ = scene.view;
+  const std::size_t count = scene.lights.size() + scene.occluders.size();
+  next.slots_.resize(std::max(slots_.size(), count));
+  // Generations continue from this world's, so no old handle names a new object.
+  for (std::size_t i = 0; i < slots_.size(); ++i) next.slots_[i].generation = slots_[i].generation + 1;
+  for (std::size_t i = next.slots_.size(); i-- > count;) next.free_slots_.push_back(static_cast<std::uint32_t>(i));
+  std::vector<LightHandle> light_handles;
+  std::vector<OccluderHandle> occluder_handles;
+  std::uint32_t slot = 0;
+  for (const Light& light : scene.lights) {
+    Slot& s = next.slots_[slot];
+    if (emits(light)) {
+      s.list = kLit;
+      s.where = static_cast<std::int32_t>(next.light_sources_.size());
+      next.light_sources_.push_back(light);
+      next.light_slots_.push_back(slot);
+    } else {
+      s.list = kDark;
+      s.where = static_cast<std::int32_t>(next.dark_sources_.size());
+      next.dark_sources_.push_back(light);
+      next.dark_slots_.push_back(slot);
+    }
+    light_handles.push_back({next.make_handle(slot++)});
+  }
+  for (const Occluder& occluder : scene.occluders) {
+    Slot& s = next.slots_[slot];
+    s.list = kOccluder;
+    s.where = static_cast<std::int32_t>(next.occluder_sources_.size());
+    next.occluder_sources_.push_back(occluder);
+    next.occluder_slots_.push_back(slot);
+    occluder_handles.push_back({next.make_handle(slot++)});
+  }
+  next.reach_scratch_ = std::move(reach_scratch_);
+  next.reprepare_all();
+  *this = std::move(next);
+  if (lights) *lights = std::move(light_handles);
+  if (occluders) *occluders = std::move(occluder_handles);
+  return {};
+}
+
+double World::largest_coordinate() const noexcept {
+  double largest = 0.0;
+  auto grow = [&](const ConvexShape& s) {
+    largest = std::max({largest, std::abs(s.bounds_min.x), std::abs(s.bounds_min.y), std::abs(s.bounds_max.x),
+                        std::abs(s.bounds_max.y)});
+  };
+  for (const PreparedLight& l : scene_.lights) grow(l.shape);
+  for (const ConvexShape& o : scene_.occluders) grow(o);
+  return largest;
+}
+
+// Everything from the sources, exactly as prepare_scene does it for a whole scene.
+void World::reprepare_all() {
+  scene_.lights.resize(light_sources_.size());
+  scene_.occluders.resize(occluder_sources_.size());
+  for (std::size_t p = 0; p < light_sources_.size(); ++p) {
+    const Light& l = light_sources_[p];
+    make_convex_shape(l.shape, scene_.lights[p].shape);
+    for (int c = 0; c < 3; ++c) scene_.lights[p].emission[static_cast<std::size_t>(c)] = l.intensity * l.color[static_cast<std::size_t>(c)];
+  }
+  for (std::size_t k = 0; k < occluder_sources_.size(); ++k) make_convex_shape(occluder_sources_[k].shape, scene_.occluders[k]);
+  const double largest = std::max({largest_coordinate(), std::abs(view_.x0), std::abs(view_.x1), std::abs(view_.y0),
+                                   std::abs(view_.y1)});
+  factor_ = scene_scale(view_, largest);
+  scene_.view = {view_.x0 * factor_, view_.y0 * factor_, view_.x1 * factor_, view_.y1 * factor_};
+  for (PreparedLight& l : scene_.lights) scale_shape(l.shape, factor_);
+  for (ConvexShape& o : scene_.occluders) scale_shape(o, factor_);
+  rebuild_index();
+  for (PreparedLight& l : scene_.lights) find_light_overlaps(scene_, l, query_);
+  scene_.separators.reset(scene_.lights.size(), scene_.occluders.size());
+  reach_.assign(scene_.lights.size(), LightReach{});
+  reach_depends_.assign(scene_.lights.size(), kEmpty);
+  reach_stale_.assign(scene_.lights.size(), 1);
+  update_scene_bounds(scene_);
+  ++stats_.full_prepares;
+}
+
+void World::rebuild_index() {
+  std::vector<Aabb>& boxes = boxes_;
+  boxes.clear();
+  for (const ConvexShape& o : scene_.occluders) boxes.push_back(box_of(o));
+  scene_.occluder_bvh.build(boxes);
+  ++stats_.index_builds;
+}
+
+void World::prepare_lit(std::size_t p, const Light& light) {
+  PreparedLight& prepared = scene_.lights[p];
+  make_convex_shape(light.shape, prepared.shape);
+  scale_shape(prepared.shape, factor_);
+  for (std::size_t c = 0; c < 3; ++c) prepared.emission[c] = light.intensity * light.color[c];
+  find_light_overlaps(scene_, prepared, query_);
+  scene_.separators.forget_light(p);
+  reach_stale_[p] = 1;
+}
+
+void World::push_lit(const Light& light, std::uint32_t slot) {
+  const std::size_t p = light_sources_.size();
+  light_sources_.push_back(light);
+  light_slots_.push_back(slot);
+  scene_.lights.emplace_back();
+  reach_.emplace_back();
+  reach_depends_.push_back(kEmpty);
+  reach_stale_.push_back(1);
+  scene_.separators.resize(p + 1, scene_.occluders.size());
+  slots_[slot].list = kLit;
+  slots_[slot].where = static_cast<std::int32_t>(p);
+  prepare_lit(p, light);
+}
+
+void World::push_dark(const Light& light, std::uint32_t slot) {
+  slots_[slot].list = kDark;
+  slots_[slot].where = static_cast<std::int32_t>(dark_sources_.size());
+  dark_sources_.push_back(light);
+  dark_slots_.push_back(slot);
+}
+
+void World::erase_lit(std::size_t p) {
+  const std::size_t m = light_sources_.size() - 1;
+  if (p != m) {
+    std::swap(light_sources_[p], light_sources_[m]);
+    light_slots_[p] = light_slots_[m];
+    std::swap(scene_.lights[p], scene_.lights[m]);
+    reach_[p] = reach_[m];
+    reach_depends_[p] = reach_depends_[m];
+    reach_stale_[p] = reach_stale_[m];
+    if (m < reach_scratch_.size()) std::swap(reach_scratch_[p], reach_scratch_[m]);
+    scene_.separators.move_light(m, p);
+    slots_[light_slots_[p]].where = static_cast<std::int32_t>(p);
+  }
+  light_sources_.pop_back();
+  light_slots_.pop_back();
+  scene_.lights.pop_back();
+  reach_.pop_back();
+  reach_depends_.pop_back();
+  reach_stale_.pop_back();
+  scene_.separators.forget_light(m);
+  scene_.separators.resize(m, scene_.occluders.size());
+}
+
+void World::erase_dark(std::size_t q) {
+  const std::size_t m = dark_sources_.size() - 1;
+  if (q != m) {
+    std::swap(dark_sources_[q], dark_sources_[m]);
+    dark_slots_[q] = dark_slots_[m];
+    slots_[dark_slots_[q]].where = static_cast<std::int32_t>(q);
+  }
+  dark_sources_.pop_back();
+  dark_slots_.pop_back();
+}
+
+Status World::add_light(const Light& light, LightHandle* handle) {
+  if (handle == nullptr) return Status(StatusCode::invalid_argument, "add_light: handle is null");
+  if (auto problem = check_light(light, std::string())) return refused("add_light", *problem);
+  const std::uint32_t slot = new_slot(0, 0);
+  if (emits(light)) {
+    push_lit(light, slot);
+  } else {
+    push_dark(light, slot);
+  }
+  handle->id = make_handle(slot);
+  return {};
+}
+
+Status World::update_light(LightHandle handle, const Light& light) {
+  Slot* slot = find(handle.id, false);
+  if (!slot) return unknown_handle("light", handle.id);
+  if (auto problem = check_light(light, std::string())) return refused("light " + std::to_string(handle.id), *problem);
+  const std::uint32_t index = static_cast<std::uint32_t>(slot - slots_.data());
+  const auto where = static_cast<std::size_t>(slot->where);
+  if (slot->list == kLit) {
+    if (emits(light)) {
+      light_sources_[where] = light;
+      prepare_lit(where, light);
+    } else {
+      erase_lit(where);
+      push_dark(light, index);
+    }
+  } else {
+    if (emits(light)) {
+      erase_dark(where);
+      push_lit(light, index);
+    } else {
+      dark_sources_[where] = light;
+    }
+  }
+  return {};
+}
+
+Status World::set_light_emission(LightHandle handle, const Rgb& color, double intensity) {
+  Slot* slot = find(handle.id, false);
+  if (!slot) return unknown_handle("light", handle.id);
+  for (std::size_t c = 0; c < 3; ++c) {
+    if (!(std::isfinite(color[c]) && color[c] >= 0.0))
+      return Status(StatusCode::invalid_scene, "light " + std::to_string(handle.id) + ": color[" + std::to_string(c) +
+                                                   "]: must be a finite number >= 0");
+  }
+  if (!(std::isfinite(intensity) && intensity >= 0.0))
+    return Status(StatusCode::invalid_scene,
+                  "light " + std::to_string(handle.id) + ": intensity: must be a finite number >= 0");
+  const std::uint32_t index = static_cast<std::uint32_t>(slot - slots_.data());
+  const auto where = static_cast<std::size_t>(slot->where);
+  Light& source = slot->list == kLit ? light_sources_[where] : dark_sources_[where];
+  source.color = color;
+  source.intensity = intensity;
+  const bool now = emits(source);
+  if (slot->list == kLit && now) {
+    // Only the emission changes: shape, overlaps, separators and reach all stay.
+    for (std::size_t c = 0; c < 3; ++c) scene_.lights[where].emission[c] = intensity * color[c];
+  } else if (slot->list == kLit) {
+    const Light copy = source;
+    erase_lit(where);
+    push_dark(copy, index);
+  } else if (now) {
+    const Light copy = source;
+    erase_dark(where);
+    push_lit(copy, index);
+  }
+  return {};
+}
+
+Status World::remove_light(LightHandle handle) {
+  Slot* slot = find(handle.id, false);
+  if (!slot) return unknown_handle("light", handle.id);
+  if (slot->list == kLit) {
+    erase_lit(static_cast<std::size_t>(slot->where));
+  } else {
+    erase_dark(static_cast<std::size_t>(slot->where));
+  }
+  slot->where = -1;
+  ++slot->generation;
+  free_slots_.push_back(static_cast<std::uint32_t>(slot - slots_.data()));
+  return {};
+}
+
+void World::touch_reach(const Aabb& box) noexcept {
+  for (std::size_t p = 0; p < reach_stale_.size(); ++p) {
+    if (!reach_stale_[p] && meet(reach_depends_[p], box)) reach_stale_[p] = 1;
+  }
+}
+
+// Occluder k has a new shape (or is new): its overlaps with lights, its separators and the
+// reach of lights whose proofs looked where it was or is.
+void World::occluder_changed(std::size_t k, const Aabb* old_box) {
+  const ConvexShape& occ = scene_.occluders[k];
+  const Aabb box = box_of(occ);
+  const auto index = static_cast<std::uint32_t>(k);
+  for (PreparedLight& light : scene_.lights) {
+    erase_overlap(light, index);
+    if (!meet(box_of(light.shape), box) || shape_distance(light.shape, occ) > 0.0) continue;
+    std::vector<Vec2> points;
+    boundary_intersections(light.shape, occ, points);
+    insert_overlap(light, index, std::move(points));
+  }
+  scene_.separators.forget_occluder(k);
+  if (old_box) touch_reach(*old_box);
+  touch_reach(box);
+}
+
+Status World::add_occluder(const Occluder& occluder, OccluderHandle* handle) {
+  if (handle == nullptr) return Status(StatusCode::invalid_argument, "add_occluder: handle is null");
+  if (auto problem = check_occluder(occluder, std::string())) return refused("add_occluder", *problem);
+  const std::size_t k = occluder_sources_.size();
+  const std::uint32_t slot = new_slot(kOccluder, static_cast<std::int32_t>(k));
+  occluder_sources_.push_back(occluder);
+  occluder_slots_.push_back(slot);
+  scene_.occluders.emplace_back();
+  make_convex_shape(occluder.shape, scene_.occluders[k]);
+  scale_shape(scene_.occluders[k], factor_);
+  scene_.occluder_bvh.insert(box_of(scene_.occluders[k]));
+  scene_.separators.resize(scene_.lights.size(), k + 1);
+  occluder_changed(k, nullptr);
+  ++stats_.index_updates;
+  handle->id = make_handle(slot);
+  return {};
+}
+
+Status World::update_occluder(OccluderHandle handle, const Occluder& occluder) {
+  Slot* slot = find(handle.id, true);
+  if (!slot) return unknown_handle("occluder", handle.id);
+  if (auto problem = check_occluder(occluder, std::string())) return refused("occluder " + std::to_string(handle.id), *problem);
+  const auto k = static_cast<std::size_t>(slot->where);
+  const Aabb old_box = box_of(scene_.occluders[k]);
+  occluder_sources_[k] = occluder;
+  make_convex_shape(occluder.shape, scene_.occluders[k]);
+  scale_shape(scene_.occluders[k], factor_);
+  scene_.occluder_bvh.update(static_cast<std::uint32_t>(k), box_of(scene_.occluders[k]));
+  occluder_changed(k, &old_box);
+  ++stats_.index_updates;
+  return {};
+}
+
+Status World::remove_occluder(OccluderHandle handle) {
+  Slot* slot = find(handle.id, true);
+  if (!slot) return unknown_handle("occluder", handle.id);
+  const auto k = static_cast<std::size_t>(slot->where);
+  const std::size_t m = occluder_sources_.size() - 1;
+  touch_reach(box_of(scene_.occluders[k]));
+  // Occluder m takes index k everywhere.
+  for (PreparedLight& light : scene_.lights) {
+    erase_overlap(light, static_cast<std::uint32_t>(k));
+    if (k == m) continue;
+    auto& list = light.overlapping_occluders;
+    const auto it = std::lower_bound(list.begin(), list.end(), static_cast<std::uint32_t>(m));
+    if (it == list.end() || *it != m) continue;
+    std::vector<Vec2> points = std::move(light.overlap_points[static_cast<std::size_t>(it - list.begin())]);
+    erase_overlap(light, static_cast<std::uint32_t>(m));
+    insert_overlap(light, static_cast<std::uint32_t>(k), std::move(points));
+  }
+  scene_.occluder_bvh.remove(static_cast<std::uint32_t>(k));
+  if (k != m) {
+    std::swap(occluder_sources_[k], occluder_sources_[m]);
+    occluder_slots_[k] = occluder_slots_[m];
+    std::swap(scene_.occluders[k], scene_.occluders[m]);
+    scene_.separators.move_occluder(m, k);
+    slots_[occluder_slots_[k]].where = static_cast<std::int32_t>(k);
+  }
+  occluder_sources_.pop_back();
+  occluder_slots_.pop_back();
+  scene_.occluders.pop_back();
+  scene_.separators.forget_occluder(m);
+  scene_.separators.resize(scene_.lights.size(), m);
+  slot->where = -1;
+  ++slot->generation;
+  free_slots_.push_back(static_cast<std::uint32_t>(slot - slots_.data()));
+  ++stats_.index_updates;
+  return {};
+}
+
+const PreparedScene& World::commit(bool culling, const Scheduler& scheduler) {
+  // The coordinate scale follows the view and the largest coordinate (prepare_scene); when
+  // it changes, everything is prepared again (a zoom by a power of two, far-flung shapes).
+  const double largest = std::max({largest_coordinate() / factor_, std::abs(view_.x0), std::abs(view_.x1),
+                                   std::abs(view_.y0), std::abs(view_.y1)});
+  if (scene_scale(view_, largest) != factor_) reprepare_all();
+  update_scene_bounds(scene_);
+  if (scene_.occluder_bvh.needs_rebuild()) rebuild_index();
+  if (!culling) return scene_;
+  stale_list_.clear();
+  for (std::size_t p = 0; p < reach_stale_.size(); ++p) {
+    if (reach_stale_[p]) stale_list_.push_back(static_cast<std::uint32_t>(p));
+  }
+  if (stale_list_.empty()) return scene_;
+  // Scratch per light, not per thread: a light's proofs need the same room each time it
+  // is proven at the same place, whichever thread runs them, so steady state allocates nothing.
+  if (reach_scratch_.size() < reach_.size()) reach_scratch_.resize(reach_.size());
+  scheduler.for_each_index(static_cast<int>(stale_list_.size()), [&](int i, int) {
+    const std::uint32_t p = stale_list_[static_cast<std::size_t>(i)];
+    LightReachScratch& scratch = reach_scratch_[p];
+    reach_[p] = compute_light_reach(scene_, p, scratch);
+    reach_depends_[p] = scratch.depends_on;
+  });
+  std::fill(reach_stale_.begin(), reach_stale_.end(), 0);
+  stats_.reach_computations += stale_list_.size();
+  return scene_;
+}
+
+Scene World::snapshot() const {
+  Scene out;
+  out.width = scene_.width;
+  out.height = scene_.height;
+  out.view = view_;
+  out.lights = light_sources_;
+  out.lights.insert(out.lights.end(), dark_sources_.begin(), dark_sources_.end());
+  out.occluders = occluder_sources_;
+  return out;
+}
+
+}  // namespace par2d::detail

@@ -1,0 +1,101 @@
+// The persistent world behind par2d::Renderer: a PreparedScene kept up to date shape by shape,
+// with stable handles, an occluder index updated in place and per-light reach cached.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "par2d/renderer.hpp"
+#include "par2d/scene.hpp"
+#include "par2d/status.hpp"
+#include "culling/light_reach.hpp"
+#include "world/prepared_scene.hpp"
+#include "render/scheduler.hpp"
+
+namespace par2d::detail {
+
+class World {
+ public:
+  World();
+
+  Status set_frame(int width, int height, const View& view);
+  Status set_scene(const Scene& scene, std::vector<LightHandle>* lights, std::vector<OccluderHandle>* occluders);
+
+  Status add_light(const Light& light, LightHandle* handle);
+  Status update_light(LightHandle handle, const Light& light);
+  Status set_light_emission(LightHandle handle, const Rgb& color, double intensity);
+  Status remove_light(LightHandle handle);
+  Status add_occluder(const Occluder& occluder, OccluderHandle* handle);
+  Status update_occluder(OccluderHandle handle, const Occluder& occluder);
+  Status remove_occluder(OccluderHandle handle);
+
+  bool has_frame() const noexcept { return scene_.width > 0; }
+  const View& view() const noexcept { return view_; }
+  std::size_t light_count() const noexcept { return light_sources_.size() + dark_sources_.size(); }
+  std::size_t occluder_count() const noexcept { return occluder_sources_.size(); }
+
+  // Brings everything derived up to date for a frame: coordinate scale, bounds, the index
+  // (rebuilt only when refits have degraded it), and with `culling` the reach of every light
+  // whose reach is stale. Allocates nothing in steady state.
+  const PreparedScene& commit(bool culling, const Scheduler& scheduler);
+  const PreparedScene& prepared() const noexcept { return scene_; }
+  const std::vector<LightReach>& reach() const noexcept { return reach_; }
+
+  Scene snapshot() const;
+  RendererStats& stats() noexcept { return stats_; }
+  const RendererStats& stats() const noexcept { return stats_; }
+
+ private:
+  // A handle's slot: which array its object lives in and where.
+  struct Slot {
+    std::uint32_t generation = 1;
+    std::int32_t where = -1;  // index into the owning array, -1 when free
+    std::uint8_t list = 0;    // kLit / kDark / kOccluder
+  };
+  enum : std::uint8_t { kLit = 1, kDark = 2, kOccluder = 3 };
+
+  std::uint64_t make_handle(std::uint32_t slot) const noexcept;
+  Slot* find(std::uint64_t id, bool occluder) noexcept;
+  std::uint32_t new_slot(std::uint8_t list, std::int32_t where);
+
+  void prepare_lit(std::size_t p, const Light& light);
+  void push_lit(const Light& light, std::uint32_t slot);
+  void push_dark(const Light& light, std::uint32_t slot);
+  void erase_lit(std::size_t p);
+  void erase_dark(std::size_t q);
+  void occluder_changed(std::size_t k, const Aabb* old_box);
+  void refresh_light_overlaps_for(std::size_t k);
+  void touch_reach(const Aabb& box) noexcept;
+  void reprepare_all();
+  void rebuild_index();
+  double largest_coordinate() const noexcept;
+
+  PreparedScene scene_;
+  View view_{};        // unscaled
+  double factor_ = 1.0;  // scene_ coordinates = world coordinates * factor_
+
+  std::vector<Slot> slots_;
+  std::vector<std::uint32_t> free_slots_;
+  // Emitting lights, parallel to scene_.lights; dark (zero emission) lights aside.
+  std::vector<Light> light_sources_;
+  std::vector<std::uint32_t> light_slots_;
+  std::vector<Light> dark_sources_;
+  std::vector<std::uint32_t> dark_slots_;
+  // Parallel to scene_.occluders.
+  std::vector<Occluder> occluder_sources_;
+  std::vector<std::uint32_t> occluder_slots_;
+
+  std::vector<LightReach> reach_;
+  std::vector<Aabb> reach_depends_;
+  std::vector<std::uint8_t> reach_stale_;
+  std::vector<std::uint32_t> stale_list_;
+  std::vector<LightReachScratch> reach_scratch_;
+
+  std::vector<std::uint32_t> query_;  // scratch for index queries
+  std::vector<Aabb> boxes_;          // scratch for index builds
+  ConvexShape shape_scratch_;
+  RendererStats stats_;
+};
+
+}  // namespace par2d::detail

@@ -1,0 +1,130 @@
+/* The C API from a C program: world building, updates, every pixel format, regions, errors,
+ * and the version at run time, against closed forms. Exits non-zero on the first failure. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "par2d/par2d.h"
+
+static int failures = 0;
+
+#define CHECK(cond)                                                   \
+  do {                                                                \
+    if (!(cond)) {                                                    \
+      fprintf(stderr, "%s:%d: CHECK(%s) failed\n", __FILE__, __LINE__, #cond); \
+      ++failures;                                                     \
+    }                                                                 \
+  } while (0)
+
+enum { W = 64, H = 48 };
+
+int main(void) {
+  int major = -1, minor = -1, patch = -1;
+  char expected[32];
+  par2d_version_numbers(&major, &minor, &patch);
+  snprintf(expected, sizeof expected, "%d.%d.%d", major, minor, patch);
+  CHECK(strcmp(par2d_version(), expected) == 0);
+
+  par2d_options options;
+  par2d_options_default(&options);
+  options.threads = 2;
+  par2d_renderer* r = NULL;
+  CHECK(par2d_renderer_create(&options, &r) == PAR2D_OK);
+  if (r == NULL) return 1;
+  CHECK(par2d_renderer_threads(r) >= 1 && par2d_renderer_threads(r) <= 2);
+  CHECK(par2d_set_frame(r, W, H, NULL) == PAR2D_OK);
+
+  /* A circle light of radius 2 at (10, 10) with emission 3 (white), and a box occluder. */
+  par2d_shape light_shape;
+  memset(&light_shape, 0, sizeof light_shape);
+  light_shape.kind = PAR2D_SHAPE_CIRCLE;
+  light_shape.circle[0] = 10.0;
+  light_shape.circle[1] = 10.0;
+  light_shape.circle[2] = 2.0;
+  const double white[3] = {1.0, 1.0, 1.0};
+  par2d_light light = 0;
+  CHECK(par2d_add_light(r, &light_shape, white, 3.0, &light) == PAR2D_OK);
+  CHECK(light != 0);
+
+  const double box[8] = {40, 30, 56, 30, 56, 44, 40, 44};
+  par2d_shape occluder_shape;
+  memset(&occluder_shape, 0, sizeof occluder_shape);
+  occluder_shape.kind = PAR2D_SHAPE_POLYGON;
+  occluder_shape.vertices = box;
+  occluder_shape.vertex_count = 4;
+  par2d_occluder occluder = 0;
+  CHECK(par2d_add_occluder(r, &occluder_shape, &occluder) == PAR2D_OK);
+
+  float* rgb = malloc(sizeof(float) * W * H * 3);
+  CHECK(par2d_render(r, rgb, PAR2D_RGB_F32, (ptrdiff_t)(sizeof(float) * W * 3), 1.0, NULL) == PAR2D_OK);
+  /* Pixel (30, 10) has its center at (30.5, 10.5), unshadowed: E = e * 2 asin(r/d) / 2pi. */
+  {
+    const double d = hypot(30.5 - 10.0, 10.5 - 10.0);
+    const double e = 3.0 * 2.0 * asin(2.0 / d) / (2.0 * 3.14159265358979323846);
+    const float got = rgb[(10 * W + 30) * 3];
+    CHECK(fabs(got - e) <= 1e-4 * 3.0);
+  }
+  CHECK(rgb[(37 * W + 48) * 3 + 1] == 0.0f); /* inside the occluder */
+
+  /* Move the light behind the box: the far side of the box goes dark. */
+  light_shape.circle[0] = 60.0;
+  light_shape.circle[1] = 37.0;
+  light_shape.circle[2] = 1.0;
+  CHECK(par2d_update_light(r, light, &light_shape, white, 3.0) == PAR2D_OK);
+  CHECK(par2d_render(r, rgb, PAR2D_RGB_F32, (ptrdiff_t)(sizeof(float) * W * 3), 1.0, NULL) == PAR2D_OK);
+  CHECK(rgb[(37 * W + 20) * 3] == 0.0f);
+  CHECK(rgb[(10 * W + 60) * 3] > 0.0f); /* straight above the light, past the box */
+
+  /* A region in 8-bit sRGB equals the encoding of the same pixels of the full float frame. */
+  {
+    const int region[4] = {5, 3, 37, 29};
+    const int rw = region[2] - region[0], rh = region[3] - region[1];
+    unsigned char* rgba8 = malloc((size_t)rw * 4 * rh);
+    float* rgba = malloc(sizeof(float) * (size_t)rw * 4 * rh);
+    CHECK(par2d_render(r, rgba8, PAR2D_RGBA8_SRGB, rw * 4, 2.0, region) == PAR2D_OK);
+    CHECK(par2d_render(r, rgba, PAR2D_RGBA_F32, (ptrdiff_t)sizeof(float) * rw * 4, 1.0, region) == PAR2D_OK);
+    for (int j = 0; j < rh; ++j) {
+      for (int i = 0; i < rw; ++i) {
+        const float* full = &rgb[((j + region[1]) * W + i + region[0]) * 3];
+        const float* part = &rgba[(j * rw + i) * 4];
+        CHECK(memcmp(full, part, 3 * sizeof(float)) == 0 && part[3] == 1.0f);
+        double v = 2.0 * full[0];
+        v = v < 0.0 ? 0.0 : v > 1.0 ? 1.0 : v;
+        const double s = v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1.0 / 2.4) - 0.055;
+        CHECK(abs((int)rgba8[(j * rw + i) * 4] - (int)lround(255.0 * s)) <= 1);
+        CHECK(rgba8[(j * rw + i) * 4 + 3] == 255);
+      }
+    }
+    free(rgba8);
+    free(rgba);
+  }
+
+  /* Errors: a non-convex polygon is refused with a message; the world stays as it was. */
+  {
+    const double bent[10] = {10, 10, 30, 10, 20, 12, 30, 30, 10, 30};
+    par2d_shape bad = occluder_shape;
+    bad.vertices = bent;
+    bad.vertex_count = 5;
+    CHECK(par2d_update_occluder(r, occluder, &bad) == PAR2D_INVALID_SCENE);
+    CHECK(strstr(par2d_last_error(), "not convex") != NULL);
+    CHECK(par2d_remove_light(r, light + 12345) == PAR2D_INVALID_ARGUMENT);
+    CHECK(par2d_render(r, NULL, PAR2D_RGB_F32, W * 12, 1.0, NULL) == PAR2D_INVALID_ARGUMENT);
+    CHECK(par2d_render(r, rgb, PAR2D_RGB_F32, 4, 1.0, NULL) == PAR2D_INVALID_ARGUMENT);
+    CHECK(strstr(par2d_last_error(), "row_stride") != NULL);
+    float* again = malloc(sizeof(float) * W * H * 3);
+    CHECK(par2d_render(r, again, PAR2D_RGB_F32, (ptrdiff_t)(sizeof(float) * W * 3), 1.0, NULL) == PAR2D_OK);
+    CHECK(memcmp(again, rgb, sizeof(float) * W * H * 3) == 0);
+    free(again);
+  }
+
+  CHECK(par2d_remove_occluder(r, occluder) == PAR2D_OK);
+  CHECK(par2d_remove_occluder(r, occluder) == PAR2D_INVALID_ARGUMENT);
+  CHECK(par2d_render(r, rgb, PAR2D_RGB_F32, (ptrdiff_t)(sizeof(float) * W * 3), 1.0, NULL) == PAR2D_OK);
+  CHECK(rgb[(37 * W + 20) * 3] > 0.0f); /* no longer shadowed */
+
+  free(rgb);
+  par2d_renderer_destroy(r);
+  if (failures == 0) printf("C API: all checks passed (par2d %s)\n", par2d_version());
+  return failures == 0 ? 0 : 1;
+}
