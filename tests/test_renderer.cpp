@@ -226,6 +226,28 @@ TEST_CASE("a refused update names the handle and the problem and keeps the previ
   CHECK(r.stats().index_updates == stats.index_updates);
 }
 
+TEST_CASE("the lights' total emission stays within 1e38 per channel through every update path") {
+  Renderer r;
+  REQUIRE(r.set_frame(16, 16).ok());
+  LightHandle a, b;
+  REQUIRE(r.add_light(Light{Circle{{4, 4}, 1}, {1, 1, 1}, 6e37}, &a).ok());
+  // A second light alone is fine, but the sum would pass float's range.
+  Status s = r.add_light(Light{Circle{{12, 12}, 1}, {1, 1, 1}, 6e37}, &b);
+  CHECK(s.code() == StatusCode::invalid_scene);
+  CHECK(s.message().find("add_light: emission too large") == 0);
+  CHECK(r.light_count() == 1);
+  REQUIRE(r.add_light(Light{Circle{{12, 12}, 1}, {1, 1, 1}, 3e37}, &b).ok());
+  // Replacing a light counts it once, not twice.
+  CHECK(r.update_light(a, Light{Circle{{5, 5}, 1}, {1, 1, 1}, 7e37}).ok());
+  s = r.update_light(a, Light{Circle{{5, 5}, 1}, {1, 1, 1}, 8e37});
+  CHECK(s.code() == StatusCode::invalid_scene);
+  CHECK(s.message().find("light " + std::to_string(a.id) + ": emission too large") == 0);
+  CHECK(r.set_light_emission(b, {1, 2, 1}, 3e37).code() == StatusCode::invalid_scene);
+  CHECK(r.set_light_emission(b, {1, 1, 1}, 3e37).ok());
+  const std::vector<float> pixels = frame_rgb(r);
+  CHECK(std::all_of(pixels.begin(), pixels.end(), [](float v) { return std::isfinite(v) && v >= 0.0f; }));
+}
+
 TEST_CASE("every pixel format and any region equal the same pixels of the whole float frame") {
   const Scene level = bench::game_level(150, 83);
   for (Isa isa : isas_here()) {

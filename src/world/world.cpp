@@ -94,7 +94,7 @@ std::uint32_t World::new_slot(std::uint8_t list, std::int32_t where) {
 
 Status World::set_frame(int width, int height, const View& view) {
   if (auto problem = check_image_size(width, height)) return scene_error("set_frame", *problem);
-  if (auto problem = check_view(view)) return scene_error("set_frame", *problem);
+  if (auto problem = check_view(view, width, height)) return scene_error("set_frame", *problem);
   scene_.width = width;
   scene_.height = height;
   view_ = view;
@@ -261,9 +261,24 @@ void World::erase_dark(std::size_t q) {
   dark_slots_.pop_back();
 }
 
+// The lights' total emission with `light` added (in place of lit light `replaced`, if any)
+// must stay within what float32 output can hold, as for scenes (check_emission_total).
+std::optional<SceneProblem> World::emission_total_problem(const Light& light, std::size_t replaced) const {
+  for (int c = 0; c < 3; ++c) {
+    double total = light.intensity * light.color[static_cast<std::size_t>(c)];
+    for (std::size_t i = 0; i < light_sources_.size(); ++i)
+      if (i != replaced) total += light_sources_[i].intensity * light_sources_[i].color[static_cast<std::size_t>(c)];
+    if (!(total <= kMaxTotalEmission))
+      return SceneProblem{std::string(), "emission too large: the lights' total intensity * color reaches " +
+                                             format_number(total) + " (at most 1e38, so that float32 output stays finite)"};
+  }
+  return std::nullopt;
+}
+
 Status World::add_light(const Light& light, LightHandle* handle) {
   if (handle == nullptr) return Status(StatusCode::invalid_argument, "add_light: handle is null");
   if (auto problem = check_light(light, std::string())) return refused("add_light", *problem);
+  if (auto problem = emission_total_problem(light, light_sources_.size())) return refused("add_light", *problem);
   const std::uint32_t slot = new_slot(0, 0);
   if (emits(light)) {
     push_lit(light, slot);
@@ -280,6 +295,8 @@ Status World::update_light(LightHandle handle, const Light& light) {
   if (auto problem = check_light(light, std::string())) return refused("light " + std::to_string(handle.id), *problem);
   const std::uint32_t index = static_cast<std::uint32_t>(slot - slots_.data());
   const auto where = static_cast<std::size_t>(slot->where);
+  if (auto problem = emission_total_problem(light, slot->list == kLit ? where : light_sources_.size()))
+    return refused("light " + std::to_string(handle.id), *problem);
   if (slot->list == kLit) {
     if (emits(light)) {
       light_sources_[where] = light;
@@ -313,6 +330,13 @@ Status World::set_light_emission(LightHandle handle, const Rgb& color, double in
   const std::uint32_t index = static_cast<std::uint32_t>(slot - slots_.data());
   const auto where = static_cast<std::size_t>(slot->where);
   Light& source = slot->list == kLit ? light_sources_[where] : dark_sources_[where];
+  {
+    Light changed;  // its default shape is an empty polygon: no allocation
+    changed.color = color;
+    changed.intensity = intensity;
+    if (auto problem = emission_total_problem(changed, slot->list == kLit ? where : light_sources_.size()))
+      return refused("light " + std::to_string(handle.id), *problem);
+  }
   source.color = color;
   source.intensity = intensity;
   const bool now = emits(source);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "culling/light_reach.hpp"
 #include "world/prepared_scene.hpp"
 #include "render/scheduler.hpp"
+#include "scene/scene_validate.hpp"
 
 namespace par2d::detail {
 
@@ -47,6 +49,10 @@ class World {
   const RendererStats& stats() const noexcept { return stats_; }
 
  private:
+  // A problem when `light`, in place of lit light `replaced` (or added, with replaced ==
+  // the lit count), would take the lights' total emission past kMaxTotalEmission.
+  std::optional<SceneProblem> emission_total_problem(const Light& light, std::size_t replaced) const;
+
   // A handle's slot: which array its object lives in and where.
   struct Slot {
     std::uint32_t generation = 1;
