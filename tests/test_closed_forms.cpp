@@ -1,4 +1,4 @@
-// Scalar renderer against closed-form irradiance values (SPEC.md section 1 consequences, section 5 bound).
+// Scalar renderer against closed-form irradiance values (docs/contract.md section 1 consequences, section 5 bound).
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -43,7 +43,7 @@ double angle_between(Vec2 a, Vec2 b, Vec2 x) {
 
 // Compares every pixel farther than `skip` pixel widths from every shape boundary
 // with expected(pixel center), requiring |got - expected| <= 1e-6 * e_max per
-// channel (SPEC.md section 5). Reports the worst pixel; returns how many were compared.
+// channel (docs/contract.md section 5). Reports the worst pixel; returns how many were compared.
 int check_against(const Scene& scene, const RenderedImage& image, const std::function<Rgb(Vec2)>& expected,
                   double skip = 1e-3) {
   const double tol = 1e-6 * emission_max_sum(scene);
@@ -180,7 +180,7 @@ TEST_CASE("inside an occluder a pixel is black even inside a light") {
   CHECK(inside > 100);
 }
 
-// SPEC.md section 1: inside light L, t_L = 0 < t_occ in every direction, so an
+// docs/contract.md section 1: inside light L, t_L = 0 < t_occ in every direction, so an
 // occluder that overlaps the light but not x removes nothing from L.
 TEST_CASE("inside a light and outside every occluder a pixel gets the full e (t_L = 0 < t_occ)") {
   Scene scene;

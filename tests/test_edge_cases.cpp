@@ -1,4 +1,4 @@
-// Geometric edge cases through the public API, each against SPEC.md section 1's definition, and the fuzz corpus replay.
+// Geometric edge cases through the public API, each against docs/contract.md section 1's definition, and the fuzz corpus replay.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -19,7 +19,7 @@ using namespace par2d;
 using test::RenderedImage;
 
 constexpr double kPi = 3.14159265358979323846;
-// SPEC.md section 5: the scalar path is exact to 1e-6 e_max away from boundaries.
+// docs/contract.md section 5: the scalar path is exact to 1e-6 e_max away from boundaries.
 constexpr double kScalarBound = 1e-6;
 constexpr double kSimdBound = 1e-4;
 
@@ -101,7 +101,7 @@ TEST_CASE("a pixel on a light's vertex or edge lies in the closed light: full e"
     for (Vec2 p : points) {
       INFO("light index ", light.index(), " point (", p.x, ", ", p.y, ")");
       CHECK(render_one(at_point(scene, p), scalar_options()) == doctest::Approx(2.5).epsilon(1e-12));
-      // A boundary pixel is exempt from SPEC.md section 5, but still finite and in [0, sum e].
+      // A boundary pixel is exempt from docs/contract.md section 5, but still finite and in [0, sum e].
       for (Isa isa : simd_isas()) check_finite_and_bounded(at_point(scene, p), simd_options(isa));
       RenderOptions rays = scalar_options();
       rays.backend = Backend::raycast;

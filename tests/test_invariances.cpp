@@ -26,7 +26,7 @@ RenderedImage render_scalar(const Scene& scene) {
 }
 
 // The scenes every invariance is checked on: default, far from the origin, mirrored,
-// and with overlapping occluders; lights disjoint from occluders (SPEC.md section 5).
+// and with overlapping occluders; lights disjoint from occluders (docs/contract.md section 5).
 Scene invariance_scene(std::uint32_t seed) {
   RandomSceneOptions o;
   o.width = 32;

@@ -14,7 +14,7 @@
 // visibility also changes where t_L = t_B, i.e. along rays through a point of
 // boundary(L) ∩ boundary(B); two convex boundaries meet in at most 2 * min(k_L, k_B)
 // points, with k = vertex count for a polygon, 1 for a segment, unbounded for a
-// circle, and 2 points for two circles. Plus SPEC.md section 5's 1e-6 * e_max for
+// circle, and 2 points for two circles. Plus docs/contract.md section 5's 1e-6 * e_max for
 // the PAR side and float storage.
 #include <doctest/doctest.h>
 
@@ -82,7 +82,7 @@ Scene raycast_scene(std::uint32_t seed, bool disjoint) {
 }
 
 // Compares `image` with the ray caster at every pixel farther than 1e-6 pixel widths
-// from every boundary (SPEC.md section 5's exemption). Returns the worst ratio of
+// from every boundary (docs/contract.md section 5's exemption). Returns the worst ratio of
 // error to bound, or fails a check with the pixel.
 double check_against_raycast(const Scene& scene, const RenderedImage& image, bool overlapping) {
   const detail::RaycastRenderer caster(scene);

@@ -1,4 +1,4 @@
-// Scene JSON loading and validation: every bad-input class of SPEC.md section 3 is refused with its place.
+// Scene JSON loading and validation: every bad-input class of docs/contract.md section 3 is refused with its place.
 #include <cstdio>
 #include <fstream>
 #include <limits>
@@ -59,7 +59,7 @@ void check_refused(const std::string& json, const std::string& place_and_what) {
 
 }  // namespace
 
-TEST_CASE("the SPEC example scene parses with every value in place") {
+TEST_CASE("the contract's example scene parses with every value in place") {
   Scene scene;
   const Status status = parse(kSpecExample, scene);
   REQUIRE_MESSAGE(status.ok(), status.message());

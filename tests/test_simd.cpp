@@ -1,4 +1,4 @@
-// The SIMD path against the scalar reference (SPEC.md section 5), for every ISA this CPU
+// The SIMD path against the scalar reference (docs/contract.md section 5), for every ISA this CPU
 // runs, each forced in turn through the public entry point; kernel-level checks of the
 // vector interval merge and atan2; thread-count independence.
 #include <doctest/doctest.h>
@@ -43,7 +43,7 @@ RenderOptions scalar_options() {
 }
 
 struct Comparison {
-  double max_error = 0.0;     // over pixels SPEC.md section 5 holds to the bound
+  double max_error = 0.0;     // over pixels docs/contract.md section 5 holds to the bound
   int checked = 0;
   int over = 0;
   std::string first_failure;
@@ -88,7 +88,7 @@ void check_simd_matches_scalar(const Scene& scene, const std::string& what) {
 }
 
 // Culled SIMD rendering against the scalar reference and, with `against_unculled`, against
-// unculled SIMD rendering, for every ISA, within SPEC.md section 5's bound.
+// unculled SIMD rendering, for every ISA, within docs/contract.md section 5's bound.
 void check_culling_exact(const Scene& scene, bool against_unculled, const std::string& what) {
   Status status;
   const RenderedImage ref = render_image(scene, scalar_options(), status);
@@ -188,7 +188,7 @@ TEST_CASE("SIMD matches scalar for a view 1e5 units from the origin with many oc
   check_simd_matches_scalar(random_scene(77, opt), "far view, many occluders");
 }
 
-TEST_CASE("culling never changes the SIMD image beyond SPEC.md bounds") {
+TEST_CASE("culling never changes the SIMD image beyond docs/contract.md bounds") {
   for (std::uint32_t seed = 300; seed < 330; ++seed) {
     RandomSceneOptions opt;
     opt.width = 80;
@@ -322,7 +322,7 @@ TEST_CASE("PAR2D_ISA caps the default ISA, and the automatic backend follows it"
 }
 
 TEST_CASE("culling is exact with up to 1000 occluders: long thin ones, ones spanning many tiles, far lights") {
-  // Culled against unculled and against the scalar reference, SPEC.md section 5 bound.
+  // Culled against unculled and against the scalar reference, docs/contract.md section 5 bound.
   struct Case {
     std::uint32_t seed;
     int occluders;
@@ -346,7 +346,7 @@ TEST_CASE("culling is exact with up to 1000 occluders: long thin ones, ones span
     opt.outside = c.outside;
     Scene scene = random_scene(c.seed, opt);
     // Long thin occluders across the whole view: segments and slivers, each kept only
-    // if it stays disjoint from every light (SPEC.md section 5's bound needs that).
+    // if it stays disjoint from every light (docs/contract.md section 5's bound needs that).
     PortableRandom rng(c.seed);
     for (int added = 0, tries = 0; added < 12 && tries < 500; ++tries) {
       const Vec2 a{rng.uniform(-40.0, 200.0), rng.uniform(-30.0, 130.0)};
@@ -383,7 +383,7 @@ TEST_CASE("culling is exact in a dense field where most lights are hidden by man
   REQUIRE(std::all_of(prepared.lights.begin(), prepared.lights.end(),
                       [](const detail::PreparedLight& l) { return l.overlapping_occluders.empty(); }));
   REQUIRE(scene.lights.size() == 16);
-  // One light at a time: SPEC.md's bound scales with the sum of emissions, and alone a light
+  // One light at a time: the contract's bound scales with the sum of emissions, and alone a light
   // seen through a crack that a wrong proof closed stands out against it.
   const std::vector<Light> lights = scene.lights;
   for (std::size_t l = 0; l < 3; ++l) {

@@ -81,7 +81,7 @@ struct Item {
 };
 
 // Pixel centers sit at k + 0.5. One lying (almost) on a shape boundary is where float and
-// double paths may legitimately disagree (SPEC.md section 5), so the example keeps clear.
+// double paths may legitimately disagree (docs/contract.md section 5), so the example keeps clear.
 constexpr double kCenterGap = 1e-3;
 
 bool edge_clear_of_centers(P a, P b) {

@@ -21,7 +21,7 @@ using Json = nlohmann::ordered_json;
 
 Json point(par2d::Vec2 p) { return Json::array({p.x, p.y}); }
 
-// SPEC.md section 3's shape members.
+// docs/contract.md section 3's shape members.
 void put_shape(Json& out, const par2d::Shape& shape) {
   std::visit(
       [&](const auto& s) {

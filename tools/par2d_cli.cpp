@@ -1,4 +1,4 @@
-// The par2d command-line tool: render a JSON scene to PNG/PFM, benchmark it, report the build (SPEC.md §4).
+// The par2d command-line tool: render a JSON scene to PNG/PFM, benchmark it, report the build (docs/contract.md §4).
 #include <CLI/CLI.hpp>
 
 #include <chrono>

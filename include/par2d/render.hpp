@@ -73,7 +73,7 @@ struct ImageView {
 // stratified rank-1 lattice; spp = 1 gives the center (0.5, 0.5)).
 void sample_offset(int k, int spp, double& dx, double& dy) noexcept;
 
-// Renders the linear irradiance E of `scene` (SPEC.md section 1) into `image`,
+// Renders the linear irradiance E of `scene` (docs/contract.md section 1) into `image`,
 // whose size must equal the scene's width and height. Validates the scene and the
 // arguments first; on failure the image content is unspecified and a status says why.
 Status render(const Scene& scene, const RenderOptions& options, const ImageView& image);

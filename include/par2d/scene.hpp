@@ -1,4 +1,4 @@
-// Scene model: lights and occluders as convex shapes, image size and view (SPEC.md sections 2-3).
+// Scene model: lights and occluders as convex shapes, image size and view (docs/contract.md sections 2-3).
 #pragma once
 
 #include <array>
@@ -13,7 +13,7 @@
 #pragma GCC visibility push(default)
 namespace par2d {
 
-// World coordinates: x to the right, y down (SPEC.md section 2).
+// World coordinates: x to the right, y down (docs/contract.md section 2).
 struct Vec2 {
   double x = 0.0;
   double y = 0.0;
@@ -60,7 +60,7 @@ struct View {
   double x0 = 0.0, y0 = 0.0, x1 = 0.0, y1 = 0.0;
 };
 
-// Hard limits from SPEC.md section 3.
+// Hard limits from docs/contract.md section 3.
 inline constexpr int kMaxImageSide = 16384;
 
 struct Scene {
@@ -71,7 +71,7 @@ struct Scene {
   std::vector<Occluder> occluders;
 };
 
-// Checks a scene built in code against SPEC.md section 3 (sizes, finite numbers,
+// Checks a scene built in code against docs/contract.md section 3 (sizes, finite numbers,
 // convex non-degenerate shapes, non-negative colors). `name` prefixes messages.
 Status validate_scene(const Scene& scene, std::string_view name = "scene");
 
@@ -82,7 +82,7 @@ Status parse_scene(std::string_view json_text, std::string_view name, Scene& out
 // Reads, parses and validates a JSON scene file.
 Status load_scene_file(const std::string& path, Scene& out);
 
-// Sum over lights of the largest channel of intensity * color (SPEC.md section 5's e_max).
+// Sum over lights of the largest channel of intensity * color (docs/contract.md section 5's e_max).
 double max_emission_sum(const Scene& scene) noexcept;
 
 }  // namespace par2d

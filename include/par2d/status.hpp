@@ -11,7 +11,7 @@ namespace par2d {
 enum class StatusCode {
   ok = 0,
   invalid_argument,  // API misuse: bad buffer, size, stride, option
-  invalid_scene,     // the scene breaks SPEC.md section 3
+  invalid_scene,     // the scene breaks docs/contract.md section 3
   io_error,          // a file could not be read or written
   out_of_memory,     // an allocation the request needs could not be made
   unsupported,       // the request names something this build or CPU lacks

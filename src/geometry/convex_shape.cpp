@@ -10,7 +10,7 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-// SPEC.md section 3: a turn this small relative to its edges counts as straight.
+// docs/contract.md section 3: a turn this small relative to its edges counts as straight.
 constexpr double kStraightTurn = 1e-9;
 
 double wrap_angle(double a) noexcept {  // into (-pi, pi]

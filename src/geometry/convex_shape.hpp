@@ -46,7 +46,7 @@ void make_convex_shape(const Shape& shape, ConvexShape& out);
 // Whether x lies in the closed shape.
 bool contains(const ConvexShape& shape, Vec2 x) noexcept;
 
-// t_S(theta) of SPEC.md section 1 along the unit direction `dir`: 0 when x is in the
+// t_S(theta) of docs/contract.md section 1 along the unit direction `dir`: 0 when x is in the
 // shape, +infinity when the ray misses it.
 double ray_entry(const ConvexShape& shape, Vec2 x, Vec2 dir) noexcept;
 

@@ -1,4 +1,4 @@
-// Brute-force baseline: irradiance by casting stratified rays, first hit decides (SPEC.md section 4).
+// Brute-force baseline: irradiance by casting stratified rays, first hit decides (docs/contract.md section 4).
 #pragma once
 
 #include <cstdint>
@@ -16,7 +16,7 @@ class RaycastRenderer {
 
   // Irradiance at world point x from `rays` directions theta_k = 2*pi*(k + jitter)/rays,
   // k = 0..rays-1, jitter in [0, 1). Along each ray every light L with t_L < t_occ
-  // (SPEC.md section 1: lights do not block each other) adds e_L/rays.
+  // (docs/contract.md section 1: lights do not block each other) adds e_L/rays.
   // Allocates nothing; safe to call from many threads at once.
   Rgb irradiance(Vec2 x, int rays, double jitter) const noexcept;
 

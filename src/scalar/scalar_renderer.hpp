@@ -17,7 +17,7 @@ struct ScalarScratch {
   std::vector<double> events;
 };
 
-// E(x) of SPEC.md section 1.
+// E(x) of docs/contract.md section 1.
 Rgb scalar_irradiance(const PreparedScene& scene, Vec2 x, ScalarScratch& scratch);
 
 // Radians of light `light`'s arc seen from x that no occluder blocks. `occluder_spans`

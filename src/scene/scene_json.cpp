@@ -1,4 +1,4 @@
-// JSON scene loading (SPEC.md section 3): strict schema, duplicate keys refused, every problem placed.
+// JSON scene loading (docs/contract.md section 3): strict schema, duplicate keys refused, every problem placed.
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>

@@ -1,4 +1,4 @@
-// Scene validation against SPEC.md section 3, and the e_max bound of section 5.
+// Scene validation against docs/contract.md section 3, and the e_max bound of section 5.
 #include "scene/scene_validate.hpp"
 
 #include <algorithm>
@@ -17,7 +17,7 @@ namespace detail {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-// SPEC.md section 3: a turn with |cross(e1, e2)| <= kStraightTolerance * |e1| * |e2| is straight.
+// docs/contract.md section 3: a turn with |cross(e1, e2)| <= kStraightTolerance * |e1| * |e2| is straight.
 constexpr double kStraightTolerance = 1e-9;
 
 std::string indexed(const std::string& place, std::size_t index) {
@@ -39,7 +39,7 @@ MaybeProblem check_point(const Vec2& p, const std::string& place) {
 double cross(const Vec2& a, const Vec2& b) { return a.x * b.y - a.y * b.x; }
 double dot(const Vec2& a, const Vec2& b) { return a.x * b.x + a.y * b.y; }
 
-// The polygon rule of SPEC.md section 3. Coordinates are first scaled by a power of two
+// The polygon rule of docs/contract.md section 3. Coordinates are first scaled by a power of two
 // (exact) into [-1, 1], so that edge vectors, cross products and the shoelace sum cannot
 // overflow whatever finite coordinates come in; the tolerance test is scale-invariant, so
 // the verdict is the one the unscaled numbers would give.

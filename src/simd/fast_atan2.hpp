@@ -3,7 +3,7 @@
 // Range reduction to |t| <= tan(pi/8) and the Cephes atanf polynomial: the absolute
 // error is below 3e-7 rad over all inputs (measured worst 2.7e-7, near +-pi where one
 // float ulp is 2.4e-7; pinned by tests/test_simd.cpp). An angle error e moves E by at
-// most e/(2*pi) * e_L per arc end, far inside SPEC.md's 1e-4 * e_max. No NaN for any
+// most e/(2*pi) * e_L per arc end, far inside the contract's 1e-4 * e_max. No NaN for any
 // finite input: atan2(0, 0) is 0.
 #pragma once
 

@@ -9,7 +9,7 @@
 // Edge cases: a pixel inside any occluder gets 0; inside a light gets the light's full
 // arc; a zero direction (pixel exactly on a vertex) gives angle 0, never NaN.
 // Reference: detail::scalar_irradiance (scalar/scalar_renderer.cpp), which this must
-// match within SPEC.md section 5 away from shape boundaries.
+// match within docs/contract.md section 5 away from shape boundaries.
 #pragma once
 
 #include <xsimd/xsimd.hpp>

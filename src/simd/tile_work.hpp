@@ -3,7 +3,7 @@
 // Layout. Every coordinate is world minus the tile origin (the world position of the
 // tile's top-left pixel corner), computed in double and only then rounded to float, so
 // precision depends on distances inside the tile's neighbourhood, never on how far the
-// view is from the world origin (SPEC.md section 5).
+// view is from the world origin (docs/contract.md section 5).
 // Shapes are plain arrays of structs: the kernel broadcasts one shape's numbers to all
 // lanes and evaluates it for a packet of pixels (the lanes) at once.
 #pragma once
@@ -80,7 +80,7 @@ struct TileWork {
   int spp = 1;
   // Sample positions relative to the tile origin: sample s of the pixel in tile column c
   // is at x = sample_x[s * kTileSize + c], and in tile row r at y = sample_y[s * kTileSize + r].
-  // Each is the scalar path's double position (SPEC.md section 2) minus the origin, so
+  // Each is the scalar path's double position (docs/contract.md section 2) minus the origin, so
   // both paths sample the very same points even where doubles round them.
   std::vector<float> sample_x, sample_y;
   std::vector<KernelShape> occluders;

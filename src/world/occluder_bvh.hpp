@@ -16,7 +16,7 @@ struct Aabb {
 };
 
 // Convex hull by Andrew's monotone chain. Counter-clockwise in the math sense: the cross
-// product of consecutive edges is positive (with SPEC's y-down axes that looks clockwise on
+// product of consecutive edges is positive (with the contract's y-down axes that looks clockwise on
 // screen). Starts at the lowest (x, then y) point. Duplicate and collinear points are dropped,
 // so the result has 0 points (empty input), 1 (all points equal), 2 (all collinear: the two
 // extremes) or >= 3 strictly convex vertices. Exact for coordinates whose pairwise products

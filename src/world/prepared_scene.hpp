@@ -60,7 +60,7 @@ struct PreparedScene {
   View view;
   std::vector<PreparedLight> lights;  // lights with non-zero emission only
   std::vector<ConvexShape> occluders;
-  double e_max = 0.0;  // SPEC.md section 5
+  double e_max = 0.0;  // docs/contract.md section 5
   // Largest distance from the view's center to any point of the view or of a shape's box.
   double extent = 0.0;
   OccluderBvh occluder_bvh;  // over the occluders' bounding boxes
@@ -80,7 +80,7 @@ void update_scene_bounds(PreparedScene& scene) noexcept;
 void find_light_overlaps(const PreparedScene& scene, PreparedLight& light, std::vector<std::uint32_t>& scratch);
 
 // World position of sample (sx, sy) in [0,1)^2 of pixel (i, j) of a width x height
-// image of `view` (SPEC.md section 2).
+// image of `view` (docs/contract.md section 2).
 inline Vec2 sample_position(const View& view, int width, int height, int i, int j, double sx, double sy) noexcept {
   return {view.x0 + (i + sx) * (view.x1 - view.x0) / width, view.y0 + (j + sy) * (view.y1 - view.y0) / height};
 }

@@ -178,7 +178,7 @@ inline FuzzScene decode_scene(ByteReader& in) {
   return f;
 }
 
-// Whether every light is apart from every occluder: SPEC.md section 5's SIMD bound needs it.
+// Whether every light is apart from every occluder: docs/contract.md section 5's SIMD bound needs it.
 inline bool lights_disjoint_from_occluders(const Scene& scene) {
   for (const Light& l : scene.lights) {
     const detail::ConvexShape ls = detail::make_convex_shape(l.shape);
@@ -209,7 +209,7 @@ inline std::string check_bounds(const Scene& scene, const test::RenderedImage& i
 }
 
 // Renders the decoded scene with every backend (scalar, SIMD at each ISA this CPU has,
-// ray casting) and checks status, bounds and SIMD-vs-scalar agreement (SPEC.md section 5).
+// ray casting) and checks status, bounds and SIMD-vs-scalar agreement (docs/contract.md section 5).
 inline std::string check_render_bytes(const std::uint8_t* data, std::size_t size) {
   ByteReader in(data, size);
   const FuzzScene f = decode_scene(in);

@@ -54,7 +54,7 @@ struct RandomSceneOptions {
   double max_size = 0.2;
   // How far outside the view shape centers may lie, as a fraction of its size. Default: 0.15.
   double outside = 0.15;
-  // Keep every light disjoint from every occluder (SPEC.md section 5's accuracy
+  // Keep every light disjoint from every occluder (docs/contract.md section 5's accuracy
   // bounds need it): bounding circles must be apart by at least `gap` (a fraction
   // of the view's smaller side). A shape that does not fit after 200 tries is left
   // out, so a scene may have fewer shapes than drawn. Default: true, 0.01.
@@ -68,7 +68,7 @@ struct RandomSceneOptions {
   double max_intensity = 4.0;
 };
 
-// A valid scene (SPEC.md section 3) drawn from `seed`: the same seed and options give
+// A valid scene (docs/contract.md section 3) drawn from `seed`: the same seed and options give
 // the same scene on every platform. Polygons are random points on a rotated ellipse
 // (hence convex), in random winding.
 Scene random_scene(std::uint32_t seed, const RandomSceneOptions& options = {});
@@ -77,16 +77,16 @@ Scene random_scene(std::uint32_t seed, const RandomSceneOptions& options = {});
 double distance_to_boundary(const Shape& shape, Vec2 p) noexcept;
 
 // Whether p lies within `dist` of the boundary of any light or occluder. Tests use it
-// to skip the pixels that SPEC.md section 5 exempts.
+// to skip the pixels that docs/contract.md section 5 exempts.
 bool near_boundary(const Scene& scene, Vec2 p, double dist) noexcept;
 
-// World position of the center of pixel (i, j) (SPEC.md section 2).
+// World position of the center of pixel (i, j) (docs/contract.md section 2).
 Vec2 pixel_center(const Scene& scene, int i, int j) noexcept;
 
-// SPEC.md section 2's pixel width: min(|x1 - x0| / width, |y1 - y0| / height).
+// docs/contract.md section 2's pixel width: min(|x1 - x0| / width, |y1 - y0| / height).
 double pixel_width(const Scene& scene) noexcept;
 
-// Sum over lights of the largest channel of intensity * color (SPEC.md section 5's
+// Sum over lights of the largest channel of intensity * color (docs/contract.md section 5's
 // e_max), computed here so tests do not depend on the library's own version.
 double emission_max_sum(const Scene& scene) noexcept;
 
