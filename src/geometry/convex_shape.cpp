@@ -489,6 +489,33 @@ double entry_with_hint(const ConvexShape& s, Vec2 x, Vec2 dir, int& hint) noexce
 
 }  // namespace
 
+bool contained_within_contact(const ConvexShape& inner, const ConvexShape& outer) noexcept {
+  const double scale = std::max({std::abs(inner.bounds_min.x), std::abs(inner.bounds_min.y), std::abs(inner.bounds_max.x),
+                                 std::abs(inner.bounds_max.y), std::abs(outer.bounds_min.x), std::abs(outer.bounds_min.y),
+                                 std::abs(outer.bounds_max.x), std::abs(outer.bounds_max.y)});
+  const double tolerance = kContactTolerance * scale;
+  if (inner.kind != ShapeKind::circle) {
+    // Convex: the hull of the vertices lies in the (grown) convex outer shape with them.
+    for (Vec2 v : inner.vertices)
+      if (!(point_distance(outer, v) <= tolerance)) return false;
+    return true;
+  }
+  const Vec2 c = inner.vertices[0];
+  const double r = inner.radius;
+  switch (outer.kind) {
+    case ShapeKind::circle:
+      return length(c - outer.vertices[0]) + r <= outer.radius + tolerance;
+    case ShapeKind::polygon:
+      // The disc is inside when its center is at least r inside every edge line.
+      for (std::size_t i = 0; i < outer.vertices.size(); ++i)
+        if (!(dot(outer.edge_normals[i], c - outer.vertices[i]) >= r - tolerance)) return false;
+      return true;
+    case ShapeKind::segment:
+      return false;  // a disc of radius > 0 has area
+  }
+  return false;
+}
+
 bool occluder_first(const ConvexShape& occluder, const ConvexShape& light, Vec2 x, Vec2 dir) noexcept {
   EntryHints hints;
   return occluder_first(occluder, light, x, dir, hints);

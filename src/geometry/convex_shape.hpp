@@ -86,6 +86,11 @@ double point_distance(const ConvexShape& shape, Vec2 p) noexcept;
 // rounding, far below any gap a scene can mean.
 inline constexpr double kContactTolerance = 0x1p-40;
 
+// Whether all of `inner` lies in the closed `outer` (points within kContactTolerance of it,
+// relative to the coordinates, counting as on it). A light so contained in an occluder is
+// hidden from every point: a ray to any of its points meets the occluder no later.
+bool contained_within_contact(const ConvexShape& inner, const ConvexShape& outer) noexcept;
+
 // Polygon edges where the last rays entered the two shapes (-1: none yet). Rays cast in
 // angular order from one point enter a convex polygon along its near chain in order, so
 // starting from the last entry edge and walking finds the next in O(1) amortized, where a

@@ -214,14 +214,14 @@ bool tangent_points(const ConvexShape& light, Vec2 x, Vec2 (&out)[2]) noexcept {
 // Whether an occluder that overlaps or touches a light blocks none of the light's directions
 // at any point of the rectangle: some line has the occluder on one side (side >= 0) and the
 // whole rectangle strictly on the other, and from every rectangle point both of the light's
-// tangent points lie on the rectangle's side (side <= 0). Then the light's near boundary seen
+// tangent points lie strictly on the rectangle's side (side < 0). Then the light's near boundary seen
 // from such a point x lies in the triangle of x and the two tangent points, so every ray meets
 // the light no later than it crosses the line, before any point of the occluder. The points
 // that see no light point beyond the line form a convex set (an intersection of the inner
 // half-planes of the light's supporting lines at those points), so the four corners decide.
 // Lines tried: a polygon's edge lines, a circle's tangent facing the rectangle, a segment's line.
 // Whether the rectangle lies strictly on the negative side of `line` and, from each of its
-// points, both of the light's tangent points lie on the non-positive side (see
+// points, both of the light's tangent points lie strictly on the negative side (see
 // general_pair_behind for why the corners decide).
 bool light_before_line(const ConvexShape& light, const Line& line, const std::array<Vec2, 4>& corners,
                        CornerTangentPoints& tangents) noexcept {
@@ -230,7 +230,9 @@ bool light_before_line(const ConvexShape& light, const Line& line, const std::ar
   for (int i = 0; i < 4; ++i) {
     if (tangents.state[i] < 0) tangents.state[i] = tangent_points(light, corners[i], tangents.point[i]) ? 1 : 0;
     if (tangents.state[i] == 0) return false;
-    if (line.side(tangents.point[i][0]) > 0.0 || line.side(tangents.point[i][1]) > 0.0) return false;
+    // Strictly: a tangent point on the line may be an occluder point too, where a ray meets
+    // both at once and the contract hides the light.
+    if (line.side(tangents.point[i][0]) >= 0.0 || line.side(tangents.point[i][1]) >= 0.0) return false;
   }
   return true;
 }
@@ -427,6 +429,12 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       const auto overlap =
           std::lower_bound(light.overlapping_occluders.begin(), light.overlapping_occluders.end(), k);
       const bool overlapping = overlap != light.overlapping_occluders.end() && *overlap == k;
+      // A light wholly in the closed occluder is hidden everywhere (contacts count as hidden,
+      // as in the scalar reference): nothing of it reaches this tile.
+      if (overlapping && contained_within_contact(light.shape, occluder)) {
+        shadowed = true;
+        break;
+      }
       std::optional<Line> line;
       if (!overlapping) {
         line = scene.separators.get(l, k, light.shape, occluder);
