@@ -38,7 +38,7 @@ Status check_arguments(const Scene& scene, const RenderOptions& options, const I
   if (options.backend == Backend::raycast && (options.rays < 1 || options.rays > kMaxRays))
     return bad("render: rays must be in 1.." + std::to_string(kMaxRays));
   if (options.isa && (static_cast<int>(*options.isa) < static_cast<int>(Isa::scalar) ||
-                      static_cast<int>(*options.isa) > static_cast<int>(Isa::avx512)))
+                      static_cast<int>(*options.isa) > static_cast<int>(Isa::neon64)))
     return bad("render: unknown isa " + std::to_string(static_cast<int>(*options.isa)));
   if (static_cast<int>(options.backend) < static_cast<int>(Backend::automatic) ||
       static_cast<int>(options.backend) > static_cast<int>(Backend::raycast))
@@ -102,9 +102,8 @@ void sample_offset(int k, int spp, double& dx, double& dy) noexcept {
 
 Isa resolved_isa(const RenderOptions& options) noexcept {
   if (options.backend == Backend::scalar || options.backend == Backend::raycast) return Isa::scalar;
-  const Isa best = default_isa();
-  if (!options.isa) return best;
-  return static_cast<int>(*options.isa) < static_cast<int>(detect_isa()) ? *options.isa : detect_isa();
+  if (!options.isa) return default_isa();
+  return capped_isa(*options.isa);
 }
 
 Status render(const Scene& scene, const RenderOptions& options, const ImageView& image) {
