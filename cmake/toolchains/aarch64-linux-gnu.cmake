@@ -23,10 +23,12 @@ set(CMAKE_FIND_ROOT_PATH_MODE_PACKAGE BOTH)
 set(ENV{PKG_CONFIG_LIBDIR} "/usr/lib/${PAR2D_CROSS_TRIPLET}/pkgconfig:/usr/share/pkgconfig")
 set(ENV{PKG_CONFIG_PATH} "")
 
-# ctest runs target binaries through user-mode emulation when qemu-user is installed. -L
-# makes it take the dynamic loader and libc from the cross sysroot (libc6-arm64-cross); the
-# :arm64 packages' libraries are found in /usr/lib/aarch64-linux-gnu as on a real system.
+# ctest runs target binaries through user-mode emulation when qemu-user is installed. No -L
+# sysroot: the :arm64 packages bring libc6:arm64, whose loader /lib/ld-linux-aarch64.so.1 must
+# be the one that runs, since it finds that libc first. (With -L /usr/aarch64-linux-gnu the
+# cross sysroot's loader, from libc6-arm64-cross, would load the multiarch libc of a different
+# build, and threaded programs hang in pthread_create.)
 find_program(PAR2D_QEMU_AARCH64 qemu-aarch64)
 if(PAR2D_QEMU_AARCH64)
-  set(CMAKE_CROSSCOMPILING_EMULATOR ${PAR2D_QEMU_AARCH64} -L /usr/${PAR2D_CROSS_TRIPLET})
+  set(CMAKE_CROSSCOMPILING_EMULATOR ${PAR2D_QEMU_AARCH64})
 endif()
