@@ -18,8 +18,10 @@ endif()
 message(STATUS "par2d: target architecture ${PAR2D_ARCH} (${CMAKE_SYSTEM_PROCESSOR}), kernels: ${PAR2D_ISA_NAMES}")
 
 set(PAR2D_ISA_FLAGS_sse4_2 -msse4.2 -mpopcnt)
-set(PAR2D_ISA_FLAGS_avx2 -mavx2 -mfma -mbmi -mbmi2 -mlzcnt -mpopcnt -Wno-uninitialized -Wno-maybe-uninitialized)
-set(PAR2D_ISA_FLAGS_avx512 -mavx512f -mavx512bw -mavx512dq -mavx512vl -mavx512cd -mavx2 -mfma -mbmi -mbmi2 -mlzcnt -mpopcnt -Wno-uninitialized -Wno-maybe-uninitialized)
+# -Wmaybe-uninitialized is GCC's alone (clang warns about the unknown option).
+set(PAR2D_NO_UNINIT_WARNINGS -Wno-uninitialized $<$<CXX_COMPILER_ID:GNU>:-Wno-maybe-uninitialized>)
+set(PAR2D_ISA_FLAGS_avx2 -mavx2 -mfma -mbmi -mbmi2 -mlzcnt -mpopcnt ${PAR2D_NO_UNINIT_WARNINGS})
+set(PAR2D_ISA_FLAGS_avx512 -mavx512f -mavx512bw -mavx512dq -mavx512vl -mavx512cd -mavx2 -mfma -mbmi -mbmi2 -mlzcnt -mpopcnt ${PAR2D_NO_UNINIT_WARNINGS})
 # NEON (Advanced SIMD) is baseline on AArch64: no flag adds it, none must remove it.
 set(PAR2D_ISA_FLAGS_neon64 "")
 set(PAR2D_ISAS_x86 sse4_2 avx2 avx512)

@@ -21,7 +21,7 @@ if ! dpkg --print-foreign-architectures | grep -qx arm64; then
 fi
 apt-get update
 DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
-  crossbuild-essential-arm64 qemu-user cmake pkg-config \
+  crossbuild-essential-arm64 qemu-user cmake pkg-config file \
   libxsimd-dev:arm64 libtbb-dev:arm64 libstb-dev:arm64 libbenchmark-dev:arm64 \
   doctest-dev nlohmann-json3-dev libcli11-dev
 t1=$(stamp)
