@@ -2,6 +2,7 @@
 # Installs a par2d build into a temporary prefix, then builds and runs examples/embed against it
 # as a standalone project (find_package(par2d) + par2d::par2d), as a user of the package would.
 # Usage: install_test.sh CMAKE BUILD_DIR EXAMPLE_DIR [EXTRA_CXX_FLAGS]
+# Env (cross builds): PAR2D_TOOLCHAIN_FILE for the consumer's configure, PAR2D_EMULATOR to run it.
 set -euo pipefail
 cmake_cmd=$1 build_dir=$2 example_dir=$3 extra_flags=${4:-}
 work=$(mktemp -d "${TMPDIR:-/tmp}/par2d-install-test.XXXXXX")
@@ -16,7 +17,8 @@ if grep -rqs -- "$(cd "$example_dir/../.." && pwd)" "$work/prefix/lib"*/cmake/pa
 fi
 "$cmake_cmd" -S "$example_dir" -B "$work/build" -DCMAKE_PREFIX_PATH="$work/prefix" \
   -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS="$extra_flags" \
+  ${PAR2D_TOOLCHAIN_FILE:+-DCMAKE_TOOLCHAIN_FILE="$PAR2D_TOOLCHAIN_FILE"} \
   -DCMAKE_EXE_LINKER_FLAGS="$extra_flags" >"$work/configure.log" ||
   { cat "$work/configure.log"; exit 1; }
 "$cmake_cmd" --build "$work/build" >"$work/build.log" 2>&1 || { cat "$work/build.log"; exit 1; }
-"$work/build/par2d_embed"
+${PAR2D_EMULATOR:-} "$work/build/par2d_embed"
