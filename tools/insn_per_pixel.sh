@@ -8,10 +8,10 @@
 #           of the ISA file's functions, which call nothing outside it); the sum of block
 #           lengths over executions is the count of executed instructions.
 # Counts are of instructions, not time: they say nothing of a real core's cycles.
-# Usage: tools/insn_per_pixel.sh X86_BUILD ARM64_BUILD [WIDTH HEIGHT]   (default 160 90)
+# Usage: tools/insn_per_pixel.sh X86_BUILD ARM64_BUILD [WIDTH HEIGHT]   (default 320 180)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-X86=${1:?x86 build dir}; ARM=${2:?arm64 build dir}; W=${3:-160}; H=${4:-90}
+X86=${1:?x86 build dir}; ARM=${2:?arm64 build dir}; W=${3:-320}; H=${4:-180}
 TMP=$(mktemp -d); trap 'rm -rf "$TMP"' EXIT
 CLI_ARGS=(--backend simd --frames 1 --threads 1 --width "$W" --height "$H")
 PIXELS=$((2 * W * H))
