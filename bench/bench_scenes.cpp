@@ -85,7 +85,7 @@ void register_dungeon_culling(int threads) {
 // timed loop), not here, so nothing depends on the library's static initialisation order.
 const bool registered = [] {
   std::vector<par2d::Isa> isas;
-  for (const par2d::Isa isa : {par2d::Isa::sse4_2, par2d::Isa::avx2, par2d::Isa::avx512}) {
+  for (const par2d::Isa isa : par2d::kSimdIsas) {
     if (par2d::isa_supported(isa)) isas.push_back(isa);
   }
   const int hardware = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));

@@ -1,14 +1,35 @@
-# Per-ISA kernel files: each `*_<isa>.cpp` gets its own target flags, and optimisation
-# even in Debug (at -O0 shared inline helpers are emitted in the AVX object too, and
-# the linker may hand that copy to SSE callers).
+# Target architecture and per-ISA kernel files: each `*_<isa>.cpp` gets its own target flags,
+# and optimisation even in Debug (at -O0 shared inline helpers are emitted in the AVX object
+# too, and the linker may hand that copy to SSE callers).
+#
+# PAR2D_ARCH: x86, aarch64 or generic (scalar only), from the target (not the host) processor,
+# so a cross build (cmake/toolchains/) picks the target's kernels, CPU probe and kernel table.
+# PAR2D_ISA_NAMES: the PAR2D_ISA values worth a test run on that architecture.
+if(CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64|x64|i[3-6]86|x86)$")
+  set(PAR2D_ARCH x86)
+  set(PAR2D_ISA_NAMES scalar sse4 avx2 avx512)
+elseif(CMAKE_SYSTEM_PROCESSOR MATCHES "^(aarch64|arm64|ARM64|armv8.*64)$")
+  set(PAR2D_ARCH aarch64)
+  set(PAR2D_ISA_NAMES scalar neon64)
+else()
+  set(PAR2D_ARCH generic)
+  set(PAR2D_ISA_NAMES scalar)
+endif()
+message(STATUS "par2d: target architecture ${PAR2D_ARCH} (${CMAKE_SYSTEM_PROCESSOR}), kernels: ${PAR2D_ISA_NAMES}")
+
 set(PAR2D_ISA_FLAGS_sse4_2 -msse4.2 -mpopcnt)
-set(PAR2D_ISA_FLAGS_avx2 -mavx2 -mfma -mbmi -mbmi2 -mlzcnt -mpopcnt -Wno-uninitialized -Wno-maybe-uninitialized)
-set(PAR2D_ISA_FLAGS_avx512 -mavx512f -mavx512bw -mavx512dq -mavx512vl -mavx512cd -mavx2 -mfma -mbmi -mbmi2 -mlzcnt -mpopcnt -Wno-uninitialized -Wno-maybe-uninitialized)
+# -Wmaybe-uninitialized is GCC's alone (clang warns about the unknown option).
+set(PAR2D_NO_UNINIT_WARNINGS -Wno-uninitialized $<$<CXX_COMPILER_ID:GNU>:-Wno-maybe-uninitialized>)
+set(PAR2D_ISA_FLAGS_avx2 -mavx2 -mfma -mbmi -mbmi2 -mlzcnt -mpopcnt ${PAR2D_NO_UNINIT_WARNINGS})
+set(PAR2D_ISA_FLAGS_avx512 -mavx512f -mavx512bw -mavx512dq -mavx512vl -mavx512cd -mavx2 -mfma -mbmi -mbmi2 -mlzcnt -mpopcnt ${PAR2D_NO_UNINIT_WARNINGS})
+# NEON (Advanced SIMD) is baseline on AArch64: no flag adds it, none must remove it.
+set(PAR2D_ISA_FLAGS_neon64 "")
+set(PAR2D_ISAS_x86 sse4_2 avx2 avx512)
+set(PAR2D_ISAS_aarch64 neon64)
 
 function(par2d_isa_source file isa)
-  set(flags ${PAR2D_ISA_FLAGS_${isa}})
-  if(NOT flags)
+  if(NOT DEFINED PAR2D_ISA_FLAGS_${isa})
     message(FATAL_ERROR "unknown ISA ${isa} for ${file}")
   endif()
-  set_source_files_properties(${file} PROPERTIES COMPILE_OPTIONS "${flags};-O3")
+  set_source_files_properties(${file} PROPERTIES COMPILE_OPTIONS "${PAR2D_ISA_FLAGS_${isa}};-O3")
 endfunction()

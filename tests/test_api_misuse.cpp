@@ -64,7 +64,8 @@ TEST_CASE("a padded row stride renders and leaves the padding untouched") {
 }
 
 TEST_CASE("render refuses an image whose size differs from the scene's, naming both sizes") {
-  for (auto [w, h] : {std::pair{4, 4}, std::pair{5, 3}, std::pair{6, 4}, std::pair{4, 5}}) {
+  for (const std::pair<int, int>& size : {std::pair{4, 4}, std::pair{5, 3}, std::pair{6, 4}, std::pair{4, 5}}) {
+    const int w = size.first, h = size.second;  // not a structured binding: INFO captures them (C++17)
     Buffer b(w, h, 3 * w);
     const Status s = render(small_scene(), {}, b.view);
     INFO(w, "x", h, ": ", s.message());
@@ -131,13 +132,31 @@ TEST_CASE("negative threads, spp 0 or above 256, rays 0 are invalid_argument wit
 }
 
 TEST_CASE("an isa beyond the enum is invalid_argument") {
-  RenderOptions o;
-  o.backend = Backend::simd;
-  o.isa = static_cast<Isa>(9);
-  Buffer b(5, 4, 15);
-  const Status s = render(small_scene(), o, b.view);
-  CHECK(s.code() == StatusCode::invalid_argument);
-  CHECK(mentions(s, "isa"));
+  for (const int value : {static_cast<int>(Isa::neon64) + 1, 9}) {
+    RenderOptions o;
+    o.backend = Backend::simd;
+    o.isa = static_cast<Isa>(value);
+    Buffer b(5, 4, 15);
+    const Status s = render(small_scene(), o, b.view);
+    INFO("isa value ", value);
+    CHECK(s.code() == StatusCode::invalid_argument);
+    CHECK(mentions(s, "isa"));
+  }
+}
+
+TEST_CASE("an ISA this CPU lacks (e.g. another architecture's) renders at the best level it has") {
+  for (const Isa isa : kSimdIsas) {
+    RenderOptions asked, best;
+    asked.backend = best.backend = Backend::simd;
+    asked.isa = isa;
+    best.isa = capped_isa(isa);
+    INFO("isa ", std::string(isa_name(isa)), " runs as ", std::string(isa_name(*best.isa)));
+    CHECK(resolved_isa(asked) == *best.isa);
+    Buffer a(5, 4, 15), b(5, 4, 15);
+    REQUIRE(render(small_scene(), asked, a.view).ok());
+    REQUIRE(render(small_scene(), best, b.view).ok());
+    CHECK(a.pixels == b.pixels);
+  }
 }
 
 TEST_CASE("a million threads are capped and render the same bytes as one thread, for every backend") {

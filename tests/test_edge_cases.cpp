@@ -25,7 +25,7 @@ constexpr double kSimdBound = 1e-4;
 
 std::vector<Isa> simd_isas() {
   std::vector<Isa> isas;
-  for (Isa isa : {Isa::sse4_2, Isa::avx2, Isa::avx512})
+  for (Isa isa : kSimdIsas)
     if (isa_supported(isa)) isas.push_back(isa);
   return isas;
 }

@@ -23,7 +23,7 @@ namespace {
 
 std::vector<Isa> simd_isas_here() {
   std::vector<Isa> isas;
-  for (Isa isa : {Isa::sse4_2, Isa::avx2, Isa::avx512}) {
+  for (Isa isa : kSimdIsas) {
     if (isa_supported(isa)) isas.push_back(isa);
   }
   return isas;
@@ -119,7 +119,7 @@ TEST_CASE("the test runs every SIMD ISA this CPU supports") {
   std::string names;
   for (Isa isa : isas) names += std::string(isa_name(isa)) + " ";
   MESSAGE("SIMD ISAs under test: ", names);
-  // x86-64 always has SSE2; every CPU this project targets has at least SSE4.2.
+  // Every x86-64 CPU this project targets has at least SSE4.2; NEON is baseline on aarch64.
   CHECK(!isas.empty());
   CHECK(isas.back() == detect_isa());
 }
@@ -315,10 +315,41 @@ TEST_CASE("PAR2D_ISA caps the default ISA, and the automatic backend follows it"
   }
   const std::optional<Isa> wanted = parse_isa(forced);
   REQUIRE_MESSAGE(wanted.has_value(), "PAR2D_ISA=", std::string(forced), " is not an ISA name");
-  const Isa expected = static_cast<int>(*wanted) < static_cast<int>(detect_isa()) ? *wanted : detect_isa();
+  // A level this CPU has runs as asked; any other (a higher x86 level, or another
+  // architecture's) falls back to the best level the CPU has.
+  const Isa expected = isa_supported(*wanted) ? *wanted : detect_isa();
   MESSAGE("PAR2D_ISA=", std::string(forced), ": the suite runs the automatic backend at ", std::string(isa_name(expected)));
   CHECK(default_isa() == expected);
   CHECK(resolved_isa(RenderOptions{}) == expected);
+}
+
+TEST_CASE("ISA names round-trip, and capped_isa never picks a level this CPU lacks") {
+  CHECK(parse_isa("neon") == Isa::neon64);
+  CHECK(parse_isa("sse4.2") == Isa::sse4_2);
+  CHECK(!parse_isa("sve").has_value());
+  CHECK(!parse_isa("").has_value());
+  CHECK(isa_supported(Isa::scalar));
+  CHECK(capped_isa(Isa::scalar) == Isa::scalar);
+  CHECK(capped_isa(detect_isa()) == detect_isa());
+  for (Isa isa : kSimdIsas) {
+    INFO("isa ", std::string(isa_name(isa)));
+    CHECK(parse_isa(isa_name(isa)) == isa);
+    const Isa got = capped_isa(isa);
+    CHECK(isa_supported(got));
+    CHECK((got == isa) == isa_supported(isa));
+  }
+  // One architecture's levels are never supported on another's CPU, and x86 levels nest.
+  const bool x86 = isa_supported(Isa::sse4_2) || isa_supported(Isa::avx2) || isa_supported(Isa::avx512);
+  CHECK(!(x86 && isa_supported(Isa::neon64)));
+  if (isa_supported(Isa::avx512)) CHECK(isa_supported(Isa::avx2));
+  if (isa_supported(Isa::avx2)) CHECK(isa_supported(Isa::sse4_2));
+#if defined(__aarch64__)
+  CHECK(detect_isa() == Isa::neon64);
+  CHECK(capped_isa(Isa::avx2) == Isa::neon64);
+#elif defined(__x86_64__)
+  CHECK(!isa_supported(Isa::neon64));
+  CHECK(capped_isa(Isa::neon64) == detect_isa());
+#endif
 }
 
 TEST_CASE("culling is exact with up to 1000 occluders: long thin ones, ones spanning many tiles, far lights") {
@@ -416,10 +447,25 @@ TEST_CASE("a 0.1-unit polygon light 1e7 from the origin keeps its winding: insid
 TEST_CASE("isa_lanes reports the lane count of each compiled kernel") {
   CHECK(isa_lanes(Isa::scalar) == 1);
   CHECK(detail::kernels_for(Isa::scalar) == nullptr);
-  for (Isa isa : {Isa::sse4_2, Isa::avx2, Isa::avx512}) {
+  std::vector<Isa> compiled;
+  for (Isa isa : kSimdIsas) {
     const detail::KernelSet* k = detail::kernels_for(isa);
-    REQUIRE(k != nullptr);
+    // Every level the CPU supports has a kernel; a level without one is never selected.
+    if (isa_supported(isa)) REQUIRE(k != nullptr);
+    if (k == nullptr) {
+      CHECK(capped_isa(isa) != isa);
+      continue;
+    }
+    compiled.push_back(isa);
     CHECK(k->isa == isa);
     CHECK(k->lanes == isa_lanes(isa));
   }
+  // Exactly the target architecture's kernels are compiled in.
+#if defined(__x86_64__) || defined(__i386__)
+  CHECK(compiled == std::vector<Isa>{Isa::sse4_2, Isa::avx2, Isa::avx512});
+#elif defined(__aarch64__)
+  CHECK(compiled == std::vector<Isa>{Isa::neon64});
+#else
+  CHECK(compiled.empty());
+#endif
 }

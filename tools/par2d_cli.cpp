@@ -91,9 +91,9 @@ const CLI::Validator kBackendName(
 const CLI::Validator kIsaName(
     [](std::string& value) -> std::string {
       if (par2d::parse_isa(value)) return {};
-      return "unknown ISA '" + value + "' (expected scalar, sse4, avx2 or avx512)";
+      return "unknown ISA '" + value + "' (expected scalar, sse4, avx2, avx512 or neon64)";
     },
-    "scalar|sse4|avx2|avx512", "ISA name");
+    "scalar|sse4|avx2|avx512|neon64", "ISA name");
 
 // CLI::NonNegativeNumber prints DBL_MAX in full when it fails; this says it plainly.
 const CLI::Validator kNonNegative(

@@ -44,7 +44,8 @@ struct RenderOptions {
   int spp = 1;
   // Directions per sample for Backend::raycast. 1 .. 1<<20. Default: 1024.
   int rays = 1024;
-  // Forces the SIMD instruction set (capped at what the CPU supports). Empty: the
+  // Forces the SIMD instruction set (see capped_isa: a level the CPU lacks falls back to
+  // the best it has). Empty: the
   // PAR2D_ISA environment variable if set, else the best the CPU has. Default: empty.
   std::optional<Isa> isa;
   // Per-tile culling of lights and occluders that cannot matter (issue: scale).

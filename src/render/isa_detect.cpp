@@ -1,40 +1,42 @@
-// CPU feature detection for the kernel table. xsimd 8.1's own detection misreads SSE2
-// and skips the OS (XGETBV) check, so we ask the compiler's cpu model instead.
+// Portable half of ISA selection: names, PAR2D_ISA, and which levels a CPU supports. The CPU
+// probe itself (detect_isa) lives in isa_detect_<arch>.cpp, one per architecture.
 #include <cstdlib>
-#include <cstring>
-#include <string>
 
 #include "par2d/isa.hpp"
 
 namespace par2d {
+namespace {
 
-Isa detect_isa() noexcept {
-#if defined(__x86_64__) || defined(__i386__)
-  __builtin_cpu_init();
-  // GCC's cpu model checks OSXSAVE/XGETBV before reporting AVX and AVX-512 usable.
-  if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
-      __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl") &&
-      __builtin_cpu_supports("avx512cd") && __builtin_cpu_supports("fma") &&
-      __builtin_cpu_supports("bmi2"))
-    return Isa::avx512;
-  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
-      __builtin_cpu_supports("bmi2"))
-    return Isa::avx2;
-  if (__builtin_cpu_supports("sse4.2") && __builtin_cpu_supports("popcnt")) return Isa::sse4_2;
-#endif
-  return Isa::scalar;
+// The architecture a level belongs to. Within one architecture the levels nest, each a
+// superset of the ones before it in the enum.
+enum class IsaFamily { any, x86, arm };
+
+IsaFamily isa_family(Isa isa) noexcept {
+  switch (isa) {
+    case Isa::scalar: return IsaFamily::any;
+    case Isa::sse4_2:
+    case Isa::avx2:
+    case Isa::avx512: return IsaFamily::x86;
+    case Isa::neon64: return IsaFamily::arm;
+  }
+  return IsaFamily::any;
 }
 
-bool isa_supported(Isa isa) noexcept { return static_cast<int>(isa) <= static_cast<int>(detect_isa()); }
+}  // namespace
+
+bool isa_supported(Isa isa) noexcept {
+  if (isa == Isa::scalar) return true;
+  const Isa best = detect_isa();
+  return isa_family(isa) == isa_family(best) && static_cast<int>(isa) <= static_cast<int>(best);
+}
+
+Isa capped_isa(Isa wanted) noexcept { return isa_supported(wanted) ? wanted : detect_isa(); }
 
 Isa default_isa() noexcept {
-  Isa best = detect_isa();
   if (const char* env = std::getenv("PAR2D_ISA")) {
-    if (auto forced = parse_isa(env)) {
-      if (static_cast<int>(*forced) < static_cast<int>(best)) best = *forced;
-    }
+    if (auto forced = parse_isa(env)) return capped_isa(*forced);
   }
-  return best;
+  return detect_isa();
 }
 
 const char* isa_name(Isa isa) noexcept {
@@ -43,6 +45,7 @@ const char* isa_name(Isa isa) noexcept {
     case Isa::sse4_2: return "sse4";
     case Isa::avx2: return "avx2";
     case Isa::avx512: return "avx512";
+    case Isa::neon64: return "neon64";
   }
   return "unknown";
 }
@@ -52,6 +55,7 @@ std::optional<Isa> parse_isa(std::string_view name) noexcept {
   if (name == "sse4" || name == "sse4.2" || name == "sse4_2") return Isa::sse4_2;
   if (name == "avx2") return Isa::avx2;
   if (name == "avx512") return Isa::avx512;
+  if (name == "neon64" || name == "neon") return Isa::neon64;
   return std::nullopt;
 }
 
@@ -61,6 +65,7 @@ int isa_lanes(Isa isa) noexcept {
     case Isa::sse4_2: return 4;
     case Isa::avx2: return 8;
     case Isa::avx512: return 16;
+    case Isa::neon64: return 4;
   }
   return 1;
 }

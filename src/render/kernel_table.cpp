@@ -1,4 +1,4 @@
-// Kernel table (scalar first, upgraded to what the CPU has) and the SIMD render driver.
+// Kernel lookup (the tables are per architecture: kernel_table_<arch>.cpp) and the SIMD render driver.
 #include "render/kernel_table.hpp"
 
 #include <memory>
@@ -10,31 +10,12 @@
 #include "render/scalar_tiles.hpp"
 #include "render/frame_output.hpp"
 
-namespace par2d::simd {
-#define PAR2D_DECLARE_KERNELS(suffix)                                                                       \
-  void render_tile_##suffix(const detail::TileWork&, float*, detail::TileResult&) noexcept;                \
-  void union_measure_##suffix(float*, float*, std::size_t, const float*, const float*, float*) noexcept; \
-  void atan2_##suffix(const float*, const float*, float*) noexcept;
-PAR2D_DECLARE_KERNELS(sse4_2)
-PAR2D_DECLARE_KERNELS(avx2)
-PAR2D_DECLARE_KERNELS(avx512)
-#undef PAR2D_DECLARE_KERNELS
-}  // namespace par2d::simd
-
 namespace par2d::detail {
-namespace {
-
-constexpr KernelSet kKernels[] = {
-    {Isa::sse4_2, 4, simd::render_tile_sse4_2, simd::union_measure_sse4_2, simd::atan2_sse4_2},
-    {Isa::avx2, 8, simd::render_tile_avx2, simd::union_measure_avx2, simd::atan2_avx2},
-    {Isa::avx512, 16, simd::render_tile_avx512, simd::union_measure_avx512, simd::atan2_avx512},
-};
-
-}  // namespace
 
 const KernelSet* kernels_for(Isa isa) noexcept {
-  for (const KernelSet& k : kKernels) {
-    if (k.isa == isa) return &k;
+  const CompiledKernels compiled = compiled_kernels();
+  for (std::size_t i = 0; i < compiled.count; ++i) {
+    if (compiled.kernels[i].isa == isa) return &compiled.kernels[i];
   }
   return nullptr;
 }

@@ -27,7 +27,16 @@ struct KernelSet {
   void (*atan2)(const float* y, const float* x, float* out) noexcept;
 };
 
-// The kernels for `isa`, or null for Isa::scalar (the scalar path is the reference renderer).
+// The kernels compiled for the target architecture, least capable first (none on
+// architectures without a SIMD kernel). Defined in kernel_table_<arch>.cpp.
+struct CompiledKernels {
+  const KernelSet* kernels;
+  std::size_t count;
+};
+CompiledKernels compiled_kernels() noexcept;
+
+// The kernels for `isa`, or null for Isa::scalar (the scalar path is the reference renderer)
+// and for levels not compiled for this architecture.
 const KernelSet* kernels_for(Isa isa) noexcept;
 
 // What one frame computes: samples per pixel, culling, and the kernel ISA (Isa::scalar:

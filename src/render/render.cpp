@@ -89,9 +89,8 @@ void sample_offset(int k, int spp, double& dx, double& dy) noexcept {
 
 Isa resolved_isa(const RenderOptions& options) noexcept {
   if (options.backend == Backend::scalar || options.backend == Backend::raycast) return Isa::scalar;
-  const Isa best = default_isa();
-  if (!options.isa) return best;
-  return static_cast<int>(*options.isa) < static_cast<int>(detect_isa()) ? *options.isa : detect_isa();
+  if (!options.isa) return default_isa();
+  return capped_isa(*options.isa);
 }
 
 int resolved_threads(const RenderOptions& options) noexcept {
@@ -110,7 +109,7 @@ Status check_options(const RenderOptions& options, const char* who) {
   if (options.backend == Backend::raycast && (options.rays < 1 || options.rays > kMaxRays))
     return bad("rays must be in 1.." + std::to_string(kMaxRays));
   if (options.isa && (static_cast<int>(*options.isa) < static_cast<int>(Isa::scalar) ||
-                      static_cast<int>(*options.isa) > static_cast<int>(Isa::avx512)))
+                      static_cast<int>(*options.isa) > static_cast<int>(Isa::neon64)))
     return bad("unknown isa " + std::to_string(static_cast<int>(*options.isa)));
   if (static_cast<int>(options.backend) < static_cast<int>(Backend::automatic) ||
       static_cast<int>(options.backend) > static_cast<int>(Backend::raycast))

@@ -237,7 +237,7 @@ inline std::string check_render_bytes(const std::uint8_t* data, std::size_t size
   const bool compare = f.spp == 1 && resolvable && lights_disjoint_from_occluders(scene);
   const double tolerance = 1e-4 * test::emission_max_sum(scene);
   const double near = 0.05 * test::pixel_width(scene);
-  for (Isa isa : {Isa::sse4_2, Isa::avx2, Isa::avx512}) {
+  for (Isa isa : kSimdIsas) {
     if (!isa_supported(isa)) continue;
     RenderOptions o = base;
     o.backend = Backend::simd;

@@ -1,0 +1,18 @@
+// The ARM64 kernel table (compiled only on aarch64): the NEON kernel.
+#include "render/kernel_table.hpp"
+#include "simd/tile_kernel_entries.hpp"
+
+PAR2D_DECLARE_TILE_KERNELS(neon64)
+
+namespace par2d::detail {
+namespace {
+
+constexpr KernelSet kKernels[] = {
+    {Isa::neon64, 4, simd::render_tile_neon64, simd::union_measure_neon64, simd::atan2_neon64},
+};
+
+}  // namespace
+
+CompiledKernels compiled_kernels() noexcept { return {kKernels, sizeof(kKernels) / sizeof(kKernels[0])}; }
+
+}  // namespace par2d::detail

@@ -1,0 +1,14 @@
+// Declarations of the per-ISA entry points that tile_kernel_entry.hpp defines, for the
+// kernel tables (render/kernel_table_<arch>.cpp): PAR2D_DECLARE_TILE_KERNELS(suffix).
+#pragma once
+
+#include <cstddef>
+
+#include "simd/tile_work.hpp"
+
+#define PAR2D_DECLARE_TILE_KERNELS(suffix)                                                                  \
+  namespace par2d::simd {                                                                                  \
+  void render_tile_##suffix(const detail::TileWork&, float*, detail::TileResult&) noexcept;                \
+  void union_measure_##suffix(float*, float*, std::size_t, const float*, const float*, float*) noexcept; \
+  void atan2_##suffix(const float*, const float*, float*) noexcept;                                        \
+  }
