@@ -197,6 +197,18 @@ par2d::PixelRect to_rect(const std::optional<py::tuple>& region, int width, int 
   return rect;
 }
 
+// A handle from Python: any int; one that no 64-bit id can be (negative, too large, not an
+// int) is refused as the library refuses unknown ids, not with pybind11's TypeError.
+std::uint64_t handle_id(const py::object& handle, const char* kind) {
+  if (PyLong_Check(handle.ptr()) && !PyBool_Check(handle.ptr())) {
+    const unsigned long long value = PyLong_AsUnsignedLongLong(handle.ptr());
+    if (!(value == static_cast<unsigned long long>(-1) && PyErr_Occurred())) return value;
+    PyErr_Clear();  // negative or above 2**64 - 1
+  }
+  raise(par2d::StatusCode::invalid_argument,
+        std::string("unknown ") + kind + " handle " + py::repr(handle).cast<std::string>());
+}
+
 // par2d::Renderer for Python: a persistent world changed through integer handles. Calls
 // from several Python threads are serialized by a mutex (the C++ class is one-thread-at-a-time);
 // render releases the GIL while it holds the mutex.
@@ -249,17 +261,20 @@ class PyRenderer {
     lights_.push_back(handle.id);
     return handle.id;
   }
-  void update_light(std::uint64_t id, const py::object& dict) {
+  void update_light(const py::object& handle, const py::object& dict) {
+    const std::uint64_t id = handle_id(handle, "light");
     const par2d::Light light = parse_entry<par2d::Light>(dict, "lights", "light " + std::to_string(id));
     std::lock_guard<std::mutex> lock(mutex_);
     check(renderer_.update_light(par2d::LightHandle{id}, light));
   }
-  void set_light_emission(std::uint64_t id, const std::vector<double>& color, double intensity) {
+  void set_light_emission(const py::object& handle, const std::vector<double>& color, double intensity) {
+    const std::uint64_t id = handle_id(handle, "light");
     if (color.size() != 3) raise(par2d::StatusCode::invalid_argument, "light " + std::to_string(id) + ": color needs 3 numbers");
     std::lock_guard<std::mutex> lock(mutex_);
     check(renderer_.set_light_emission(par2d::LightHandle{id}, par2d::Rgb{color[0], color[1], color[2]}, intensity));
   }
-  void remove_light(std::uint64_t id) {
+  void remove_light(const py::object& handle) {
+    const std::uint64_t id = handle_id(handle, "light");
     std::lock_guard<std::mutex> lock(mutex_);
     check(renderer_.remove_light(par2d::LightHandle{id}));
     lights_.erase(std::remove(lights_.begin(), lights_.end(), id), lights_.end());
@@ -273,12 +288,14 @@ class PyRenderer {
     occluders_.push_back(handle.id);
     return handle.id;
   }
-  void update_occluder(std::uint64_t id, const py::object& dict) {
+  void update_occluder(const py::object& handle, const py::object& dict) {
+    const std::uint64_t id = handle_id(handle, "occluder");
     const par2d::Occluder occluder = parse_entry<par2d::Occluder>(dict, "occluders", "occluder " + std::to_string(id));
     std::lock_guard<std::mutex> lock(mutex_);
     check(renderer_.update_occluder(par2d::OccluderHandle{id}, occluder));
   }
-  void remove_occluder(std::uint64_t id) {
+  void remove_occluder(const py::object& handle) {
+    const std::uint64_t id = handle_id(handle, "occluder");
     std::lock_guard<std::mutex> lock(mutex_);
     check(renderer_.remove_occluder(par2d::OccluderHandle{id}));
     occluders_.erase(std::remove(occluders_.begin(), occluders_.end(), id), occluders_.end());

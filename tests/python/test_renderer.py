@@ -229,3 +229,47 @@ def test_render_releases_the_gil():
     inside = [t for t in ticks if span["start"] < t < span["end"]]
     assert span["end"] - span["start"] > 0.05
     assert len(inside) >= 10, f"{len(inside)} ticks during a {span['end'] - span['start']:.3f} s render"
+
+
+@pytest.mark.parametrize("handle", [-1, 0, 2**64, 2**70, "1", 1.0, True, None])
+def test_handles_that_name_nothing_raise_par2d_error(handle):
+    r = par2d.Renderer(small_example_dict())
+    light = {"circle": {"center": [10, 10], "radius": 2}}
+    for call in [lambda: r.update_light(handle, light), lambda: r.remove_light(handle),
+                 lambda: r.set_light_emission(handle, [1, 1, 1], 1.0),
+                 lambda: r.update_occluder(handle, light), lambda: r.remove_occluder(handle)]:
+        with pytest.raises(par2d.Error) as e:
+            call()
+        assert e.value.code == "invalid_argument"
+        assert "handle" in str(e.value)
+
+
+def test_calls_from_two_threads_are_serialized():
+    # One thread renders while another moves a light: every frame is one of the scenes that
+    # existed (the renderer is one-thread-at-a-time in C++; the binding serializes calls).
+    d = small_example_dict()
+    r = par2d.Renderer(d, threads=1)
+    h = r.lights[0]
+    positions = [[100.0 + 10 * k, 300.0] for k in range(6)]
+    expected = []
+    for p in positions:
+        moved = copy.deepcopy(d)
+        moved["lights"][0]["circle"]["center"] = p
+        expected.append(par2d.render(moved))
+    r.update_light(h, dict(d["lights"][0], circle={"center": positions[0], "radius": d["lights"][0]["circle"]["radius"]}))
+    frames = []
+
+    def work():
+        for _ in range(8):
+            frames.append(r.render())
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    for p in positions[1:]:
+        r.update_light(h, dict(d["lights"][0], circle={"center": p, "radius": d["lights"][0]["circle"]["radius"]}))
+        time.sleep(0.002)
+    worker.join()
+    assert len(frames) == 8
+    for f in frames:
+        assert any(np.array_equal(f, e) for e in expected)
+    assert np.array_equal(r.render(), expected[-1])

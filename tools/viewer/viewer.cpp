@@ -2,8 +2,9 @@
 //
 // A thin layer over the library: the scene is a par2d::Scene edited by scene_edit.cpp, mirrored
 // in one persistent par2d::Renderer (a lightmap at the window's size) that each edit updates
-// through the light's handle; frames go straight into the window's texture as sRGB bytes. Every action is also logged on stdout as
-// one line ("view: ..."), so scripted sessions (tests/viewer/) can follow what happened.
+// through the light's handle; frames go straight into the window's texture as sRGB bytes.
+// Every action is also logged on stdout as one line ("view: ..."), so scripted sessions
+// (tests/viewer/) can follow what happened.
 #include "viewer.hpp"
 
 #include <SDL.h>
@@ -208,8 +209,8 @@ class Viewer {
     return renderer_.set_scene(sized, &handles_);
   }
 
-  // Mirrors an edit of light `index` (already applied to scene_) in the renderer. A refusal
-  // (not expected: scene_edit validated the scene) resynchronizes the whole world.
+  // Takes the renderer's answer to a light edit already applied to scene_. A refusal (not
+  // expected: scene_edit validated the scene) shows it and resynchronizes the whole world.
   void sync_light(const Status& status) {
     if (status) return;
     message(status.message(), true);
