@@ -4,14 +4,19 @@
 // dict is checked by the same loader as a file and its errors read the same
 // (`<dict>: lights[2].polygon: not convex at vertex 3`, docs/contract.md section 3).
 // Rendering goes through render_into(), the one place that touches the output array and
-// releases the GIL: a persistent Renderer class can reuse it unchanged.
+// releases the GIL. par2d.Renderer wraps par2d::Renderer: a world kept across frames, changed
+// through integer handles, rendered into float32 or sRGB uint8 arrays.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <mutex>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <utility>
+#include <vector>
 
 #include "par2d/par2d.hpp"
 
@@ -138,6 +143,236 @@ const PyScene& as_scene(const py::object& scene, std::optional<PyScene>& holder)
   return *holder;
 }
 
+// One light or occluder from a dict shaped like an entry of the scene file's "lights" or
+// "occluders" list: parsed by the scene loader inside a one-entry scene, so it is checked by
+// the same rules, and the loader's "lights[0]." prefix is dropped from its messages.
+template <typename T>
+T parse_entry(const py::object& dict, const char* list, const std::string& name) {
+  if (!py::isinstance<py::dict>(dict))
+    raise(par2d::StatusCode::invalid_scene, name + ": must be a dict, not " +
+                                                py::str(py::type::of(dict).attr("__name__")).cast<std::string>());
+  py::dict wrapper;
+  wrapper["width"] = 1;
+  wrapper["height"] = 1;
+  wrapper[list] = py::make_tuple(dict);
+  std::string text;
+  try {
+    text = py::module_::import("json").attr("dumps")(wrapper).cast<std::string>();
+  } catch (py::error_already_set& e) {
+    raise(par2d::StatusCode::invalid_scene, name + ": " + py::str(e.value()).cast<std::string>());
+  }
+  par2d::Scene scene;
+  const par2d::Status status = par2d::parse_scene(text, name, scene);
+  if (!status.ok()) {
+    std::string message = status.message();
+    const std::string prefix = name + ": " + list + "[0]";
+    if (message.compare(0, prefix.size(), prefix) == 0) {
+      std::size_t rest = prefix.size();
+      if (rest < message.size() && message[rest] == '.') ++rest;
+      message = name + ": " + message.substr(rest);
+    }
+    raise(par2d::Status(status.code(), message));
+  }
+  if constexpr (std::is_same_v<T, par2d::Light>)
+    return scene.lights.at(0);
+  else
+    return scene.occluders.at(0);
+}
+
+// (x0, y0, x1, y1) pixels of the frame, or None for the whole frame.
+par2d::PixelRect to_rect(const std::optional<py::tuple>& region, int width, int height) {
+  if (!region) return {0, 0, width, height};
+  if (region->size() != 4) raise(par2d::StatusCode::invalid_argument, "region: needs (x0, y0, x1, y1)");
+  par2d::PixelRect rect;
+  rect.x0 = (*region)[0].cast<int>();
+  rect.y0 = (*region)[1].cast<int>();
+  rect.x1 = (*region)[2].cast<int>();
+  rect.y1 = (*region)[3].cast<int>();
+  // The library checks the rectangle too; the array shape needs it sane first.
+  if (rect.x0 < 0 || rect.y0 < 0 || rect.x1 > width || rect.y1 > height || rect.x0 >= rect.x1 || rect.y0 >= rect.y1)
+    raise(par2d::StatusCode::invalid_argument,
+          "region: (" + std::to_string(rect.x0) + ", " + std::to_string(rect.y0) + ", " + std::to_string(rect.x1) +
+              ", " + std::to_string(rect.y1) + ") is not a non-empty rectangle inside the " + std::to_string(width) +
+              "x" + std::to_string(height) + " frame");
+  return rect;
+}
+
+// A handle from Python: any int; one that no 64-bit id can be (negative, too large, not an
+// int) is refused as the library refuses unknown ids, not with pybind11's TypeError.
+std::uint64_t handle_id(const py::object& handle, const char* kind) {
+  if (PyLong_Check(handle.ptr()) && !PyBool_Check(handle.ptr())) {
+    const unsigned long long value = PyLong_AsUnsignedLongLong(handle.ptr());
+    if (!(value == static_cast<unsigned long long>(-1) && PyErr_Occurred())) return value;
+    PyErr_Clear();  // negative or above 2**64 - 1
+  }
+  raise(par2d::StatusCode::invalid_argument,
+        std::string("unknown ") + kind + " handle " + py::repr(handle).cast<std::string>());
+}
+
+// par2d::Renderer for Python: a persistent world changed through integer handles. Calls
+// from several Python threads are serialized by a mutex (the C++ class is one-thread-at-a-time);
+// render releases the GIL while it holds the mutex.
+class PyRenderer {
+ public:
+  PyRenderer(const std::optional<py::object>& scene, const std::string& backend, int threads,
+             const std::optional<std::string>& isa, int spp, bool culling) {
+    set_options(backend, threads, isa, spp, culling);
+    if (scene) set_scene(*scene);
+  }
+
+  void set_options(const std::string& backend, int threads, const std::optional<std::string>& isa, int spp,
+                   bool culling) {
+    const par2d::RenderOptions options = make_options(backend, threads, spp, 1024, isa, culling);
+    std::lock_guard<std::mutex> lock(mutex_);
+    check(renderer_.set_options(options));
+  }
+
+  py::tuple set_scene(const py::object& scene_or_dict) {
+    std::optional<PyScene> holder;
+    const PyScene& scene = as_scene(scene_or_dict, holder);
+    std::vector<par2d::LightHandle> lights;
+    std::vector<par2d::OccluderHandle> occluders;
+    std::lock_guard<std::mutex> lock(mutex_);
+    check(renderer_.set_scene(scene.scene(), &lights, &occluders));
+    lights_.clear();
+    occluders_.clear();
+    for (const auto& h : lights) lights_.push_back(h.id);
+    for (const auto& h : occluders) occluders_.push_back(h.id);
+    return py::make_tuple(lights_, occluders_);
+  }
+
+  void set_frame(int width, int height, const std::optional<py::tuple>& view) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!view) {
+      check(renderer_.set_frame(width, height));
+      return;
+    }
+    if (view->size() != 4) raise(par2d::StatusCode::invalid_argument, "view: needs (x0, y0, x1, y1)");
+    const par2d::View v{(*view)[0].cast<double>(), (*view)[1].cast<double>(), (*view)[2].cast<double>(),
+                        (*view)[3].cast<double>()};
+    check(renderer_.set_frame(width, height, v));
+  }
+
+  std::uint64_t add_light(const py::object& dict) {
+    const par2d::Light light = parse_entry<par2d::Light>(dict, "lights", "add_light");
+    std::lock_guard<std::mutex> lock(mutex_);
+    par2d::LightHandle handle;
+    check(renderer_.add_light(light, &handle));
+    lights_.push_back(handle.id);
+    return handle.id;
+  }
+  void update_light(const py::object& handle, const py::object& dict) {
+    const std::uint64_t id = handle_id(handle, "light");
+    const par2d::Light light = parse_entry<par2d::Light>(dict, "lights", "light " + std::to_string(id));
+    std::lock_guard<std::mutex> lock(mutex_);
+    check(renderer_.update_light(par2d::LightHandle{id}, light));
+  }
+  void set_light_emission(const py::object& handle, const std::vector<double>& color, double intensity) {
+    const std::uint64_t id = handle_id(handle, "light");
+    if (color.size() != 3) raise(par2d::StatusCode::invalid_argument, "light " + std::to_string(id) + ": color needs 3 numbers");
+    std::lock_guard<std::mutex> lock(mutex_);
+    check(renderer_.set_light_emission(par2d::LightHandle{id}, par2d::Rgb{color[0], color[1], color[2]}, intensity));
+  }
+  void remove_light(const py::object& handle) {
+    const std::uint64_t id = handle_id(handle, "light");
+    std::lock_guard<std::mutex> lock(mutex_);
+    check(renderer_.remove_light(par2d::LightHandle{id}));
+    lights_.erase(std::remove(lights_.begin(), lights_.end(), id), lights_.end());
+  }
+
+  std::uint64_t add_occluder(const py::object& dict) {
+    const par2d::Occluder occluder = parse_entry<par2d::Occluder>(dict, "occluders", "add_occluder");
+    std::lock_guard<std::mutex> lock(mutex_);
+    par2d::OccluderHandle handle;
+    check(renderer_.add_occluder(occluder, &handle));
+    occluders_.push_back(handle.id);
+    return handle.id;
+  }
+  void update_occluder(const py::object& handle, const py::object& dict) {
+    const std::uint64_t id = handle_id(handle, "occluder");
+    const par2d::Occluder occluder = parse_entry<par2d::Occluder>(dict, "occluders", "occluder " + std::to_string(id));
+    std::lock_guard<std::mutex> lock(mutex_);
+    check(renderer_.update_occluder(par2d::OccluderHandle{id}, occluder));
+  }
+  void remove_occluder(const py::object& handle) {
+    const std::uint64_t id = handle_id(handle, "occluder");
+    std::lock_guard<std::mutex> lock(mutex_);
+    check(renderer_.remove_occluder(par2d::OccluderHandle{id}));
+    occluders_.erase(std::remove(occluders_.begin(), occluders_.end(), id), occluders_.end());
+  }
+
+  // Float RGB frame (or region) into `out` or a new (h, w, 3) float32 array.
+  py::array render(std::optional<py::array> out, const std::optional<py::tuple>& region) {
+    return render_format(par2d::PixelFormat::rgb_f32, 1.0, std::move(out), region);
+  }
+  py::array render_rgba8(double exposure, std::optional<py::array> out, const std::optional<py::tuple>& region) {
+    return render_format(par2d::PixelFormat::rgba8_srgb, exposure, std::move(out), region);
+  }
+
+  py::dict stats() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const par2d::RendererStats s = renderer_.stats();
+    py::dict d;
+    d["frames"] = s.frames;
+    d["index_builds"] = s.index_builds;
+    d["index_updates"] = s.index_updates;
+    d["reach_computations"] = s.reach_computations;
+    d["full_prepares"] = s.full_prepares;
+    return d;
+  }
+
+  PyScene snapshot() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return PyScene(renderer_.snapshot());
+  }
+  const par2d::Renderer& renderer() const { return renderer_; }
+  const std::vector<std::uint64_t>& lights() const { return lights_; }
+  const std::vector<std::uint64_t>& occluders() const { return occluders_; }
+
+ private:
+  py::array render_format(par2d::PixelFormat format, double exposure, std::optional<py::array> out,
+                          const std::optional<py::tuple>& region) {
+    const int width = renderer_.width(), height = renderer_.height();
+    const par2d::PixelRect rect = to_rect(region, width, height);
+    const py::ssize_t w = rect.x1 - rect.x0, h = rect.y1 - rect.y0;
+    const bool bytes = format == par2d::PixelFormat::rgba8_srgb;
+    const py::ssize_t channels = bytes ? 4 : 3, item = bytes ? 1 : static_cast<py::ssize_t>(sizeof(float));
+    py::array image;
+    if (out) {
+      image = *out;
+      const bool dtype_ok = bytes ? py::isinstance<py::array_t<std::uint8_t>>(image) : py::isinstance<py::array_t<float>>(image);
+      if (!dtype_ok || image.ndim() != 3 || image.shape(0) != h || image.shape(1) != w || image.shape(2) != channels ||
+          image.strides(2) != item || image.strides(1) != channels * item || image.strides(0) < w * channels * item ||
+          !image.writeable())
+        raise(par2d::StatusCode::invalid_argument,
+              std::string("out: needs a writable ") + (bytes ? "uint8" : "float32") + " array of shape (" +
+                  std::to_string(h) + ", " + std::to_string(w) + ", " + std::to_string(channels) +
+                  ") with packed pixels (rows may be padded)");
+    } else if (bytes) {
+      image = py::array_t<std::uint8_t, py::array::c_style>({h, w, channels});
+    } else {
+      image = FloatArray({h, w, channels});
+    }
+    par2d::FrameBuffer buffer;
+    buffer.data = image.mutable_data();
+    buffer.format = format;
+    buffer.row_stride = static_cast<std::ptrdiff_t>(image.strides(0));
+    buffer.exposure = exposure;
+    par2d::Status status;
+    {
+      py::gil_scoped_release release;
+      std::lock_guard<std::mutex> lock(mutex_);
+      status = renderer_.render(buffer, rect);
+    }
+    check(status);
+    return image;
+  }
+
+  mutable std::mutex mutex_;
+  par2d::Renderer renderer_;
+  std::vector<std::uint64_t> lights_, occluders_;
+};
+
 }  // namespace
 
 PYBIND11_MODULE(par2d, m) {
@@ -198,6 +433,62 @@ PYBIND11_MODULE(par2d, m) {
       "row 0 at the top. backend: auto|simd|scalar|raycast; threads: 0 = all; spp: samples per pixel;\n"
       "rays: directions per sample for raycast; isa: cap the SIMD level (scalar|sse4|avx2|avx512);\n"
       "out: an existing array to fill instead of a new one. The GIL is released while rendering.");
+
+  py::class_<PyRenderer>(m, "Renderer",
+                         "A persistent world of lights and occluders, changed through integer handles and\n"
+                         "rendered frame after frame (par2d::Renderer, docs/api.md). Moving or recoloring a light\n"
+                         "never rebuilds the occluder index. Lights and occluders are dicts shaped like one entry\n"
+                         "of the scene file's lists. A refused update raises par2d.Error and changes nothing.")
+      .def(py::init<const std::optional<py::object>&, const std::string&, int, const std::optional<std::string>&, int,
+                    bool>(),
+           py::arg("scene") = py::none(), py::kw_only(), py::arg("backend") = "auto", py::arg("threads") = 0,
+           py::arg("isa") = py::none(), py::arg("spp") = 1, py::arg("culling") = true,
+           "A renderer holding `scene` (a Scene or a dict), or an empty world (then call set_frame).\n"
+           "backend: auto|simd|scalar (raycast is refused); threads: 0 = all.")
+      .def("set_options", &PyRenderer::set_options, py::kw_only(), py::arg("backend") = "auto", py::arg("threads") = 0,
+           py::arg("isa") = py::none(), py::arg("spp") = 1, py::arg("culling") = true,
+           "Backend, threads, isa cap, samples per pixel and culling for the next frames.")
+      .def("set_scene", &PyRenderer::set_scene, py::arg("scene"),
+           "Replaces the whole world (frame included); returns (light handles, occluder handles) in the scene's order.")
+      .def("set_frame", &PyRenderer::set_frame, py::arg("width"), py::arg("height"), py::arg("view") = py::none(),
+           "Lightmap size and the world rectangle (x0, y0, x1, y1) it shows (default (0, 0, width, height)).")
+      .def("add_light", &PyRenderer::add_light, py::arg("light"), "Adds a light (dict); returns its handle.")
+      .def("update_light", &PyRenderer::update_light, py::arg("handle"), py::arg("light"),
+           "Replaces the light's shape, color and intensity.")
+      .def("set_light_emission", &PyRenderer::set_light_emission, py::arg("handle"), py::arg("color"),
+           py::arg("intensity"), "Changes only the color and intensity.")
+      .def("remove_light", &PyRenderer::remove_light, py::arg("handle"))
+      .def("add_occluder", &PyRenderer::add_occluder, py::arg("occluder"), "Adds an occluder (dict); returns its handle.")
+      .def("update_occluder", &PyRenderer::update_occluder, py::arg("handle"), py::arg("occluder"))
+      .def("remove_occluder", &PyRenderer::remove_occluder, py::arg("handle"))
+      .def("render", &PyRenderer::render, py::kw_only(), py::arg("out") = py::none(), py::arg("region") = py::none(),
+           "Linear irradiance as float32 (height, width, 3), or of region (x0, y0, x1, y1) only: then shape\n"
+           "(y1 - y0, x1 - x0, 3), bit-identical to those pixels of the whole frame. out: an existing array\n"
+           "to fill. The GIL is released while rendering.")
+      .def("render_rgba8", &PyRenderer::render_rgba8, py::arg("exposure") = 1.0, py::kw_only(),
+           py::arg("out") = py::none(), py::arg("region") = py::none(),
+           "The frame as uint8 (height, width, 4): round(255 * srgb(clamp(exposure * E, 0, 1))), alpha 255 -\n"
+           "the bytes write_png stores, written by the tiles directly.")
+      .def("snapshot", &PyRenderer::snapshot, "The world as a Scene; par2d.render of it gives the same image.")
+      .def_property_readonly("stats", &PyRenderer::stats,
+                             "dict: frames, index_builds, index_updates, reach_computations, full_prepares.")
+      .def_property_readonly("lights", &PyRenderer::lights, "Handles of the lights, in the order they were added.")
+      .def_property_readonly("occluders", &PyRenderer::occluders, "Handles of the occluders, in the order they were added.")
+      .def_property_readonly("width", [](const PyRenderer& r) { return r.renderer().width(); })
+      .def_property_readonly("height", [](const PyRenderer& r) { return r.renderer().height(); })
+      .def_property_readonly("shape", [](const PyRenderer& r) {
+        return py::make_tuple(r.renderer().height(), r.renderer().width(), 3);
+      })
+      .def_property_readonly("view", [](const PyRenderer& r) {
+        const par2d::View& v = r.renderer().view();
+        return py::make_tuple(v.x0, v.y0, v.x1, v.y1);
+      })
+      .def_property_readonly("threads", [](const PyRenderer& r) { return r.renderer().threads(); })
+      .def("__repr__", [](const PyRenderer& r) {
+        return "<par2d.Renderer " + std::to_string(r.renderer().width()) + "x" + std::to_string(r.renderer().height()) +
+               ", " + std::to_string(r.renderer().light_count()) + " lights, " +
+               std::to_string(r.renderer().occluder_count()) + " occluders>";
+      });
 
   m.def(
       "write_png",

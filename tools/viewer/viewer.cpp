@@ -1,8 +1,10 @@
 // The live viewer: SDL2 window, mouse and key handling, file watch, heads-up text (SDL2_ttf), screenshots.
 //
-// A thin layer over the library: the scene is a par2d::Scene edited by scene_edit.cpp and
-// drawn with par2d::render() each time it changes. Every action is also logged on stdout as
-// one line ("view: ..."), so scripted sessions (tests/viewer/) can follow what happened.
+// A thin layer over the library: the scene is a par2d::Scene edited by scene_edit.cpp, mirrored
+// in one persistent par2d::Renderer (a lightmap at the window's size) that each edit updates
+// through the light's handle; frames go straight into the window's texture as sRGB bytes.
+// Every action is also logged on stdout as one line ("view: ..."), so scripted sessions
+// (tests/viewer/) can follow what happened.
 #include "viewer.hpp"
 
 #include <SDL.h>
@@ -24,7 +26,6 @@
 
 #include "par2d/par2d.hpp"
 #include "scene_edit.hpp"
-#include "srgb8.hpp"
 
 namespace par2d::viewer {
 namespace {
@@ -153,7 +154,10 @@ class Viewer {
       if (dirty_) render_frame();
       draw();
     }
-    log_line("closed");
+    // The renderer's counters: how many edits went through handles instead of a rebuilt world.
+    const RendererStats stats = renderer_.stats();
+    log_line("closed (renderer: " + std::to_string(stats.frames) + " frames, " + std::to_string(stats.index_builds) +
+             " index builds, " + std::to_string(stats.full_prepares) + " full prepares)");
     return 0;
   }
 
@@ -187,14 +191,36 @@ class Viewer {
     sdl_.renderer = SDL_CreateRenderer(sdl_.window, -1, 0);
     if (!sdl_.renderer) return fail(std::string("cannot draw in the window: ") + SDL_GetError());
     SDL_SetRenderDrawBlendMode(sdl_.renderer, SDL_BLENDMODE_BLEND);
-    sdl_.texture = SDL_CreateTexture(sdl_.renderer, SDL_PIXELFORMAT_RGB24, SDL_TEXTUREACCESS_STREAMING, win_w_, win_h_);
+    // RGBA32: bytes R, G, B, A in memory, the layout of PixelFormat::rgba8_srgb.
+    sdl_.texture = SDL_CreateTexture(sdl_.renderer, SDL_PIXELFORMAT_RGBA32, SDL_TEXTUREACCESS_STREAMING, win_w_, win_h_);
     if (!sdl_.texture) return fail(std::string("cannot draw in the window: ") + SDL_GetError());
-    try {
-      pixels_.assign(static_cast<std::size_t>(win_w_) * win_h_ * 3, 0.0f);
-    } catch (const std::bad_alloc&) {
-      return fail("out of memory for a " + std::to_string(win_w_) + "x" + std::to_string(win_h_) + " window");
-    }
+    SDL_SetTextureBlendMode(sdl_.texture, SDL_BLENDMODE_NONE);
+    if (Status s = renderer_.set_options(options_); !s) return fail(s.message());
+    if (Status s = load_world(); !s) return fail(s.message());
     return 0;
+  }
+
+  // Hands the whole scene to the renderer (at the window's size) and takes its light handles.
+  Status load_world() {
+    Scene sized = scene_;
+    sized.width = win_w_;
+    sized.height = win_h_;
+    handles_.clear();
+    return renderer_.set_scene(sized, &handles_);
+  }
+
+  // Takes the renderer's answer to a light edit already applied to scene_. A refusal (not
+  // expected: scene_edit validated the scene) shows it and resynchronizes the whole world.
+  void sync_light(const Status& status) {
+    if (status) return;
+    message(status.message(), true);
+    if (Status s = load_world(); !s) message(s.message(), true);
+  }
+
+  Status apply_options() {
+    frame_ms_.clear();  // the average describes one path
+    dirty_ = true;
+    return renderer_.set_options(options_);
   }
 
   WindowMapping mapping() const { return {scene_.view, win_w_, win_h_}; }
@@ -223,6 +249,7 @@ class Viewer {
         if (dragging_ && (e.motion.x != drag_x_ || e.motion.y != drag_y_)) {
           const Vec2 d = mapping().delta_to_world(e.motion.x - drag_x_, e.motion.y - drag_y_);
           if (move_light(scene_, *dragging_, d)) {
+            sync_light(renderer_.update_light(handles_[*dragging_], scene_.lights[*dragging_]));
             drag_x_ = e.motion.x;
             drag_y_ = e.motion.y;
             dirty_ = true;
@@ -238,6 +265,7 @@ class Viewer {
       case SDL_MOUSEWHEEL: {
         const auto target = light_at(mouse_x_, mouse_y_);
         if (target && e.wheel.y != 0 && scale_light(scene_, *target, std::pow(kWheelFactor, e.wheel.y))) {
+          sync_light(renderer_.update_light(handles_[*target], scene_.lights[*target]));
           selected_ = target;
           dirty_ = true;
           log_line("resized light " + std::to_string(*target) + ": " + describe(scene_.lights[*target].shape));
@@ -257,6 +285,10 @@ class Viewer {
         const Light* like = selected_ && *selected_ < scene_.lights.size() ? &scene_.lights[*selected_] : nullptr;
         if (add_light(scene_, world_at(mouse_x_, mouse_y_), kNewLightRadiusPx * mapping().pixel_size(), like)) {
           selected_ = scene_.lights.size() - 1;
+          LightHandle handle;
+          const Status s = renderer_.add_light(scene_.lights.back(), &handle);
+          if (s) handles_.push_back(handle);
+          sync_light(s);
           dirty_ = true;
           log_line("added light " + std::to_string(*selected_) + ": " + describe(scene_.lights.back().shape));
         }
@@ -267,6 +299,9 @@ class Viewer {
       case SDLK_BACKSPACE: {
         const auto target = light_at(mouse_x_, mouse_y_);
         if (target && delete_light(scene_, *target)) {
+          const Status s = renderer_.remove_light(handles_[*target]);
+          if (s) handles_.erase(handles_.begin() + static_cast<std::ptrdiff_t>(*target));
+          sync_light(s);
           selected_.reset();
           dirty_ = true;
           log_line("deleted light " + std::to_string(*target) + " (" + std::to_string(scene_.lights.size()) + " left)");
@@ -275,8 +310,7 @@ class Viewer {
       }
       case SDLK_b:
         options_.backend = options_.backend == Backend::scalar ? Backend::simd : Backend::scalar;
-        frame_ms_.clear();  // the average describes one path
-        dirty_ = true;
+        if (Status s = apply_options(); !s) message(s.message(), true);
         log_line(std::string("backend ") + backend_name(options_.backend));
         break;
       case SDLK_i: next_isa(); break;
@@ -313,8 +347,7 @@ class Viewer {
       if (levels[i] == current && options_.backend != Backend::scalar) next = levels[(i + 1) % levels.size()];
     options_.backend = Backend::simd;
     options_.isa = next;
-    frame_ms_.clear();
-    dirty_ = true;
+    if (Status s = apply_options(); !s) message(s.message(), true);
     log_line(std::string("isa ") + isa_name(next));
   }
 
@@ -343,6 +376,10 @@ class Viewer {
     }
     const bool same_size = fresh.width == scene_.width && fresh.height == scene_.height;
     scene_ = std::move(fresh);
+    if (Status s = load_world(); !s) {  // not expected: the file was validated when loaded
+      message(s.message(), true);
+      return;
+    }
     selected_.reset();
     dragging_.reset();
     dirty_ = true;
@@ -378,27 +415,31 @@ class Viewer {
              ", isa " + isa_name(resolved_isa(options_)) + format(", exposure %.6g)", exposure_));
   }
 
+  // The renderer writes sRGB bytes (with the exposure) straight into the locked texture:
+  // no float frame and no conversion pass.
   void render_frame() {
-    Scene sized = scene_;  // the scene's view at the window's size
-    sized.width = win_w_;
-    sized.height = win_h_;
-    const ImageView view{pixels_.data(), win_w_, win_h_, static_cast<std::ptrdiff_t>(win_w_) * 3};
-    const auto start = Clock::now();
-    const Status status = render(sized, options_, view);
-    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
     dirty_ = false;
+    void* texels = nullptr;
+    int pitch = 0;
+    if (SDL_LockTexture(sdl_.texture, nullptr, &texels, &pitch) != 0) {
+      message(std::string("cannot draw in the window: ") + SDL_GetError(), true);
+      return;
+    }
+    FrameBuffer buffer;
+    buffer.data = texels;
+    buffer.format = PixelFormat::rgba8_srgb;
+    buffer.row_stride = pitch;
+    buffer.exposure = exposure_;
+    const auto start = Clock::now();
+    const Status status = renderer_.render(buffer);
+    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    SDL_UnlockTexture(sdl_.texture);
     if (!status) {
       message(status.message(), true);
       return;
     }
     frame_ms_.push_back(ms);
     if (frame_ms_.size() > 10) frame_ms_.pop_front();
-    void* texels = nullptr;
-    int pitch = 0;
-    if (SDL_LockTexture(sdl_.texture, nullptr, &texels, &pitch) == 0) {
-      encoder_.encode_image(view, exposure_, static_cast<std::uint8_t*>(texels), pitch);
-      SDL_UnlockTexture(sdl_.texture);
-    }
   }
 
   // One line of heads-up text at (x, y); returns its height.
@@ -487,9 +528,9 @@ class Viewer {
   double exposure_ = 1.0;
   FileStamp stamp_;
   Sdl sdl_;
-  Srgb8Encoder encoder_;
+  Renderer renderer_;                // the scene at the window's size, kept prepared across edits
+  std::vector<LightHandle> handles_;  // handles_[i] names scene_.lights[i] in renderer_
   int win_w_ = 0, win_h_ = 0;
-  std::vector<float> pixels_;
   std::deque<double> frame_ms_;
   bool running_ = true, dirty_ = true, help_ = false, capture_window_ = false;
   std::optional<std::size_t> dragging_, selected_;
