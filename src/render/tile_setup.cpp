@@ -6,6 +6,7 @@
 #include <cmath>
 #include <optional>
 
+#include "geometry/box_clip.hpp"
 #include "par2d/render.hpp"
 
 
@@ -84,18 +85,45 @@ struct TileFrame {
 
 };
 
-// A pixel becomes about one unit, unless the scene then reaches past 2^60 units (the
-// kernel squares coordinates, and float's range ends near 2^128): then the scene's
-// extent sets the scale, and pixels
-// may shrink toward float's underflow, which only happens for views of less than ~1e-30
-// of the scene's size, where all of a tile's samples are one point to float anyway.
+// A pixel becomes about one unit, whatever the scene's extent: shapes reaching far from
+// the tile are first clipped to a box around it (near_shape), so the kernel's coordinates stay
+// far inside float's range (it squares them, and the range ends near 2^128).
 TileFrame tile_frame(const PreparedScene& scene, Vec2 origin) noexcept {
   const double pixel = std::max(std::abs(scene.view.x1 - scene.view.x0) / scene.width,
                                 std::abs(scene.view.y1 - scene.view.y0) / scene.height);
-  int pixel_exponent = 0, extent_exponent = 0;
+  int pixel_exponent = 0;
   std::frexp(pixel, &pixel_exponent);
-  std::frexp(2.0 * scene.extent, &extent_exponent);  // distances from a tile inside the view
-  return {origin, std::ldexp(1.0, std::min(-pixel_exponent, 60 - extent_exponent))};
+  return {origin, std::ldexp(1.0, -pixel_exponent)};
+}
+
+// Half sizes, in kernel units (about pixels), of the boxes around a tile that shapes are
+// clipped to. Cutting a shape at distance D changes the directions in which it is seen from
+// the tile by at most about tile size / D (2^-36 rad at 2^40, far below the contract's bound),
+// and within the near box float products (up to ~2^82) stay in range. A shape that misses
+// the near box is clipped to the far one (its coordinates then stay below TileFrame::kLimit);
+// one that misses both lies more than 2^58 pixels from the tile.
+constexpr double kNearHalf = 0x1p40;
+constexpr double kFarHalf = 0x1p58;
+// A circle of a larger radius (kernel units) is replaced by the circle of this radius with
+// the same point nearest the tile and the same normal there: a subset of it that departs from
+// it, over the near box, by under 2^40 / 2^60 radians as seen from the tile, and whose
+// squared radius float still holds.
+constexpr double kMaxRadius = 0x1p59;
+
+// The shape the kernel gets for `s`: `s` itself when it lies within the near box around the
+// tile center, else its part within the near (or far) box, in `clipped`. A subset of `s`, so
+// separating lines and culling decisions made for `s` hold for it; the same as `s` wherever
+// the tile's rays meet it within the box.
+const ConvexShape& near_shape(const ConvexShape& s, const TileFrame& frame, Vec2 tile_center, ConvexShape& clipped,
+                              std::vector<Vec2>& tmp) {
+  if (s.kind == ShapeKind::circle) return s;
+  const double near = kNearHalf / frame.scale;
+  if (s.bounds_min.x >= tile_center.x - near && s.bounds_max.x <= tile_center.x + near &&
+      s.bounds_min.y >= tile_center.y - near && s.bounds_max.y <= tile_center.y + near)
+    return s;
+  if (clip_to_box(s, tile_center, near, clipped, tmp)) return clipped;
+  if (clip_to_box(s, tile_center, kFarHalf / frame.scale, clipped, tmp)) return clipped;
+  return s;
 }
 
 // Takes `count` vertex slots (edge lines only meaningful for polygons) and returns the first
@@ -110,12 +138,57 @@ std::uint32_t grow_vertices(TileWork& work, std::size_t count) {
   return static_cast<std::uint32_t>(first);
 }
 
+// Whether the kernel gets `s` changed (near_shape, or a circle's radius capped).
+bool reaches_far(const ConvexShape& s, const TileFrame& frame, Vec2 tile_center) noexcept {
+  const double near = kNearHalf / frame.scale;
+  if (s.kind == ShapeKind::circle && s.radius * frame.scale > kMaxRadius) return true;
+  return !(s.bounds_min.x >= tile_center.x - near && s.bounds_max.x <= tile_center.x + near &&
+           s.bounds_min.y >= tile_center.y - near && s.bounds_max.y <= tile_center.y + near);
+}
+
+// The shape as the kernel sees it, in double, for a far-reaching shape (reaches_far): its
+// part near the tile, or a circle of capped radius with the same point nearest the tile.
+const ConvexShape& kernel_view(const ConvexShape& s, const TileFrame& frame, Vec2 tile_center, ConvexShape& out,
+                               std::vector<Vec2>& tmp) {
+  if (s.kind != ShapeKind::circle) return near_shape(s, frame, tile_center, out, tmp);
+  if (!(s.radius * frame.scale > kMaxRadius)) return s;
+  const Vec2 c = s.vertices[0];
+  Vec2 u = tile_center - c;
+  const double len = length(u);
+  u = len > 0.0 ? (1.0 / len) * u : Vec2{1.0, 0.0};
+  const double r = kMaxRadius / frame.scale;
+  out.kind = ShapeKind::circle;
+  out.edge_normals.clear();
+  out.vertices.assign(1, c + (s.radius - r) * u);
+  out.radius = r;
+  out.centroid = out.vertices[0];
+  out.bounds_min = {out.vertices[0].x - r, out.vertices[0].y - r};
+  out.bounds_max = {out.vertices[0].x + r, out.vertices[0].y + r};
+  return out;
+}
+
+// A line separating the kernel's versions of a light and an occluder when one of them reaches
+// far from the tile: the scene's line, made for the whole shapes, is rounded relative to
+// their size and may miss the tile's neighbourhood by many pixels, while these shapes are
+// tile-sized in precision. Checked like the scene's (strictly separating), else empty (the
+// kernel's exact general path).
+std::optional<Line> near_separator(const ConvexShape& light, const ConvexShape& occluder) noexcept {
+  std::optional<Line> line = separating_line(occluder, light);
+  if (!line) return line;
+  for (Vec2 v : occluder.vertices)
+    if (!(line->side(v) - occluder.radius > 0.0)) return std::nullopt;
+  for (Vec2 v : light.vertices)
+    if (!(line->side(v) + light.radius < 0.0)) return std::nullopt;
+  return line;
+}
+
 // `whole`: keep every vertex and edge (a general pair's depth test needs the shape itself).
-KernelShape kernel_shape(const ConvexShape& s, const TileFrame& frame, const std::array<Vec2, 4>& corners,
-                         bool whole, TileWork& work) {
+KernelShape kernel_shape(const ConvexShape& shape, const TileFrame& frame, const std::array<Vec2, 4>& corners,
+                         bool whole, TileWork& work, ConvexShape& clipped, std::vector<Vec2>& tmp) {
   KernelShape k;
-  k.kind = s.kind;
+  k.kind = shape.kind;
   const Vec2 tile_center = 0.5 * (corners[0] + corners[2]);
+  const ConvexShape& s = near_shape(shape, frame, tile_center, clipped, tmp);
   if (int cw, ccw; !whole && tile_tangent_pair(s, corners, cw, ccw)) {
     k.kind = ShapeKind::segment;
     k.ordered = true;
@@ -134,8 +207,15 @@ KernelShape kernel_shape(const ConvexShape& s, const TileFrame& frame, const std
     // relative terms, because the inside test needs it on the circle to float precision
     // (its absolute coordinates would be rounded to the scene's magnitude).
     const Vec2 nearest = (c - frame.origin) + s.radius * u;
-    frame.point(c, k.cx, k.cy);
-    k.r = frame.length(s.radius);
+    if (s.radius * frame.scale > kMaxRadius) {
+      // A far larger circle: the one of radius kMaxRadius tangent to it inside at `nearest`.
+      const double r = kMaxRadius / frame.scale;
+      frame.relative(nearest - r * u, k.cx, k.cy);
+      k.r = static_cast<float>(kMaxRadius);
+    } else {
+      frame.point(c, k.cx, k.cy);
+      k.r = frame.length(s.radius);
+    }
     frame.relative(nearest, k.px, k.py);
     k.ux = static_cast<float>(u.x);
     k.uy = static_cast<float>(u.y);
@@ -155,6 +235,16 @@ KernelShape kernel_shape(const ConvexShape& s, const TileFrame& frame, const std
       work.edge_ny[j] = static_cast<float>(normal.y);
       work.edge_c[j] = frame.line_offset(normal, v);
     }
+  }
+  if (s.kind == ShapeKind::segment) {
+    // The segment's line, for the kernel's depth test: its offset is formed near the tile,
+    // so it stays exact where the end points are far (cross products of them would cancel).
+    const Vec2 e = s.vertices[1] - s.vertices[0];
+    const double len = length(e);
+    const Vec2 normal{-e.y / len, e.x / len};
+    work.edge_nx[k.first] = static_cast<float>(normal.x);
+    work.edge_ny[k.first] = static_cast<float>(normal.y);
+    work.edge_c[k.first] = frame.line_offset(normal, s.vertices[0]);
   }
   return k;
 }
@@ -414,6 +504,9 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     CornerTangentPoints light_tangent_points;
     std::optional<LightClip> clip;
     if (culling && !candidates.empty()) tile_hull.emplace(box, bounds_of(light.shape));
+    const Vec2 tile_center = 0.5 * (corners[0] + corners[2]);
+    const bool light_far = !candidates.empty() && reaches_far(light.shape, frame, tile_center);
+    const ConvexShape* light_near = nullptr;
     KernelLight kl;
     kl.first_pair = static_cast<std::uint32_t>(work.pairs.size());
     const std::size_t first_point = work.point_x.size();
@@ -429,7 +522,14 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       const bool overlapping = overlap != light.overlapping_occluders.end() && *overlap == k;
       std::optional<Line> line;
       if (!overlapping) {
-        line = scene.separators.get(l, k, light.shape, occluder);
+        if (light_far || reaches_far(occluder, frame, tile_center)) {
+          if (!light_near)
+            light_near = &kernel_view(light.shape, frame, tile_center, scratch.clipped_light, scratch.hull_points);
+          line = near_separator(*light_near,
+                                kernel_view(occluder, frame, tile_center, scratch.clipped, scratch.hull_points));
+        } else {
+          line = scene.separators.get(l, k, light.shape, occluder);
+        }
       } else if (!clip) {
         LightClip c;
         if (clip_light_by_occluder(light.shape, occluder, c)) {
@@ -504,7 +604,7 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       if (pair.general) scratch.used_whole[static_cast<std::size_t>(local)] = 1;
       pair.occluder = static_cast<std::uint32_t>(local);
     }
-    kl.shape = kernel_shape(light.shape, frame, corners, general, work);
+    kl.shape = kernel_shape(light.shape, frame, corners, general, work, scratch.clipped, scratch.hull_points);
     // Over a tile wholly before the clip line that sees no light point past it, the clipped
     // light's arc is the whole light's (and the pair was dropped as behind): skip the clip.
     if (clip && culling && light_before_line(light.shape, clip->line, corners, light_tangent_points)) clip.reset();
@@ -521,7 +621,8 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     work.lights.push_back(kl);
   }
   for (std::size_t u = 0; u < scratch.used.size(); ++u)
-    work.occluders.push_back(kernel_shape(scene.occluders[scratch.used[u]], frame, corners, scratch.used_whole[u] != 0, work));
+    work.occluders.push_back(kernel_shape(scene.occluders[scratch.used[u]], frame, corners, scratch.used_whole[u] != 0,
+                                          work, scratch.clipped, scratch.hull_points));
 }
 
 }  // namespace par2d::detail

@@ -391,10 +391,11 @@ inline xsimd::batch<float, A> shape_ray_entry(const TileWork& work, const Kernel
   if (s.kind == ShapeKind::segment) {
     const B ax = B(vx[0]) - px, ay = B(vy[0]) - py;
     const B bx = B(vx[1]) - px, by = B(vy[1]) - py;
-    const B ex(vx[1] - vx[0]), ey(vy[1] - vy[0]);
-    // x + t d on the segment's line: t cross(d, e) = cross(a - x, e).
-    const B den = xsimd::fms(dx, ey, dy * ex);
-    const B num = xsimd::fms(ax, ey, ay * ex);
+    // x + t d on the segment's line n.p = c (edge slot 0, see kernel_shape): t n.d = c - n.x,
+    // exact near the tile even where the end points are far.
+    const B lnx(work.edge_nx[s.first]), lny(work.edge_ny[s.first]);
+    const B den = xsimd::fma(lnx, dx, lny * dy);
+    const B num = B(work.edge_c[s.first]) - xsimd::fma(lnx, px, lny * py);
     // Along the segment's own line: the nearer end point.
     const B along = xsimd::max(xsimd::min(xsimd::fma(ax, dx, ay * dy), xsimd::fma(bx, dx, by * dy)), B(0.0f));
     return xsimd::select(den == B(0.0f), along, num / xsimd::select(den == B(0.0f), B(1.0f), den));
