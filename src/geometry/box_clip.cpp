@@ -1,5 +1,8 @@
-// Liang-Barsky for segments and Sutherland-Hodgman for convex polygons, in coordinates
-// relative to the box center (so that the clip points keep the precision the box needs).
+// Sutherland-Hodgman clipping of convex segments and polygons to an axis-aligned box. Each
+// crossing point is computed from its edge's line (unit normal n, offset n.a from an original
+// vertex) rather than by interpolating along the edge: for an edge 1e30 long the
+// interpolation's rounding (1e14) would exceed a box of 1e13, while the line form is as exact
+// as the edge's line itself.
 #include "geometry/box_clip.hpp"
 
 #include <algorithm>
@@ -19,35 +22,48 @@ void finish(ConvexShape& out) {
   out.centroid = (1.0 / static_cast<double>(out.vertices.size())) * sum;
 }
 
-// One side at a time, each crossing point interpolated from the end inside that side (a
-// parameter along the whole segment would round away a box 1e-30 of its length).
+// One side of the box: sign * coordinate[axis] <= limit keeps a point.
+struct Side {
+  int axis;
+  double sign, value;  // value: the side's coordinate
+  double level(Vec2 v) const noexcept { return sign * (axis == 0 ? v.x : v.y) - sign * value; }
+};
+
+Side side_of(int index, Vec2 center, double half) noexcept {
+  const int axis = index / 2;
+  const double sign = index % 2 == 0 ? 1.0 : -1.0;
+  return {axis, sign, (axis == 0 ? center.x : center.y) + sign * half};
+}
+
+// Where the line n.p = offset crosses the side (the edge from `inside` to `outside` does).
+Vec2 crossing(const Side& side, Vec2 n, double offset, Vec2 inside, Vec2 outside) noexcept {
+  if (side.axis == 0 && n.y != 0.0) return {side.value, (offset - n.x * side.value) / n.y};
+  if (side.axis == 1 && n.x != 0.0) return {(offset - n.y * side.value) / n.x, side.value};
+  const double li = side.level(inside), lo = side.level(outside);
+  Vec2 x = inside + (li / (li - lo)) * (outside - inside);
+  (side.axis == 0 ? x.x : x.y) = side.value;
+  return x;
+}
+
 bool clip_segment(const ConvexShape& s, Vec2 center, double half, ConvexShape& out) {
-  Vec2 p = s.vertices[0] - center, q = s.vertices[1] - center;
-  bool p_moved = false, q_moved = false;
-  for (int side = 0; side < 4; ++side) {
-    const int axis = side / 2;
-    const double sign = side % 2 == 0 ? 1.0 : -1.0;
-    auto level = [&](Vec2 v) { return sign * (axis == 0 ? v.x : v.y) - half; };  // <= 0 inside
-    const double lp = level(p), lq = level(q);
+  Vec2 p = s.vertices[0], q = s.vertices[1];
+  const Vec2 e = q - p;
+  const double len = length(e);
+  const Vec2 n{-e.y / len, e.x / len};
+  const double offset = dot(n, p);
+  for (int index = 0; index < 4; ++index) {
+    const Side side = side_of(index, center, half);
+    const double lp = side.level(p), lq = side.level(q);
     if (lp > 0.0 && lq > 0.0) return false;
     if (lp <= 0.0 && lq <= 0.0) continue;
-    Vec2& outside = lp > 0.0 ? p : q;
-    const Vec2 inside = lp > 0.0 ? q : p;
-    const double li = lp > 0.0 ? lq : lp, lo = lp > 0.0 ? lp : lq;
-    Vec2 x = inside + (li / (li - lo)) * (outside - inside);
-    if (axis == 0) x.x = sign * half;
-    else x.y = sign * half;
-    outside = x;
-    (lp > 0.0 ? p_moved : q_moved) = true;
+    if (lp > 0.0) p = crossing(side, n, offset, q, p);
+    else q = crossing(side, n, offset, p, q);
   }
+  if (!(p.x != q.x || p.y != q.y)) return false;
   out.kind = ShapeKind::segment;
   out.radius = 0.0;
   out.edge_normals.clear();
-  out.vertices.resize(2);
-  // An end kept whole stays exactly as it was.
-  out.vertices[0] = p_moved ? center + p : s.vertices[0];
-  out.vertices[1] = q_moved ? center + q : s.vertices[1];
-  if (!(out.vertices[0].x != out.vertices[1].x || out.vertices[0].y != out.vertices[1].y)) return false;
+  out.vertices.assign({p, q});
   finish(out);
   return true;
 }
@@ -57,48 +73,47 @@ bool clip_segment(const ConvexShape& s, Vec2 center, double half, ConvexShape& o
 bool clip_to_box(const ConvexShape& s, Vec2 center, double half, ConvexShape& out, std::vector<Vec2>& tmp) {
   if (s.kind == ShapeKind::segment) return clip_segment(s, center, half, out);
   if (s.kind != ShapeKind::polygon) return false;
-  // Vertices relative to the center, each with the normal of the edge that leaves it.
+  // Each vertex with the normal and offset of the edge that leaves it.
   std::vector<Vec2>& pts = out.vertices;
   std::vector<Vec2>& normals = out.edge_normals;
-  pts.clear();
-  normals.clear();
-  for (std::size_t i = 0; i < s.vertices.size(); ++i) {
-    pts.push_back(s.vertices[i] - center);
-    normals.push_back(s.edge_normals[i]);
-  }
-  // Sides as (axis, sign): keep sign * coordinate <= half.
+  pts.assign(s.vertices.begin(), s.vertices.end());
+  normals.assign(s.edge_normals.begin(), s.edge_normals.end());
+  std::vector<double> offsets(pts.size()), next_offsets;
+  for (std::size_t i = 0; i < pts.size(); ++i) offsets[i] = dot(normals[i], pts[i]);
   std::vector<Vec2> next_normals;
-  for (int side = 0; side < 4; ++side) {
-    const int axis = side / 2;
-    const double sign = side % 2 == 0 ? 1.0 : -1.0;
-    const Vec2 inward = axis == 0 ? Vec2{-sign, 0.0} : Vec2{0.0, -sign};
-    auto level = [&](Vec2 v) { return sign * (axis == 0 ? v.x : v.y) - half; };  // <= 0 inside
+  for (int index = 0; index < 4; ++index) {
+    const Side side = side_of(index, center, half);
+    const Vec2 inward = side.axis == 0 ? Vec2{-side.sign, 0.0} : Vec2{0.0, -side.sign};
     tmp.clear();
     next_normals.clear();
+    next_offsets.clear();
     const std::size_t n = pts.size();
     for (std::size_t i = 0; i < n; ++i) {
       const Vec2 v = pts[i], w = pts[(i + 1) % n];
-      const double lv = level(v), lw = level(w);
+      const double lv = side.level(v), lw = side.level(w);
       if (lv <= 0.0) {
         tmp.push_back(v);
-        // Leaving the box along this edge: the edge keeps its normal up to the exit point,
-        // then the box side's edge follows.
         next_normals.push_back(normals[i]);
+        next_offsets.push_back(offsets[i]);
       }
       if ((lv <= 0.0) != (lw <= 0.0)) {
-        // Crossing point, interpolated from the inside end.
-        Vec2 x = lv <= 0.0 ? v + (lv / (lv - lw)) * (w - v) : w + (lw / (lw - lv)) * (v - w);
-        if (axis == 0) x.x = sign * half;
-        else x.y = sign * half;
-        tmp.push_back(x);
-        next_normals.push_back(lv <= 0.0 ? inward : normals[i]);
+        tmp.push_back(lv <= 0.0 ? crossing(side, normals[i], offsets[i], v, w) : crossing(side, normals[i], offsets[i], w, v));
+        // Leaving the box, the side's edge follows the exit point; entering, the edge's own.
+        if (lv <= 0.0) {
+          next_normals.push_back(inward);
+          next_offsets.push_back(dot(inward, tmp.back()));
+        } else {
+          next_normals.push_back(normals[i]);
+          next_offsets.push_back(offsets[i]);
+        }
       }
     }
     pts.swap(tmp);
     normals.swap(next_normals);
+    offsets.swap(next_offsets);
     if (pts.size() < 3) return false;
   }
-  // Drop repeated points (a vertex on a side) and zero-length edges.
+  // Drop repeated points (a vertex on a side) and so zero-length edges.
   std::size_t m = 0;
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const Vec2 v = pts[i], w = pts[(i + 1) % pts.size()];
@@ -110,7 +125,6 @@ bool clip_to_box(const ConvexShape& s, Vec2 center, double half, ConvexShape& ou
   pts.resize(m);
   normals.resize(m);
   if (m < 3) return false;
-  for (Vec2& v : pts) v = center + v;
   out.kind = ShapeKind::polygon;
   out.radius = 0.0;
   finish(out);

@@ -172,7 +172,13 @@ const ConvexShape& kernel_view(const ConvexShape& s, const TileFrame& frame, Vec
 // their size and may miss the tile's neighbourhood by many pixels, while these shapes are
 // tile-sized in precision. Checked like the scene's (strictly separating), else empty (the
 // kernel's exact general path).
-std::optional<Line> near_separator(const ConvexShape& light, const ConvexShape& occluder) noexcept {
+std::optional<Line> near_separator(const ConvexShape& light, const ConvexShape& occluder, double scale) noexcept {
+  // A circle far larger than the box: distances to it cancel in double (its boundary is
+  // its center minus its radius), so no line is trusted; the kernel's general path decides
+  // depth from the circle's nearest point instead.
+  if ((light.kind == ShapeKind::circle && light.radius * scale > kNearHalf) ||
+      (occluder.kind == ShapeKind::circle && occluder.radius * scale > kNearHalf))
+    return std::nullopt;
   std::optional<Line> line = separating_line(occluder, light);
   if (!line) return line;
   for (Vec2 v : occluder.vertices)
@@ -526,7 +532,8 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
           if (!light_near)
             light_near = &kernel_view(light.shape, frame, tile_center, scratch.clipped_light, scratch.hull_points);
           line = near_separator(*light_near,
-                                kernel_view(occluder, frame, tile_center, scratch.clipped, scratch.hull_points));
+                                kernel_view(occluder, frame, tile_center, scratch.clipped, scratch.hull_points),
+                                frame.scale);
         } else {
           line = scene.separators.get(l, k, light.shape, occluder);
         }

@@ -65,7 +65,10 @@ PAR2D_KERNEL_INLINE void arc_from_tangents(const xsimd::batch<float, A>& lox, co
     arc.width = xsimd::select(width > B(4.71238898f), B(0.0f), width);
   } else {
     // The angle from the clockwise to the counter-clockwise tangent, in [0, pi].
-    arc.width = xsimd::max(fast_atan2(lox * hiy - loy * hix, xsimd::fma(lox, hix, loy * hiy)), B(0.0f));
+    // A width near pi may come out near -pi (the cross product's sign lost to rounding for
+    // a far-reaching shape close by): outside arcs are never wider than pi, so that is pi.
+    const B w = fast_atan2(lox * hiy - loy * hix, xsimd::fma(lox, hix, loy * hiy));
+    arc.width = xsimd::select(w < B(-1.57079633f), w + B(kTwoPiF), xsimd::max(w, B(0.0f)));
   }
 }
 
@@ -110,7 +113,10 @@ PAR2D_KERNEL_INLINE void vertex_tangents(const TileWork& work, const KernelShape
     inside = B(0.0f) > B(0.0f);  // a segment has no interior
     hix = B(vx[1]) - px, hiy = B(vy[1]) - py;
     if (s.ordered) return;
-    const auto swap = (lox * hiy - loy * hix) < B(0.0f);
+    // The side of the segment's line (edge slot 0, see kernel_shape in render/tile_setup.cpp)
+    // orders the ends: cross(a - x, b - x) = |b - a| (n.x - c). From the line's offset, not the
+    // ends' cross product, which loses its sign for a point near a segment whose ends are far.
+    const auto swap = xsimd::fma(B(work.edge_nx[s.first]), px, B(work.edge_ny[s.first]) * py) < B(work.edge_c[s.first]);
     const B bx = hix, by = hiy;
     hix = xsimd::select(swap, lox, bx);
     hiy = xsimd::select(swap, loy, by);
@@ -380,11 +386,14 @@ inline xsimd::batch<float, A> shape_ray_entry(const TileWork& work, const Kernel
                                               const xsimd::batch<float, A>& dy) noexcept {
   using B = xsimd::batch<float, A>;
   if (s.kind == ShapeKind::circle) {
-    const B vx = B(s.cx) - px, vy = B(s.cy) - py;
-    const B along = xsimd::fma(vx, dx, vy * dy);
-    const B across = xsimd::fms(vx, dy, vy * dx);
-    const B disc = xsimd::fnma(across, across, B(s.r * s.r));
-    return along - xsimd::sqrt(xsimd::max(disc, B(0.0f)));
+    // From the nearest point p = c + r u (KernelShape): with q = p - x, the entry solves
+    // t^2 - 2 b t + excess = 0, b = d.q - r u.d; its smaller root excess / (b + sqrt(b^2 -
+    // excess)) does not cancel, so a circle far larger than the tile keeps its precision here.
+    const B qx = B(s.px) - px, qy = B(s.py) - py;
+    const B b = xsimd::fma(dx, qx, dy * qy) - B(s.r) * xsimd::fma(B(s.ux), dx, B(s.uy) * dy);
+    const B excess = circle_excess<A>(s, px, py);
+    const B den = b + xsimd::sqrt(xsimd::max(xsimd::fms(b, b, excess), B(0.0f)));
+    return xsimd::select(den > B(0.0f), excess / xsimd::select(den > B(0.0f), den, B(1.0f)), b);
   }
   const float* vx = work.vx.data() + s.first;
   const float* vy = work.vy.data() + s.first;
