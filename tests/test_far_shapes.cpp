@@ -157,6 +157,16 @@ TEST_CASE("a diagonal wall far longer than the view: dark behind it, the closed 
       const double want = j > i ? 0.0 : open_circle_light(s, i, j, c);
       CHECK_MESSAGE(std::abs(v - want) <= 1e-4, what << " pixel " << i << "," << j << ": " << v << " want " << want);
     });
+    // A triangle filling y > x up to the extent: its long edge lies on the same line.
+    Scene t = blank();
+    t.lights.push_back(light_of(Circle{{12.0, 4.0}, 1.0}));
+    t.occluders.push_back(Occluder{Polygon{{{-extent, -extent}, {extent, extent}, {-extent, extent}}}});
+    const std::string twhat = named("diagonal triangle", extent);
+    check_far_scene(t, twhat, extent <= 1e10, [&](int i, int j, int c, float v) {
+      if (std::abs(j - i) * std::sqrt(0.5) <= 0.05 || near_light(i, j)) return;
+      const double want = j > i ? 0.0 : open_circle_light(t, i, j, c);
+      CHECK_MESSAGE(std::abs(v - want) <= 1e-4, twhat << " pixel " << i << "," << j << ": " << v << " want " << want);
+    });
   }
 }
 

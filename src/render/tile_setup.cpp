@@ -419,6 +419,17 @@ bool clip_light_by_occluder(const ConvexShape& light, const ConvexShape& occlude
   return false;
 }
 
+// Whether the culling's double-precision tests (light reach, occlusion proofs, umbra and
+// behind tests on the whole shapes) can be trusted: not when some coordinate lies 2^40 pixels
+// or more from the origin, where their rounding reaches pixels (a slanted wall 1e25 long
+// let a proof hide a light in front of it). Such scenes render without culling (the same
+// image, slower).
+bool culling_trusted(const PreparedScene& scene) noexcept {
+  const double pixel = std::max(std::abs(scene.view.x1 - scene.view.x0) / scene.width,
+                                std::abs(scene.view.y1 - scene.view.y0) / scene.height);
+  return scene.extent < 0x1p40 * pixel;
+}
+
 // How many corners lie on the occluder's side of the line (n.p >= offset).
 int corners_in_front(const Line& line, const std::array<Vec2, 4>& corners) noexcept {
   int front = 0;
@@ -444,6 +455,7 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
   scratch.block_shadowed.assign(scene.lights.size(), 0);
   const std::array<Vec2, 4> corners = tile_corners(scene, block);
   const Aabb box = bounds_of(corners);
+  if (reach && !culling_trusted(scene)) reach = nullptr;
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
     std::vector<std::uint32_t>& candidates = scratch.block_candidates[l];
     candidates.clear();
@@ -473,6 +485,7 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
 void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, bool culling, TileWork& work,
                      TileSetupScratch& scratch) {
   work.clear();
+  culling = culling && culling_trusted(scene);
   const Vec2 origin = sample_position(scene, tile.x0, tile.y0, 0.0, 0.0);
   const TileFrame frame = tile_frame(scene, origin);
   work.spp = spp;
@@ -525,19 +538,21 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       pair.occluder = k;
       const auto overlap =
           std::lower_bound(light.overlapping_occluders.begin(), light.overlapping_occluders.end(), k);
-      const bool overlapping = overlap != light.overlapping_occluders.end() && *overlap == k;
+      bool overlapping = overlap != light.overlapping_occluders.end() && *overlap == k;
       std::optional<Line> line;
-      if (!overlapping) {
-        if (light_far || reaches_far(occluder, frame, tile_center)) {
-          if (!light_near)
-            light_near = &kernel_view(light.shape, frame, tile_center, scratch.clipped_light, scratch.hull_points);
-          line = near_separator(*light_near,
-                                kernel_view(occluder, frame, tile_center, scratch.clipped, scratch.hull_points),
-                                frame.scale);
-        } else {
-          line = scene.separators.get(l, k, light.shape, occluder);
-        }
-      } else if (!clip) {
+      if (light_far || reaches_far(occluder, frame, tile_center)) {
+        // Decided on the shapes the kernel gets: the scene's test, in double on the whole
+        // shapes, may take a pair 1e-16 of their size apart for overlapping.
+        if (!light_near)
+          light_near = &kernel_view(light.shape, frame, tile_center, scratch.clipped_light, scratch.hull_points);
+        line = near_separator(*light_near,
+                              kernel_view(occluder, frame, tile_center, scratch.clipped, scratch.hull_points),
+                              frame.scale);
+        if (line) overlapping = false;
+      } else if (!overlapping) {
+        line = scene.separators.get(l, k, light.shape, occluder);
+      }
+      if (!line && overlapping && !clip) {
         LightClip c;
         if (clip_light_by_occluder(light.shape, occluder, c)) {
           clip = c;
