@@ -62,6 +62,9 @@ bool tile_tangent_pair(const ConvexShape& s, const std::array<Vec2, 4>& corners,
 struct TileFrame {
   Vec2 origin;
   double scale = 1.0;
+  // Whether some shape may reach 2^40 kernel units from a tile (twice the scene's largest
+  // coordinate does): else no shape needs clipping and no pair is decided anew.
+  bool far = true;
 
   // Beyond this, float arithmetic in the kernel could overflow; values are clamped to it
   // (lengths and line offsets keep their sign, points their direction from the tile).
@@ -93,7 +96,8 @@ TileFrame tile_frame(const PreparedScene& scene, Vec2 origin) noexcept {
                                 std::abs(scene.view.y1 - scene.view.y0) / scene.height);
   int pixel_exponent = 0;
   std::frexp(pixel, &pixel_exponent);
-  return {origin, std::ldexp(1.0, -pixel_exponent)};
+  const double scale = std::ldexp(1.0, -pixel_exponent);
+  return {origin, scale, !(2.0 * scene.extent * scale < 0x1p40)};
 }
 
 // Half sizes, in kernel units (about pixels), of the boxes around a tile that shapes are
@@ -116,7 +120,7 @@ constexpr double kMaxRadius = 0x1p59;
 // the tile's rays meet it within the box.
 const ConvexShape& near_shape(const ConvexShape& s, const TileFrame& frame, Vec2 tile_center, ConvexShape& clipped,
                               std::vector<Vec2>& tmp) {
-  if (s.kind == ShapeKind::circle) return s;
+  if (!frame.far || s.kind == ShapeKind::circle) return s;
   const double near = kNearHalf / frame.scale;
   if (s.bounds_min.x >= tile_center.x - near && s.bounds_max.x <= tile_center.x + near &&
       s.bounds_min.y >= tile_center.y - near && s.bounds_max.y <= tile_center.y + near)
@@ -140,6 +144,7 @@ std::uint32_t grow_vertices(TileWork& work, std::size_t count) {
 
 // Whether the kernel gets `s` changed (near_shape, or a circle's radius capped).
 bool reaches_far(const ConvexShape& s, const TileFrame& frame, Vec2 tile_center) noexcept {
+  if (!frame.far) return false;
   const double near = kNearHalf / frame.scale;
   if (s.kind == ShapeKind::circle && s.radius * frame.scale > kMaxRadius) return true;
   return !(s.bounds_min.x >= tile_center.x - near && s.bounds_max.x <= tile_center.x + near &&

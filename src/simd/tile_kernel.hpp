@@ -64,11 +64,9 @@ PAR2D_KERNEL_INLINE void arc_from_tangents(const xsimd::batch<float, A>& lox, co
     // An outside arc is narrower than pi; a width near 2*pi is -0 rounded up (collinear view).
     arc.width = xsimd::select(width > B(4.71238898f), B(0.0f), width);
   } else {
-    // The angle from the clockwise to the counter-clockwise tangent, in [0, pi].
-    // A width near pi may come out near -pi (the cross product's sign lost to rounding for
-    // a far-reaching shape close by): outside arcs are never wider than pi, so that is pi.
-    const B w = fast_atan2(lox * hiy - loy * hix, xsimd::fma(lox, hix, loy * hiy));
-    arc.width = xsimd::select(w < B(-1.57079633f), w + B(kTwoPiF), xsimd::max(w, B(0.0f)));
+    // The angle from the clockwise to the counter-clockwise tangent, in [0, pi]: a negative
+    // cross product is rounding, near 0 or (a far-reaching shape close by) near pi.
+    arc.width = fast_atan2(xsimd::abs(lox * hiy - loy * hix), xsimd::fma(lox, hix, loy * hiy));
   }
 }
 
