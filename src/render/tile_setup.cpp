@@ -142,6 +142,22 @@ std::uint32_t grow_vertices(TileWork& work, std::size_t count) {
   return static_cast<std::uint32_t>(first);
 }
 
+// A circle whose nearest point lies more than 2^50 kernel units from the tile origin is seen
+// scaled about the origin by a power of two (this exponent) that brings it to 2^50: its
+// directions from the origin do not change, from elsewhere in the tile by under 2^-45 rad,
+// and float holds its coordinates (a light 1e300 pixels off in a view 1e-300 wide).
+int far_circle_shift(const ConvexShape& s, const TileFrame& frame, Vec2 tile_center) noexcept {
+  if (!frame.far || s.kind != ShapeKind::circle) return 0;
+  const Vec2 c = s.vertices[0];
+  Vec2 u = tile_center - c;
+  const double len = length(u);
+  u = len > 0.0 ? (1.0 / len) * u : Vec2{1.0, 0.0};
+  const double d = length((c - frame.origin) + s.radius * u);
+  if (!(d > 0.0) || !std::isfinite(d)) return 0;
+  const int e = std::ilogb(d) + std::ilogb(frame.scale);
+  return e > 50 ? 50 - e : 0;
+}
+
 // Whether the kernel gets `s` changed (near_shape, or a circle's radius capped).
 bool reaches_far(const ConvexShape& s, const TileFrame& frame, Vec2 tile_center) noexcept {
   if (!frame.far) return false;
@@ -156,15 +172,26 @@ bool reaches_far(const ConvexShape& s, const TileFrame& frame, Vec2 tile_center)
 const ConvexShape& kernel_view(const ConvexShape& s, const TileFrame& frame, Vec2 tile_center, ConvexShape& out,
                                std::vector<Vec2>& tmp) {
   if (s.kind != ShapeKind::circle) return near_shape(s, frame, tile_center, out, tmp);
-  if (!(s.radius * frame.scale > kMaxRadius)) return s;
-  const Vec2 c = s.vertices[0];
-  Vec2 u = tile_center - c;
-  const double len = length(u);
-  u = len > 0.0 ? (1.0 / len) * u : Vec2{1.0, 0.0};
-  const double r = kMaxRadius / frame.scale;
+  const int shift = far_circle_shift(s, frame, tile_center);
+  if (shift == 0 && !(s.radius * frame.scale > kMaxRadius)) return s;
+  Vec2 c = s.vertices[0];
+  double r = s.radius;
+  if (shift != 0) {
+    const Vec2 rel = c - frame.origin;
+    c = frame.origin + Vec2{std::ldexp(rel.x, shift), std::ldexp(rel.y, shift)};
+    r = std::ldexp(r, shift);
+  }
+  if (r * frame.scale > kMaxRadius) {
+    Vec2 u = tile_center - c;
+    const double len = length(u);
+    u = len > 0.0 ? (1.0 / len) * u : Vec2{1.0, 0.0};
+    const double capped = kMaxRadius / frame.scale;
+    c = c + (r - capped) * u;
+    r = capped;
+  }
   out.kind = ShapeKind::circle;
   out.edge_normals.clear();
-  out.vertices.assign(1, c + (s.radius - r) * u);
+  out.vertices.assign(1, c);
   out.radius = r;
   out.centroid = out.vertices[0];
   out.bounds_min = {out.vertices[0].x - r, out.vertices[0].y - r};
@@ -193,6 +220,33 @@ std::optional<Line> near_separator(const ConvexShape& light, const ConvexShape& 
   return line;
 }
 
+// A circle's kernel shape in `frame`.
+KernelShape circle_kernel_shape(const ConvexShape& s, const TileFrame& frame, Vec2 tile_center) noexcept {
+  KernelShape k;
+  k.kind = ShapeKind::circle;
+  const Vec2 c = s.vertices[0];
+  Vec2 u = tile_center - c;
+  const double len = length(u);
+  u = len > 0.0 ? (1.0 / len) * u : Vec2{1.0, 0.0};
+  // The circle point nearest the tile, relative to the origin: formed from small
+  // relative terms, because the inside test needs it on the circle to float precision
+  // (its absolute coordinates would be rounded to the scene's magnitude).
+  const Vec2 nearest = (c - frame.origin) + s.radius * u;
+  if (s.radius * frame.scale > kMaxRadius) {
+    // A far larger circle: the one of radius kMaxRadius tangent to it inside at `nearest`.
+    const double r = kMaxRadius / frame.scale;
+    frame.relative(nearest - r * u, k.cx, k.cy);
+    k.r = static_cast<float>(kMaxRadius);
+  } else {
+    frame.point(c, k.cx, k.cy);
+    k.r = frame.length(s.radius);
+  }
+  frame.relative(nearest, k.px, k.py);
+  k.ux = static_cast<float>(u.x);
+  k.uy = static_cast<float>(u.y);
+  return k;
+}
+
 // `whole`: keep every vertex and edge (a general pair's depth test needs the shape itself).
 KernelShape kernel_shape(const ConvexShape& shape, const TileFrame& frame, const std::array<Vec2, 4>& corners,
                          bool whole, TileWork& work, ConvexShape& clipped, std::vector<Vec2>& tmp) {
@@ -210,27 +264,14 @@ KernelShape kernel_shape(const ConvexShape& shape, const TileFrame& frame, const
     return k;
   }
   if (s.kind == ShapeKind::circle) {
-    const Vec2 c = s.vertices[0];
-    Vec2 u = tile_center - c;
-    const double len = length(u);
-    u = len > 0.0 ? (1.0 / len) * u : Vec2{1.0, 0.0};
-    // The circle point nearest the tile, relative to the origin: formed from small
-    // relative terms, because the inside test needs it on the circle to float precision
-    // (its absolute coordinates would be rounded to the scene's magnitude).
-    const Vec2 nearest = (c - frame.origin) + s.radius * u;
-    if (s.radius * frame.scale > kMaxRadius) {
-      // A far larger circle: the one of radius kMaxRadius tangent to it inside at `nearest`.
-      const double r = kMaxRadius / frame.scale;
-      frame.relative(nearest - r * u, k.cx, k.cy);
-      k.r = static_cast<float>(kMaxRadius);
-    } else {
-      frame.point(c, k.cx, k.cy);
-      k.r = frame.length(s.radius);
+    const int shift = far_circle_shift(s, frame, tile_center);
+    if (shift != 0) {
+      // Seen scaled about the origin (far_circle_shift): the same circle in a frame whose
+      // unit is 2^-shift times larger.
+      const TileFrame scaled{frame.origin, std::ldexp(frame.scale, shift), frame.far};
+      return circle_kernel_shape(s, scaled, tile_center);
     }
-    frame.relative(nearest, k.px, k.py);
-    k.ux = static_cast<float>(u.x);
-    k.uy = static_cast<float>(u.y);
-    return k;
+    return circle_kernel_shape(s, frame, tile_center);
   }
   const std::size_t n = s.vertices.size();
   k.count = static_cast<std::uint32_t>(n);

@@ -51,8 +51,9 @@ struct Arc {
 #endif
 
 // The arc between the clockwise tangent direction lo and the counter-clockwise one hi.
-// kWithStart = false computes only the width (one atan2 instead of two).
-template <class A, bool kWithStart>
+// kWithStart = false computes only the width (one atan2 instead of two). kWhole: lo and hi
+// are a whole shape's tangents (so the arc is never wider than pi), not a clipped light's.
+template <class A, bool kWithStart, bool kWhole = true>
 PAR2D_KERNEL_INLINE void arc_from_tangents(const xsimd::batch<float, A>& lox, const xsimd::batch<float, A>& loy,
                                            const xsimd::batch<float, A>& hix, const xsimd::batch<float, A>& hiy,
                                            Arc<A>& arc) noexcept {
@@ -64,9 +65,14 @@ PAR2D_KERNEL_INLINE void arc_from_tangents(const xsimd::batch<float, A>& lox, co
     // An outside arc is narrower than pi; a width near 2*pi is -0 rounded up (collinear view).
     arc.width = xsimd::select(width > B(4.71238898f), B(0.0f), width);
   } else {
-    // The angle from the clockwise to the counter-clockwise tangent, in [0, pi]: a negative
-    // cross product is rounding, near 0 or (a far-reaching shape close by) near pi.
-    arc.width = fast_atan2(xsimd::abs(lox * hiy - loy * hix), xsimd::fma(lox, hix, loy * hiy));
+    // The angle from the clockwise to the counter-clockwise tangent, in [0, pi]. For a whole
+    // shape a negative cross product is rounding, near 0 or (a far-reaching shape close by)
+    // near pi; for a clipped light it may be a real reversal, an empty arc.
+    if constexpr (kWhole) {
+      arc.width = fast_atan2(xsimd::abs(lox * hiy - loy * hix), xsimd::fma(lox, hix, loy * hiy));
+    } else {
+      arc.width = xsimd::max(fast_atan2(lox * hiy - loy * hix, xsimd::fma(lox, hix, loy * hiy)), B(0.0f));
+    }
   }
 }
 
@@ -180,7 +186,7 @@ PAR2D_KERNEL_NOINLINE Arc<A> clipped_shape_arc(const TileWork& work, const Kerne
   loy = xsimd::select(lo_beyond, xsimd::select(a_first, ay, by), loy);
   hix = xsimd::select(hi_beyond, xsimd::select(a_first, bx, ax), hix);
   hiy = xsimd::select(hi_beyond, xsimd::select(a_first, by, ay), hiy);
-  arc_from_tangents<A, kWithStart>(lox, loy, hix, hiy, arc);
+  arc_from_tangents<A, kWithStart, false>(lox, loy, hix, hiy, arc);
   return arc;
 }
 
