@@ -287,8 +287,7 @@ TEST_CASE("shapes far longer than their gap to a light: SIMD matches scalar for 
   // A separating line computed for a segment from -1e17 to 1e17 used to cut through the
   // segment, so the kernel lit its shadow (up to 3.7 % of e_max); such pairs now take the
   // exact general path, whose depth test compares distances with a relative tolerance only
-  // (an absolute one meant 167 pixels at 1e25). Extents of 1e41 and beyond are still wrong on
-  // the float path: the tile frame shrinks pixels toward float underflow (not covered).
+  // (an absolute one meant 167 pixels at 1e25). Larger extents: tests/test_far_shapes.cpp.
   for (double extent : {1e3, 1e6, 1e9, 1e12, 1e15, 1e17, 1e20, 1e25, 1e30}) {
     Scene s = blank(16, 16);
     s.lights.push_back(light_of(Circle{{8.0, 4.0}, 1.0}));

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <optional>
 
+#include "geometry/box_clip.hpp"
 #include "par2d/render.hpp"
 
 
@@ -61,6 +62,9 @@ bool tile_tangent_pair(const ConvexShape& s, const std::array<Vec2, 4>& corners,
 struct TileFrame {
   Vec2 origin;
   double scale = 1.0;
+  // Whether some shape may reach 2^40 kernel units from a tile (twice the scene's largest
+  // coordinate does): else no shape needs clipping and no pair is decided anew.
+  bool far = true;
 
   // Beyond this, float arithmetic in the kernel could overflow; values are clamped to it
   // (lengths and line offsets keep their sign, points their direction from the tile).
@@ -84,18 +88,46 @@ struct TileFrame {
 
 };
 
-// A pixel becomes about one unit, unless the scene then reaches past 2^60 units (the
-// kernel squares coordinates, and float's range ends near 2^128): then the scene's
-// extent sets the scale, and pixels
-// may shrink toward float's underflow, which only happens for views of less than ~1e-30
-// of the scene's size, where all of a tile's samples are one point to float anyway.
+// A pixel becomes about one unit, whatever the scene's extent: shapes reaching far from
+// the tile are first clipped to a box around it (near_shape), so the kernel's coordinates stay
+// far inside float's range (it squares them, and the range ends near 2^128).
 TileFrame tile_frame(const PreparedScene& scene, Vec2 origin) noexcept {
   const double pixel = std::max(std::abs(scene.view.x1 - scene.view.x0) / scene.width,
                                 std::abs(scene.view.y1 - scene.view.y0) / scene.height);
-  int pixel_exponent = 0, extent_exponent = 0;
+  int pixel_exponent = 0;
   std::frexp(pixel, &pixel_exponent);
-  std::frexp(2.0 * scene.extent, &extent_exponent);  // distances from a tile inside the view
-  return {origin, std::ldexp(1.0, std::min(-pixel_exponent, 60 - extent_exponent))};
+  const double scale = std::ldexp(1.0, -pixel_exponent);
+  return {origin, scale, !(2.0 * scene.extent * scale < 0x1p40)};
+}
+
+// Half sizes, in kernel units (about pixels), of the boxes around a tile that shapes are
+// clipped to. Cutting a shape at distance D changes the directions in which it is seen from
+// the tile by at most about tile size / D (2^-36 rad at 2^40, far below the contract's bound),
+// and within the near box float products (up to ~2^82) stay in range. A shape that misses
+// the near box is clipped to the far one (its coordinates then stay below TileFrame::kLimit);
+// one that misses both lies more than 2^58 pixels from the tile.
+constexpr double kNearHalf = 0x1p40;
+constexpr double kFarHalf = 0x1p58;
+// A circle of a larger radius (kernel units) is replaced by the circle of this radius with
+// the same point nearest the tile and the same normal there: a subset of it that departs from
+// it, over the near box, by under 2^40 / 2^60 radians as seen from the tile, and whose
+// squared radius float still holds.
+constexpr double kMaxRadius = 0x1p59;
+
+// The shape the kernel gets for `s`: `s` itself when it lies within the near box around the
+// tile center, else its part within the near (or far) box, in `clipped`. A subset of `s`, so
+// separating lines and culling decisions made for `s` hold for it; the same as `s` wherever
+// the tile's rays meet it within the box.
+const ConvexShape& near_shape(const ConvexShape& s, const TileFrame& frame, Vec2 tile_center, ConvexShape& clipped,
+                              std::vector<Vec2>& tmp) {
+  if (!frame.far || s.kind == ShapeKind::circle) return s;
+  const double near = kNearHalf / frame.scale;
+  if (s.bounds_min.x >= tile_center.x - near && s.bounds_max.x <= tile_center.x + near &&
+      s.bounds_min.y >= tile_center.y - near && s.bounds_max.y <= tile_center.y + near)
+    return s;
+  if (clip_to_box(s, tile_center, near, clipped, tmp)) return clipped;
+  if (clip_to_box(s, tile_center, kFarHalf / frame.scale, clipped, tmp)) return clipped;
+  return s;
 }
 
 // Takes `count` vertex slots (edge lines only meaningful for polygons) and returns the first
@@ -110,12 +142,118 @@ std::uint32_t grow_vertices(TileWork& work, std::size_t count) {
   return static_cast<std::uint32_t>(first);
 }
 
-// `whole`: keep every vertex and edge (a general pair's depth test needs the shape itself).
-KernelShape kernel_shape(const ConvexShape& s, const TileFrame& frame, const std::array<Vec2, 4>& corners,
-                         bool whole, TileWork& work) {
+// A circle whose nearest point lies more than 2^50 kernel units from the tile origin is seen
+// scaled about the origin by a power of two (this exponent) that brings it to 2^50: its
+// directions from the origin do not change, from elsewhere in the tile by under 2^-45 rad,
+// and float holds its coordinates (a light 1e300 pixels off in a view 1e-300 wide).
+int far_circle_shift(const ConvexShape& s, const TileFrame& frame, Vec2 tile_center) noexcept {
+  if (!frame.far || s.kind != ShapeKind::circle) return 0;
+  const Vec2 c = s.vertices[0];
+  Vec2 u = tile_center - c;
+  const double len = length(u);
+  u = len > 0.0 ? (1.0 / len) * u : Vec2{1.0, 0.0};
+  const double d = length((c - frame.origin) + s.radius * u);
+  if (!(d > 0.0) || !std::isfinite(d)) return 0;
+  const int e = std::ilogb(d) + std::ilogb(frame.scale);
+  return e > 50 ? 50 - e : 0;
+}
+
+// Whether the kernel gets `s` changed (near_shape, or a circle's radius capped).
+bool reaches_far(const ConvexShape& s, const TileFrame& frame, Vec2 tile_center) noexcept {
+  if (!frame.far) return false;
+  const double near = kNearHalf / frame.scale;
+  if (s.kind == ShapeKind::circle && s.radius * frame.scale > kMaxRadius) return true;
+  return !(s.bounds_min.x >= tile_center.x - near && s.bounds_max.x <= tile_center.x + near &&
+           s.bounds_min.y >= tile_center.y - near && s.bounds_max.y <= tile_center.y + near);
+}
+
+// The shape as the kernel sees it, in double, for a far-reaching shape (reaches_far): its
+// part near the tile, or a circle of capped radius with the same point nearest the tile.
+const ConvexShape& kernel_view(const ConvexShape& s, const TileFrame& frame, Vec2 tile_center, ConvexShape& out,
+                               std::vector<Vec2>& tmp) {
+  if (s.kind != ShapeKind::circle) return near_shape(s, frame, tile_center, out, tmp);
+  const int shift = far_circle_shift(s, frame, tile_center);
+  if (shift == 0 && !(s.radius * frame.scale > kMaxRadius)) return s;
+  Vec2 c = s.vertices[0];
+  double r = s.radius;
+  if (shift != 0) {
+    const Vec2 rel = c - frame.origin;
+    c = frame.origin + Vec2{std::ldexp(rel.x, shift), std::ldexp(rel.y, shift)};
+    r = std::ldexp(r, shift);
+  }
+  if (r * frame.scale > kMaxRadius) {
+    Vec2 u = tile_center - c;
+    const double len = length(u);
+    u = len > 0.0 ? (1.0 / len) * u : Vec2{1.0, 0.0};
+    const double capped = kMaxRadius / frame.scale;
+    c = c + (r - capped) * u;
+    r = capped;
+  }
+  out.kind = ShapeKind::circle;
+  out.edge_normals.clear();
+  out.vertices.assign(1, c);
+  out.radius = r;
+  out.centroid = out.vertices[0];
+  out.bounds_min = {out.vertices[0].x - r, out.vertices[0].y - r};
+  out.bounds_max = {out.vertices[0].x + r, out.vertices[0].y + r};
+  return out;
+}
+
+// A line separating the kernel's versions of a light and an occluder when one of them reaches
+// far from the tile: the scene's line, made for the whole shapes, is rounded relative to
+// their size and may miss the tile's neighbourhood by many pixels, while these shapes are
+// tile-sized in precision. Checked like the scene's (strictly separating), else empty (the
+// kernel's exact general path).
+std::optional<Line> near_separator(const ConvexShape& light, const ConvexShape& occluder, double scale) noexcept {
+  // A circle far larger than the box: distances to it cancel in double (its boundary is
+  // its center minus its radius), so no line is trusted; the kernel's general path decides
+  // depth from the circle's nearest point instead.
+  if ((light.kind == ShapeKind::circle && light.radius * scale > kNearHalf) ||
+      (occluder.kind == ShapeKind::circle && occluder.radius * scale > kNearHalf))
+    return std::nullopt;
+  std::optional<Line> line = separating_line(occluder, light);
+  if (!line) return line;
+  for (Vec2 v : occluder.vertices)
+    if (!(line->side(v) - occluder.radius > 0.0)) return std::nullopt;
+  for (Vec2 v : light.vertices)
+    if (!(line->side(v) + light.radius < 0.0)) return std::nullopt;
+  return line;
+}
+
+// A circle's kernel shape in `frame`.
+KernelShape circle_kernel_shape(const ConvexShape& s, const TileFrame& frame, Vec2 tile_center) noexcept {
   KernelShape k;
-  k.kind = s.kind;
+  k.kind = ShapeKind::circle;
+  const Vec2 c = s.vertices[0];
+  Vec2 u = tile_center - c;
+  const double len = length(u);
+  u = len > 0.0 ? (1.0 / len) * u : Vec2{1.0, 0.0};
+  // The circle point nearest the tile, relative to the origin: formed from small
+  // relative terms, because the inside test needs it on the circle to float precision
+  // (its absolute coordinates would be rounded to the scene's magnitude).
+  const Vec2 nearest = (c - frame.origin) + s.radius * u;
+  if (s.radius * frame.scale > kMaxRadius) {
+    // A far larger circle: the one of radius kMaxRadius tangent to it inside at `nearest`.
+    const double r = kMaxRadius / frame.scale;
+    frame.relative(nearest - r * u, k.cx, k.cy);
+    k.r = static_cast<float>(kMaxRadius);
+  } else {
+    frame.point(c, k.cx, k.cy);
+    k.r = frame.length(s.radius);
+  }
+  frame.relative(nearest, k.px, k.py);
+  k.ux = static_cast<float>(u.x);
+  k.uy = static_cast<float>(u.y);
+  return k;
+}
+
+// `whole`: keep every vertex and edge (a general pair's depth test needs the shape itself).
+KernelShape kernel_shape(const ConvexShape& shape, const TileFrame& frame, const std::array<Vec2, 4>& corners,
+                         bool whole, TileWork& work, ConvexShape& clipped, std::vector<Vec2>& tmp) {
+  KernelShape k;
+  k.kind = shape.kind;
   const Vec2 tile_center = 0.5 * (corners[0] + corners[2]);
+  const ConvexShape& s = near_shape(shape, frame, tile_center, clipped, tmp);
   if (int cw, ccw; !whole && tile_tangent_pair(s, corners, cw, ccw)) {
     k.kind = ShapeKind::segment;
     k.ordered = true;
@@ -126,20 +264,14 @@ KernelShape kernel_shape(const ConvexShape& s, const TileFrame& frame, const std
     return k;
   }
   if (s.kind == ShapeKind::circle) {
-    const Vec2 c = s.vertices[0];
-    Vec2 u = tile_center - c;
-    const double len = length(u);
-    u = len > 0.0 ? (1.0 / len) * u : Vec2{1.0, 0.0};
-    // The circle point nearest the tile, relative to the origin: formed from small
-    // relative terms, because the inside test needs it on the circle to float precision
-    // (its absolute coordinates would be rounded to the scene's magnitude).
-    const Vec2 nearest = (c - frame.origin) + s.radius * u;
-    frame.point(c, k.cx, k.cy);
-    k.r = frame.length(s.radius);
-    frame.relative(nearest, k.px, k.py);
-    k.ux = static_cast<float>(u.x);
-    k.uy = static_cast<float>(u.y);
-    return k;
+    const int shift = far_circle_shift(s, frame, tile_center);
+    if (shift != 0) {
+      // Seen scaled about the origin (far_circle_shift): the same circle in a frame whose
+      // unit is 2^-shift times larger.
+      const TileFrame scaled{frame.origin, std::ldexp(frame.scale, shift), frame.far};
+      return circle_kernel_shape(s, scaled, tile_center);
+    }
+    return circle_kernel_shape(s, frame, tile_center);
   }
   const std::size_t n = s.vertices.size();
   k.count = static_cast<std::uint32_t>(n);
@@ -155,6 +287,16 @@ KernelShape kernel_shape(const ConvexShape& s, const TileFrame& frame, const std
       work.edge_ny[j] = static_cast<float>(normal.y);
       work.edge_c[j] = frame.line_offset(normal, v);
     }
+  }
+  if (s.kind == ShapeKind::segment) {
+    // The segment's line, for the kernel's depth test: its offset is formed near the tile,
+    // so it stays exact where the end points are far (cross products of them would cancel).
+    const Vec2 e = s.vertices[1] - s.vertices[0];
+    const double len = length(e);
+    const Vec2 normal{-e.y / len, e.x / len};
+    work.edge_nx[k.first] = static_cast<float>(normal.x);
+    work.edge_ny[k.first] = static_cast<float>(normal.y);
+    work.edge_c[k.first] = frame.line_offset(normal, s.vertices[0]);
   }
   return k;
 }
@@ -325,6 +467,17 @@ bool clip_light_by_occluder(const ConvexShape& light, const ConvexShape& occlude
   return false;
 }
 
+// Whether the culling's double-precision tests (light reach, occlusion proofs, umbra and
+// behind tests on the whole shapes) can be trusted: not when some coordinate lies 2^40 pixels
+// or more from the origin, where their rounding reaches pixels (a slanted wall 1e25 long
+// let a proof hide a light in front of it). Such scenes render without culling (the same
+// image, slower).
+bool culling_trusted(const PreparedScene& scene) noexcept {
+  const double pixel = std::max(std::abs(scene.view.x1 - scene.view.x0) / scene.width,
+                                std::abs(scene.view.y1 - scene.view.y0) / scene.height);
+  return scene.extent < 0x1p40 * pixel;
+}
+
 // How many corners lie on the occluder's side of the line (n.p >= offset).
 int corners_in_front(const Line& line, const std::array<Vec2, 4>& corners) noexcept {
   int front = 0;
@@ -350,6 +503,7 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
   scratch.block_shadowed.assign(scene.lights.size(), 0);
   const std::array<Vec2, 4> corners = tile_corners(scene, block);
   const Aabb box = bounds_of(corners);
+  if (reach && !culling_trusted(scene)) reach = nullptr;
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
     std::vector<std::uint32_t>& candidates = scratch.block_candidates[l];
     candidates.clear();
@@ -379,6 +533,7 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
 void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, bool culling, TileWork& work,
                      TileSetupScratch& scratch) {
   work.clear();
+  culling = culling && culling_trusted(scene);
   const Vec2 origin = sample_position(scene, tile.x0, tile.y0, 0.0, 0.0);
   const TileFrame frame = tile_frame(scene, origin);
   work.spp = spp;
@@ -416,6 +571,9 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     CornerTangentPoints light_tangent_points;
     std::optional<LightClip> clip;
     if (culling && !candidates.empty()) tile_hull.emplace(box, bounds_of(light.shape));
+    const Vec2 tile_center = 0.5 * (corners[0] + corners[2]);
+    const bool light_far = !candidates.empty() && reaches_far(light.shape, frame, tile_center);
+    const ConvexShape* light_near = nullptr;
     KernelLight kl;
     kl.first_pair = static_cast<std::uint32_t>(work.pairs.size());
     const std::size_t first_point = work.point_x.size();
@@ -428,7 +586,7 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       pair.occluder = k;
       const auto overlap =
           std::lower_bound(light.overlapping_occluders.begin(), light.overlapping_occluders.end(), k);
-      const bool overlapping = overlap != light.overlapping_occluders.end() && *overlap == k;
+      bool overlapping = overlap != light.overlapping_occluders.end() && *overlap == k;
       // A light wholly in the closed occluder is hidden everywhere (contacts count as hidden,
       // as in the scalar reference): nothing of it reaches this tile.
       if (overlapping && contained_within_contact(light.shape, occluder)) {
@@ -436,9 +594,19 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
         break;
       }
       std::optional<Line> line;
-      if (!overlapping) {
+      if (light_far || reaches_far(occluder, frame, tile_center)) {
+        // Decided on the shapes the kernel gets: the scene's test, in double on the whole
+        // shapes, may take a pair 1e-16 of their size apart for overlapping.
+        if (!light_near)
+          light_near = &kernel_view(light.shape, frame, tile_center, scratch.clipped_light, scratch.hull_points);
+        line = near_separator(*light_near,
+                              kernel_view(occluder, frame, tile_center, scratch.clipped, scratch.hull_points),
+                              frame.scale);
+        if (line) overlapping = false;
+      } else if (!overlapping) {
         line = scene.separators.get(l, k, light.shape, occluder);
-      } else if (!clip) {
+      }
+      if (!line && overlapping && !clip) {
         LightClip c;
         if (clip_light_by_occluder(light.shape, occluder, c)) {
           clip = c;
@@ -512,7 +680,7 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       if (pair.general) scratch.used_whole[static_cast<std::size_t>(local)] = 1;
       pair.occluder = static_cast<std::uint32_t>(local);
     }
-    kl.shape = kernel_shape(light.shape, frame, corners, general, work);
+    kl.shape = kernel_shape(light.shape, frame, corners, general, work, scratch.clipped, scratch.hull_points);
     // Over a tile wholly before the clip line that sees no light point past it, the clipped
     // light's arc is the whole light's (and the pair was dropped as behind): skip the clip.
     if (clip && culling && light_before_line(light.shape, clip->line, corners, light_tangent_points)) clip.reset();
@@ -529,7 +697,8 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     work.lights.push_back(kl);
   }
   for (std::size_t u = 0; u < scratch.used.size(); ++u)
-    work.occluders.push_back(kernel_shape(scene.occluders[scratch.used[u]], frame, corners, scratch.used_whole[u] != 0, work));
+    work.occluders.push_back(kernel_shape(scene.occluders[scratch.used[u]], frame, corners, scratch.used_whole[u] != 0,
+                                          work, scratch.clipped, scratch.hull_points));
 }
 
 }  // namespace par2d::detail

@@ -23,6 +23,7 @@ struct TileSetupScratch {
   std::vector<std::uint32_t> used;
   std::vector<unsigned char> used_whole;  // per entry of `used`: in a general pair (kernel shape kept whole)
   std::vector<Vec2> hull_points, hull;
+  ConvexShape clipped, clipped_light;  // shapes reaching far from the tile, clipped to a box around it
   std::vector<std::uint32_t> pair_occluders;
   OcclusionProofScratch occlusion;
 };

@@ -51,8 +51,9 @@ struct Arc {
 #endif
 
 // The arc between the clockwise tangent direction lo and the counter-clockwise one hi.
-// kWithStart = false computes only the width (one atan2 instead of two).
-template <class A, bool kWithStart>
+// kWithStart = false computes only the width (one atan2 instead of two). kWhole: lo and hi
+// are a whole shape's tangents (so the arc is never wider than pi), not a clipped light's.
+template <class A, bool kWithStart, bool kWhole = true>
 PAR2D_KERNEL_INLINE void arc_from_tangents(const xsimd::batch<float, A>& lox, const xsimd::batch<float, A>& loy,
                                            const xsimd::batch<float, A>& hix, const xsimd::batch<float, A>& hiy,
                                            Arc<A>& arc) noexcept {
@@ -64,8 +65,14 @@ PAR2D_KERNEL_INLINE void arc_from_tangents(const xsimd::batch<float, A>& lox, co
     // An outside arc is narrower than pi; a width near 2*pi is -0 rounded up (collinear view).
     arc.width = xsimd::select(width > B(4.71238898f), B(0.0f), width);
   } else {
-    // The angle from the clockwise to the counter-clockwise tangent, in [0, pi].
-    arc.width = xsimd::max(fast_atan2(lox * hiy - loy * hix, xsimd::fma(lox, hix, loy * hiy)), B(0.0f));
+    // The angle from the clockwise to the counter-clockwise tangent, in [0, pi]. For a whole
+    // shape a negative cross product is rounding, near 0 or (a far-reaching shape close by)
+    // near pi; for a clipped light it may be a real reversal, an empty arc.
+    if constexpr (kWhole) {
+      arc.width = fast_atan2(xsimd::abs(lox * hiy - loy * hix), xsimd::fma(lox, hix, loy * hiy));
+    } else {
+      arc.width = xsimd::max(fast_atan2(lox * hiy - loy * hix, xsimd::fma(lox, hix, loy * hiy)), B(0.0f));
+    }
   }
 }
 
@@ -110,7 +117,10 @@ PAR2D_KERNEL_INLINE void vertex_tangents(const TileWork& work, const KernelShape
     inside = B(0.0f) > B(0.0f);  // a segment has no interior
     hix = B(vx[1]) - px, hiy = B(vy[1]) - py;
     if (s.ordered) return;
-    const auto swap = (lox * hiy - loy * hix) < B(0.0f);
+    // The side of the segment's line (edge slot 0, see kernel_shape in render/tile_setup.cpp)
+    // orders the ends: cross(a - x, b - x) = |b - a| (n.x - c). From the line's offset, not the
+    // ends' cross product, which loses its sign for a point near a segment whose ends are far.
+    const auto swap = xsimd::fma(B(work.edge_nx[s.first]), px, B(work.edge_ny[s.first]) * py) < B(work.edge_c[s.first]);
     const B bx = hix, by = hiy;
     hix = xsimd::select(swap, lox, bx);
     hiy = xsimd::select(swap, loy, by);
@@ -176,7 +186,7 @@ PAR2D_KERNEL_NOINLINE Arc<A> clipped_shape_arc(const TileWork& work, const Kerne
   loy = xsimd::select(lo_beyond, xsimd::select(a_first, ay, by), loy);
   hix = xsimd::select(hi_beyond, xsimd::select(a_first, bx, ax), hix);
   hiy = xsimd::select(hi_beyond, xsimd::select(a_first, by, ay), hiy);
-  arc_from_tangents<A, kWithStart>(lox, loy, hix, hiy, arc);
+  arc_from_tangents<A, kWithStart, false>(lox, loy, hix, hiy, arc);
   return arc;
 }
 
@@ -380,21 +390,25 @@ inline xsimd::batch<float, A> shape_ray_entry(const TileWork& work, const Kernel
                                               const xsimd::batch<float, A>& dy) noexcept {
   using B = xsimd::batch<float, A>;
   if (s.kind == ShapeKind::circle) {
-    const B vx = B(s.cx) - px, vy = B(s.cy) - py;
-    const B along = xsimd::fma(vx, dx, vy * dy);
-    const B across = xsimd::fms(vx, dy, vy * dx);
-    const B disc = xsimd::fnma(across, across, B(s.r * s.r));
-    return along - xsimd::sqrt(xsimd::max(disc, B(0.0f)));
+    // From the nearest point p = c + r u (KernelShape): with q = p - x, the entry solves
+    // t^2 - 2 b t + excess = 0, b = d.q - r u.d; its smaller root excess / (b + sqrt(b^2 -
+    // excess)) does not cancel, so a circle far larger than the tile keeps its precision here.
+    const B qx = B(s.px) - px, qy = B(s.py) - py;
+    const B b = xsimd::fma(dx, qx, dy * qy) - B(s.r) * xsimd::fma(B(s.ux), dx, B(s.uy) * dy);
+    const B excess = circle_excess<A>(s, px, py);
+    const B den = b + xsimd::sqrt(xsimd::max(xsimd::fms(b, b, excess), B(0.0f)));
+    return xsimd::select(den > B(0.0f), excess / xsimd::select(den > B(0.0f), den, B(1.0f)), b);
   }
   const float* vx = work.vx.data() + s.first;
   const float* vy = work.vy.data() + s.first;
   if (s.kind == ShapeKind::segment) {
     const B ax = B(vx[0]) - px, ay = B(vy[0]) - py;
     const B bx = B(vx[1]) - px, by = B(vy[1]) - py;
-    const B ex(vx[1] - vx[0]), ey(vy[1] - vy[0]);
-    // x + t d on the segment's line: t cross(d, e) = cross(a - x, e).
-    const B den = xsimd::fms(dx, ey, dy * ex);
-    const B num = xsimd::fms(ax, ey, ay * ex);
+    // x + t d on the segment's line n.p = c (edge slot 0, see kernel_shape): t n.d = c - n.x,
+    // exact near the tile even where the end points are far.
+    const B lnx(work.edge_nx[s.first]), lny(work.edge_ny[s.first]);
+    const B den = xsimd::fma(lnx, dx, lny * dy);
+    const B num = B(work.edge_c[s.first]) - xsimd::fma(lnx, px, lny * py);
     // Along the segment's own line: the nearer end point.
     const B along = xsimd::max(xsimd::min(xsimd::fma(ax, dx, ay * dy), xsimd::fma(bx, dx, by * dy)), B(0.0f));
     return xsimd::select(den == B(0.0f), along, num / xsimd::select(den == B(0.0f), B(1.0f), den));
