@@ -490,9 +490,10 @@ double entry_with_hint(const ConvexShape& s, Vec2 x, Vec2 dir, int& hint) noexce
 }  // namespace
 
 bool contained_within_contact(const ConvexShape& inner, const ConvexShape& outer) noexcept {
+  // Relative to the inner shape's coordinates, as occluder_first's tolerance is relative to
+  // the light point's: a huge outer shape must not widen what counts as a contact.
   const double scale = std::max({std::abs(inner.bounds_min.x), std::abs(inner.bounds_min.y), std::abs(inner.bounds_max.x),
-                                 std::abs(inner.bounds_max.y), std::abs(outer.bounds_min.x), std::abs(outer.bounds_min.y),
-                                 std::abs(outer.bounds_max.x), std::abs(outer.bounds_max.y)});
+                                 std::abs(inner.bounds_max.y)});
   const double tolerance = kContactTolerance * scale;
   if (inner.kind != ShapeKind::circle) {
     // Convex: the hull of the vertices lies in the (grown) convex outer shape with them.

@@ -87,7 +87,7 @@ double point_distance(const ConvexShape& shape, Vec2 p) noexcept;
 inline constexpr double kContactTolerance = 0x1p-40;
 
 // Whether all of `inner` lies in the closed `outer` (points within kContactTolerance of it,
-// relative to the coordinates, counting as on it). A light so contained in an occluder is
+// relative to `inner`'s coordinates, counting as on it). A light so contained in an occluder is
 // hidden from every point: a ray to any of its points meets the occluder no later.
 bool contained_within_contact(const ConvexShape& inner, const ConvexShape& outer) noexcept;
 

@@ -587,14 +587,16 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       const auto overlap =
           std::lower_bound(light.overlapping_occluders.begin(), light.overlapping_occluders.end(), k);
       bool overlapping = overlap != light.overlapping_occluders.end() && *overlap == k;
+      const bool far_pair = light_far || reaches_far(occluder, frame, tile_center);
       // A light wholly in the closed occluder is hidden everywhere (contacts count as hidden,
-      // as in the scalar reference): nothing of it reaches this tile.
-      if (overlapping && contained_within_contact(light.shape, occluder)) {
+      // as in the scalar reference): nothing of it reaches this tile. Not for far-reaching
+      // pairs, whose whole shapes double cannot place to within a contact.
+      if (overlapping && !far_pair && contained_within_contact(light.shape, occluder)) {
         shadowed = true;
         break;
       }
       std::optional<Line> line;
-      if (light_far || reaches_far(occluder, frame, tile_center)) {
+      if (far_pair) {
         // Decided on the shapes the kernel gets: the scene's test, in double on the whole
         // shapes, may take a pair 1e-16 of their size apart for overlapping.
         if (!light_near)
