@@ -31,7 +31,7 @@ RenderOptions backend_options(Backend backend, std::optional<Isa> isa = std::nul
 std::vector<std::pair<std::string, RenderOptions>> all_backends() {
   std::vector<std::pair<std::string, RenderOptions>> out{{"scalar", backend_options(Backend::scalar)},
                                                          {"raycast", backend_options(Backend::raycast)}};
-  for (Isa isa : {Isa::sse4_2, Isa::avx2, Isa::avx512})
+  for (Isa isa : par2d::kSimdIsas)
     if (isa_supported(isa)) out.emplace_back(std::string("simd ") + isa_name(isa), backend_options(Backend::simd, isa));
   return out;
 }

@@ -22,30 +22,6 @@ namespace {
 
 const double kExtents[] = {1e3, 1e6, 1e10, 1e17, 1e25, 1e30, 1e38, 1e41, 1e60, 1e100, 1e200, 1e300, 1e307};
 
-std::vector<Isa> simd_isas_here() {
-  std::vector<Isa> isas;
-  for (Isa isa : {Isa::sse4_2, Isa::avx2, Isa::avx512})
-    if (isa_supported(isa)) isas.push_back(isa);
-  return isas;
-}
-
-RenderedImage render_or_fail(const Scene& scene, const RenderOptions& options) {
-  Status status;
-  RenderedImage image = render_image(scene, options, status);
-  INFO("render: " << status.message());
-  REQUIRE(status.ok());
-  return image;
-}
-
-RenderOptions options_for(Backend backend, std::optional<Isa> isa = std::nullopt, bool culling = true) {
-  RenderOptions o;
-  o.backend = backend;
-  o.isa = isa;
-  o.culling = culling;
-  o.threads = 2;
-  return o;
-}
-
 Scene blank() {
   Scene s;
   s.width = 16;

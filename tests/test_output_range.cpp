@@ -38,7 +38,7 @@ std::vector<RenderOptions> every_backend() {
   o.backend = Backend::raycast;
   o.rays = 64;
   out.push_back(o);
-  for (Isa isa : {Isa::sse4_2, Isa::avx2, Isa::avx512}) {
+  for (Isa isa : par2d::kSimdIsas) {
     if (!isa_supported(isa)) continue;
     o.backend = Backend::simd;
     o.isa = isa;

@@ -26,31 +26,6 @@ using namespace par2d::test;
 
 namespace {
 
-std::vector<Isa> simd_isas_here() {
-  std::vector<Isa> isas;
-  for (Isa isa : {Isa::sse4_2, Isa::avx2, Isa::avx512}) {
-    if (isa_supported(isa)) isas.push_back(isa);
-  }
-  return isas;
-}
-
-RenderedImage render_or_fail(const Scene& scene, const RenderOptions& options) {
-  Status status;
-  RenderedImage image = render_image(scene, options, status);
-  INFO("render: " << status.message());
-  REQUIRE(status.ok());
-  return image;
-}
-
-RenderOptions options_for(Backend backend, std::optional<Isa> isa = std::nullopt, bool culling = true) {
-  RenderOptions o;
-  o.backend = backend;
-  o.isa = isa;
-  o.culling = culling;
-  o.threads = 2;
-  return o;
-}
-
 // The contract's SIMD bound: |E_simd - E_scalar| <= 1e-4 e_max at pixels farther than 0.05 pixel
 // widths from every boundary; for every ISA, culling on and off.
 void check_simd_matches_scalar(const Scene& scene, const std::string& what) {

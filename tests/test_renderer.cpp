@@ -21,7 +21,7 @@ namespace {
 
 std::vector<Isa> isas_here() {
   std::vector<Isa> out{Isa::scalar};
-  for (Isa isa : {Isa::sse4_2, Isa::avx2, Isa::avx512}) {
+  for (Isa isa : par2d::kSimdIsas) {
     if (isa_supported(isa)) out.push_back(isa);
   }
   return out;

@@ -21,14 +21,6 @@ using namespace par2d::test;
 
 namespace {
 
-std::vector<Isa> simd_isas_here() {
-  std::vector<Isa> isas;
-  for (Isa isa : kSimdIsas) {
-    if (isa_supported(isa)) isas.push_back(isa);
-  }
-  return isas;
-}
-
 RenderOptions simd_options(Isa isa) {
   RenderOptions o;
   o.backend = Backend::simd;

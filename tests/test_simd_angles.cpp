@@ -103,7 +103,7 @@ TEST_CASE("SIMD angles at render level: lights seen from all four quadrants and 
                       return subtended({{32.5, 44.5}, {32.5, 20.5}}, x) / (2 * kPi);
                     }});
   int isas = 0;
-  for (Isa isa : {Isa::sse4_2, Isa::avx2, Isa::avx512}) {
+  for (Isa isa : par2d::kSimdIsas) {
     if (!isa_supported(isa)) continue;
     ++isas;
     for (const Probe& p : probes) {

@@ -98,7 +98,7 @@ inline std::string check_contact_bytes(const std::uint8_t* data, std::size_t siz
   o.backend = Backend::raycast;
   o.rays = 64;
   backends.push_back(o);
-  for (Isa isa : {Isa::sse4_2, Isa::avx2, Isa::avx512}) {
+  for (Isa isa : par2d::kSimdIsas) {
     if (!isa_supported(isa)) continue;
     o = base;
     o.backend = Backend::simd;

@@ -1,6 +1,8 @@
 // Deterministic random scenes for tests and pixel helpers (see random_scenes.hpp).
 #include "support/random_scenes.hpp"
 
+#include <doctest/doctest.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -172,6 +174,30 @@ RenderedImage render_image(const Scene& scene, const RenderOptions& options, Sta
                        static_cast<std::ptrdiff_t>(scene.width) * 3};
   status = render(scene, options, view);
   return image;
+}
+
+RenderedImage render_or_fail(const Scene& scene, const RenderOptions& options) {
+  Status status;
+  RenderedImage image = render_image(scene, options, status);
+  INFO("render: " << status.message());
+  REQUIRE(status.ok());
+  return image;
+}
+
+std::vector<Isa> simd_isas_here() {
+  std::vector<Isa> isas;
+  for (Isa isa : kSimdIsas)
+    if (isa_supported(isa)) isas.push_back(isa);
+  return isas;
+}
+
+RenderOptions options_for(Backend backend, std::optional<Isa> isa, bool culling) {
+  RenderOptions o;
+  o.backend = backend;
+  o.isa = isa;
+  o.culling = culling;
+  o.threads = 2;
+  return o;
 }
 
 }  // namespace par2d::test

@@ -101,4 +101,13 @@ struct RenderedImage {
 // Renders through the public API; `status` receives the result of par2d::render.
 RenderedImage render_image(const Scene& scene, const RenderOptions& options, Status& status);
 
+// Renders, or fails the test case with par2d's message.
+RenderedImage render_or_fail(const Scene& scene, const RenderOptions& options);
+
+// The SIMD levels this CPU runs (tests force each in turn).
+std::vector<Isa> simd_isas_here();
+
+// Options for one backend (and ISA), culling on or off, 2 threads.
+RenderOptions options_for(Backend backend, std::optional<Isa> isa = std::nullopt, bool culling = true);
+
 }  // namespace par2d::test

@@ -336,7 +336,7 @@ class Viewer {
   void next_isa() {
     const Isa current = resolved_isa(options_);
     std::vector<Isa> levels;
-    for (Isa isa : {Isa::sse4_2, Isa::avx2, Isa::avx512})
+    for (Isa isa : par2d::kSimdIsas)
       if (isa_supported(isa)) levels.push_back(isa);
     if (levels.empty()) {
       message("this CPU has no SIMD level: the scalar path only", false);
