@@ -55,7 +55,9 @@ double image_max(const RenderedImage& image, int& at_i, int& at_j) {
 }
 
 void check_black_everywhere(const Scene& scene) {
-  for (const auto& [name, options] : all_backends()) {
+  for (const auto& backend : all_backends()) {
+    const std::string& name = backend.first;  // not a structured binding: clang's INFO cannot capture those
+    const RenderOptions& options = backend.second;
     const RenderedImage image = render_ok(scene, options);
     int i = 0, j = 0;
     const double worst = image_max(image, i, j);
@@ -123,7 +125,9 @@ TEST_CASE("contact: a segment light half on a collinear segment occluder shows e
   Scene scene = base_scene();
   scene.lights.push_back(white_light(Segment{{8, 10}, {24, 10}}));
   scene.occluders.push_back({Segment{{4, 10}, {16, 10}}});
-  for (const auto& [name, options] : all_backends()) {
+  for (const auto& backend : all_backends()) {
+    const std::string& name = backend.first;
+    const RenderOptions& options = backend.second;
     if (options.backend == Backend::raycast) continue;  // noisy at 512 rays; checked below
     const RenderedImage image = render_ok(scene, options);
     const double bound = options.backend == Backend::scalar ? 1e-6 : 1e-4;

@@ -122,7 +122,9 @@ TEST_CASE("culled renders equal unculled ones and the scalar reference inside ri
   // rows of y = 32, and a reach of 0.95·66 = 62.7 would skip the light in the whole block.
   const Vec2 near_block{64.0 - 62.8, 32.0};
   scenes.emplace_back("ring across a block edge", lit_enclosure(ring(63.7, 64.1, near_block), near_block));
-  for (const auto& [name, scene] : scenes) {
+  for (const auto& named : scenes) {
+    const auto& name = named.first;  // not a structured binding: clang's INFO cannot capture those
+    const auto& scene = named.second;
     RenderOptions culled;
     culled.backend = Backend::simd;
     RenderOptions unculled = culled;
