@@ -1,8 +1,6 @@
 // Deterministic random scenes for tests and pixel helpers (see random_scenes.hpp).
 #include "support/random_scenes.hpp"
 
-#include <doctest/doctest.h>
-
 #include <algorithm>
 #include <cmath>
 
@@ -173,14 +171,6 @@ RenderedImage render_image(const Scene& scene, const RenderOptions& options, Sta
   const ImageView view{image.pixels.data(), scene.width, scene.height,
                        static_cast<std::ptrdiff_t>(scene.width) * 3};
   status = render(scene, options, view);
-  return image;
-}
-
-RenderedImage render_or_fail(const Scene& scene, const RenderOptions& options) {
-  Status status;
-  RenderedImage image = render_image(scene, options, status);
-  INFO("render: " << status.message());
-  REQUIRE(status.ok());
   return image;
 }
 

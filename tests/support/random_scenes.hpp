@@ -101,7 +101,7 @@ struct RenderedImage {
 // Renders through the public API; `status` receives the result of par2d::render.
 RenderedImage render_image(const Scene& scene, const RenderOptions& options, Status& status);
 
-// Renders, or fails the test case with par2d's message.
+// Renders, or fails the test case with par2d's message (render_checks.cpp; doctest binaries only).
 RenderedImage render_or_fail(const Scene& scene, const RenderOptions& options);
 
 // The SIMD levels this CPU runs (tests force each in turn).
