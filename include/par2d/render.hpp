@@ -53,6 +53,9 @@ struct RenderOptions {
   bool culling = true;
   // See Threading. Default: own_pool.
   Threading threading = Threading::own_pool;
+  // false: the plain irradiance even when the scene has a normal source (docs/contract.md
+  // section 6), e.g. to output both. Default: true (the shaded value when there is a source).
+  bool shaded = true;
 };
 
 // The worker count a render with these options uses from the calling thread: `threads`

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -41,16 +43,76 @@ using Shape = std::variant<Polygon, Circle, Segment>;
 // Linear RGB triple.
 using Rgb = std::array<double, 3>;
 
-// A uniform emitter: every point of its shape emits `intensity * color` in every direction.
+// A direction in 3D world axes: x, y as in Vec2, +z toward the viewer.
+struct Vec3 {
+  double x = 0.0;
+  double y = 0.0;
+  double z = 0.0;
+};
+
+// Every bit set: the default light and occluder mask (docs/contract.md section 6).
+inline constexpr std::uint32_t kAllMaskBits = 0xFFFFFFFFu;
+
+// A spot light's emission cone, in degrees (docs/contract.md section 6): the light emits only
+// in world directions within `half_angle` of `direction`, fading linearly to 0 over the last
+// `fade` degrees inside the cone.
+struct Cone {
+  double direction = 0.0;     // world direction of the axis; 90 points down in the default view
+  double half_angle = 180.0;  // 0 < half_angle <= 180
+  double fade = 0.0;          // 0 <= fade <= half_angle
+};
+
+// A uniform emitter: every point of its shape emits `intensity * color` in every direction
+// (or in its cone), optionally limited to a range.
 struct Light {
   Shape shape;
   Rgb color{1.0, 1.0, 1.0};  // each channel >= 0. Default: white.
   double intensity = 1.0;    // >= 0. Default: 1.
+  // The smooth window clamp(1 - (d/range)^2, 0, 1)^2, d the distance to the shape. Empty: none.
+  std::optional<double> range;
+  std::optional<Cone> cone;  // Empty: every direction.
+  // Occluders shadow this light only where their masks share a bit with this one.
+  std::uint32_t mask = kAllMaskBits;
+  // Degrees above the plane, 0 .. 90; matters only when the scene has a normal source.
+  double elevation = 0.0;
 };
 
-// An opaque shape: blocks light, emits nothing.
+// What a point inside an occluder sees.
+enum class Interior : std::uint8_t {
+  dark,  // the occluder acts on every direction from inside it (the default)
+  lit,   // the occluder is ignored from points inside it (sprites: they cast shadows, lit themselves)
+};
+
+// A shape that blocks light (opaque by default) and emits nothing.
 struct Occluder {
   Shape shape;
+  // Fraction of each channel that passes through, in [0, 1]. Default: 0 (opaque).
+  Rgb transmittance{0.0, 0.0, 0.0};
+  // Acts on a light only where the masks share a bit.
+  std::uint32_t mask = kAllMaskBits;
+  Interior interior = Interior::dark;
+};
+
+// A sun or sky: radiance `intensity * color` arriving along ray directions theta in
+// [angle0, angle1] degrees (angle0 < angle1, angle1 - angle0 < 360), from infinitely far away.
+struct DirectionalLight {
+  double angle0 = 0.0;
+  double angle1 = 0.0;
+  Rgb color{1.0, 1.0, 1.0};
+  double intensity = 1.0;
+  std::uint32_t mask = kAllMaskBits;
+  double elevation = 0.0;  // degrees, 0 .. 90
+};
+
+// A surface normal per pixel, exactly the image's width x height. `normals` holds three
+// floats per pixel, rows from the top, in image axes: x along image +x (right), y along image
+// UP (the common 2D normal-map convention), z toward the viewer; any non-zero length (they are
+// normalized). A PNG normal map decodes to n = 2 * rgb / 255 - 1.
+struct NormalMap {
+  std::string path;  // where it was loaded from (for messages and scene files); may be empty
+  int width = 0;
+  int height = 0;
+  std::vector<float> normals;
 };
 
 // The world rectangle the image shows: pixel (i, j) is sampled at
@@ -69,6 +131,12 @@ struct Scene {
   View view;       // Default (as loaded from JSON): [0, 0, width, height].
   std::vector<Light> lights;
   std::vector<Occluder> occluders;
+  // The game lighting model's scene-wide terms (docs/contract.md section 6).
+  Rgb ambient{0.0, 0.0, 0.0};  // added to every pixel, each channel >= 0
+  std::vector<DirectionalLight> directional_lights;
+  // The normal source for shading; at most one of the two. Neither: plain irradiance.
+  std::optional<Vec3> normal;  // world axes, one for every pixel (normalized; non-zero)
+  std::optional<NormalMap> normal_map;
 };
 
 // Checks a scene built in code against docs/contract.md section 3 (sizes, finite numbers,
@@ -82,7 +150,8 @@ Status parse_scene(std::string_view json_text, std::string_view name, Scene& out
 // Reads, parses and validates a JSON scene file.
 Status load_scene_file(const std::string& path, Scene& out);
 
-// Sum over lights of the largest channel of intensity * color (docs/contract.md section 5's e_max).
+// docs/contract.md section 5's e_max: the sum over lights and directional lights of the largest
+// channel of intensity * color, plus the largest ambient channel.
 double max_emission_sum(const Scene& scene) noexcept;
 
 }  // namespace par2d

@@ -289,7 +289,12 @@ double max_emission_sum(const Scene& scene) noexcept {
     for (double channel : light.color) largest = std::max(largest, light.intensity * channel);
     sum += largest;
   }
-  return sum;
+  for (const DirectionalLight& light : scene.directional_lights) {
+    double largest = 0.0;
+    for (double channel : light.color) largest = std::max(largest, light.intensity * channel);
+    sum += largest;
+  }
+  return sum + std::max({scene.ambient[0], scene.ambient[1], scene.ambient[2]});
 }
 
 }  // namespace par2d

@@ -116,12 +116,105 @@ double scene_scale(const View& view, double largest_coordinate) noexcept {
   return std::ldexp(1.0, std::min({10 - view_exponent, 500 - coordinate_exponent, 1000}));
 }
 
+namespace {
+
+constexpr double kRadiansPerDegree = kPi / 180.0;
+
+double wrap_angle(double radians) noexcept {
+  double a = std::fmod(radians, kTwoPi);
+  if (a < 0.0) a += kTwoPi;
+  return a < kTwoPi ? a : 0.0;
+}
+
+}  // namespace
+
+LightTerms light_terms(const Light& light, double scale) noexcept {
+  LightTerms t;
+  if (light.range) t.range = *light.range * scale;
+  if (light.cone) {
+    t.has_cone = true;
+    // Emitted along phi, the light arrives along phi + pi.
+    t.cone_center = wrap_angle(light.cone->direction * kRadiansPerDegree + kPi);
+    t.cone_half = light.cone->half_angle * kRadiansPerDegree;
+    t.cone_fade = light.cone->fade * kRadiansPerDegree;
+  }
+  t.mask = light.mask;
+  t.sin_elevation = std::sin(light.elevation * kRadiansPerDegree);
+  t.cos_elevation = std::cos(light.elevation * kRadiansPerDegree);
+  return t;
+}
+
+OccluderTerms occluder_terms(const Occluder& occluder) noexcept {
+  OccluderTerms t;
+  t.transmittance = occluder.transmittance;
+  t.mask = occluder.mask;
+  t.lit_interior = occluder.interior == Interior::lit;
+  return t;
+}
+
+std::shared_ptr<const std::vector<float>> world_normals(const NormalMap& map, const View& view) {
+  const double sx = view.x1 > view.x0 ? 1.0 : -1.0;
+  // Image up is world -y in a view whose y grows downward.
+  const double sy = view.y1 > view.y0 ? -1.0 : 1.0;
+  auto out = std::make_shared<std::vector<float>>(map.normals.size());
+  for (std::size_t p = 0; p + 2 < map.normals.size(); p += 3) {
+    const double x = sx * map.normals[p], y = sy * map.normals[p + 1], z = map.normals[p + 2];
+    const double length = std::sqrt(x * x + y * y + z * z);
+    (*out)[p] = static_cast<float>(x / length);
+    (*out)[p + 1] = static_cast<float>(y / length);
+    (*out)[p + 2] = static_cast<float>(z / length);
+  }
+  return out;
+}
+
+void update_model_flag(PreparedScene& out) noexcept {
+  bool model = !out.directionals.empty() || out.normal_source != NormalSource::none ||
+               out.ambient[0] != 0.0 || out.ambient[1] != 0.0 || out.ambient[2] != 0.0;
+  for (const PreparedLight& l : out.lights)
+    model = model || l.terms.has_range() || l.terms.has_cone || l.terms.mask != kAllMaskBits;
+  for (const OccluderTerms& o : out.occluder_terms) model = model || !o.plain();
+  out.model = model;
+}
+
+void prepare_model_terms(const Scene& scene, PreparedScene& out) {
+  out.ambient = scene.ambient;
+  out.directionals.clear();
+  for (const DirectionalLight& d : scene.directional_lights) {
+    PreparedDirectional p;
+    for (std::size_t c = 0; c < 3; ++c) p.emission[c] = d.intensity * d.color[c];
+    if (!(std::max({p.emission[0], p.emission[1], p.emission[2]}) > 0.0)) continue;
+    p.start = wrap_angle(d.angle0 * kRadiansPerDegree);
+    p.width = (d.angle1 - d.angle0) * kRadiansPerDegree;
+    p.mask = d.mask;
+    p.sin_elevation = std::sin(d.elevation * kRadiansPerDegree);
+    p.cos_elevation = std::cos(d.elevation * kRadiansPerDegree);
+    out.directionals.push_back(p);
+  }
+  out.normal_source = NormalSource::none;
+  out.normal_map.reset();
+  out.normal = {0.0, 0.0, 1.0};
+  if (scene.normal) {
+    const Vec3 n = *scene.normal;
+    const double length = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+    out.normal = {n.x / length, n.y / length, n.z / length};
+    out.normal_source = NormalSource::constant;
+  } else if (scene.normal_map) {
+    out.normal_map = world_normals(*scene.normal_map, scene.view);
+    out.normal_source = NormalSource::map;
+  }
+  update_model_flag(out);
+}
+
 PreparedScene prepare_scene(const Scene& scene) {
   PreparedScene out;
   out.width = scene.width;
   out.height = scene.height;
   out.occluders.reserve(scene.occluders.size());
-  for (const Occluder& o : scene.occluders) out.occluders.push_back(make_convex_shape(o.shape));
+  for (const Occluder& o : scene.occluders) {
+    out.occluders.push_back(make_convex_shape(o.shape));
+    out.occluder_terms.push_back(occluder_terms(o));
+  }
+  std::vector<const Light*> lit;
   for (const Light& l : scene.lights) {
     PreparedLight light;
     for (int c = 0; c < 3; ++c) light.emission[c] = l.intensity * l.color[c];
@@ -129,6 +222,7 @@ PreparedScene prepare_scene(const Scene& scene) {
     if (!(e > 0.0)) continue;  // contributes nothing anywhere
     light.shape = make_convex_shape(l.shape);
     out.lights.push_back(std::move(light));
+    lit.push_back(&l);
   }
 
   double largest = std::max({std::abs(scene.view.x0), std::abs(scene.view.x1), std::abs(scene.view.y0),
@@ -143,6 +237,8 @@ PreparedScene prepare_scene(const Scene& scene) {
   out.view = {scene.view.x0 * factor, scene.view.y0 * factor, scene.view.x1 * factor, scene.view.y1 * factor};
   for (PreparedLight& l : out.lights) scale_shape(l.shape, factor);
   for (ConvexShape& o : out.occluders) scale_shape(o, factor);
+  for (std::size_t p = 0; p < lit.size(); ++p) out.lights[p].terms = light_terms(*lit[p], factor);
+  prepare_model_terms(scene, out);
 
   update_scene_bounds(out);
 

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -13,9 +14,54 @@
 
 namespace par2d::detail {
 
+// A light's game-model terms (docs/contract.md section 6) in the forms the renderers use:
+// radians, ray directions, prepared (scaled) lengths. The defaults are "no term".
+struct LightTerms {
+  double range = std::numeric_limits<double>::infinity();  // scaled like the shapes; inf: none
+  bool has_cone = false;
+  // The cone as seen in ray directions theta (light arrives along theta when it was emitted
+  // along theta + pi): full weight within `cone_half - cone_fade` of `cone_center`, zero
+  // beyond `cone_half`. Radians; cone_center in [0, 2 pi).
+  double cone_center = 0.0, cone_half = kPi, cone_fade = 0.0;
+  std::uint32_t mask = kAllMaskBits;
+  double sin_elevation = 0.0, cos_elevation = 1.0;
+
+  bool has_range() const noexcept { return range < std::numeric_limits<double>::infinity(); }
+};
+
+// Builds a light's terms; `scale` is the prepared scene's coordinate factor.
+LightTerms light_terms(const Light& light, double scale) noexcept;
+
+// An occluder's game-model terms.
+struct OccluderTerms {
+  Rgb transmittance{0.0, 0.0, 0.0};
+  std::uint32_t mask = kAllMaskBits;
+  bool lit_interior = false;
+
+  bool opaque() const noexcept { return transmittance[0] == 0.0 && transmittance[1] == 0.0 && transmittance[2] == 0.0; }
+  // Whether this occluder acts on a light with these terms' mask (docs/contract.md section 6).
+  bool acts_on(std::uint32_t light_mask) const noexcept { return (mask & light_mask) != 0; }
+  // The plain occluder of docs/contract.md section 1.
+  bool plain() const noexcept { return opaque() && mask == kAllMaskBits && !lit_interior; }
+};
+
+OccluderTerms occluder_terms(const Occluder& occluder) noexcept;
+
+// A directional light: rays theta in [start, start + width] radians (width < 2 pi) arrive
+// with emission `emission` from infinitely far away.
+struct PreparedDirectional {
+  double start = 0.0, width = 0.0;
+  Rgb emission{};
+  std::uint32_t mask = kAllMaskBits;
+  double sin_elevation = 0.0, cos_elevation = 1.0;
+};
+
+enum class NormalSource : std::uint8_t { none, constant, map };
+
 struct PreparedLight {
   ConvexShape shape;
   Rgb emission{};  // intensity * color
+  LightTerms terms;
   // Occluders whose shape meets this light's (sorted). For such a pair the blocked
   // directions are not all-or-nothing per direction interval; see scalar_renderer.
   std::vector<std::uint32_t> overlapping_occluders;
@@ -65,7 +111,41 @@ struct PreparedScene {
   double extent = 0.0;
   OccluderBvh occluder_bvh;  // over the occluders' bounding boxes
   PairSeparators separators;
+
+  // The game lighting model (docs/contract.md section 6). `occluder_terms` is parallel to
+  // `occluders`. `model` is false when every term has its default (section 1 exactly: the
+  // renderers take their plain paths).
+  std::vector<OccluderTerms> occluder_terms;
+  std::vector<PreparedDirectional> directionals;  // those with non-zero emission
+  Rgb ambient{0.0, 0.0, 0.0};
+  NormalSource normal_source = NormalSource::none;
+  Vec3 normal{0.0, 0.0, 1.0};  // NormalSource::constant: unit, world axes
+  // NormalSource::map: width * height unit normals in world axes, 3 floats each, row-major
+  // from image row 0 (shared: a World keeps it across frames).
+  std::shared_ptr<const std::vector<float>> normal_map;
+  bool model = false;
+
+  // The unit surface normal (world axes) at pixel (i, j); (0, 0, 1) without a source.
+  Vec3 normal_at(int i, int j) const noexcept {
+    if (normal_source == NormalSource::map) {
+      const float* n = normal_map->data() + 3 * (static_cast<std::size_t>(j) * static_cast<std::size_t>(width) + static_cast<std::size_t>(i));
+      return {n[0], n[1], n[2]};
+    }
+    return normal;
+  }
 };
+
+// Fills the scene-wide model terms of `out` (ambient, directionals, normal source) from
+// `scene`, then `model`. Occluder and light terms must already be set.
+void prepare_model_terms(const Scene& scene, PreparedScene& out);
+// Recomputes `out.model` from its terms (after a light or occluder changed).
+void update_model_flag(PreparedScene& out) noexcept;
+// A normal map's normals in world axes, unit, for a view (its mirroring flips components).
+std::shared_ptr<const std::vector<float>> world_normals(const NormalMap& map, const View& view);
+// Whether pixels are shaded: a normal source exists and the options ask for shading.
+inline bool shading_active(const PreparedScene& s, bool shaded) noexcept {
+  return shaded && s.normal_source != NormalSource::none;
+}
 
 // Builds the prepared form of a scene that passed validate_scene.
 PreparedScene prepare_scene(const Scene& scene);

@@ -95,10 +95,19 @@ std::uint32_t World::new_slot(std::uint8_t list, std::int32_t where) {
 Status World::set_frame(int width, int height, const View& view) {
   if (auto problem = check_image_size(width, height)) return scene_error("set_frame", *problem);
   if (auto problem = check_view(view, width, height)) return scene_error("set_frame", *problem);
+  if (globals_.normal_map && (globals_.normal_map->width != width || globals_.normal_map->height != height))
+    return Status(StatusCode::invalid_argument,
+                  "set_frame: the normal map is " + std::to_string(globals_.normal_map->width) + "x" +
+                      std::to_string(globals_.normal_map->height) + " but the frame would be " +
+                      std::to_string(width) + "x" + std::to_string(height));
+  const bool flips = (view.x1 > view.x0) != (view_.x1 > view_.x0) || (view.y1 > view.y0) != (view_.y1 > view_.y0);
   scene_.width = width;
   scene_.height = height;
   view_ = view;
   scene_.view = {view.x0 * factor_, view.y0 * factor_, view.x1 * factor_, view.y1 * factor_};
+  // A mirrored view mirrors the map's normals with the image.
+  if (flips && globals_.normal_map && scene_.normal_source == NormalSource::map)
+    scene_.normal_map = world_normals(*globals_.normal_map, view_);
   // Reach radii are measured in pixels and end at the view's corners.
   std::fill(reach_stale_.begin(), reach_stale_.end(), 1);
   return {};
@@ -143,6 +152,10 @@ Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, st
     next.occluder_slots_.push_back(slot);
     occluder_handles.push_back({next.make_handle(slot++)});
   }
+  next.globals_.ambient = scene.ambient;
+  next.globals_.directional_lights = scene.directional_lights;
+  next.globals_.normal = scene.normal;
+  next.globals_.normal_map = scene.normal_map;
   next.reach_scratch_ = std::move(reach_scratch_);
   next.reprepare_all();
   *this = std::move(next);
@@ -178,6 +191,11 @@ void World::reprepare_all() {
   scene_.view = {view_.x0 * factor_, view_.y0 * factor_, view_.x1 * factor_, view_.y1 * factor_};
   for (PreparedLight& l : scene_.lights) scale_shape(l.shape, factor_);
   for (ConvexShape& o : scene_.occluders) scale_shape(o, factor_);
+  for (std::size_t p = 0; p < light_sources_.size(); ++p) scene_.lights[p].terms = light_terms(light_sources_[p], factor_);
+  scene_.occluder_terms.resize(occluder_sources_.size());
+  for (std::size_t k = 0; k < occluder_sources_.size(); ++k) scene_.occluder_terms[k] = occluder_terms(occluder_sources_[k]);
+  globals_.view = view_;
+  prepare_model_terms(globals_, scene_);
   rebuild_index();
   for (PreparedLight& l : scene_.lights) find_light_overlaps(scene_, l, query_);
   scene_.separators.reset(scene_.lights.size(), scene_.occluders.size());
@@ -201,6 +219,8 @@ void World::prepare_lit(std::size_t p, const Light& light) {
   make_convex_shape(light.shape, prepared.shape);
   scale_shape(prepared.shape, factor_);
   for (std::size_t c = 0; c < 3; ++c) prepared.emission[c] = light.intensity * light.color[c];
+  prepared.terms = light_terms(light, factor_);
+  update_model_flag(scene_);
   find_light_overlaps(scene_, prepared, query_);
   scene_.separators.forget_light(p);
   reach_stale_[p] = 1;
@@ -243,6 +263,7 @@ void World::erase_lit(std::size_t p) {
   light_sources_.pop_back();
   light_slots_.pop_back();
   scene_.lights.pop_back();
+  update_model_flag(scene_);
   reach_.pop_back();
   reach_depends_.pop_back();
   reach_stale_.pop_back();
@@ -401,6 +422,8 @@ Status World::add_occluder(const Occluder& occluder, OccluderHandle* handle) {
   occluder_sources_.push_back(occluder);
   occluder_slots_.push_back(slot);
   scene_.occluders.emplace_back();
+  scene_.occluder_terms.push_back(occluder_terms(occluder));
+  update_model_flag(scene_);
   make_convex_shape(occluder.shape, scene_.occluders[k]);
   scale_shape(scene_.occluders[k], factor_);
   scene_.occluder_bvh.insert(box_of(scene_.occluders[k]));
@@ -418,6 +441,8 @@ Status World::update_occluder(OccluderHandle handle, const Occluder& occluder) {
   const auto k = static_cast<std::size_t>(slot->where);
   const Aabb old_box = box_of(scene_.occluders[k]);
   occluder_sources_[k] = occluder;
+  scene_.occluder_terms[k] = occluder_terms(occluder);
+  update_model_flag(scene_);
   make_convex_shape(occluder.shape, scene_.occluders[k]);
   scale_shape(scene_.occluders[k], factor_);
   scene_.occluder_bvh.update(static_cast<std::uint32_t>(k), box_of(scene_.occluders[k]));
@@ -448,12 +473,15 @@ Status World::remove_occluder(OccluderHandle handle) {
     std::swap(occluder_sources_[k], occluder_sources_[m]);
     occluder_slots_[k] = occluder_slots_[m];
     std::swap(scene_.occluders[k], scene_.occluders[m]);
+    std::swap(scene_.occluder_terms[k], scene_.occluder_terms[m]);
     scene_.separators.move_occluder(m, k);
     slots_[occluder_slots_[k]].where = static_cast<std::int32_t>(k);
   }
   occluder_sources_.pop_back();
   occluder_slots_.pop_back();
   scene_.occluders.pop_back();
+  scene_.occluder_terms.pop_back();
+  update_model_flag(scene_);
   scene_.separators.forget_occluder(m);
   scene_.separators.resize(scene_.lights.size(), m);
   slot->where = -1;
@@ -499,6 +527,10 @@ Scene World::snapshot() const {
   out.lights = light_sources_;
   out.lights.insert(out.lights.end(), dark_sources_.begin(), dark_sources_.end());
   out.occluders = occluder_sources_;
+  out.ambient = globals_.ambient;
+  out.directional_lights = globals_.directional_lights;
+  out.normal = globals_.normal;
+  out.normal_map = globals_.normal_map;
   return out;
 }
 

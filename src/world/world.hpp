@@ -88,6 +88,9 @@ class World {
   std::vector<std::uint32_t> light_slots_;
   std::vector<Light> dark_sources_;
   std::vector<std::uint32_t> dark_slots_;
+  // The scene-wide game-model terms as given (ambient, directional lights, normal source);
+  // its shapes and size are unused.
+  Scene globals_;
   // Parallel to scene_.occluders.
   std::vector<Occluder> occluder_sources_;
   std::vector<std::uint32_t> occluder_slots_;
