@@ -123,6 +123,11 @@ class Renderer {
   // The terms as last set (ambient, directional_lights, normal, normal_map; no shapes).
   const Scene& model_terms() const noexcept;
 
+  // Copies the light or occluder `handle` names, as last given, into `out` (reusing its
+  // buffers); an unknown handle is refused and `out` is left as it was.
+  Status light(LightHandle handle, Light* out) const;
+  Status occluder(OccluderHandle handle, Occluder* out) const;
+
   std::size_t light_count() const noexcept;
   std::size_t occluder_count() const noexcept;
 

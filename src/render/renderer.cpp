@@ -138,6 +138,25 @@ Status Renderer::clear_normal_source() {
 }
 const Scene& Renderer::model_terms() const noexcept { return impl_->world.model_terms(); }
 
+Status Renderer::light(LightHandle handle, Light* out) const {
+  if (out == nullptr) return bad("light: out is null");
+  const Light* light = impl_->world.find_light(handle.id);
+  if (light == nullptr) return bad("light: unknown handle " + std::to_string(handle.id));
+  return guarded("light", [&] {
+    *out = *light;
+    return Status::success();
+  });
+}
+Status Renderer::occluder(OccluderHandle handle, Occluder* out) const {
+  if (out == nullptr) return bad("occluder: out is null");
+  const Occluder* occluder = impl_->world.find_occluder(handle.id);
+  if (occluder == nullptr) return bad("occluder: unknown handle " + std::to_string(handle.id));
+  return guarded("occluder", [&] {
+    *out = *occluder;
+    return Status::success();
+  });
+}
+
 std::size_t Renderer::light_count() const noexcept { return impl_->world.light_count(); }
 std::size_t Renderer::occluder_count() const noexcept { return impl_->world.occluder_count(); }
 

@@ -286,7 +286,9 @@ void World::erase_dark(std::size_t q) {
 // must stay within what float32 output can hold, as for scenes (check_emission_total).
 std::optional<SceneProblem> World::emission_total_problem(const Light& light, std::size_t replaced) const {
   for (int c = 0; c < 3; ++c) {
-    double total = light.intensity * light.color[static_cast<std::size_t>(c)];
+    // Ambient and directional lights add to E too (check_scene_terms).
+    double total = light.intensity * light.color[static_cast<std::size_t>(c)] + globals_.ambient[static_cast<std::size_t>(c)];
+    for (const DirectionalLight& d : globals_.directional_lights) total += d.intensity * d.color[static_cast<std::size_t>(c)];
     for (std::size_t i = 0; i < light_sources_.size(); ++i)
       if (i != replaced) total += light_sources_[i].intensity * light_sources_[i].color[static_cast<std::size_t>(c)];
     if (!(total <= kMaxTotalEmission))
@@ -559,6 +561,18 @@ const PreparedScene& World::commit(bool culling, const Scheduler& scheduler) {
   std::fill(reach_stale_.begin(), reach_stale_.end(), 0);
   stats_.reach_computations += stale_list_.size();
   return scene_;
+}
+
+const Light* World::find_light(std::uint64_t id) const noexcept {
+  const Slot* slot = const_cast<World*>(this)->find(id, false);
+  if (slot == nullptr) return nullptr;
+  const auto where = static_cast<std::size_t>(slot->where);
+  return slot->list == kLit ? &light_sources_[where] : &dark_sources_[where];
+}
+
+const Occluder* World::find_occluder(std::uint64_t id) const noexcept {
+  const Slot* slot = const_cast<World*>(this)->find(id, true);
+  return slot == nullptr ? nullptr : &occluder_sources_[static_cast<std::size_t>(slot->where)];
 }
 
 Scene World::snapshot() const {

@@ -38,6 +38,10 @@ class World {
   // The scene-wide terms as given (for the Renderer's setters, which change one at a time).
   const Scene& model_terms() const noexcept { return globals_; }
 
+  // The light or occluder a handle names as last given (nullptr: no such handle).
+  const Light* find_light(std::uint64_t id) const noexcept;
+  const Occluder* find_occluder(std::uint64_t id) const noexcept;
+
   bool has_frame() const noexcept { return scene_.width > 0; }
   const View& view() const noexcept { return view_; }
   std::size_t light_count() const noexcept { return light_sources_.size() + dark_sources_.size(); }
