@@ -1,8 +1,10 @@
 // The game lighting model's terms as users state them: JSON keys, validation, scene_write, PNG normal maps, Renderer setters.
 #include <doctest/doctest.h>
 
+#include <spawn.h>
 #include <stdlib.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 
 #include <cmath>
 #include <cstring>
@@ -13,9 +15,13 @@
 
 #include <stb/stb_image_write.h>
 
+#include "par2d/image_io.hpp"
+#include "par2d/render.hpp"
 #include "par2d/renderer.hpp"
 #include "par2d/scene.hpp"
 #include "par2d/scene_write.hpp"
+
+extern char** environ;
 
 namespace {
 
@@ -69,6 +75,35 @@ void write_png(const std::string& path, int width, int height, int channels, std
 }
 
 bool same(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// Runs the CLI with `args`; returns the exit status (or 128 + signal).
+int run_cli(const std::vector<std::string>& args) {
+  std::vector<char*> argv{const_cast<char*>(PAR2D_CLI_PATH)};
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  REQUIRE(posix_spawn(&pid, PAR2D_CLI_PATH, nullptr, nullptr, argv.data(), environ) == 0);
+  int status = 0;
+  REQUIRE(waitpid(pid, &status, 0) == pid);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+std::vector<float> read_pfm_file(const std::string& path) {
+  int width = 0, height = 0;
+  std::vector<float> pixels;
+  REQUIRE(par2d::read_pfm(path, width, height, pixels).ok());
+  return pixels;
+}
+
+// What the library renders for `scene`, shaded or plain, as the CLI's PFM holds it.
+std::vector<float> render_direct(const Scene& scene, bool shaded) {
+  std::vector<float> pixels(3 * static_cast<std::size_t>(scene.width) * static_cast<std::size_t>(scene.height));
+  par2d::RenderOptions options;
+  options.shaded = shaded;
+  par2d::ImageView view{pixels.data(), scene.width, scene.height, 3 * static_cast<std::ptrdiff_t>(scene.width)};
+  REQUIRE(par2d::render(scene, options, view).ok());
+  return pixels;
+}
 
 }  // namespace
 
@@ -531,4 +566,36 @@ TEST_CASE("Renderer setters for the scene-wide terms refuse bad values and keep 
   status = renderer.add_occluder(occluder, &oh);
   CHECK(status.message() == "add_occluder: transmittance[2]: must be between 0 and 1, got -0.5");
   CHECK(renderer.occluder_count() == 0u);
+}
+
+TEST_CASE("the CLI writes the plain irradiance next to the shaded one, all files or none") {
+  TempDir dir;
+  write_png(dir / "n.png", 12, 8, 3, {200, 90, 230});
+  {
+    std::ofstream(dir / "scene.json")
+        << R"({"width": 12, "height": 8, "normal_map": "n.png", "lights": [{"circle": {"center": [3, 4], "radius": 1},)"
+           R"( "intensity": 2, "elevation": 30}], "occluders": [{"segment": [[6, 1], [6, 7]], "transmittance": [0.5, 0.5, 0.5]}]})";
+  }
+  Scene scene;
+  REQUIRE(par2d::load_scene_file(dir / "scene.json", scene).ok());
+  REQUIRE(run_cli({"render", dir / "scene.json", "--pfm", dir / "shaded.pfm", "--plain-pfm", dir / "plain.pfm",
+                   "--plain-png", dir / "plain.png"}) == 0);
+  CHECK(read_pfm_file(dir / "shaded.pfm") == render_direct(scene, true));
+  CHECK(read_pfm_file(dir / "plain.pfm") == render_direct(scene, false));
+  CHECK(fs::file_size(dir / "plain.png") > 0u);
+
+  // Without a normal source the plain output is allowed and is the main image.
+  {
+    std::ofstream(dir / "flat.json") << R"({"width": 12, "height": 8, "lights": [{"circle": {"center": [3, 4], "radius": 1}}]})";
+  }
+  REQUIRE(run_cli({"render", dir / "flat.json", "--pfm", dir / "flat.pfm", "--plain-pfm", dir / "flat_plain.pfm"}) == 0);
+  CHECK(read_pfm_file(dir / "flat.pfm") == read_pfm_file(dir / "flat_plain.pfm"));
+
+  // One output that cannot be written: none is.
+  CHECK(run_cli({"render", dir / "scene.json", "--pfm", dir / "again.pfm", "--plain-pfm", dir / "missing/plain.pfm"}) ==
+        1);
+  CHECK_FALSE(fs::exists(dir / "again.pfm"));
+  // Two options naming one file are refused before anything is rendered.
+  CHECK(run_cli({"render", dir / "scene.json", "-o", dir / "x.png", "--plain-png", dir / "x.png"}) == 2);
+  CHECK_FALSE(fs::exists(dir / "x.png"));
 }
