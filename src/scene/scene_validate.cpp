@@ -242,34 +242,37 @@ MaybeProblem check_light(const Light& light, const std::string& place) {
     if (auto problem = check_non_negative(light.color[c], indexed(place + ".color", c))) return problem;
   }
   if (auto problem = check_non_negative(light.intensity, place + ".intensity")) return problem;
-  if (light.range) {
+  // Each place is built only once a value is refused (no allocation per valid update).
+  if (light.range && !(std::isfinite(*light.range) && *light.range > 0.0)) {
     if (auto problem = check_finite(*light.range, place + ".range")) return problem;
-    if (!(*light.range > 0.0)) return SceneProblem{place + ".range", "must be > 0, got " + format_number(*light.range)};
+    return SceneProblem{place + ".range", "must be > 0, got " + format_number(*light.range)};
   }
   if (light.cone) {
     const Cone& cone = *light.cone;
-    if (auto problem = check_finite(cone.direction, place + ".cone.direction")) return problem;
-    if (auto problem = check_finite(cone.half_angle, place + ".cone.half_angle")) return problem;
-    if (!(cone.half_angle > 0.0 && cone.half_angle <= 180.0)) {
-      return SceneProblem{place + ".cone.half_angle",
-                          "must be > 0 and <= 180, got " + format_number(cone.half_angle)};
+    if (!std::isfinite(cone.direction)) return check_finite(cone.direction, place + ".cone.direction");
+    if (!(std::isfinite(cone.half_angle) && cone.half_angle > 0.0 && cone.half_angle <= 180.0)) {
+      if (auto problem = check_finite(cone.half_angle, place + ".cone.half_angle")) return problem;
+      return SceneProblem{place + ".cone.half_angle", "must be > 0 and <= 180, got " + format_number(cone.half_angle)};
     }
-    if (auto problem = check_finite(cone.fade, place + ".cone.fade")) return problem;
-    if (!(cone.fade >= 0.0 && cone.fade <= cone.half_angle)) {
+    if (!(std::isfinite(cone.fade) && cone.fade >= 0.0 && cone.fade <= cone.half_angle)) {
+      if (auto problem = check_finite(cone.fade, place + ".cone.fade")) return problem;
       return SceneProblem{place + ".cone.fade", "must be between 0 and half_angle, got " + format_number(cone.fade)};
     }
   }
+  if (light.elevation >= 0.0 && light.elevation <= 90.0) return std::nullopt;
   return check_elevation(light.elevation, place + ".elevation");
 }
 
 MaybeProblem check_occluder(const Occluder& occluder, const std::string& place) {
   if (auto problem = check_shape(occluder.shape, place)) return problem;
+  // Places are built only for a problem: a game's Renderer validates every frame's updates
+  // without allocating.
   for (std::size_t c = 0; c < occluder.transmittance.size(); ++c) {
+    const double t = occluder.transmittance[c];
+    if (t >= 0.0 && t <= 1.0) continue;
     const std::string at = indexed(place + ".transmittance", c);
-    if (auto problem = check_finite(occluder.transmittance[c], at)) return problem;
-    if (!(occluder.transmittance[c] >= 0.0 && occluder.transmittance[c] <= 1.0)) {
-      return SceneProblem{at, "must be between 0 and 1, got " + format_number(occluder.transmittance[c])};
-    }
+    if (auto problem = check_finite(t, at)) return problem;
+    return SceneProblem{at, "must be between 0 and 1, got " + format_number(t)};
   }
   if (occluder.interior != Interior::dark && occluder.interior != Interior::lit) {
     return SceneProblem{place + ".interior", "must be dark or lit"};
