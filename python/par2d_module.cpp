@@ -474,7 +474,8 @@ PYBIND11_MODULE(par2d, m) {
                       "A validated scene (docs/contract.md section 3). Build one with Scene.from_dict, "
                       "Scene.from_json or Scene.load; edit a copy of to_dict() and build again to change it.")
       .def_static("from_dict", &PyScene::from_dict, py::arg("scene"), py::arg("name") = "<dict>",
-                  "Scene from a dict shaped like the JSON file; `name` prefixes error messages.")
+                  "Scene from a dict shaped like the JSON file; `name` prefixes error messages. A relative\n"
+                  "normal_map path is read relative to the directory part of `name` (none: the current one).")
       .def_static("from_json", &PyScene::from_json, py::arg("text"), py::arg("name") = "<json>",
                   "Scene from JSON text; `name` prefixes error messages.")
       .def_static("load", &PyScene::load, py::arg("path"), "Scene from a JSON file.")
