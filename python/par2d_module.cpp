@@ -137,6 +137,51 @@ void render_into(const par2d::Scene& scene, const par2d::RenderOptions& options,
   check(status);
 }
 
+py::tuple rgb_tuple(const par2d::Rgb& c) { return py::make_tuple(c[0], c[1], c[2]); }
+
+py::list directional_dicts(const std::vector<par2d::DirectionalLight>& lights) {
+  py::list out;
+  for (const par2d::DirectionalLight& d : lights) {
+    py::dict e;
+    e["angles"] = py::make_tuple(d.angle0, d.angle1);
+    e["color"] = rgb_tuple(d.color);
+    e["intensity"] = d.intensity;
+    e["mask"] = d.mask;
+    e["elevation"] = d.elevation;
+    out.append(e);
+  }
+  return out;
+}
+
+py::object normal_tuple(const std::optional<par2d::Vec3>& n) {
+  if (!n) return py::none();
+  return py::make_tuple(n->x, n->y, n->z);
+}
+
+// A normal map as a new (height, width, 3) float32 array in image axes (y up), or None.
+py::object normal_map_array(const std::optional<par2d::NormalMap>& map) {
+  if (!map) return py::none();
+  FloatArray a({static_cast<py::ssize_t>(map->height), static_cast<py::ssize_t>(map->width), py::ssize_t{3}});
+  std::copy(map->normals.begin(), map->normals.end(), a.mutable_data());
+  return std::move(a);
+}
+
+// A normal map from an (H, W, 3) array of numbers (converted to float32) or a PNG path.
+par2d::NormalMap to_normal_map(const py::object& source) {
+  par2d::NormalMap map;
+  if (py::isinstance<py::str>(source)) {
+    check(par2d::load_normal_map_png(source.cast<std::string>(), map));
+    return map;
+  }
+  const auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(source);
+  if (!a || a.ndim() != 3 || a.shape(2) != 3)
+    raise(par2d::StatusCode::invalid_argument, "normal_map: needs a PNG path or an array of shape (height, width, 3)");
+  map.height = static_cast<int>(a.shape(0));
+  map.width = static_cast<int>(a.shape(1));
+  map.normals.assign(a.data(), a.data() + a.size());
+  return map;
+}
+
 const PyScene& as_scene(const py::object& scene, std::optional<PyScene>& holder) {
   if (py::isinstance<PyScene>(scene)) return scene.cast<const PyScene&>();
   holder = PyScene::from_dict(scene, "<dict>");
@@ -321,6 +366,44 @@ class PyRenderer {
     return d;
   }
 
+  // The scene-wide lighting-model terms (docs/contract.md section 6).
+  void set_ambient(const std::vector<double>& rgb) {
+    if (rgb.size() != 3) raise(par2d::StatusCode::invalid_argument, "set_ambient: needs 3 numbers (r, g, b)");
+    std::lock_guard<std::mutex> lock(mutex_);
+    check(renderer_.set_ambient({rgb[0], rgb[1], rgb[2]}));
+  }
+  // A list of dicts shaped like the scene file's "directional_lights", checked by its loader.
+  void set_directional_lights(const py::object& list) {
+    py::dict wrapper;
+    wrapper["width"] = 1;
+    wrapper["height"] = 1;
+    wrapper["directional_lights"] = list;
+    std::string text;
+    try {
+      text = py::module_::import("json").attr("dumps")(wrapper).cast<std::string>();
+    } catch (py::error_already_set& e) {
+      raise(par2d::StatusCode::invalid_scene, "set_directional_lights: " + py::str(e.value()).cast<std::string>());
+    }
+    par2d::Scene scene;
+    check(par2d::parse_scene(text, "set_directional_lights", scene));
+    std::lock_guard<std::mutex> lock(mutex_);
+    check(renderer_.set_directional_lights(scene.directional_lights));
+  }
+  void set_normal(const std::vector<double>& n) {
+    if (n.size() != 3) raise(par2d::StatusCode::invalid_argument, "set_normal: needs 3 numbers (nx, ny, nz)");
+    std::lock_guard<std::mutex> lock(mutex_);
+    check(renderer_.set_normal({n[0], n[1], n[2]}));
+  }
+  void set_normal_map(const py::object& source) {
+    const par2d::NormalMap map = to_normal_map(source);
+    std::lock_guard<std::mutex> lock(mutex_);
+    check(renderer_.set_normal_map(map));
+  }
+  void clear_normal_source() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    check(renderer_.clear_normal_source());
+  }
+
   PyScene snapshot() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return PyScene(renderer_.snapshot());
@@ -391,11 +474,12 @@ PYBIND11_MODULE(par2d, m) {
                       "A validated scene (docs/contract.md section 3). Build one with Scene.from_dict, "
                       "Scene.from_json or Scene.load; edit a copy of to_dict() and build again to change it.")
       .def_static("from_dict", &PyScene::from_dict, py::arg("scene"), py::arg("name") = "<dict>",
-                  "Scene from a dict shaped like the JSON file; `name` prefixes error messages.")
+                  "Scene from a dict shaped like the JSON file; `name` prefixes error messages. A relative\n"
+                  "normal_map path is read relative to the directory part of `name` (none: the current one).")
       .def_static("from_json", &PyScene::from_json, py::arg("text"), py::arg("name") = "<json>",
                   "Scene from JSON text; `name` prefixes error messages.")
       .def_static("load", &PyScene::load, py::arg("path"), "Scene from a JSON file.")
-      .def("to_dict", &PyScene::to_dict, "The scene as a new dict (every default written out).")
+      .def("to_dict", &PyScene::to_dict, "The scene as a new dict (color and intensity always written; the lighting-model terms only where they differ from their defaults).")
       .def("to_json", &PyScene::to_json, "The scene as JSON text that from_json reads back exactly.")
       .def("save", &PyScene::save, py::arg("path"), "Writes the scene as JSON, atomically.")
       .def_property_readonly("width", [](const PyScene& s) { return s.scene().width; })
@@ -406,6 +490,20 @@ PYBIND11_MODULE(par2d, m) {
         const par2d::View& v = s.scene().view;
         return py::make_tuple(v.x0, v.y0, v.x1, v.y1);
       })
+      .def_property_readonly("ambient", [](const PyScene& s) { return rgb_tuple(s.scene().ambient); },
+                             "(r, g, b) added to every pixel.")
+      .def_property_readonly("directional_lights", [](const PyScene& s) { return directional_dicts(s.scene().directional_lights); },
+                             "List of dicts: angles, color, intensity, mask, elevation.")
+      .def_property_readonly("normal", [](const PyScene& s) { return normal_tuple(s.scene().normal); },
+                             "(nx, ny, nz) for every pixel, or None.")
+      .def_property_readonly("normal_map", [](const PyScene& s) { return normal_map_array(s.scene().normal_map); },
+                             "The normal map as a new float32 array (height, width, 3) in image axes (y up), or None.")
+      .def_property_readonly("normal_map_path",
+                             [](const PyScene& s) -> py::object {
+                               if (!s.scene().normal_map) return py::none();
+                               return py::str(s.scene().normal_map->path);
+                             },
+                             "The normal map's path as written in the scene, or None.")
       .def_property_readonly("light_count", [](const PyScene& s) { return s.scene().lights.size(); })
       .def_property_readonly("occluder_count", [](const PyScene& s) { return s.scene().occluders.size(); })
       .def("__repr__", [](const PyScene& s) {
@@ -419,20 +517,23 @@ PYBIND11_MODULE(par2d, m) {
   m.def(
       "render",
       [](const py::object& scene_or_dict, const std::string& backend, int threads, int spp, int rays,
-         const std::optional<std::string>& isa, bool culling, std::optional<py::array> out) {
+         const std::optional<std::string>& isa, bool culling, std::optional<py::array> out, bool shaded) {
         std::optional<PyScene> holder;
         const PyScene& scene = as_scene(scene_or_dict, holder);
-        const par2d::RenderOptions options = make_options(backend, threads, spp, rays, isa, culling);
+        par2d::RenderOptions options = make_options(backend, threads, spp, rays, isa, culling);
+        options.shaded = shaded;
         py::array image = out ? *out : py::array(FloatArray({scene.scene().height, scene.scene().width, 3}));
         render_into(scene.scene(), options, image);
         return image;
       },
       py::arg("scene"), py::kw_only(), py::arg("backend") = "auto", py::arg("threads") = 0, py::arg("spp") = 1,
       py::arg("rays") = 1024, py::arg("isa") = py::none(), py::arg("culling") = true, py::arg("out") = py::none(),
+      py::arg("shaded") = true,
       "Linear irradiance of `scene` (a Scene or a dict) as a float32 array of shape (height, width, 3),\n"
       "row 0 at the top. backend: auto|simd|scalar|raycast; threads: 0 = all; spp: samples per pixel;\n"
       "rays: directions per sample for raycast; isa: cap the SIMD level (scalar|sse4|avx2|avx512);\n"
-      "out: an existing array to fill instead of a new one. The GIL is released while rendering.");
+      "out: an existing array to fill instead of a new one; shaded=False: the plain irradiance of a scene\n"
+      "with a normal source (no normal-map shading). The GIL is released while rendering.");
 
   py::class_<PyRenderer>(m, "Renderer",
                          "A persistent world of lights and occluders, changed through integer handles and\n"
@@ -469,6 +570,14 @@ PYBIND11_MODULE(par2d, m) {
            py::arg("out") = py::none(), py::arg("region") = py::none(),
            "The frame as uint8 (height, width, 4): round(255 * srgb(clamp(exposure * E, 0, 1))), alpha 255 -\n"
            "the bytes write_png stores, written by the tiles directly.")
+      .def("set_ambient", &PyRenderer::set_ambient, py::arg("rgb"), "Ambient (r, g, b), each >= 0, added to every pixel.")
+      .def("set_directional_lights", &PyRenderer::set_directional_lights, py::arg("lights"),
+           "Replaces the directional lights: a list of dicts like the scene file's directional_lights.")
+      .def("set_normal", &PyRenderer::set_normal, py::arg("normal"),
+           "One normal (nx, ny, nz) for every pixel, world axes; replaces a normal map.")
+      .def("set_normal_map", &PyRenderer::set_normal_map, py::arg("normal_map"),
+           "A PNG path or an array (height, width, 3) of normals in image axes (y up), exactly the frame's size.")
+      .def("clear_normal_source", &PyRenderer::clear_normal_source, "No normal source: plain irradiance.")
       .def("snapshot", &PyRenderer::snapshot, "The world as a Scene; par2d.render of it gives the same image.")
       .def_property_readonly("stats", &PyRenderer::stats,
                              "dict: frames, index_builds, index_updates, reach_computations, full_prepares.")

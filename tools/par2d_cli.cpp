@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "par2d/par2d.hpp"
@@ -71,6 +72,10 @@ struct CommonArgs {
 struct RenderArgs {
   std::string png_path;
   std::string pfm_path;
+  // The plain irradiance (no normal-map shading) as well; the same image as the main output
+  // when the scene has no normal source.
+  std::string plain_png_path;
+  std::string plain_pfm_path;
   double exposure = 1.0;
 };
 
@@ -164,10 +169,21 @@ bool allocate_image(int width, int height, std::vector<float>& storage, par2d::I
 }
 
 int run_render(const CommonArgs& common, const RenderArgs& args) {
-  if (args.png_path.empty() && args.pfm_path.empty())
+  if (args.png_path.empty() && args.pfm_path.empty() && args.plain_png_path.empty() && args.plain_pfm_path.empty())
     return fail("render: give -o OUT.png and/or --pfm OUT.pfm", kExitUsage);
-  if (!args.png_path.empty() && !args.pfm_path.empty() && same_output(args.png_path, args.pfm_path))
-    return fail("render: -o '" + args.png_path + "' and --pfm '" + args.pfm_path + "' name the same file", kExitUsage);
+  const std::pair<const char*, const std::string*> named[] = {{"-o", &args.png_path},
+                                                              {"--pfm", &args.pfm_path},
+                                                              {"--plain-png", &args.plain_png_path},
+                                                              {"--plain-pfm", &args.plain_pfm_path}};
+  for (std::size_t a = 0; a < 4; ++a) {
+    for (std::size_t b = a + 1; b < 4; ++b) {
+      if (named[a].second->empty() || named[b].second->empty()) continue;
+      if (same_output(*named[a].second, *named[b].second))
+        return fail(std::string("render: ") + named[a].first + " '" + *named[a].second + "' and " + named[b].first +
+                        " '" + *named[b].second + "' name the same file",
+                    kExitUsage);
+    }
+  }
 
   par2d::Scene scene;
   if (par2d::Status s = par2d::load_scene_file(common.scene_path, scene); !s)
@@ -179,14 +195,31 @@ int run_render(const CommonArgs& common, const RenderArgs& args) {
   if (!allocate_image(scene.width, scene.height, storage, image, error)) return fail(error);
 
   // The whole image exists before any file is touched: a failed render writes nothing.
-  if (par2d::Status s = par2d::render(scene, make_options(common), image); !s)
+  par2d::RenderOptions options = make_options(common);
+  if (par2d::Status s = par2d::render(scene, options, image); !s)
     return fail(s.message());
 
-  // All or nothing: both files are complete before either replaces what was there.
+  // The plain irradiance differs only where a normal source shades the scene; then it is a
+  // second render, finished (like the first) before any file is touched.
+  const bool wants_plain = !args.plain_png_path.empty() || !args.plain_pfm_path.empty();
+  const bool shaded = scene.normal.has_value() || scene.normal_map.has_value();
+  std::vector<float> plain_storage;
+  par2d::ImageView plain = image;
+  if (wants_plain && shaded) {
+    if (!allocate_image(scene.width, scene.height, plain_storage, plain, error)) return fail(error);
+    options.shaded = false;
+    if (par2d::Status s = par2d::render(scene, options, plain); !s) return fail(s.message());
+  }
+
+  // All or nothing: every file is complete before any replaces what was there.
   std::vector<par2d::ImageOutput> outputs;
   if (!args.png_path.empty())
     outputs.push_back({args.png_path, par2d::ImageOutput::Format::png, args.exposure});
   if (!args.pfm_path.empty()) outputs.push_back({args.pfm_path, par2d::ImageOutput::Format::pfm, 1.0});
+  if (!args.plain_png_path.empty())
+    outputs.push_back({args.plain_png_path, par2d::ImageOutput::Format::png, args.exposure, &plain});
+  if (!args.plain_pfm_path.empty())
+    outputs.push_back({args.plain_pfm_path, par2d::ImageOutput::Format::pfm, 1.0, &plain});
   for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGPIPE}) std::signal(sig, on_fatal_signal);
   if (par2d::Status s = par2d::write_images(outputs, image); !s) return fail(s.message());
   return 0;
@@ -267,6 +300,11 @@ int main(int argc, char** argv) {
   add_common_options(*render, render_common);
   render->add_option("-o,--output", render_args.png_path, "Output PNG (8-bit sRGB); - for standard output");
   render->add_option("--pfm", render_args.pfm_path, "Output PFM (linear float32 RGB); - for standard output");
+  render->add_option("--plain-png", render_args.plain_png_path,
+                     "Also write the plain irradiance (no normal-map shading) as an 8-bit sRGB PNG; the same "
+                     "image as -o when the scene has no normal or normal_map");
+  render->add_option("--plain-pfm", render_args.plain_pfm_path,
+                     "Also write the plain irradiance as a linear PFM (see --plain-png)");
   render->add_option("--exposure", render_args.exposure,
                      "PNG shows clamp(exposure * E, 0, 1), sRGB-encoded. Default: 1")
       ->check(kNonNegative);

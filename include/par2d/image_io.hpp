@@ -29,6 +29,9 @@ struct ImageOutput {
   std::string path;
   Format format = Format::png;
   double exposure = 1.0;  // PNG only
+  // The image this file shows; nullptr: the image given to write_images. One batch can so
+  // write several images (the shaded and the plain irradiance) all or nothing.
+  const ImageView* image = nullptr;
 };
 
 // Writes every output or, on any failure, none: all regular files go to temporaries first and

@@ -105,6 +105,69 @@ PAR2D_C_API par2d_status par2d_update_occluder(par2d_renderer* renderer, par2d_o
                                                const par2d_shape* shape);
 PAR2D_C_API par2d_status par2d_remove_occluder(par2d_renderer* renderer, par2d_occluder occluder);
 
+/* The game lighting model (docs/contract.md section 6). Angles are in degrees; masks default
+ * to 0xFFFFFFFF (an occluder acts on a light only where their masks share a bit). The light
+ * and occluder functions above keep a light's or occluder's terms (par2d_add_* gives the
+ * defaults); these set them. Refused values leave everything as it was. */
+typedef struct par2d_light_terms {
+  double range;           /* > 0; 0 (default): no range window */
+  int has_cone;           /* nonzero: emit only within the cone below; 0 (default): everywhere */
+  double cone_direction;  /* world direction of the cone's axis (90 points down by default) */
+  double cone_half_angle; /* 0 < half_angle <= 180 */
+  double cone_fade;       /* 0 <= fade <= half_angle */
+  uint32_t mask;
+  double elevation;       /* 0..90, default 0; used only with a normal source */
+} par2d_light_terms;
+
+typedef enum par2d_interior {
+  PAR2D_INTERIOR_DARK = 0, /* default: points inside the occluder are shadowed by it */
+  PAR2D_INTERIOR_LIT = 1   /* points inside are lit as if it were absent (sprites) */
+} par2d_interior;
+
+typedef struct par2d_occluder_terms {
+  double transmittance[3]; /* each in [0, 1]; default 0 (opaque) */
+  uint32_t mask;
+  par2d_interior interior;
+} par2d_occluder_terms;
+
+/* A sun or sky: radiance intensity * color along ray directions in [angles[0], angles[1]]
+ * (angles[0] < angles[1] < angles[0] + 360), from infinitely far away. */
+typedef struct par2d_directional_light {
+  double angles[2];
+  double color[3];
+  double intensity;
+  uint32_t mask;
+  double elevation; /* 0..90 */
+} par2d_directional_light;
+
+/* Fill with the defaults (no range, no cone, all mask bits, elevation 0 / opaque, dark). */
+PAR2D_C_API void par2d_light_terms_default(par2d_light_terms* terms);
+PAR2D_C_API void par2d_occluder_terms_default(par2d_occluder_terms* terms);
+PAR2D_C_API void par2d_directional_light_default(par2d_directional_light* light);
+
+PAR2D_C_API par2d_status par2d_get_light_terms(par2d_renderer* renderer, par2d_light light, par2d_light_terms* out);
+PAR2D_C_API par2d_status par2d_set_light_terms(par2d_renderer* renderer, par2d_light light,
+                                               const par2d_light_terms* terms);
+PAR2D_C_API par2d_status par2d_get_occluder_terms(par2d_renderer* renderer, par2d_occluder occluder,
+                                                  par2d_occluder_terms* out);
+PAR2D_C_API par2d_status par2d_set_occluder_terms(par2d_renderer* renderer, par2d_occluder occluder,
+                                                  const par2d_occluder_terms* terms);
+
+/* Scene-wide terms: ambient RGB (each >= 0) added to every pixel; the directional lights
+ * (replacing any before; count 0 removes them). */
+PAR2D_C_API par2d_status par2d_set_ambient(par2d_renderer* renderer, const double ambient[3]);
+PAR2D_C_API par2d_status par2d_set_directional_lights(par2d_renderer* renderer, const par2d_directional_light* lights,
+                                                      size_t count);
+/* Normal source for 2.5D shading (one at a time; each replaces the other):
+ * one normal {nx, ny, nz} in world axes (+z toward the viewer, any non-zero length);
+ * a map of width x height normals (exactly the frame's size), 3 floats per pixel, rows from
+ * the top, in image axes (x right, y UP, z toward the viewer);
+ * or an 8-bit RGB PNG normal map (n = 2 * rgb / 255 - 1, alpha ignored). */
+PAR2D_C_API par2d_status par2d_set_normal(par2d_renderer* renderer, const double normal[3]);
+PAR2D_C_API par2d_status par2d_set_normal_map(par2d_renderer* renderer, const float* normals, int width, int height);
+PAR2D_C_API par2d_status par2d_load_normal_map(par2d_renderer* renderer, const char* png_path);
+PAR2D_C_API par2d_status par2d_clear_normal_source(par2d_renderer* renderer);
+
 /* Renders region = {x0, y0, x1, y1} (pixels [x0, x1) x [y0, y1); NULL: the whole frame)
  * into `pixels`, whose first byte is the region's top-left pixel, rows `row_stride` bytes
  * apart. `exposure` (finite, >= 0) is used by PAR2D_RGBA8_SRGB only. A region's pixels are

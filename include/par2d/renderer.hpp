@@ -108,6 +108,26 @@ class Renderer {
   Status update_occluder(OccluderHandle handle, const Occluder& occluder);
   Status remove_occluder(OccluderHandle handle);
 
+  // The scene-wide lighting-model terms (docs/contract.md section 6), validated like a scene's;
+  // a refused value returns a Status and keeps the previous one. Lights and occluders carry
+  // their own terms (range, cone, mask, elevation; transmittance, mask, interior).
+  Status set_ambient(const Rgb& ambient);
+  Status set_directional_lights(const std::vector<DirectionalLight>& lights);
+  // One normal for every pixel (world axes, any non-zero length); replaces a normal map.
+  Status set_normal(const Vec3& normal);
+  // A normal per pixel, exactly the frame's width x height (before the first set_frame: any
+  // size, and set_frame then refuses another); replaces a constant normal.
+  Status set_normal_map(const NormalMap& map);
+  // No normal source: plain irradiance again (fails only when out of memory).
+  Status clear_normal_source();
+  // The terms as last set (ambient, directional_lights, normal, normal_map; no shapes).
+  const Scene& model_terms() const noexcept;
+
+  // Copies the light or occluder `handle` names, as last given, into `out` (reusing its
+  // buffers); an unknown handle is refused and `out` is left as it was.
+  Status light(LightHandle handle, Light* out) const;
+  Status occluder(OccluderHandle handle, Occluder* out) const;
+
   std::size_t light_count() const noexcept;
   std::size_t occluder_count() const noexcept;
 

@@ -150,6 +150,12 @@ Status parse_scene(std::string_view json_text, std::string_view name, Scene& out
 // Reads, parses and validates a JSON scene file.
 Status load_scene_file(const std::string& path, Scene& out);
 
+// Reads an 8-bit RGB PNG normal map (RGBA: alpha is ignored; gray and 16-bit PNGs are refused)
+// into `out`: n = 2 * rgb / 255 - 1 per pixel, image axes, rows from the top; `out.path` becomes
+// `path`. Messages start
+// with `path`. The size is not checked here: a scene needs exactly its width x height.
+Status load_normal_map_png(const std::string& path, NormalMap& out);
+
 // docs/contract.md section 5's e_max: the sum over lights and directional lights of the largest
 // channel of intensity * color, plus the largest ambient channel.
 double max_emission_sum(const Scene& scene) noexcept;

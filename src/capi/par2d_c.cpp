@@ -5,6 +5,7 @@
 #include <exception>
 #include <new>
 #include <string>
+#include <vector>
 
 #include "par2d/renderer.hpp"
 #include "par2d/version.hpp"
@@ -83,6 +84,30 @@ par2d_status fill_light(par2d_renderer* r, const par2d_shape* shape, const doubl
   return PAR2D_OK;
 }
 
+void set_default_terms(par2d::Light& light) {
+  light.range.reset();
+  light.cone.reset();
+  light.mask = par2d::kAllMaskBits;
+  light.elevation = 0.0;
+}
+
+void set_default_terms(par2d::Occluder& occluder) {
+  occluder.transmittance = {0.0, 0.0, 0.0};
+  occluder.mask = par2d::kAllMaskBits;
+  occluder.interior = par2d::Interior::dark;
+}
+
+par2d::DirectionalLight from_c(const par2d_directional_light& in) {
+  par2d::DirectionalLight out;
+  out.angle0 = in.angles[0];
+  out.angle1 = in.angles[1];
+  out.color = {in.color[0], in.color[1], in.color[2]};
+  out.intensity = in.intensity;
+  out.mask = in.mask;
+  out.elevation = in.elevation;
+  return out;
+}
+
 }  // namespace
 
 extern "C" {
@@ -154,6 +179,7 @@ par2d_status par2d_add_light(par2d_renderer* r, const par2d_shape* shape, const 
   if (r == nullptr || out == nullptr) return fail("par2d_add_light: renderer or out is null");
   return guarded([&] {
     if (par2d_status s = fill_light(r, shape, color, intensity); s != PAR2D_OK) return s;
+    set_default_terms(r->light);
     par2d::LightHandle h;
     if (par2d::Status s = r->renderer.add_light(r->light, &h); !s.ok()) return to_c(s);
     *out = h.id;
@@ -165,6 +191,8 @@ par2d_status par2d_update_light(par2d_renderer* r, par2d_light light, const par2
                                 double intensity) {
   if (r == nullptr) return fail("par2d_update_light: renderer is null");
   return guarded([&] {
+    // The light keeps its terms (range, cone, mask, elevation): start from it as it is.
+    if (!r->renderer.light(par2d::LightHandle{light}, &r->light).ok()) set_default_terms(r->light);
     if (par2d_status s = fill_light(r, shape, color, intensity); s != PAR2D_OK) return s;
     return to_c(r->renderer.update_light(par2d::LightHandle{light}, r->light));
   });
@@ -186,6 +214,7 @@ par2d_status par2d_add_occluder(par2d_renderer* r, const par2d_shape* shape, par
   if (r == nullptr || out == nullptr) return fail("par2d_add_occluder: renderer or out is null");
   return guarded([&] {
     if (par2d_status s = convert_shape(shape, r->occluder.shape); s != PAR2D_OK) return s;
+    set_default_terms(r->occluder);
     par2d::OccluderHandle h;
     if (par2d::Status s = r->renderer.add_occluder(r->occluder, &h); !s.ok()) return to_c(s);
     *out = h.id;
@@ -196,6 +225,8 @@ par2d_status par2d_add_occluder(par2d_renderer* r, const par2d_shape* shape, par
 par2d_status par2d_update_occluder(par2d_renderer* r, par2d_occluder occluder, const par2d_shape* shape) {
   if (r == nullptr) return fail("par2d_update_occluder: renderer is null");
   return guarded([&] {
+    // The occluder keeps its terms (transmittance, mask, interior).
+    if (!r->renderer.occluder(par2d::OccluderHandle{occluder}, &r->occluder).ok()) set_default_terms(r->occluder);
     if (par2d_status s = convert_shape(shape, r->occluder.shape); s != PAR2D_OK) return s;
     return to_c(r->renderer.update_occluder(par2d::OccluderHandle{occluder}, r->occluder));
   });
@@ -223,6 +254,133 @@ par2d_status par2d_render(par2d_renderer* r, void* pixels, par2d_pixel_format fo
     if (region == nullptr) return to_c(r->renderer.render(buffer));
     return to_c(r->renderer.render(buffer, par2d::PixelRect{region[0], region[1], region[2], region[3]}));
   });
+}
+
+void par2d_light_terms_default(par2d_light_terms* terms) {
+  if (terms == nullptr) return;
+  *terms = par2d_light_terms{};
+  terms->cone_half_angle = 180.0;
+  terms->mask = par2d::kAllMaskBits;
+}
+
+void par2d_occluder_terms_default(par2d_occluder_terms* terms) {
+  if (terms == nullptr) return;
+  *terms = par2d_occluder_terms{};
+  terms->mask = par2d::kAllMaskBits;
+  terms->interior = PAR2D_INTERIOR_DARK;
+}
+
+void par2d_directional_light_default(par2d_directional_light* light) {
+  if (light == nullptr) return;
+  *light = par2d_directional_light{};
+  light->color[0] = light->color[1] = light->color[2] = 1.0;
+  light->intensity = 1.0;
+  light->mask = par2d::kAllMaskBits;
+}
+
+par2d_status par2d_get_light_terms(par2d_renderer* r, par2d_light light, par2d_light_terms* out) {
+  if (r == nullptr || out == nullptr) return fail("par2d_get_light_terms: renderer or out is null");
+  return guarded([&] {
+    if (par2d::Status s = r->renderer.light(par2d::LightHandle{light}, &r->light); !s.ok()) return to_c(s);
+    par2d_light_terms_default(out);
+    out->range = r->light.range ? *r->light.range : 0.0;
+    out->has_cone = r->light.cone ? 1 : 0;
+    if (r->light.cone) {
+      out->cone_direction = r->light.cone->direction;
+      out->cone_half_angle = r->light.cone->half_angle;
+      out->cone_fade = r->light.cone->fade;
+    }
+    out->mask = r->light.mask;
+    out->elevation = r->light.elevation;
+    return PAR2D_OK;
+  });
+}
+
+par2d_status par2d_set_light_terms(par2d_renderer* r, par2d_light light, const par2d_light_terms* terms) {
+  if (r == nullptr || terms == nullptr) return fail("par2d_set_light_terms: renderer or terms is null");
+  return guarded([&] {
+    if (par2d::Status s = r->renderer.light(par2d::LightHandle{light}, &r->light); !s.ok()) return to_c(s);
+    // 0 means no range; anything else (negative, NaN) goes to validation and is refused there.
+    if (terms->range == 0.0) r->light.range.reset();
+    else r->light.range = terms->range;
+    if (terms->has_cone) r->light.cone = par2d::Cone{terms->cone_direction, terms->cone_half_angle, terms->cone_fade};
+    else r->light.cone.reset();
+    r->light.mask = terms->mask;
+    r->light.elevation = terms->elevation;
+    return to_c(r->renderer.update_light(par2d::LightHandle{light}, r->light));
+  });
+}
+
+par2d_status par2d_get_occluder_terms(par2d_renderer* r, par2d_occluder occluder, par2d_occluder_terms* out) {
+  if (r == nullptr || out == nullptr) return fail("par2d_get_occluder_terms: renderer or out is null");
+  return guarded([&] {
+    if (par2d::Status s = r->renderer.occluder(par2d::OccluderHandle{occluder}, &r->occluder); !s.ok()) return to_c(s);
+    for (int c = 0; c < 3; ++c) out->transmittance[c] = r->occluder.transmittance[static_cast<std::size_t>(c)];
+    out->mask = r->occluder.mask;
+    out->interior = r->occluder.interior == par2d::Interior::lit ? PAR2D_INTERIOR_LIT : PAR2D_INTERIOR_DARK;
+    return PAR2D_OK;
+  });
+}
+
+par2d_status par2d_set_occluder_terms(par2d_renderer* r, par2d_occluder occluder, const par2d_occluder_terms* terms) {
+  if (r == nullptr || terms == nullptr) return fail("par2d_set_occluder_terms: renderer or terms is null");
+  if (terms->interior != PAR2D_INTERIOR_DARK && terms->interior != PAR2D_INTERIOR_LIT)
+    return fail("par2d_set_occluder_terms: interior must be PAR2D_INTERIOR_DARK or PAR2D_INTERIOR_LIT");
+  return guarded([&] {
+    if (par2d::Status s = r->renderer.occluder(par2d::OccluderHandle{occluder}, &r->occluder); !s.ok()) return to_c(s);
+    r->occluder.transmittance = {terms->transmittance[0], terms->transmittance[1], terms->transmittance[2]};
+    r->occluder.mask = terms->mask;
+    r->occluder.interior = terms->interior == PAR2D_INTERIOR_LIT ? par2d::Interior::lit : par2d::Interior::dark;
+    return to_c(r->renderer.update_occluder(par2d::OccluderHandle{occluder}, r->occluder));
+  });
+}
+
+par2d_status par2d_set_ambient(par2d_renderer* r, const double ambient[3]) {
+  if (r == nullptr || ambient == nullptr) return fail("par2d_set_ambient: renderer or ambient is null");
+  return guarded([&] { return to_c(r->renderer.set_ambient({ambient[0], ambient[1], ambient[2]})); });
+}
+
+par2d_status par2d_set_directional_lights(par2d_renderer* r, const par2d_directional_light* lights, size_t count) {
+  if (r == nullptr || (lights == nullptr && count > 0))
+    return fail("par2d_set_directional_lights: renderer or lights is null");
+  return guarded([&] {
+    std::vector<par2d::DirectionalLight> converted;
+    converted.reserve(count);
+    for (size_t i = 0; i < count; ++i) converted.push_back(from_c(lights[i]));
+    return to_c(r->renderer.set_directional_lights(converted));
+  });
+}
+
+par2d_status par2d_set_normal(par2d_renderer* r, const double normal[3]) {
+  if (r == nullptr || normal == nullptr) return fail("par2d_set_normal: renderer or normal is null");
+  return guarded([&] { return to_c(r->renderer.set_normal({normal[0], normal[1], normal[2]})); });
+}
+
+par2d_status par2d_set_normal_map(par2d_renderer* r, const float* normals, int width, int height) {
+  if (r == nullptr || normals == nullptr) return fail("par2d_set_normal_map: renderer or normals is null");
+  if (width < 1 || height < 1 || width > par2d::kMaxImageSide || height > par2d::kMaxImageSide)
+    return fail("par2d_set_normal_map: width and height must be from 1 to 16384");
+  return guarded([&] {
+    par2d::NormalMap map;
+    map.width = width;
+    map.height = height;
+    map.normals.assign(normals, normals + 3 * static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+    return to_c(r->renderer.set_normal_map(map));
+  });
+}
+
+par2d_status par2d_load_normal_map(par2d_renderer* r, const char* png_path) {
+  if (r == nullptr || png_path == nullptr) return fail("par2d_load_normal_map: renderer or path is null");
+  return guarded([&] {
+    par2d::NormalMap map;
+    if (par2d::Status s = par2d::load_normal_map_png(png_path, map); !s.ok()) return to_c(s);
+    return to_c(r->renderer.set_normal_map(map));
+  });
+}
+
+par2d_status par2d_clear_normal_source(par2d_renderer* r) {
+  if (r == nullptr) return fail("par2d_clear_normal_source: renderer is null");
+  return guarded([&] { return to_c(r->renderer.clear_normal_source()); });
 }
 
 }  // extern "C"

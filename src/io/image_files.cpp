@@ -167,7 +167,9 @@ bool same_target(const detail::OutputFile& a, const detail::OutputFile& b) {
 
 Status write_images(const std::vector<ImageOutput>& outputs, const ImageView& image) {
   try {
+    auto image_of = [&](const ImageOutput& out) -> const ImageView& { return out.image ? *out.image : image; };
     for (const ImageOutput& out : outputs) {
+      const ImageView& image = image_of(out);
       if (Status s = check_view(image, out.path); !s) return s;
       if (out.format == ImageOutput::Format::png) {
         if (!std::isfinite(out.exposure) || out.exposure < 0.0)
@@ -191,11 +193,11 @@ Status write_images(const std::vector<ImageOutput>& outputs, const ImageView& im
       for (std::size_t k = 0; k < outputs.size(); ++k) {
         if (files[k]->writes_through() != through) continue;
         if (outputs[k].format == ImageOutput::Format::pfm) {
-          if (Status s = write_pfm_rows(*files[k], image); !s) return s;
+          if (Status s = write_pfm_rows(*files[k], image_of(outputs[k])); !s) return s;
           continue;
         }
         std::vector<unsigned char> png;
-        if (Status s = encode_png(outputs[k].path, image, outputs[k].exposure, png); !s) return s;
+        if (Status s = encode_png(outputs[k].path, image_of(outputs[k]), outputs[k].exposure, png); !s) return s;
         if (Status s = files[k]->write(png.data(), png.size()); !s) return s;
       }
     }

@@ -98,6 +98,65 @@ Status Renderer::remove_occluder(OccluderHandle handle) {
   return guarded("remove_occluder", [&] { return impl_->world.remove_occluder(handle); });
 }
 
+Status Renderer::set_ambient(const Rgb& ambient) {
+  return guarded("set_ambient", [&] {
+    Scene terms = impl_->world.model_terms();
+    terms.ambient = ambient;
+    return impl_->world.set_model_terms("set_ambient", terms);
+  });
+}
+Status Renderer::set_directional_lights(const std::vector<DirectionalLight>& lights) {
+  return guarded("set_directional_lights", [&] {
+    Scene terms = impl_->world.model_terms();
+    terms.directional_lights = lights;
+    return impl_->world.set_model_terms("set_directional_lights", terms);
+  });
+}
+Status Renderer::set_normal(const Vec3& normal) {
+  return guarded("set_normal", [&] {
+    Scene terms = impl_->world.model_terms();
+    terms.normal = normal;
+    terms.normal_map.reset();
+    return impl_->world.set_model_terms("set_normal", terms);
+  });
+}
+Status Renderer::set_normal_map(const NormalMap& map) {
+  return guarded("set_normal_map", [&] {
+    Scene terms = impl_->world.model_terms();
+    terms.normal.reset();
+    terms.normal_map = map;
+    return impl_->world.set_model_terms("set_normal_map", terms);
+  });
+}
+Status Renderer::clear_normal_source() {
+  return guarded("clear_normal_source", [&] {
+    Scene terms = impl_->world.model_terms();
+    terms.normal.reset();
+    terms.normal_map.reset();
+    return impl_->world.set_model_terms("clear_normal_source", terms);
+  });
+}
+const Scene& Renderer::model_terms() const noexcept { return impl_->world.model_terms(); }
+
+Status Renderer::light(LightHandle handle, Light* out) const {
+  if (out == nullptr) return bad("light: out is null");
+  const Light* light = impl_->world.find_light(handle.id);
+  if (light == nullptr) return bad("light: unknown handle " + std::to_string(handle.id));
+  return guarded("light", [&] {
+    *out = *light;
+    return Status::success();
+  });
+}
+Status Renderer::occluder(OccluderHandle handle, Occluder* out) const {
+  if (out == nullptr) return bad("occluder: out is null");
+  const Occluder* occluder = impl_->world.find_occluder(handle.id);
+  if (occluder == nullptr) return bad("occluder: unknown handle " + std::to_string(handle.id));
+  return guarded("occluder", [&] {
+    *out = *occluder;
+    return Status::success();
+  });
+}
+
 std::size_t Renderer::light_count() const noexcept { return impl_->world.light_count(); }
 std::size_t Renderer::occluder_count() const noexcept { return impl_->world.occluder_count(); }
 

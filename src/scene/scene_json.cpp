@@ -8,7 +8,9 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <deque>
 #include <exception>
+#include <filesystem>
 #include <initializer_list>
 #include <memory>
 #include <new>
@@ -97,7 +99,11 @@ class SceneBuilder {
     v.number = value;
     return scalar(v);
   }
-  bool string(Json::string_t& /*value*/) { return scalar(Scalar{Scalar::kOther}); }
+  bool string(Json::string_t& value) {
+    Scalar v{Scalar::kString};
+    v.text = &value;
+    return scalar(v);
+  }
   bool binary(Json::binary_t& /*value*/) { return scalar(Scalar{Scalar::kOther}); }
 
   bool start_object(std::size_t /*size*/) { return open(true); }
@@ -143,7 +149,16 @@ class SceneBuilder {
 
  private:
   // What a container holds, which decides what its values mean.
-  enum class Role { root, skip, view, list, element, polygon, point, circle, segment, color };
+  // `numbers`: a fixed-length array of numbers (a color, a normal, angles) stored at `target`.
+  enum class Role { root, skip, view, list, element, polygon, point, circle, segment, numbers, cone };
+  enum class ListKind { lights, occluders, directionals };
+
+  // Where a `numbers` array goes and what it must look like.
+  struct Numbers {
+    double* target = nullptr;
+    std::size_t length = 0;
+    const char* expected = "";
+  };
 
   struct Frame {
     Role role;
@@ -152,14 +167,16 @@ class SceneBuilder {
     std::size_t count = 0;  // arrays: values so far
     std::string key;        // objects: the current key
     std::unordered_set<std::string> keys;
+    Numbers numbers;
   };
 
   struct Scalar {
-    enum Kind { kOther, kInteger, kUnsigned, kFloat } kind;
+    enum Kind { kOther, kString, kInteger, kUnsigned, kFloat } kind;
     std::int64_t integer = 0;
     std::uint64_t unsigned_integer = 0;
     double number = 0.0;
-    bool is_number() const { return kind != kOther; }
+    const std::string* text = nullptr;  // kString
+    bool is_number() const { return kind == kInteger || kind == kUnsigned || kind == kFloat; }
     std::string dump() const {
       if (kind == kInteger) return Json(integer).dump();
       if (kind == kUnsigned) return Json(unsigned_integer).dump();
@@ -167,11 +184,18 @@ class SceneBuilder {
     }
   };
 
-  // The light or occluder being read.
+  // The light, occluder or directional light being read.
   struct Element {
-    bool light = true;
+    ListKind kind = ListKind::lights;
+    bool light = true;  // kind == lights
     const char* shape = nullptr;  // "polygon", "circle" or "segment" once seen
     Light value;
+    Occluder occluder;            // its terms (the shape is kept in `shape`'s member below)
+    DirectionalLight directional;
+    double angles[2] = {0, 0};
+    bool has_angles = false;
+    Cone cone;
+    bool has_direction = false, has_half_angle = false;
     Polygon polygon;
     Circle circle;
     bool has_center = false, has_radius = false;
@@ -195,15 +219,28 @@ class SceneBuilder {
     const std::string place = member_place(frame.place, frame.key);
     const std::string& k = frame.key;
     if (frame.role == Role::root) {
-      if (k != "width" && k != "height" && k != "view" && k != "lights" && k != "occluders")
-        fail(place, "unknown key (expected width, height, view, lights, occluders)");
+      if (k != "width" && k != "height" && k != "view" && k != "lights" && k != "occluders" && k != "ambient" &&
+          k != "directional_lights" && k != "normal" && k != "normal_map")
+        fail(place, "unknown key (expected width, height, view, lights, occluders, ambient, directional_lights, "
+                    "normal, normal_map)");
+    } else if (frame.role == Role::cone) {
+      if (k != "direction" && k != "half_angle" && k != "fade")
+        fail(place, "unknown key (expected direction, half_angle, fade)");
+    } else if (frame.role == Role::element && element_.kind == ListKind::directionals) {
+      if (k != "angles" && k != "color" && k != "intensity" && k != "mask" && k != "elevation")
+        fail(place, "unknown key (expected angles, color, intensity, mask, elevation)");
     } else if (frame.role == Role::element) {
       const bool shape = k == "polygon" || k == "circle" || k == "segment";
+      const bool light_term = k == "color" || k == "intensity" || k == "range" || k == "cone" || k == "mask" ||
+                              k == "elevation";
+      const bool occluder_term = k == "transmittance" || k == "mask" || k == "interior";
       if (!element_.light && (k == "color" || k == "intensity")) {
         fail(place, "occluders take no color or intensity");
-      } else if (!shape && !(element_.light && (k == "color" || k == "intensity"))) {
-        fail(place, element_.light ? "unknown key (expected polygon, circle, segment, color, intensity)"
-                                   : "unknown key (expected polygon, circle, segment)");
+      } else if (!shape && !(element_.light ? light_term : occluder_term)) {
+        fail(place, element_.light
+                        ? "unknown key (expected polygon, circle, segment, color, intensity, range, cone, mask, "
+                          "elevation)"
+                        : "unknown key (expected polygon, circle, segment, transmittance, mask, interior)");
       } else if (shape && element_.shape != nullptr) {
         // Named in a fixed order, whatever the order in the file.
         static constexpr const char* kShapes[] = {"polygon", "circle", "segment"};
@@ -234,6 +271,9 @@ class SceneBuilder {
         case Role::root:
           if (frame.key == "width" || frame.key == "height") image_side(v, place, frame.key == "width");
           else if (frame.key == "view") fail("view", "expected [x0, y0, x1, y1]");
+          else if (frame.key == "ambient") fail(place, "expected [r, g, b]");
+          else if (frame.key == "normal") fail(place, "expected [nx, ny, nz]");
+          else if (frame.key == "normal_map") normal_map_path(v, place);
           else fail(frame.key, "expected an array");
           break;
         case Role::view:
@@ -260,9 +300,22 @@ class SceneBuilder {
           if (frame.count >= 2) fail(frame.place, "expected [[x, y], [x, y]]");
           else fail(place, "expected [x, y]");
           break;
-        case Role::color:
-          if (!v.is_number() || frame.count >= 3) fail(frame.place, "expected [r, g, b]");
-          else element_.value.color[frame.count] = v.number;
+        case Role::numbers:
+          if (!v.is_number() || frame.count >= frame.numbers.length) fail(frame.place, frame.numbers.expected);
+          else frame.numbers.target[frame.count] = v.number;
+          break;
+        case Role::cone:
+          if (!v.is_number()) {
+            fail(place, "expected a number");
+          } else if (frame.key == "direction") {
+            element_.cone.direction = v.number;
+            element_.has_direction = true;
+          } else if (frame.key == "half_angle") {
+            element_.cone.half_angle = v.number;
+            element_.has_half_angle = true;
+          } else {
+            element_.cone.fade = v.number;
+          }
           break;
         case Role::skip: break;
       }
@@ -290,13 +343,53 @@ class SceneBuilder {
     (width ? has_width_ : has_height_) = true;
   }
 
+  // A 32-bit mask: integer-valued numbers only (5 or 5.0), range-checked before any cast.
+  void mask_value(const Scalar& v, const std::string& place, std::uint32_t& out) {
+    constexpr double kLargest = 4294967295.0;
+    bool in_range = false;
+    if (v.kind == Scalar::kUnsigned) {
+      in_range = v.unsigned_integer <= 0xFFFFFFFFull;
+    } else if (v.kind == Scalar::kInteger) {
+      in_range = v.integer >= 0 && v.integer <= 0xFFFFFFFFll;
+    } else if (v.kind == Scalar::kFloat) {
+      in_range = std::floor(v.number) == v.number && v.number >= 0.0 && v.number <= kLargest;
+    } else {
+      return fail(place, "expected an integer");
+    }
+    if (!in_range) return fail(place, "must be an integer from 0 to 4294967295, got " + v.dump());
+    out = static_cast<std::uint32_t>(v.number);
+  }
+
+  void normal_map_path(const Scalar& v, const std::string& place) {
+    if (v.kind != Scalar::kString || v.text->empty()) return fail(place, "expected a PNG file path");
+    if (v.text->find('\0') != std::string::npos) return fail(place, "the path contains a NUL character");
+    NormalMap map;
+    map.path = *v.text;
+    scene_.normal_map = std::move(map);
+  }
+
   void element_scalar(const Frame& frame, const Scalar& v, const std::string& place) {
     const std::string& k = frame.key;
-    if (k == "intensity") {
+    Element& e = element_;
+    const bool directional = e.kind == ListKind::directionals;
+    if (k == "intensity" || k == "range" || k == "elevation") {
       if (!v.is_number()) return fail(place, "expected a number");
-      element_.value.intensity = v.number;
-    } else if (k == "color") {
+      if (k == "intensity") (directional ? e.directional.intensity : e.value.intensity) = v.number;
+      else if (k == "elevation") (directional ? e.directional.elevation : e.value.elevation) = v.number;
+      else e.value.range = v.number;
+    } else if (k == "mask") {
+      mask_value(v, place, directional ? e.directional.mask : (e.light ? e.value.mask : e.occluder.mask));
+    } else if (k == "interior") {
+      if (v.kind != Scalar::kString) return fail(place, "expected \"dark\" or \"lit\"");
+      if (*v.text == "dark") e.occluder.interior = Interior::dark;
+      else if (*v.text == "lit") e.occluder.interior = Interior::lit;
+      else fail(place, "must be \"dark\" or \"lit\", got " + Json(*v.text).dump(-1, ' ', true, Json::error_handler_t::replace));
+    } else if (k == "color" || k == "transmittance") {
       fail(place, "expected [r, g, b]");
+    } else if (k == "angles") {
+      fail(place, "expected [a0, a1]");
+    } else if (k == "cone") {
+      fail(place, "expected {\"direction\": d, \"half_angle\": h, \"fade\": f}");
     } else if (k == "polygon") {
       fail(place, "expected an array of [x, y] vertices");
     } else if (k == "circle") {
@@ -324,21 +417,45 @@ class SceneBuilder {
       case Role::root:
         if (k == "width" || k == "height") return refuse(place, "expected an integer");
         if (k == "view") return object ? refuse("view", "expected [x0, y0, x1, y1]") : Role::view;
+        if (k == "normal_map") return refuse(place, "expected a PNG file path");
+        if (k == "ambient") return numbers(object, place, scene_.ambient.data(), 3, "expected [r, g, b]");
+        if (k == "normal") {
+          has_normal_ = true;
+          return numbers(object, place, normal_, 3, "expected [nx, ny, nz]");
+        }
         if (object) return refuse(k, "expected an array");
-        list_is_lights_ = k == "lights";
+        list_kind_ = k == "lights" ? ListKind::lights : (k == "occluders" ? ListKind::occluders : ListKind::directionals);
         return Role::list;
       case Role::view: return refuse("view", "expected [x0, y0, x1, y1]");
       case Role::list:
         if (!object) return refuse(place, "expected an object");
         element_ = Element{};
-        element_.light = list_is_lights_;
+        element_.kind = list_kind_;
+        element_.light = list_kind_ == ListKind::lights;
         return Role::element;
       case Role::element:
         if (k == "polygon") return object ? refuse(place, "expected an array of [x, y] vertices") : Role::polygon;
         if (k == "circle") return object ? Role::circle : refuse(place, "expected {\"center\": [x, y], \"radius\": r}");
         if (k == "segment") return object ? refuse(place, "expected [[x, y], [x, y]]") : Role::segment;
-        if (k == "color") return object ? refuse(place, "expected [r, g, b]") : Role::color;
-        return refuse(place, "expected a number");  // intensity
+        if (k == "color") {
+          double* color = element_.kind == ListKind::directionals ? element_.directional.color.data()
+                                                                  : element_.value.color.data();
+          return numbers(object, place, color, 3, "expected [r, g, b]");
+        }
+        if (k == "transmittance")
+          return numbers(object, place, element_.occluder.transmittance.data(), 3, "expected [r, g, b]");
+        if (k == "angles") {
+          element_.has_angles = true;
+          return numbers(object, place, element_.angles, 2, "expected [a0, a1]");
+        }
+        if (k == "cone") {
+          if (!object) return refuse(place, "expected {\"direction\": d, \"half_angle\": h, \"fade\": f}");
+          element_.cone = Cone{};
+          return Role::cone;
+        }
+        if (k == "interior") return refuse(place, "expected \"dark\" or \"lit\"");
+        if (k == "mask") return refuse(place, "expected an integer");
+        return refuse(place, "expected a number");  // intensity, range, elevation
       case Role::segment:
         if (frame.count >= 2) return refuse(frame.place, "expected [[x, y], [x, y]]");
         return object ? refuse(place, "expected [x, y]") : Role::point;
@@ -347,10 +464,21 @@ class SceneBuilder {
         if (k == "center") return object ? refuse(place, "expected [x, y]") : Role::point;
         return refuse(place, "expected a number");  // radius
       case Role::point: return refuse(frame.place, "expected [x, y]");
-      case Role::color: return refuse(frame.place, "expected [r, g, b]");
+      case Role::numbers: return refuse(frame.place, frame.numbers.expected);
+      case Role::cone: return refuse(place, "expected a number");
       case Role::skip: return Role::skip;
     }
     return Role::skip;
+  }
+
+  // A fixed-length number array opening (an object there is refused).
+  Role numbers(bool object, const std::string& place, double* target, std::size_t length, const char* expected) {
+    if (object) {
+      fail(place, expected);
+      return Role::skip;
+    }
+    pending_numbers_ = Numbers{target, length, expected};
+    return Role::numbers;
   }
 
   bool open(bool object) {
@@ -360,8 +488,9 @@ class SceneBuilder {
       return false;
     }
     std::string place = next_place();
+    pending_numbers_ = Numbers{};
     const Role role = container_role(object, place);
-    frames_.push_back(Frame{role, object, std::move(place), 0, {}, {}});
+    frames_.push_back(Frame{role, object, std::move(place), 0, {}, {}, pending_numbers_});
     return true;
   }
 
@@ -397,8 +526,13 @@ class SceneBuilder {
       case Role::segment:
         if (frame.count != 2) return fail(frame.place, "expected [[x, y], [x, y]]");
         return;
-      case Role::color:
-        if (frame.count != 3) return fail(frame.place, "expected [r, g, b]");
+      case Role::numbers:
+        if (frame.count != frame.numbers.length) return fail(frame.place, frame.numbers.expected);
+        return;
+      case Role::cone:
+        if (!element_.has_direction) return fail(member_place(frame.place, "direction"), "missing (required)");
+        if (!element_.has_half_angle) return fail(member_place(frame.place, "half_angle"), "missing (required)");
+        element_.value.cone = element_.cone;
         return;
       case Role::circle:
         if (!element_.has_center) return fail(member_place(frame.place, "center"), "missing (required)");
@@ -407,7 +541,7 @@ class SceneBuilder {
       case Role::element: return finish_element(frame.place);
       case Role::root: return finish_root();
       case Role::list:
-        if (list_is_lights_) {
+        if (list_kind_ == ListKind::lights) {
           if (auto problem = detail::check_emission_total(scene_.lights)) fail(problem->place, problem->what);
         }
         return;
@@ -418,6 +552,14 @@ class SceneBuilder {
 
   void finish_element(const std::string& place) {
     Element& e = element_;
+    if (e.kind == ListKind::directionals) {
+      if (!e.has_angles) return fail(member_place(place, "angles"), "missing (required)");
+      e.directional.angle0 = e.angles[0];
+      e.directional.angle1 = e.angles[1];
+      if (auto problem = detail::check_directional(e.directional, place)) return fail(problem->place, problem->what);
+      scene_.directional_lights.push_back(e.directional);
+      return;
+    }
     if (e.shape == nullptr) return fail(place, "needs one of polygon, circle, segment");
     Shape shape;
     if (e.shape[0] == 'p') shape = std::move(e.polygon);
@@ -428,18 +570,62 @@ class SceneBuilder {
       if (auto problem = detail::check_light(e.value, place)) return fail(problem->place, problem->what);
       scene_.lights.push_back(std::move(e.value));
     } else {
-      Occluder occluder{std::move(shape)};
+      Occluder occluder = std::move(e.occluder);
+      occluder.shape = std::move(shape);
       if (auto problem = detail::check_occluder(occluder, place)) return fail(problem->place, problem->what);
-      scene_.occluders.push_back(std::move(occluder));
+      // Shapes alone (40 bytes) until the end: an Occluder is 72, and a level is mostly
+      // plain occluders; the few with other terms are kept aside with their index.
+      const Occluder plain;
+      if (occluder.transmittance != plain.transmittance || occluder.mask != plain.mask ||
+          occluder.interior != plain.interior) {
+        Occluder terms;
+        terms.transmittance = occluder.transmittance;
+        terms.mask = occluder.mask;
+        terms.interior = occluder.interior;
+        occluder_terms_.emplace_back(occluder_shapes_.size(), std::move(terms));
+      }
+      occluder_shapes_.push_back(std::move(occluder.shape));
     }
   }
+
+ public:
+  // After a successful parse: scene().occluders from the compact store, reserved exactly and
+  // filled while the store is freed block by block, so the peak is about 40 + 72 bytes per
+  // occluder instead of a growing vector's 3 x 72.
+  void build_occluders() {
+    std::vector<Occluder>& out = scene_.occluders;
+    out.clear();
+    out.reserve(occluder_shapes_.size());
+    std::size_t next_terms = 0;
+    while (!occluder_shapes_.empty()) {
+      Occluder occluder;
+      if (next_terms < occluder_terms_.size() && occluder_terms_[next_terms].first == out.size()) {
+        occluder = std::move(occluder_terms_[next_terms].second);
+        ++next_terms;
+      }
+      occluder.shape = std::move(occluder_shapes_.front());
+      occluder_shapes_.pop_front();
+      out.push_back(std::move(occluder));
+    }
+    occluder_terms_.clear();
+  }
+
+ private:
 
   void finish_root() {
     if (!has_width_) return fail("width", "missing (required)");
     if (!has_height_) return fail("height", "missing (required)");
     scene_.view = has_view_ ? View{view_[0], view_[1], view_[2], view_[3]}
                             : View{0.0, 0.0, static_cast<double>(scene_.width), static_cast<double>(scene_.height)};
-    if (auto problem = detail::check_view(scene_.view, scene_.width, scene_.height)) fail(problem->place, problem->what);
+    if (auto problem = detail::check_view(scene_.view, scene_.width, scene_.height)) return fail(problem->place, problem->what);
+    if (auto problem = detail::check_ambient(scene_.ambient)) return fail(problem->place, problem->what);
+    if (has_normal_) {
+      scene_.normal = Vec3{normal_[0], normal_[1], normal_[2]};
+      if (auto problem = detail::check_normal(*scene_.normal)) return fail(problem->place, problem->what);
+    }
+    if (scene_.normal && scene_.normal_map) {
+      return fail("normal_map", "the scene has both normal and normal_map (at most one normal source)");
+    }
   }
 
   std::vector<Frame> frames_;
@@ -449,7 +635,12 @@ class SceneBuilder {
   Scene scene_;
   bool has_width_ = false, has_height_ = false, has_view_ = false;
   double view_[4] = {0, 0, 0, 0};
-  bool list_is_lights_ = true;
+  ListKind list_kind_ = ListKind::lights;
+  Numbers pending_numbers_;
+  bool has_normal_ = false;
+  double normal_[3] = {0, 0, 0};
+  std::deque<Shape> occluder_shapes_;
+  std::vector<std::pair<std::size_t, Occluder>> occluder_terms_;  // (index, terms) of non-plain occluders
   Element element_;
   double point_[2] = {0, 0};
 };
@@ -463,13 +654,42 @@ Status out_of_memory(std::string_view name) {
 }
 
 
+// The scene's normal_map: `map.path` as written in the scene, resolved against the directory
+// of the scene file `name`; kept as written so that the scene writes back the same text.
+Status load_scene_normal_map(std::string_view name, NormalMap& map, int width, int height) {
+  const std::filesystem::path written(map.path);
+  const std::string resolved =
+      written.is_absolute() ? map.path : (std::filesystem::path(std::string(name)).parent_path() / written).string();
+  const std::string prefix = std::string(name) + ": normal_map: ";
+  NormalMap loaded;
+  if (Status status = load_normal_map_png(resolved, loaded); !status) {
+    return Status(status.code(), prefix + status.message());
+  }
+  if (loaded.width != width || loaded.height != height) {
+    return Status(StatusCode::invalid_scene, prefix + resolved + ": is " + std::to_string(loaded.width) + "x" +
+                                                 std::to_string(loaded.height) + " but the image is " +
+                                                 std::to_string(width) + "x" + std::to_string(height) +
+                                                 " (it must be exactly the image's size)");
+  }
+  loaded.path = map.path;
+  map = std::move(loaded);
+  return Status::success();
+}
+
 // Runs the builder: `run(builder)` calls Json::sax_parse on some input (text, a FILE*).
 template <class Run>
 Status parse_with(Run&& run, std::string_view name, Scene& out) {
   SceneBuilder builder;
   if (!run(builder)) return detail::scene_error(name, builder.problem());
   if (builder.failed()) return detail::scene_error(name, builder.content_problem());
-  out = std::move(builder.scene());
+  builder.build_occluders();
+  Scene& scene = builder.scene();
+  if (scene.normal_map) {
+    if (Status status = load_scene_normal_map(name, *scene.normal_map, scene.width, scene.height); !status)
+      return status;
+  }
+  if (auto problem = detail::check_scene_terms(scene)) return detail::scene_error(name, *problem);
+  out = std::move(scene);
   return Status::success();
 }
 

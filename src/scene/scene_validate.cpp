@@ -170,6 +170,12 @@ MaybeProblem check_non_negative(double value, const std::string& place) {
   return std::nullopt;
 }
 
+MaybeProblem check_elevation(double value, const std::string& place) {
+  if (auto problem = check_finite(value, place)) return problem;
+  if (!(value >= 0.0 && value <= 90.0)) return SceneProblem{place, "must be between 0 and 90, got " + format_number(value)};
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::string image_side_range_text() {
@@ -235,11 +241,132 @@ MaybeProblem check_light(const Light& light, const std::string& place) {
   for (std::size_t c = 0; c < light.color.size(); ++c) {
     if (auto problem = check_non_negative(light.color[c], indexed(place + ".color", c))) return problem;
   }
-  return check_non_negative(light.intensity, place + ".intensity");
+  if (auto problem = check_non_negative(light.intensity, place + ".intensity")) return problem;
+  // Each place is built only once a value is refused (no allocation per valid update).
+  if (light.range && !(std::isfinite(*light.range) && *light.range > 0.0)) {
+    if (auto problem = check_finite(*light.range, place + ".range")) return problem;
+    return SceneProblem{place + ".range", "must be > 0, got " + format_number(*light.range)};
+  }
+  if (light.cone) {
+    const Cone& cone = *light.cone;
+    if (!std::isfinite(cone.direction)) return check_finite(cone.direction, place + ".cone.direction");
+    if (!(std::isfinite(cone.half_angle) && cone.half_angle > 0.0 && cone.half_angle <= 180.0)) {
+      if (auto problem = check_finite(cone.half_angle, place + ".cone.half_angle")) return problem;
+      return SceneProblem{place + ".cone.half_angle", "must be > 0 and <= 180, got " + format_number(cone.half_angle)};
+    }
+    if (!(std::isfinite(cone.fade) && cone.fade >= 0.0 && cone.fade <= cone.half_angle)) {
+      if (auto problem = check_finite(cone.fade, place + ".cone.fade")) return problem;
+      return SceneProblem{place + ".cone.fade", "must be between 0 and half_angle, got " + format_number(cone.fade)};
+    }
+  }
+  if (light.elevation >= 0.0 && light.elevation <= 90.0) return std::nullopt;
+  return check_elevation(light.elevation, place + ".elevation");
 }
 
 MaybeProblem check_occluder(const Occluder& occluder, const std::string& place) {
-  return check_shape(occluder.shape, place);
+  if (auto problem = check_shape(occluder.shape, place)) return problem;
+  // Places are built only for a problem: a game's Renderer validates every frame's updates
+  // without allocating.
+  for (std::size_t c = 0; c < occluder.transmittance.size(); ++c) {
+    const double t = occluder.transmittance[c];
+    if (t >= 0.0 && t <= 1.0) continue;
+    const std::string at = indexed(place + ".transmittance", c);
+    if (auto problem = check_finite(t, at)) return problem;
+    return SceneProblem{at, "must be between 0 and 1, got " + format_number(t)};
+  }
+  if (occluder.interior != Interior::dark && occluder.interior != Interior::lit) {
+    return SceneProblem{place + ".interior", "must be dark or lit"};
+  }
+  return std::nullopt;
+}
+
+MaybeProblem check_ambient(const Rgb& ambient) {
+  for (std::size_t c = 0; c < ambient.size(); ++c) {
+    if (auto problem = check_non_negative(ambient[c], indexed("ambient", c))) return problem;
+  }
+  return std::nullopt;
+}
+
+MaybeProblem check_directional(const DirectionalLight& light, const std::string& place) {
+  if (auto problem = check_finite(light.angle0, place + ".angles[0]")) return problem;
+  if (auto problem = check_finite(light.angle1, place + ".angles[1]")) return problem;
+  const double width = light.angle1 - light.angle0;
+  if (!(light.angle0 < light.angle1 && width < 360.0)) {
+    return SceneProblem{place + ".angles", "must satisfy a0 < a1 < a0 + 360, got [" + format_number(light.angle0) +
+                                               ", " + format_number(light.angle1) + "]"};
+  }
+  for (std::size_t c = 0; c < light.color.size(); ++c) {
+    if (auto problem = check_non_negative(light.color[c], indexed(place + ".color", c))) return problem;
+  }
+  if (auto problem = check_non_negative(light.intensity, place + ".intensity")) return problem;
+  return check_elevation(light.elevation, place + ".elevation");
+}
+
+MaybeProblem check_normal(const Vec3& normal) {
+  const double v[3] = {normal.x, normal.y, normal.z};
+  for (std::size_t c = 0; c < 3; ++c) {
+    if (auto problem = check_finite(v[c], indexed("normal", c))) return problem;
+  }
+  // Scaled first, so that a tiny or huge finite normal has a length too.
+  const double largest = std::max({std::fabs(v[0]), std::fabs(v[1]), std::fabs(v[2])});
+  if (!(largest > 0.0)) return SceneProblem{"normal", "must have a non-zero length"};
+  return std::nullopt;
+}
+
+MaybeProblem check_normal_map(const NormalMap& map, int width, int height) {
+  if (map.width != width || map.height != height) {
+    return SceneProblem{"normal_map", "is " + std::to_string(map.width) + "x" + std::to_string(map.height) +
+                                          " but the image is " + std::to_string(width) + "x" +
+                                          std::to_string(height) + " (it must be exactly the image's size)"};
+  }
+  const std::size_t expected = 3 * static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  if (map.normals.size() != expected) {
+    return SceneProblem{"normal_map.normals", "expected 3 * width * height = " + std::to_string(expected) +
+                                                  " floats, got " + std::to_string(map.normals.size())};
+  }
+  for (std::size_t p = 0; p < expected; p += 3) {
+    const float* n = map.normals.data() + p;
+    const std::size_t pixel = p / 3;
+    const std::string at = "normal_map: pixel (" + std::to_string(pixel % static_cast<std::size_t>(width)) + ", " +
+                           std::to_string(pixel / static_cast<std::size_t>(width)) + ")";
+    if (!std::isfinite(n[0]) || !std::isfinite(n[1]) || !std::isfinite(n[2])) {
+      return SceneProblem{at, "not a finite normal (" + format_number(n[0]) + ", " + format_number(n[1]) + ", " +
+                                  format_number(n[2]) + ")"};
+    }
+    if (n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f) return SceneProblem{at, "has a zero normal"};
+  }
+  return std::nullopt;
+}
+
+MaybeProblem check_scene_terms(const Scene& scene) {
+  if (scene.normal && scene.normal_map) {
+    return SceneProblem{"normal_map", "the scene has both normal and normal_map (at most one normal source)"};
+  }
+  if (scene.normal_map) {
+    if (auto problem = check_normal_map(*scene.normal_map, scene.width, scene.height)) return problem;
+  }
+  // Every term adds to E: its total must stay finite in float32 output, as the lights' does.
+  Rgb total{0.0, 0.0, 0.0};
+  for (const Light& light : scene.lights) {
+    for (std::size_t c = 0; c < 3; ++c) total[c] += light.intensity * light.color[c];
+  }
+  auto over = [&](const std::string& place) -> MaybeProblem {
+    for (std::size_t c = 0; c < 3; ++c) {
+      if (!(total[c] <= kMaxTotalEmission)) {
+        return SceneProblem{place, "emission too large: the total intensity * color of lights, directional "
+                                   "lights and ambient reaches " + format_number(total[c]) +
+                                   " (at most 1e38, so that float32 output stays finite)"};
+      }
+    }
+    return std::nullopt;
+  };
+  for (std::size_t i = 0; i < scene.directional_lights.size(); ++i) {
+    const DirectionalLight& d = scene.directional_lights[i];
+    for (std::size_t c = 0; c < 3; ++c) total[c] += d.intensity * d.color[c];
+    if (auto problem = over(indexed("directional_lights", i))) return problem;
+  }
+  for (std::size_t c = 0; c < 3; ++c) total[c] += scene.ambient[c];
+  return over("ambient");
 }
 
 Status scene_error(std::string_view name, const SceneProblem& problem) {
@@ -275,6 +402,12 @@ Status validate_scene(const Scene& scene, std::string_view name) {
     for (std::size_t i = 0; !problem && i < scene.occluders.size(); ++i) {
       problem = detail::check_occluder(scene.occluders[i], "occluders[" + std::to_string(i) + "]");
     }
+    if (!problem) problem = detail::check_ambient(scene.ambient);
+    for (std::size_t i = 0; !problem && i < scene.directional_lights.size(); ++i) {
+      problem = detail::check_directional(scene.directional_lights[i], "directional_lights[" + std::to_string(i) + "]");
+    }
+    if (!problem && scene.normal) problem = detail::check_normal(*scene.normal);
+    if (!problem) problem = detail::check_scene_terms(scene);
     if (problem) return detail::scene_error(name, *problem);
     return Status::success();
   } catch (const std::bad_alloc&) {

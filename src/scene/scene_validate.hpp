@@ -38,6 +38,15 @@ MaybeProblem check_emission_total(const std::vector<Light>& lights);
 MaybeProblem check_shape(const Shape& shape, const std::string& place);
 MaybeProblem check_light(const Light& light, const std::string& place);
 MaybeProblem check_occluder(const Occluder& occluder, const std::string& place);
+// The game lighting model's scene-wide terms (docs/contract.md section 6).
+MaybeProblem check_ambient(const Rgb& ambient);
+MaybeProblem check_directional(const DirectionalLight& light, const std::string& place);
+MaybeProblem check_normal(const Vec3& normal);
+// The map's size against the image's, its buffer's length, each normal finite and non-zero.
+MaybeProblem check_normal_map(const NormalMap& map, int width, int height);
+// Every term that needs the whole scene: at most one normal source, the normal source's size,
+// and the total emission (lights, directional lights and ambient) within kMaxTotalEmission.
+MaybeProblem check_scene_terms(const Scene& scene);
 
 // `NAME: PLACE: WHAT` (or `NAME: WHAT` without a place) as an invalid_scene status.
 Status scene_error(std::string_view name, const SceneProblem& problem);

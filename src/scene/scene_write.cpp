@@ -6,10 +6,14 @@
 
 #include <cerrno>
 #include <charconv>
+#include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <string>
 #include <type_traits>
 #include <variant>
+
+#include <nlohmann/json.hpp>
 
 namespace par2d {
 namespace {
@@ -58,6 +62,93 @@ void put_shape(std::string& out, const Shape& shape) {
       shape);
 }
 
+void put_triple(std::string& out, const double* v) {
+  out += '[';
+  for (int c = 0; c < 3; ++c) {
+    if (c > 0) out += ", ";
+    put_number(out, v[c]);
+  }
+  out += ']';
+}
+
+// Only terms that differ from their defaults are written, so plain scenes stay as they were.
+void put_mask(std::string& out, std::uint32_t mask) {
+  if (mask == kAllMaskBits) return;
+  out += ", \"mask\": " + std::to_string(mask);
+}
+
+void put_elevation(std::string& out, double elevation) {
+  if (elevation == 0.0 && !std::signbit(elevation)) return;
+  out += ", \"elevation\": ";
+  put_number(out, elevation);
+}
+
+void put_light_terms(std::string& out, const Light& light) {
+  if (light.range) {
+    out += ", \"range\": ";
+    put_number(out, *light.range);
+  }
+  if (light.cone) {
+    out += ", \"cone\": { \"direction\": ";
+    put_number(out, light.cone->direction);
+    out += ", \"half_angle\": ";
+    put_number(out, light.cone->half_angle);
+    out += ", \"fade\": ";
+    put_number(out, light.cone->fade);
+    out += " }";
+  }
+  put_mask(out, light.mask);
+  put_elevation(out, light.elevation);
+}
+
+void put_occluder_terms(std::string& out, const Occluder& occluder) {
+  const Rgb& t = occluder.transmittance;
+  if (std::signbit(t[0]) || std::signbit(t[1]) || std::signbit(t[2]) || t[0] != 0.0 || t[1] != 0.0 || t[2] != 0.0) {
+    out += ", \"transmittance\": ";
+    put_triple(out, t.data());
+  }
+  put_mask(out, occluder.mask);
+  if (occluder.interior == Interior::lit) out += ", \"interior\": \"lit\"";
+}
+
+// The scene-wide terms, each on its own line after the occluders.
+void put_scene_terms(std::string& out, const Scene& scene) {
+  const Rgb& a = scene.ambient;
+  if (std::signbit(a[0]) || std::signbit(a[1]) || std::signbit(a[2]) || a[0] != 0.0 || a[1] != 0.0 || a[2] != 0.0) {
+    out += ",\n  \"ambient\": ";
+    put_triple(out, a.data());
+  }
+  if (!scene.directional_lights.empty()) {
+    out += ",\n  \"directional_lights\": [";
+    for (std::size_t i = 0; i < scene.directional_lights.size(); ++i) {
+      const DirectionalLight& d = scene.directional_lights[i];
+      out += i > 0 ? ",\n    { \"angles\": [" : "\n    { \"angles\": [";
+      put_number(out, d.angle0);
+      out += ", ";
+      put_number(out, d.angle1);
+      out += "], \"color\": ";
+      put_triple(out, d.color.data());
+      out += ", \"intensity\": ";
+      put_number(out, d.intensity);
+      put_mask(out, d.mask);
+      put_elevation(out, d.elevation);
+      out += " }";
+    }
+    out += "\n  ]";
+  }
+  if (scene.normal) {
+    const double n[3] = {scene.normal->x, scene.normal->y, scene.normal->z};
+    out += ",\n  \"normal\": ";
+    put_triple(out, n);
+  }
+  // The map is named, not embedded: its PNG stays where the path (relative to the scene
+  // file's directory) points. A map built in code without a path cannot be named.
+  if (scene.normal_map && !scene.normal_map->path.empty()) {
+    out += ",\n  \"normal_map\": ";
+    out += nlohmann::json(scene.normal_map->path).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  }
+}
+
 std::string errno_text(const std::string& path, const char* what, int err) {
   return path + ": " + what + ": " + std::strerror(err);
 }
@@ -84,20 +175,28 @@ std::string scene_to_json(const Scene& scene) {
     }
     out += "], \"intensity\": ";
     put_number(out, light.intensity);
+    put_light_terms(out, light);
     out += " }";
   }
   out += scene.lights.empty() ? "],\n  \"occluders\": [" : "\n  ],\n  \"occluders\": [";
   for (std::size_t i = 0; i < scene.occluders.size(); ++i) {
     out += i > 0 ? ",\n    { " : "\n    { ";
     put_shape(out, scene.occluders[i].shape);
+    put_occluder_terms(out, scene.occluders[i]);
     out += " }";
   }
-  out += scene.occluders.empty() ? "]\n}\n" : "\n  ]\n}\n";
+  out += scene.occluders.empty() ? "]" : "\n  ]";
+  put_scene_terms(out, scene);
+  out += "\n}\n";
   return out;
 }
 
 Status save_scene_file(const std::string& path, const Scene& scene) {
   if (Status status = validate_scene(scene, path); !status) return status;
+  if (scene.normal_map && scene.normal_map->path.empty()) {
+    return {StatusCode::invalid_argument,
+            path + ": normal_map: has no path (a scene file names its normal map's PNG; set NormalMap::path)"};
+  }
   const std::string text = scene_to_json(scene);
   // Written to a sibling and renamed (atomic on POSIX), so an editor or the viewer's file
   // watch never sees half a scene, and a failed write leaves the old file as it was.

@@ -286,7 +286,9 @@ void World::erase_dark(std::size_t q) {
 // must stay within what float32 output can hold, as for scenes (check_emission_total).
 std::optional<SceneProblem> World::emission_total_problem(const Light& light, std::size_t replaced) const {
   for (int c = 0; c < 3; ++c) {
-    double total = light.intensity * light.color[static_cast<std::size_t>(c)];
+    // Ambient and directional lights add to E too (check_scene_terms).
+    double total = light.intensity * light.color[static_cast<std::size_t>(c)] + globals_.ambient[static_cast<std::size_t>(c)];
+    for (const DirectionalLight& d : globals_.directional_lights) total += d.intensity * d.color[static_cast<std::size_t>(c)];
     for (std::size_t i = 0; i < light_sources_.size(); ++i)
       if (i != replaced) total += light_sources_[i].intensity * light_sources_[i].color[static_cast<std::size_t>(c)];
     if (!(total <= kMaxTotalEmission))
@@ -294,6 +296,48 @@ std::optional<SceneProblem> World::emission_total_problem(const Light& light, st
                                              format_number(total) + " (at most 1e38, so that float32 output stays finite)"};
   }
   return std::nullopt;
+}
+
+Status World::set_model_terms(const char* who, const Scene& terms) {
+  MaybeProblem problem = check_ambient(terms.ambient);
+  for (std::size_t i = 0; !problem && i < terms.directional_lights.size(); ++i)
+    problem = check_directional(terms.directional_lights[i], "directional_lights[" + std::to_string(i) + "]");
+  if (!problem && terms.normal) problem = check_normal(*terms.normal);
+  if (!problem && terms.normal && terms.normal_map)
+    problem = SceneProblem{"normal_map", "the scene has both normal and normal_map (at most one normal source)"};
+  // Before the first frame the map is checked against its own size; set_frame then refuses
+  // a frame of any other size.
+  if (!problem && terms.normal_map) {
+    problem = has_frame() ? check_normal_map(*terms.normal_map, scene_.width, scene_.height)
+                          : check_normal_map(*terms.normal_map, terms.normal_map->width, terms.normal_map->height);
+  }
+  if (!problem) {
+    Scene total;  // the emission total over lights, directional lights and ambient
+    total.lights = light_sources_;
+    total.ambient = terms.ambient;
+    total.directional_lights = terms.directional_lights;
+    if (auto p = check_scene_terms(total)) problem = p;
+  }
+  if (problem) return refused(who, *problem);
+  // Everything is built aside and then moved in (no throw), so that running out of memory
+  // keeps the old terms; no shape is re-prepared.
+  Scene next;
+  next.ambient = terms.ambient;
+  next.directional_lights = terms.directional_lights;
+  next.normal = terms.normal;
+  next.normal_map = terms.normal_map;
+  next.view = view_;
+  PreparedScene staged;
+  prepare_model_terms(next, staged);
+  globals_ = std::move(next);
+  scene_.ambient = staged.ambient;
+  scene_.directionals = std::move(staged.directionals);
+  scene_.normal_source = staged.normal_source;
+  scene_.normal = staged.normal;
+  scene_.normal_map = std::move(staged.normal_map);
+  update_model_flag(scene_);
+  update_scene_bounds(scene_);
+  return {};
 }
 
 Status World::add_light(const Light& light, LightHandle* handle) {
@@ -517,6 +561,18 @@ const PreparedScene& World::commit(bool culling, const Scheduler& scheduler) {
   std::fill(reach_stale_.begin(), reach_stale_.end(), 0);
   stats_.reach_computations += stale_list_.size();
   return scene_;
+}
+
+const Light* World::find_light(std::uint64_t id) const noexcept {
+  const Slot* slot = const_cast<World*>(this)->find(id, false);
+  if (slot == nullptr) return nullptr;
+  const auto where = static_cast<std::size_t>(slot->where);
+  return slot->list == kLit ? &light_sources_[where] : &dark_sources_[where];
+}
+
+const Occluder* World::find_occluder(std::uint64_t id) const noexcept {
+  const Slot* slot = const_cast<World*>(this)->find(id, true);
+  return slot == nullptr ? nullptr : &occluder_sources_[static_cast<std::size_t>(slot->where)];
 }
 
 Scene World::snapshot() const {

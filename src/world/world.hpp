@@ -32,6 +32,16 @@ class World {
   Status update_occluder(OccluderHandle handle, const Occluder& occluder);
   Status remove_occluder(OccluderHandle handle);
 
+  // The scene-wide lighting-model terms (ambient, directional lights, normal source) of
+  // `terms` replace the world's, validated first (`who` prefixes messages); shapes are untouched.
+  Status set_model_terms(const char* who, const Scene& terms);
+  // The scene-wide terms as given (for the Renderer's setters, which change one at a time).
+  const Scene& model_terms() const noexcept { return globals_; }
+
+  // The light or occluder a handle names as last given (nullptr: no such handle).
+  const Light* find_light(std::uint64_t id) const noexcept;
+  const Occluder* find_occluder(std::uint64_t id) const noexcept;
+
   bool has_frame() const noexcept { return scene_.width > 0; }
   const View& view() const noexcept { return view_; }
   std::size_t light_count() const noexcept { return light_sources_.size() + dark_sources_.size(); }

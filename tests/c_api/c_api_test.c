@@ -123,6 +123,81 @@ int main(void) {
   CHECK(par2d_render(r, rgb, PAR2D_RGB_F32, (ptrdiff_t)(sizeof(float) * W * 3), 1.0, NULL) == PAR2D_OK);
   CHECK(rgb[(37 * W + 20) * 3] > 0.0f); /* no longer shadowed */
 
+  /* The lighting model's terms in the game loop: a torch with a range whose mask shares no bit
+   * with a wall's, so the wall does not shadow it; nothing is lit beyond its range. */
+  {
+    CHECK(par2d_remove_light(r, light) == PAR2D_OK);
+    par2d_shape torch = light_shape;
+    torch.circle[0] = 20.0;
+    torch.circle[1] = 20.0;
+    CHECK(par2d_add_light(r, &torch, white, 3.0, &light) == PAR2D_OK);
+    par2d_light_terms terms;
+    par2d_light_terms_default(&terms);
+    CHECK(terms.range == 0.0 && terms.has_cone == 0 && terms.mask == 0xFFFFFFFFu && terms.elevation == 0.0);
+    terms.range = 20.0;
+    terms.mask = 1u;
+    CHECK(par2d_set_light_terms(r, light, &terms) == PAR2D_OK);
+    par2d_light_terms back;
+    CHECK(par2d_get_light_terms(r, light, &back) == PAR2D_OK);
+    CHECK(back.range == 20.0 && back.mask == 1u && back.has_cone == 0);
+    /* Moving the torch every frame keeps its terms. */
+    for (int frame = 0; frame < 3; ++frame) {
+      torch.circle[1] = 20.0 + 0.5 * frame;
+      CHECK(par2d_update_light(r, light, &torch, white, 3.0) == PAR2D_OK);
+    }
+    torch.circle[1] = 20.0;
+    CHECK(par2d_update_light(r, light, &torch, white, 3.0) == PAR2D_OK);
+    CHECK(par2d_get_light_terms(r, light, &back) == PAR2D_OK && back.range == 20.0 && back.mask == 1u);
+    terms.range = -1.0;
+    CHECK(par2d_set_light_terms(r, light, &terms) == PAR2D_INVALID_SCENE);
+    CHECK(strstr(par2d_last_error(), "range: must be > 0, got -1") != NULL);
+    CHECK(par2d_get_light_terms(r, light, &back) == PAR2D_OK && back.range == 20.0);
+
+    par2d_shape wall_shape;
+    memset(&wall_shape, 0, sizeof wall_shape);
+    wall_shape.kind = PAR2D_SHAPE_SEGMENT;
+    wall_shape.segment[0] = 30.0;
+    wall_shape.segment[1] = 10.0;
+    wall_shape.segment[2] = 30.0;
+    wall_shape.segment[3] = 30.0;
+    par2d_occluder wall = 0;
+    CHECK(par2d_add_occluder(r, &wall_shape, &wall) == PAR2D_OK);
+    par2d_occluder_terms wall_terms;
+    par2d_occluder_terms_default(&wall_terms);
+    CHECK(wall_terms.mask == 0xFFFFFFFFu && wall_terms.interior == PAR2D_INTERIOR_DARK);
+    /* Default masks: the wall shadows the pixel behind it. */
+    CHECK(par2d_render(r, rgb, PAR2D_RGB_F32, (ptrdiff_t)(sizeof(float) * W * 3), 1.0, NULL) == PAR2D_OK);
+    CHECK(rgb[(20 * W + 35) * 3] == 0.0f);
+    wall_terms.mask = 2u;
+    CHECK(par2d_set_occluder_terms(r, wall, &wall_terms) == PAR2D_OK);
+    wall_terms.transmittance[0] = 1.5;
+    CHECK(par2d_set_occluder_terms(r, wall, &wall_terms) == PAR2D_INVALID_SCENE);
+    CHECK(strstr(par2d_last_error(), "transmittance[0]: must be between 0 and 1") != NULL);
+    CHECK(par2d_get_occluder_terms(r, wall, &wall_terms) == PAR2D_OK);
+    CHECK(wall_terms.mask == 2u && wall_terms.transmittance[0] == 0.0);
+    CHECK(par2d_render(r, rgb, PAR2D_RGB_F32, (ptrdiff_t)(sizeof(float) * W * 3), 1.0, NULL) == PAR2D_OK);
+    CHECK(rgb[(20 * W + 35) * 3] > 0.0f);        /* masks share no bit: not shadowed */
+    CHECK(rgb[((H - 1) * W + 0) * 3] == 0.0f);   /* beyond the range (31.7 from the torch): exactly 0 */
+    CHECK(rgb[(35 * W + 20) * 3] > 0.0f);       /* within it (13.5), in the open */
+
+    /* Scene-wide terms are validated too. */
+    const double bad_ambient[3] = {0.0, -1.0, 0.0};
+    CHECK(par2d_set_ambient(r, bad_ambient) == PAR2D_INVALID_SCENE);
+    CHECK(strcmp(par2d_last_error(), "set_ambient: ambient[1]: must be >= 0, got -1") == 0);
+    par2d_directional_light sun;
+    par2d_directional_light_default(&sun);
+    sun.angles[0] = 10.0;
+    sun.angles[1] = 5.0;
+    CHECK(par2d_set_directional_lights(r, &sun, 1) == PAR2D_INVALID_SCENE);
+    CHECK(par2d_set_directional_lights(r, NULL, 0) == PAR2D_OK);
+    const double up[3] = {0.0, 0.0, 1.0};
+    CHECK(par2d_set_normal(r, up) == PAR2D_OK);
+    float flat[3 * 2 * 2] = {0};
+    CHECK(par2d_set_normal_map(r, flat, 2, 2) == PAR2D_INVALID_SCENE); /* not the frame's size */
+    CHECK(par2d_clear_normal_source(r) == PAR2D_OK);
+    CHECK(par2d_remove_occluder(r, wall) == PAR2D_OK);
+  }
+
   free(rgb);
   par2d_renderer_destroy(r);
   if (failures == 0) printf("C API: all checks passed (par2d %s)\n", par2d_version());

@@ -1,0 +1,104 @@
+"""The game lighting model from Python: dict keys, Scene properties, Renderer setters, refused values."""
+import numpy as np
+import pytest
+
+import par2d
+
+
+def lit_scene():
+    """A 6x4 scene using every lighting-model key except normal_map."""
+    return {
+        "width": 6, "height": 4,
+        "ambient": [0.1, 0.2, 0.3],
+        "directional_lights": [{"angles": [-30, 45], "color": [1, 0.5, 0.25], "intensity": 2, "mask": 6,
+                                "elevation": 30}],
+        "normal": [0, 0, 2],
+        "lights": [{"circle": {"center": [1, 1], "radius": 0.5}, "range": 50,
+                    "cone": {"direction": 90, "half_angle": 40, "fade": 10}, "mask": 5, "elevation": 15}],
+        "occluders": [{"segment": [[3, 0], [3, 2]], "transmittance": [0.5, 0.25, 1], "mask": 4, "interior": "lit"},
+                      {"circle": {"center": [5, 3], "radius": 0.5}}],
+    }
+
+
+def test_every_key_reaches_the_scene_and_back():
+    scene = par2d.Scene.from_dict(lit_scene())
+    assert scene.ambient == (0.1, 0.2, 0.3)
+    assert scene.directional_lights == [{"angles": (-30.0, 45.0), "color": (1.0, 0.5, 0.25), "intensity": 2.0,
+                                         "mask": 6, "elevation": 30.0}]
+    assert scene.normal == (0.0, 0.0, 2.0)
+    assert scene.normal_map is None and scene.normal_map_path is None
+    d = scene.to_dict()
+    light = d["lights"][0]
+    assert light["range"] == 50 and light["mask"] == 5 and light["elevation"] == 15
+    assert light["cone"] == {"direction": 90, "half_angle": 40, "fade": 10}
+    glass, wall = d["occluders"]
+    assert glass["transmittance"] == [0.5, 0.25, 1] and glass["mask"] == 4 and glass["interior"] == "lit"
+    # Defaults are not written.
+    assert set(wall) == {"circle"}
+    assert par2d.Scene.from_dict(d).to_json() == scene.to_json()
+
+
+def test_normal_map_array_and_shaded_flag(tmp_path):
+    d = lit_scene()
+    del d["normal"]
+    normals = np.zeros((4, 6, 3), dtype=np.float32)
+    normals[..., 2] = 1.0
+    normals[0, 5] = (1.0, -1.0, 0.5)
+    r = par2d.Renderer(d)
+    r.set_normal_map(normals)
+    snap = r.snapshot()
+    assert snap.normal is None
+    np.testing.assert_array_equal(snap.normal_map, normals)
+    assert snap.normal_map.shape == (4, 6, 3) and snap.normal_map.dtype == np.float32
+    # shaded=False gives the plain irradiance: the same scene's without its normal source.
+    tilted = dict(d, normal=[1, 0, 0.2])
+    np.testing.assert_array_equal(par2d.render(tilted, shaded=False), par2d.render(d))
+    r.clear_normal_source()
+    assert r.snapshot().normal_map is None
+
+
+def test_renderer_setters_refuse_bad_values_and_keep_the_old_ones():
+    r = par2d.Renderer(lit_scene())
+    r.set_ambient([0.5, 0.5, 0.5])
+    with pytest.raises(par2d.Error) as e:
+        r.set_ambient([0.5, -1, 0])
+    assert str(e.value) == "set_ambient: ambient[1]: must be >= 0, got -1"
+    assert e.value.code == "invalid_scene"
+    assert r.snapshot().ambient == (0.5, 0.5, 0.5)
+
+    r.set_directional_lights([{"angles": [0, 90]}, {"angles": [100, 120], "mask": 1}])
+    with pytest.raises(par2d.Error) as e:
+        r.set_directional_lights([{"angles": [0, 90], "elevation": 95}])
+    assert str(e.value) == ("set_directional_lights: directional_lights[0].elevation: "
+                            "must be between 0 and 90, got 95")
+    assert [x["mask"] for x in r.snapshot().directional_lights] == [0xFFFFFFFF, 1]
+
+    with pytest.raises(par2d.Error) as e:
+        r.set_normal([0, 0, 0])
+    assert str(e.value) == "set_normal: normal: must have a non-zero length"
+    assert r.snapshot().normal == (0.0, 0.0, 2.0)
+    with pytest.raises(par2d.Error) as e:
+        r.set_normal_map(np.ones((3, 6, 3), dtype=np.float32))
+    assert "is 6x3 but the image is 6x4" in str(e.value)
+    with pytest.raises(par2d.Error):
+        r.set_normal_map(np.ones((4, 6), dtype=np.float32))
+    assert r.snapshot().normal == (0.0, 0.0, 2.0)
+
+
+def test_light_and_occluder_dicts_carry_their_terms_with_placed_errors():
+    r = par2d.Renderer({"width": 4, "height": 4})
+    h = r.add_light({"circle": {"center": [1, 1], "radius": 1}, "range": 3, "mask": 1})
+    with pytest.raises(par2d.Error) as e:
+        r.update_light(h, {"circle": {"center": [1, 1], "radius": 1}, "cone": {"direction": 0, "half_angle": 30,
+                                                                               "fade": 40}})
+    assert str(e.value) == f"light {h}: cone.fade: must be between 0 and half_angle, got 40"
+    with pytest.raises(par2d.Error) as e:
+        r.add_occluder({"segment": [[0, 0], [1, 1]], "mask": 1.5})
+    assert str(e.value) == "add_occluder: mask: must be an integer from 0 to 4294967295, got 1.5"
+    with pytest.raises(par2d.Error) as e:
+        r.add_occluder({"segment": [[0, 0], [1, 1]], "interior": "glass"})
+    assert str(e.value) == 'add_occluder: interior: must be "dark" or "lit", got "glass"'
+    r.add_occluder({"segment": [[0, 0], [1, 1]], "transmittance": [1, 1, 1], "mask": 2})
+    snap = r.snapshot().to_dict()
+    assert snap["lights"][0]["range"] == 3 and snap["lights"][0]["mask"] == 1
+    assert snap["occluders"][0]["transmittance"] == [1, 1, 1] and snap["occluders"][0]["mask"] == 2
