@@ -623,3 +623,73 @@ TEST_CASE("closed form: ambient is added everywhere, inside occluders too") {
 }
 
 }  // namespace par2d::test
+
+namespace par2d::test {
+
+TEST_CASE("raycast backend through render() matches the scalar reference on lighting-model scenes, shaded and plain") {
+  for (std::uint32_t seed = 301; seed <= 304; ++seed) {
+    CAPTURE(seed);
+    const Scene scene = model_scene(seed, true, RandomSceneOptions::Normals::map);
+    const detail::PreparedScene prepared = detail::prepare_scene(scene);
+    detail::ScalarScratch scratch;
+    for (const bool shaded : {true, false}) {
+      CAPTURE(shaded);
+      RenderOptions options;
+      options.backend = Backend::raycast;
+      options.rays = kRays;
+      options.threads = 2;
+      options.shaded = shaded;
+      Status status;
+      const RenderedImage ray = render_image(scene, options, status);
+      REQUIRE(status.ok());
+      const Rgb bound = stratification_bound(scene, kRays, false, shaded);
+      const double skip = 1e-6 * pixel_width(scene);
+      int compared = 0;
+      for (int j = 0; j < scene.height; ++j) {
+        for (int i = 0; i < scene.width; ++i) {
+          if (near_boundary(scene, pixel_center(scene, i, j), skip)) continue;
+          ++compared;
+          const Vec3 normal = prepared.normal_at(i, j);
+          const Rgb par = detail::scalar_irradiance(prepared, detail::sample_position(prepared, i, j, 0.5, 0.5),
+                                                    shaded ? &normal : nullptr, scratch);
+          for (int c = 0; c < 3; ++c) {
+            const double err = std::fabs(par[c] - ray.at(i, j, c));
+            if (err <= bound[c]) continue;
+            INFO("pixel (" << i << ", " << j << ") channel " << c << ": scalar " << par[c] << ", raycast backend "
+                           << ray.at(i, j, c) << ", bound " << bound[c]);
+            CHECK(false);
+          }
+        }
+      }
+      CHECK(compared > scene.width * scene.height / 2);
+    }
+  }
+}
+
+TEST_CASE("e_max counts directional lights and the ambient term") {
+  RandomSceneOptions o = with_every_model_term({});
+  for (std::uint32_t seed = 1; seed <= 10; ++seed) {
+    CAPTURE(seed);
+    const Scene scene = random_scene(seed, o);
+    const double expected = emission_max_sum(scene);
+    CHECK(detail::prepare_scene(scene).e_max == doctest::Approx(expected).epsilon(1e-15));
+    CHECK(max_emission_sum(scene) == doctest::Approx(expected).epsilon(1e-15));
+  }
+}
+
+TEST_CASE("point_distance is the exact distance to the closed shape, 0 inside") {
+  const detail::ConvexShape square = detail::make_convex_shape(rectangle(0, 0, 4, 2));
+  CHECK(detail::point_distance(square, {1, 1}) == 0.0);             // inside
+  CHECK(detail::point_distance(square, {4, 1}) == 0.0);             // on an edge
+  CHECK(detail::point_distance(square, {2, -3}) == 3.0);            // facing an edge
+  CHECK(detail::point_distance(square, {7, 6}) == doctest::Approx(5.0).epsilon(1e-15));  // vertex region (3, 4)
+  const detail::ConvexShape disc = detail::make_convex_shape(Circle{{1, 1}, 2});
+  CHECK(detail::point_distance(disc, {1, 2}) == 0.0);
+  CHECK(detail::point_distance(disc, {4, 5}) == doctest::Approx(3.0).epsilon(1e-15));
+  const detail::ConvexShape segment = detail::make_convex_shape(Segment{{0, 0}, {4, 0}});
+  CHECK(detail::point_distance(segment, {2, 0}) == 0.0);
+  CHECK(detail::point_distance(segment, {2, -1.5}) == 1.5);
+  CHECK(detail::point_distance(segment, {-3, 4}) == doctest::Approx(5.0).epsilon(1e-15));  // end region
+}
+
+}  // namespace par2d::test
