@@ -165,9 +165,10 @@ bool same_target(const detail::OutputFile& a, const detail::OutputFile& b) {
 
 }  // namespace
 
-Status write_images(const std::vector<ImageOutput>& outputs, const ImageView& image) {
+Status write_images(const std::vector<ImageOutput>& outputs, const ImageView& shared_image) {
   try {
-    auto image_of = [&](const ImageOutput& out) -> const ImageView& { return out.image ? *out.image : image; };
+    // Each output's own image, or the shared one.
+    auto image_of = [&](const ImageOutput& out) -> const ImageView& { return out.image ? *out.image : shared_image; };
     for (const ImageOutput& out : outputs) {
       const ImageView& image = image_of(out);
       if (Status s = check_view(image, out.path); !s) return s;

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 namespace par2d::detail {
 
@@ -75,6 +76,16 @@ xsimd::batch<float, A> profile_sqrt(const xsimd::batch<float, A>& a) noexcept {
   return xsimd::sqrt(a);
 }
 
+// A double constant as T (float batches round it to float explicitly).
+template <class T>
+T profile_constant(double v) noexcept {
+  if constexpr (std::is_same_v<T, double>) {
+    return v;
+  } else {
+    return T(static_cast<float>(v));
+  }
+}
+
 template <class T>
 T profile_clamp(const T& v, const T& lo, const T& hi) noexcept {
   return profile_min(profile_max(v, lo), hi);
@@ -99,10 +110,10 @@ struct AngularProfile {
 template <class T>
 void set_profile_cone(AngularProfile<T>& p, const T& origin, double center, double half, double fade) noexcept {
   p.cone = true;
-  p.cone_center = profile_wrap(T(center) - origin);
-  p.half = T(half);
-  p.plateau = T(half - fade);
-  p.inv_fade = T(fade > 0.0 ? 1.0 / fade : 0.0);
+  p.cone_center = profile_wrap(profile_constant<T>(center) - origin);
+  p.half = profile_constant<T>(half);
+  p.plateau = profile_constant<T>(half - fade);
+  p.inv_fade = profile_constant<T>(fade > 0.0 ? 1.0 / fade : 0.0);
 }
 
 // Shading by the unit surface normal (nx, ny, nz) for light from elevation angle alpha
@@ -113,8 +124,8 @@ template <class T>
 void set_profile_shading(AngularProfile<T>& p, const T& origin, const T& beta, const T& normal_xy,
                          const T& nz, double sin_el, double cos_el) noexcept {
   p.shading = true;
-  p.amplitude = T(cos_el) * normal_xy;
-  p.offset = T(sin_el) * nz;
+  p.amplitude = profile_constant<T>(cos_el) * normal_xy;
+  p.offset = profile_constant<T>(sin_el) * nz;
   p.lobe_center = profile_wrap(beta - origin);
   // s > 0 where cos(u - beta) > -C / A. A = 0: s is the constant max(0, C).
   const auto flat = p.amplitude <= T(0.0);
@@ -169,22 +180,22 @@ T profile_cumulative(const AngularProfile<T>& p, const T& u) noexcept {
   // support is at most 2 pi wide and centered in [0, 2 pi)).
   if (!p.shading) {
     T sum(0.0);
-    for (int k = -1; k <= 1; ++k) sum = sum + trapezoid_cumulative(p, u - p.cone_center - T(k * kProfileTwoPi));
+    for (int k = -1; k <= 1; ++k) sum = sum + trapezoid_cumulative(p, u - p.cone_center - profile_constant<T>(k * kProfileTwoPi));
     return sum;
   }
   if (!p.cone) {
     T sum(0.0);
-    for (int k = -1; k <= 1; ++k) sum = sum + lobe_cumulative(p, u - p.lobe_center - T(k * kProfileTwoPi));
+    for (int k = -1; k <= 1; ++k) sum = sum + lobe_cumulative(p, u - p.lobe_center - profile_constant<T>(k * kProfileTwoPi));
     return sum;
   }
   // Both: the cone's three linear pieces times the lobe, for every pair of copies that can
   // overlap, integrated from -infinity (a constant that differences cancel) to u.
   T sum(0.0);
   for (int j = -1; j <= 1; ++j) {
-    const T lobe = p.lobe_center + T(j * kProfileTwoPi);
+    const T lobe = p.lobe_center + profile_constant<T>(j * kProfileTwoPi);
     const T lobe_lo = lobe - p.lobe_half, lobe_hi = profile_min(lobe + p.lobe_half, u);
     for (int k = -1; k <= 1; ++k) {
-      const T axis = p.cone_center + T(k * kProfileTwoPi);
+      const T axis = p.cone_center + profile_constant<T>(k * kProfileTwoPi);
       // (start, end, value at the lobe's center, slope) of the rise, the plateau and the fall.
       const T starts[3] = {axis - p.half, axis - p.plateau, axis + p.plateau};
       const T ends[3] = {axis - p.plateau, axis + p.plateau, axis + p.half};
