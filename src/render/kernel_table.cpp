@@ -70,7 +70,7 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
       if (!kernels) {  // Isa::scalar: the reference, tile by tile
         render_tile_scalar(scene, settings.spp, part, tile.x0, tile.y0, state.scalar, state.result);
       } else {
-        build_tile_work(scene, tile, settings.spp, cull, state.work, state.setup);
+        build_tile_work(scene, tile, settings.spp, cull, state.work, state.setup, settings.shaded);
         float* scratch = state.kernel_scratch(kernel_scratch_floats(state.work, kernels->lanes));
         kernels->render_tile(state.work, scratch, state.result);
       }
