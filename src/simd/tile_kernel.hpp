@@ -637,11 +637,35 @@ inline xsimd::batch<float, A> shape_distance(const TileWork& work, const KernelS
   return d;
 }
 
+// A light's direction profile in the kernel: the closed forms of lighting/angular_profile.hpp,
+// with one copy of a lone cone or lobe instead of three (u - center wrapped into [-pi, pi),
+// where the whole support lies, plus whole turns times the profile's total), so a shaded
+// evaluation costs one sincos. Cone and shading together take the general form.
+template <class A>
+struct KernelProfile {
+  using B = xsimd::batch<float, A>;
+  detail::AngularProfile<B> p;
+  B total{};  // integral over a whole turn of the lone cone or lobe
+
+  B cumulative(const B& u) const noexcept {
+    if (!p.cone && !p.shading) return u;
+    if (p.cone && p.shading) return detail::profile_cumulative(p, u);
+    const B v = u - (p.shading ? p.lobe_center : p.cone_center);
+    const B turns = xsimd::floor((v + B(3.14159265358979f)) * B(kInvTwoPiF));
+    const B v0 = xsimd::fnma(turns, B(kTwoPiF), v);
+    const B part = p.shading ? detail::profile_detail::lobe_cumulative(p, v0)
+                             : detail::profile_detail::trapezoid_cumulative(p, v0);
+    return xsimd::fma(turns, total, part);
+  }
+  bool flat() const noexcept { return !p.cone && !p.shading; }
+};
+
 // Weight of the arc [0, width] minus the union of opaque intervals lo/hi (`count`, padded
 // to `slots` with `width`), under the profile: the gaps of the sorted intervals.
-template <class A, class Profile>
-inline xsimd::batch<float, A> profiled_gaps(const Profile& profile, float* lo, float* hi, std::size_t count,
-                                            const xsimd::batch<float, A>& width) noexcept {
+template <class A>
+inline xsimd::batch<float, A> profiled_gaps(const KernelProfile<A>& profile, float* lo, float* hi, std::size_t count,
+                                            const xsimd::batch<float, A>& width,
+                                            const xsimd::batch<float, A>& reach0) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   const std::size_t used = sort_slots<A>(count);
@@ -650,25 +674,26 @@ inline xsimd::batch<float, A> profiled_gaps(const Profile& profile, float* lo, f
     width.store_aligned(hi + p * W);
   }
   sort_by_lo<A>(lo, hi, used);
-  B reach(0.0f), reach_value = detail::profile_cumulative(profile, reach), sum(0.0f);
+  // The gaps between the covered parts, from the part [0, reach0] that wraps past 0.
+  B reach = reach0, reach_value = profile.cumulative(reach), sum(0.0f);
   for (std::size_t i = 0; i < count; ++i) {
     const B l = B::load_aligned(lo + i * W), h = B::load_aligned(hi + i * W);
     const B gap_end = xsimd::max(l, reach);
-    const B gap_end_value = detail::profile_cumulative(profile, gap_end);
+    const B gap_end_value = profile.cumulative(gap_end);
     sum += gap_end_value - reach_value;
     const B next = xsimd::max(reach, h);
-    reach_value = xsimd::select(next > reach, detail::profile_cumulative(profile, next), gap_end_value);
+    reach_value = xsimd::select(next > reach, profile.cumulative(next), gap_end_value);
     reach = next;
   }
-  sum += detail::profile_cumulative(profile, xsimd::max(width, reach)) - reach_value;
+  sum += profile.cumulative(xsimd::max(width, reach)) - reach_value;
   return xsimd::max(sum, B(0.0f));
 }
 
 // Per channel, the integral over [0, width] of the product of the transmittances of the
 // intervals covering each direction, under the profile: the interval ends sorted into
 // elementary pieces, each piece's product taken at its middle (an end lies on no piece's inside).
-template <class A, class Profile>
-inline void translucent_pieces(const TileWork& work, const Profile& profile, const float* lo, const float* hi,
+template <class A>
+inline void translucent_pieces(const TileWork& work, const KernelProfile<A>& profile, const float* lo, const float* hi,
                                const float* owner, std::size_t count, const xsimd::batch<float, A>& width,
                                float* keys, xsimd::batch<float, A> (&visible)[3]) noexcept {
   using B = xsimd::batch<float, A>;
@@ -684,10 +709,10 @@ inline void translucent_pieces(const TileWork& work, const Profile& profile, con
   sort_keys<A>(keys, slots);
   for (int c = 0; c < 3; ++c) visible[c] = B(0.0f);
   B prev = B::load_aligned(keys);
-  B prev_value = detail::profile_cumulative(profile, prev);
+  B prev_value = profile.cumulative(prev);
   for (std::size_t k = 1; k < key_count; ++k) {
     const B next = B::load_aligned(keys + k * W);
-    const B next_value = detail::profile_cumulative(profile, next);
+    const B next_value = profile.cumulative(next);
     const B mid = B(0.5f) * (prev + next);
     B t[3] = {B(1.0f), B(1.0f), B(1.0f)};
     for (std::size_t i = 0; i < count; ++i) {
@@ -745,6 +770,11 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
     normal_z = B::load_aligned(work.normal_z + pixel);
   }
   const auto none = B(0.0f) > B(0.0f);
+  // The lobe of the pixel's normal for the last elevation seen (lights mostly share one):
+  // its half width needs an acos, its total a square root.
+  detail::AngularProfile<B> lobe;
+  B lobe_total;
+  double lobe_sin = 2.0, lobe_cos = 2.0;
   for (std::size_t l = 0; l < work.lights.size(); ++l) {
     const KernelLight& light = work.lights[l];
     const KernelLightTerms& terms = work.light_terms[l];
@@ -752,6 +782,13 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
     if (terms.inv_range > 0.0f) {
       window = detail::range_window(shape_distance<A>(work, light.shape, px, py), B(terms.inv_range));
       if (!xsimd::any(window > B(0.0f))) continue;
+    }
+    if (!kShaded && !terms.cone && light.pair_count == 0 && !terms.directional) {
+      // Nothing in front anywhere in the tile and a flat profile: the width alone.
+      const Arc<A> arc = shape_arc<A, false>(work, light.shape, px, py);
+      const B visible = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
+      for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]) * window, visible, e[c]);
+      continue;
     }
     Arc<A> arc;
     B width;
@@ -763,6 +800,10 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
       arc = shape_arc<A>(work, light.shape, px, py);
       width = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
     }
+    // Translucent pieces need each wrapped part as an interval of its own; opaque ones all
+    // start at 0 and merge into [0, reach0].
+    const bool split_wraps = terms.translucent;
+    B reach0(0.0f);
     std::size_t n = 0;
     for (std::size_t p = 0; p < light.pair_count; ++p) {
       const KernelPair& pair = work.pairs[light.first_pair + p];
@@ -810,17 +851,40 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
       owner[n] = static_cast<float>(pair.occluder);
       ++n;
       // The part that wraps past the arc's start.
+      if (!split_wraps) {
+        reach0 = xsimd::select(blocks, xsimd::max(reach0, xsimd::min(end - B(kTwoPiF), width)), reach0);
+        continue;
+      }
       xsimd::select(blocks, B(0.0f), width).store_aligned(lo + n * W);
       xsimd::select(blocks, xsimd::max(xsimd::min(end - B(kTwoPiF), width), B(0.0f)), width)
           .store_aligned(hi + n * W);
       owner[n] = static_cast<float>(pair.occluder);
       ++n;
     }
-    detail::AngularProfile<B> profile;
-    if (terms.cone) detail::set_profile_cone(profile, arc.start, terms.cone_center, terms.cone_half, terms.cone_fade);
-    if constexpr (kShaded)
-      detail::set_profile_shading(profile, arc.start, beta, normal_xy, normal_z, terms.sin_elevation,
-                                  terms.cos_elevation);
+    KernelProfile<A> profile;
+    if (terms.cone) {
+      detail::set_profile_cone(profile.p, arc.start, terms.cone_center, terms.cone_half, terms.cone_fade);
+      profile.total = profile.p.half + profile.p.plateau;
+    }
+    if constexpr (kShaded) {
+      if (terms.sin_elevation != lobe_sin || terms.cos_elevation != lobe_cos) {
+        detail::set_profile_shading(lobe, B(0.0f), beta, normal_xy, normal_z, terms.sin_elevation,
+                                    terms.cos_elevation);
+        // Over a whole turn: 2 (A sin h + C h), with A sin h = sqrt(A^2 - C^2) where the lobe is partial.
+        const B a = lobe.amplitude, c = lobe.offset;
+        const B a_sin = xsimd::select(xsimd::abs(c) < a, xsimd::sqrt(xsimd::max(xsimd::fms(a, a, c * c), B(0.0f))),
+                                      B(0.0f));
+        lobe_total = B(2.0f) * xsimd::fma(c, lobe.lobe_half, a_sin);
+        lobe_sin = terms.sin_elevation;
+        lobe_cos = terms.cos_elevation;
+      }
+      profile.p.shading = true;
+      profile.p.amplitude = lobe.amplitude;
+      profile.p.offset = lobe.offset;
+      profile.p.lobe_half = lobe.lobe_half;
+      profile.p.lobe_center = detail::profile_wrap(beta - arc.start);
+      profile.total = lobe_total;
+    }
     if (terms.translucent) {
       B visible[3];
       translucent_pieces<A>(work, profile, lo, hi, owner, n, width, keys, visible);
@@ -828,12 +892,20 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
       continue;
     }
     B visible;
-    if (n == 0) {
-      visible = profile.cone || profile.shading
-                    ? detail::profile_cumulative(profile, width) - detail::profile_cumulative(profile, B(0.0f))
-                    : width;
-    } else if (profile.cone || profile.shading) {
-      visible = profiled_gaps<A>(profile, lo, hi, n, width);
+    const B reach = xsimd::max(reach0, B(0.0f));
+    if (!profile.flat()) {
+      visible = n == 0 ? profile.cumulative(width) - profile.cumulative(B(0.0f))
+                       : profiled_gaps<A>(profile, lo, hi, n, width, reach);
+    } else if (n == 0) {
+      visible = width;
+    } else if (n == 1) {
+      visible = xsimd::max(width - union_measure_in_registers<A, 1>(lo, hi, 1, width, reach), B(0.0f));
+    } else if (n == 2) {
+      visible = xsimd::max(width - union_measure_in_registers<A, 2>(lo, hi, 2, width, reach), B(0.0f));
+    } else if (n <= 4) {
+      visible = xsimd::max(width - union_measure_in_registers<A, 4>(lo, hi, n, width, reach), B(0.0f));
+    } else if (n <= 8) {
+      visible = xsimd::max(width - union_measure_in_registers<A, 8>(lo, hi, n, width, reach), B(0.0f));
     } else {
       const std::size_t used = sort_slots<A>(n);
       for (std::size_t p = n; p < used; ++p) {
@@ -841,7 +913,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
         width.store_aligned(hi + p * W);
       }
       sort_by_lo<A>(lo, hi, used);
-      visible = xsimd::max(width - sorted_union_measure<A>(lo, hi, n, B(0.0f)), B(0.0f));
+      visible = xsimd::max(width - sorted_union_measure<A>(lo, hi, n, reach), B(0.0f));
     }
     for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]) * window, visible, e[c]);
   }
