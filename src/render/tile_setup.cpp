@@ -838,8 +838,8 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
           const int i = tile.x0 + c, j = tile.y0 + r;
           const Vec3 n = i < scene.width && j < scene.height ? scene.normal_at(i, j) : Vec3{0.0, 0.0, 1.0};
           const std::size_t at = static_cast<std::size_t>(r * kTileSize + c);
-          work.normal_beta[at] = static_cast<float>(std::atan2(n.y, n.x));
-          work.normal_xy[at] = static_cast<float>(std::hypot(n.x, n.y));
+          work.normal_x[at] = static_cast<float>(n.x);
+          work.normal_y[at] = static_cast<float>(n.y);
           work.normal_z[at] = static_cast<float>(n.z);
         }
       }

@@ -637,6 +637,21 @@ inline xsimd::batch<float, A> shape_distance(const TileWork& work, const KernelS
   return d;
 }
 
+// sin t for |t| <= pi: folded into [-pi/2, pi/2] (sin t = sin(+-pi - t)), then the Taylor
+// polynomial to t^11 (error below 6e-8 there); the lobe integral needs no cosine.
+template <class A>
+PAR2D_KERNEL_INLINE xsimd::batch<float, A> lobe_sin(const xsimd::batch<float, A>& t) noexcept {
+  using B = xsimd::batch<float, A>;
+  const B pi(3.14159265358979f), half_pi(1.57079632679490f);
+  const B x = xsimd::select(t > half_pi, pi - t, xsimd::select(t < -half_pi, -pi - t, t));
+  const B x2 = x * x;
+  B p = xsimd::fma(x2, B(-2.50521083854417e-8f), B(2.75573192239859e-6f));
+  p = xsimd::fma(x2, p, B(-1.98412698412698e-4f));
+  p = xsimd::fma(x2, p, B(8.33333333333333e-3f));
+  p = xsimd::fma(x2, p, B(-1.66666666666667e-1f));
+  return xsimd::fma(x * x2, p, x);
+}
+
 // A light's direction profile in the kernel: the closed forms of lighting/angular_profile.hpp,
 // with one copy of a lone cone or lobe instead of three (u - center wrapped into [-pi, pi),
 // where the whole support lies, plus whole turns times the profile's total), so a shaded
@@ -653,19 +668,53 @@ struct KernelProfile {
     const B v = u - (p.shading ? p.lobe_center : p.cone_center);
     const B turns = xsimd::floor((v + B(3.14159265358979f)) * B(kInvTwoPiF));
     const B v0 = xsimd::fnma(turns, B(kTwoPiF), v);
-    const B part = p.shading ? detail::profile_detail::lobe_cumulative(p, v0)
-                             : detail::profile_detail::trapezoid_cumulative(p, v0);
-    return xsimd::fma(turns, total, part);
+    if (p.shading) {  // lobe_cumulative of lighting/angular_profile.hpp
+      const B t = xsimd::min(xsimd::max(v0, -p.lobe_half), p.lobe_half);
+      return xsimd::fma(turns, total, xsimd::fma(p.amplitude, lobe_sin<A>(t), p.offset * t));
+    }
+    return xsimd::fma(turns, total, detail::profile_detail::trapezoid_cumulative(p, v0));
   }
   bool flat() const noexcept { return !p.cone && !p.shading; }
 };
 
 // Weight of the arc [0, width] minus the union of opaque intervals lo/hi (`count`, padded
 // to `slots` with `width`), under the profile: the gaps of the sorted intervals.
+// The gap sweep over N <= 8 intervals sorted in registers (lo/hi as in union_measure_in_registers).
+template <class A, std::size_t N>
+PAR2D_KERNEL_INLINE xsimd::batch<float, A> profiled_gaps_in_registers(const KernelProfile<A>& profile,
+                                                                      const float* lo_mem, const float* hi_mem,
+                                                                      std::size_t count,
+                                                                      const xsimd::batch<float, A>& width,
+                                                                      const xsimd::batch<float, A>& reach0) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  B lo[N], hi[N];
+  for (std::size_t i = 0; i < N; ++i) {
+    lo[i] = i < count ? B::load_aligned(lo_mem + i * W) : width;
+    hi[i] = i < count ? B::load_aligned(hi_mem + i * W) : width;
+  }
+  sort_in_registers<A, N>(lo, hi, std::make_index_sequence<SortingNetwork<N>::kSize>{});
+  B reach = reach0, reach_value = profile.cumulative(reach), sum(0.0f);
+  for (std::size_t i = 0; i < count; ++i) {  // padding sorts last and adds nothing
+    const B gap_end = xsimd::max(lo[i], reach);
+    const B gap_end_value = profile.cumulative(gap_end);
+    sum += gap_end_value - reach_value;
+    const B next = xsimd::max(reach, hi[i]);
+    reach_value = xsimd::select(next > reach, profile.cumulative(next), gap_end_value);
+    reach = next;
+  }
+  sum += profile.cumulative(xsimd::max(width, reach)) - reach_value;
+  return xsimd::max(sum, B(0.0f));
+}
+
 template <class A>
 inline xsimd::batch<float, A> profiled_gaps(const KernelProfile<A>& profile, float* lo, float* hi, std::size_t count,
                                             const xsimd::batch<float, A>& width,
                                             const xsimd::batch<float, A>& reach0) noexcept {
+  if (count == 1) return profiled_gaps_in_registers<A, 1>(profile, lo, hi, count, width, reach0);
+  if (count == 2) return profiled_gaps_in_registers<A, 2>(profile, lo, hi, count, width, reach0);
+  if (count <= 4) return profiled_gaps_in_registers<A, 4>(profile, lo, hi, count, width, reach0);
+  if (count <= 8) return profiled_gaps_in_registers<A, 8>(profile, lo, hi, count, width, reach0);
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   const std::size_t used = sort_slots<A>(count);
@@ -765,8 +814,9 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
   for (int c = 0; c < 3; ++c) e[c] = B(work.ambient[c]);
   B beta, normal_xy, normal_z;
   if constexpr (kShaded) {
-    beta = B::load_aligned(work.normal_beta + pixel);
-    normal_xy = B::load_aligned(work.normal_xy + pixel);
+    const B nx = B::load_aligned(work.normal_x + pixel), ny = B::load_aligned(work.normal_y + pixel);
+    beta = fast_atan2(ny, nx);
+    normal_xy = xsimd::sqrt(xsimd::fma(nx, nx, ny * ny));
     normal_z = B::load_aligned(work.normal_z + pixel);
   }
   const auto none = B(0.0f) > B(0.0f);
@@ -846,6 +896,9 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
       B o = occ_start - arc.start;
       o -= B(kTwoPiF) * xsimd::floor(o * B(kInvTwoPiF));  // into [0, 2*pi)
       const B end = o + occ_w;
+      // An interval empty in every lane (not in front, or seen outside the arc) changes no
+      // sum: skipped, which keeps the sweeps short where a pair matters to few pixels.
+      if (!xsimd::any(whole | (blocks & ((o < width) | (end > B(kTwoPiF)))))) continue;
       xsimd::select(whole, B(0.0f), xsimd::select(blocks, xsimd::min(o, width), width)).store_aligned(lo + n * W);
       xsimd::select(whole, width, xsimd::select(blocks, xsimd::min(end, width), width)).store_aligned(hi + n * W);
       owner[n] = static_cast<float>(pair.occluder);

@@ -105,10 +105,9 @@ struct TileWork {
   float ambient[3] = {0, 0, 0};
   std::vector<KernelLightTerms> light_terms;
   std::vector<KernelOccluderTerms> occluder_terms;
-  // Per tile pixel (row-major), shading only: the normal's direction atan2(ny, nx) in the
-  // plane, its length there, and its z (toward the viewer).
-  alignas(64) float normal_beta[kTilePixels];
-  alignas(64) float normal_xy[kTilePixels];
+  // Per tile pixel (row-major), shading only: the unit normal in world axes (z toward the viewer).
+  alignas(64) float normal_x[kTilePixels];
+  alignas(64) float normal_y[kTilePixels];
   alignas(64) float normal_z[kTilePixels];
   // Sample positions relative to the tile origin: sample s of the pixel in tile column c
   // is at x = sample_x[s * kTileSize + c], and in tile row r at y = sample_y[s * kTileSize + r].
