@@ -164,7 +164,6 @@ T linear_times_lobe(const AngularProfile<T>& p, const T& c0, const T& slope, con
 template <class T>
 T profile_cumulative(const AngularProfile<T>& p, const T& u) noexcept {
   using namespace profile_detail;
-  const T two_pi(kProfileTwoPi);
   if (!p.cone && !p.shading) return u;
   // Copies of the profile at -2pi, 0, +2pi: the ones that can meet [0, 2 pi] (each piece's
   // support is at most 2 pi wide and centered in [0, 2 pi)).

@@ -141,6 +141,59 @@ RaycastRenderer::RaycastRenderer(const Scene& validated_scene) : scale_(scene_sc
     lights_.push_back(make_shape(scaled_shape(l.shape, scale_)));
     emission_.push_back({l.intensity * l.color[0], l.intensity * l.color[1], l.intensity * l.color[2]});
   }
+  // The game lighting model, read straight from the scene (degrees to radians here).
+  constexpr double kRadians = kTwoPi / 360.0;
+  const Scene& scene = validated_scene;
+  for (const auto& l : scene.lights) {
+    LightModel m;
+    if (l.range) m.range = *l.range * scale_;
+    if (l.cone) {
+      m.cone = true;
+      m.cone_direction = l.cone->direction * kRadians;
+      m.cone_half = l.cone->half_angle * kRadians;
+      m.cone_fade = l.cone->fade * kRadians;
+    }
+    m.mask = l.mask;
+    m.elevation = l.elevation * kRadians;
+    model_ = model_ || l.range || l.cone || l.mask != kAllMaskBits;
+    light_terms_.push_back(m);
+  }
+  for (const auto& o : scene.occluders) {
+    OccluderModel m{o.transmittance, o.mask, o.interior == Interior::lit};
+    model_ = model_ || m.transmittance != Rgb{0.0, 0.0, 0.0} || m.mask != kAllMaskBits || m.lit_interior;
+    occluder_terms_.push_back(m);
+  }
+  for (const auto& d : scene.directional_lights) {
+    suns_.push_back({d.angle0 * kRadians, d.angle1 * kRadians,
+                     {d.intensity * d.color[0], d.intensity * d.color[1], d.intensity * d.color[2]}, d.mask,
+                     d.elevation * kRadians});
+    model_ = true;
+  }
+  ambient_ = scene.ambient;
+  model_ = model_ || ambient_ != Rgb{0.0, 0.0, 0.0};
+  if (scene.normal) {
+    const Vec3 n = *scene.normal;
+    const double len = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+    normal_ = Vec3{n.x / len, n.y / len, n.z / len};
+    model_ = true;
+  } else if (scene.normal_map) {
+    map_width_ = scene.normal_map->width;
+    normal_map_ = scene.normal_map->normals;
+    // Image +x is world +x unless the view mirrors x; image up is world -y (y grows down)
+    // unless the view mirrors y.
+    map_sign_x_ = scene.view.x1 > scene.view.x0 ? 1.0 : -1.0;
+    map_sign_y_ = scene.view.y1 > scene.view.y0 ? -1.0 : 1.0;
+    model_ = true;
+  }
+}
+
+std::optional<Vec3> RaycastRenderer::normal_at(int i, int j) const {
+  if (normal_) return normal_;
+  if (normal_map_.empty()) return std::nullopt;
+  const std::size_t p = 3 * (static_cast<std::size_t>(j) * static_cast<std::size_t>(map_width_) + static_cast<std::size_t>(i));
+  const double x = map_sign_x_ * normal_map_[p], y = map_sign_y_ * normal_map_[p + 1], z = normal_map_[p + 2];
+  const double len = std::sqrt(x * x + y * y + z * z);
+  return Vec3{x / len, y / len, z / len};
 }
 
 bool RaycastRenderer::contains(const RayShape& s, Vec2 x) const noexcept {
@@ -213,7 +266,12 @@ double RaycastRenderer::hit_distance(const RayShape& s, Vec2 x, Vec2 d, double l
   return kInf;
 }
 
-Rgb RaycastRenderer::irradiance(Vec2 world, int rays, double jitter) const noexcept {
+Rgb RaycastRenderer::irradiance(Vec2 world, int rays, double jitter) const {
+  return irradiance(world, rays, jitter, nullptr);
+}
+
+Rgb RaycastRenderer::irradiance(Vec2 world, int rays, double jitter, const Vec3* normal) const {
+  if (model_) return model_irradiance(world, rays, jitter, normal);
   const Vec2 x{scale_ * world.x, scale_ * world.y};
   Rgb sum{0.0, 0.0, 0.0};
   if (rays <= 0 || lights_.empty()) return sum;
@@ -255,6 +313,117 @@ Rgb RaycastRenderer::irradiance(Vec2 world, int rays, double jitter) const noexc
   }
   const double inv = 1.0 / rays;
   return {sum[0] * inv, sum[1] * inv, sum[2] * inv};
+}
+
+double RaycastRenderer::distance_to(const RayShape& s, Vec2 x) const noexcept {
+  // Euclidean distance from x to the closed shape: 0 inside, else to the nearest boundary point.
+  auto to_segment = [](Vec2 p, Vec2 a, Vec2 b) {
+    const Vec2 e = sub(b, a), w = sub(p, a);
+    const double ee = dot(e, e);
+    const double u = ee > 0.0 ? std::clamp(dot(w, e) / ee, 0.0, 1.0) : 0.0;
+    return std::hypot(w.x - u * e.x, w.y - u * e.y);
+  };
+  switch (s.kind) {
+    case Kind::circle: {
+      const Vec2 m = sub(x, s.p0);
+      return std::max(0.0, std::hypot(m.x, m.y) - std::sqrt(s.radius2));
+    }
+    case Kind::segment: return to_segment(x, s.p0, s.p1);
+    case Kind::polygon: {
+      if (contains(s, x)) return 0.0;
+      const Vec2* v = vertices_.data() + s.first;
+      double d = kInf;
+      for (std::uint32_t i = 0; i < s.count; ++i) d = std::min(d, to_segment(x, v[i], v[i + 1 == s.count ? 0 : i + 1]));
+      return d;
+    }
+  }
+  return kInf;
+}
+
+Rgb RaycastRenderer::model_irradiance(Vec2 world, int rays, double jitter, const Vec3* normal) const {
+  const Vec2 x{scale_ * world.x, scale_ * world.y};
+  Rgb sum{0.0, 0.0, 0.0};
+  if (rays <= 0) return sum;
+  const std::size_t n_occ = occluders_.size();
+  std::vector<unsigned char> inside(n_occ);
+  for (std::size_t b = 0; b < n_occ; ++b) inside[b] = contains(occluders_[b], x) ? 1 : 0;
+  // Occluder B acts on a light with mask m at x (section 6: masks share a bit, and a lit
+  // interior is ignored from inside).
+  auto acting = [&](std::size_t b, std::uint32_t mask) {
+    return (occluder_terms_[b].mask & mask) != 0 && !(inside[b] && occluder_terms_[b].lit_interior);
+  };
+  auto shading = [&](double theta, double elevation) {
+    if (!normal) return 1.0;
+    const double ce = std::cos(elevation);
+    return std::max(0.0, normal->x * ce * std::cos(theta) + normal->y * ce * std::sin(theta) +
+                             normal->z * std::sin(elevation));
+  };
+  // Range windows, once per point: w = clamp(1 - (d/R)^2, 0, 1)^2.
+  std::vector<double> window(lights_.size(), 1.0);
+  for (std::size_t l = 0; l < lights_.size(); ++l) {
+    if (light_terms_[l].range <= 0.0) continue;
+    const double q = distance_to(lights_[l], x) / light_terms_[l].range;
+    const double w = std::clamp(1.0 - q * q, 0.0, 1.0);
+    window[l] = w * w;
+  }
+  std::vector<double> t_occ(n_occ);
+  Rgb lit{0.0, 0.0, 0.0};
+  for (int k = 0; k < rays; ++k) {
+    const double theta = kTwoPi * (k + jitter) / rays;
+    const Vec2 d{std::cos(theta), std::sin(theta)};
+    for (std::size_t b = 0; b < n_occ; ++b) t_occ[b] = inside[b] ? 0.0 : hit_distance(occluders_[b], x, d, kInf);
+    for (std::size_t l = 0; l < lights_.size(); ++l) {
+      if (!(window[l] > 0.0)) continue;
+      const double t_light = hit_distance(lights_[l], x, d, kInf);
+      if (!(t_light < kInf)) continue;
+      const LightModel& m = light_terms_[l];
+      // Cone: emitted along psi = theta + pi; delta = |psi - phi| wrapped to [0, pi].
+      double c = 1.0;
+      if (m.cone) {
+        const double delta = std::fabs(std::remainder(theta + 0.5 * kTwoPi - m.cone_direction, kTwoPi));
+        if (delta <= m.cone_half - m.cone_fade)
+          c = 1.0;
+        else if (delta >= m.cone_half)
+          c = 0.0;
+        else
+          c = (m.cone_half - delta) / m.cone_fade;
+      }
+      const double weight = window[l] * c * shading(theta, m.elevation);
+      if (!(weight > 0.0)) continue;
+      Rgb v{1.0, 1.0, 1.0};
+      for (std::size_t b = 0; b < n_occ; ++b) {
+        if (!(t_occ[b] < kInf) || !acting(b, m.mask)) continue;
+        // In front when t_B <= t_L, contacts (as in section 1's path above) included.
+        const double contact = kContactTolerance * std::max({t_occ[b], std::fabs(x.x), std::fabs(x.y)});
+        if (t_light >= t_occ[b] - contact)
+          for (int c3 = 0; c3 < 3; ++c3) v[c3] *= occluder_terms_[b].transmittance[c3];
+      }
+      for (int c3 = 0; c3 < 3; ++c3) lit[c3] += emission_[l][c3] * weight * v[c3];
+    }
+  }
+  for (int c3 = 0; c3 < 3; ++c3) sum[c3] = lit[c3] / rays;
+  // Directional lights: their own stratified rays over [a0, a1]; every acting occluder a ray
+  // meets (t_B < inf, containing x included) is in front of a light at infinity.
+  for (const SunModel& sun : suns_) {
+    const double width = sun.angle1 - sun.angle0;
+    Rgb seen{0.0, 0.0, 0.0};
+    for (int k = 0; k < rays; ++k) {
+      const double theta = sun.angle0 + width * (k + jitter) / rays;
+      const Vec2 d{std::cos(theta), std::sin(theta)};
+      const double s = shading(theta, sun.elevation);
+      if (!(s > 0.0)) continue;
+      Rgb v{s, s, s};
+      for (std::size_t b = 0; b < n_occ; ++b) {
+        if (!acting(b, sun.mask)) continue;
+        if (inside[b] || hit_distance(occluders_[b], x, d, kInf) < kInf)
+          for (int c3 = 0; c3 < 3; ++c3) v[c3] *= occluder_terms_[b].transmittance[c3];
+      }
+      for (int c3 = 0; c3 < 3; ++c3) seen[c3] += v[c3];
+    }
+    for (int c3 = 0; c3 < 3; ++c3) sum[c3] += sun.emission[c3] * seen[c3] * width / (kTwoPi * rays);
+  }
+  for (int c3 = 0; c3 < 3; ++c3) sum[c3] += ambient_[c3];
+  return sum;
 }
 
 }  // namespace par2d::detail

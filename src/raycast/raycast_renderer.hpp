@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "par2d/scene.hpp"
@@ -17,8 +18,21 @@ class RaycastRenderer {
   // Irradiance at world point x from `rays` directions theta_k = 2*pi*(k + jitter)/rays,
   // k = 0..rays-1, jitter in [0, 1). Along each ray every light L with t_L < t_occ
   // (docs/contract.md section 1: lights do not block each other) adds e_L/rays.
-  // Allocates nothing; safe to call from many threads at once.
-  Rgb irradiance(Vec2 x, int rays, double jitter) const noexcept;
+  // Allocates nothing for scenes without the game lighting model's terms; safe to call from
+  // many threads at once. Scenes with them: as the overload below, plain (s = 1).
+  Rgb irradiance(Vec2 x, int rays, double jitter) const;
+
+  // docs/contract.md section 6 applied literally, ray by ray: along each of the `rays`
+  // directions every light L adds e_L * w_L(x) * V_L * c_L * s / rays, V_L the product of the
+  // transmittances of the acting occluders B with t_B <= t_L (ties to the occluder); each
+  // directional light D casts its own `rays` stratified directions over [a0, a1], each adding
+  // e_D * V_D * s * (a1 - a0) / (2 pi rays), V_D over the acting occluders the ray meets; then
+  // the ambient term. s is the clamped cosine for `normal` (unit, world axes), or 1 when null.
+  Rgb irradiance(Vec2 x, int rays, double jitter, const Vec3* normal) const;
+
+  // The surface normal of pixel (i, j) (unit, world axes) from the scene's normal source, or
+  // empty when the scene has none (docs/contract.md section 6).
+  std::optional<Vec3> normal_at(int i, int j) const;
 
  private:
   enum class Kind : std::uint8_t { polygon, circle, segment };
@@ -49,6 +63,38 @@ class RaycastRenderer {
   std::vector<RayShape> occluders_;
   std::vector<RayShape> lights_;
   std::vector<Rgb> emission_;  // e_L = intensity * color, parallel to lights_
+
+  // The game lighting model's terms (docs/contract.md section 6), in radians and scaled lengths.
+  struct LightModel {
+    double range = 0.0;  // 0: none
+    bool cone = false;
+    double cone_direction = 0.0, cone_half = 0.0, cone_fade = 0.0;  // world emission directions
+    std::uint32_t mask = 0xFFFFFFFFu;
+    double elevation = 0.0;
+  };
+  struct OccluderModel {
+    Rgb transmittance{0.0, 0.0, 0.0};
+    std::uint32_t mask = 0xFFFFFFFFu;
+    bool lit_interior = false;
+  };
+  struct SunModel {
+    double angle0 = 0.0, angle1 = 0.0;
+    Rgb emission{0.0, 0.0, 0.0};
+    std::uint32_t mask = 0xFFFFFFFFu;
+    double elevation = 0.0;
+  };
+  Rgb model_irradiance(Vec2 x, int rays, double jitter, const Vec3* normal) const;
+  double distance_to(const RayShape& s, Vec2 x) const noexcept;
+
+  bool model_ = false;  // any term of section 6 differs from its default
+  std::vector<LightModel> light_terms_;
+  std::vector<OccluderModel> occluder_terms_;
+  std::vector<SunModel> suns_;
+  Rgb ambient_{0.0, 0.0, 0.0};
+  std::optional<Vec3> normal_;  // constant normal source, unit
+  int map_width_ = 0;
+  std::vector<float> normal_map_;  // image axes, as in NormalMap
+  double map_sign_x_ = 1.0, map_sign_y_ = -1.0;  // image axes to world axes for the view
   // Shapes are stored, and points scaled, by this power of two (exact) so that products of
   // coordinates neither overflow (coordinates of 1e300) nor underflow (views of 1e-300).
   double scale_ = 1.0;

@@ -49,7 +49,7 @@ int worker_threads(int requested) noexcept {
 void render_raycast(const Scene& scene, const RenderOptions& options, int threads, const ImageView& image) {
   const detail::RaycastRenderer caster(scene);
   detail::for_each_block(scene.width, scene.height, threads, [&](const detail::TileRect& block, int) {
-    detail::render_rect_raycast(scene, caster, options.spp, options.rays, block, image);
+    detail::render_rect_raycast(scene, caster, options.spp, options.rays, block, image, options.shaded);
   });
 }
 

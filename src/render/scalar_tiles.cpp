@@ -2,6 +2,7 @@
 #include "render/scalar_tiles.hpp"
 
 #include <cstdint>
+#include <optional>
 
 namespace par2d::detail {
 namespace {
@@ -35,34 +36,45 @@ void average_samples(const View& view, int width, int height, int spp, const Til
   }
 }
 
+// The scalar reference at sample x of pixel (i, j): shaded by the pixel's normal when shading
+// is active (docs/contract.md section 6: every sample of a pixel has the pixel's normal).
+Rgb scalar_sample(const PreparedScene& scene, bool shade, Vec2 x, int i, int j, ScalarScratch& scratch) {
+  if (!shade) return scalar_irradiance(scene, x, nullptr, scratch);
+  const Vec3 normal = scene.normal_at(i, j);
+  return scalar_irradiance(scene, x, &normal, scratch);
+}
+
 }  // namespace
 
 void render_rect_scalar(const PreparedScene& scene, int spp, const TileRect& rect, ScalarScratch& scratch,
-                        const ImageView& image) {
+                        const ImageView& image, bool shaded) {
+  const bool shade = shading_active(scene, shaded);
   average_samples(
       scene.view, scene.width, scene.height, spp, rect,
-      [&](Vec2 x, int, int, int) { return scalar_irradiance(scene, x, scratch); },
+      [&](Vec2 x, int i, int j, int) { return scalar_sample(scene, shade, x, i, j, scratch); },
       [&](int i, int j, int c, float v) { image.data[static_cast<std::ptrdiff_t>(j) * image.row_stride + 3 * i + c] = v; });
 }
 
 void render_tile_scalar(const PreparedScene& scene, int spp, const TileRect& rect, int tile_x0, int tile_y0,
-                        ScalarScratch& scratch, TileResult& out) {
+                        ScalarScratch& scratch, TileResult& out, bool shaded) {
+  const bool shade = shading_active(scene, shaded);
   average_samples(
       scene.view, scene.width, scene.height, spp, rect,
-      [&](Vec2 x, int, int, int) { return scalar_irradiance(scene, x, scratch); },
+      [&](Vec2 x, int i, int j, int) { return scalar_sample(scene, shade, x, i, j, scratch); },
       [&](int i, int j, int c, float v) {
         out.rgb[c][static_cast<std::size_t>(j - tile_y0) * kTileSize + static_cast<std::size_t>(i - tile_x0)] = v;
       });
 }
 
 void render_rect_raycast(const Scene& scene, const RaycastRenderer& caster, int spp, int rays, const TileRect& rect,
-                         const ImageView& image) {
+                         const ImageView& image, bool shaded) {
   average_samples(scene.view, scene.width, scene.height, spp, rect, [&](Vec2 x, int i, int j, int k) {
     const std::uint64_t id = ((static_cast<std::uint64_t>(j) * static_cast<std::uint64_t>(scene.width) +
                                static_cast<std::uint64_t>(i))
                               << 8) |
                              static_cast<std::uint64_t>(k);
-    return caster.irradiance(x, rays, hash_to_unit(id));
+    const std::optional<Vec3> normal = shaded ? caster.normal_at(i, j) : std::nullopt;
+    return caster.irradiance(x, rays, hash_to_unit(id), normal ? &*normal : nullptr);
   }, [&](int i, int j, int c, float v) { image.data[static_cast<std::ptrdiff_t>(j) * image.row_stride + 3 * i + c] = v; });
 }
 

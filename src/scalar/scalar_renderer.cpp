@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "lighting/angular_profile.hpp"
+
 namespace par2d::detail {
 namespace {
 
@@ -15,6 +17,48 @@ Vec2 direction(double angle) noexcept { return {std::cos(angle), std::sin(angle)
 bool occluder_first(const ConvexShape& occluder, const ConvexShape& light, Vec2 x, double angle,
                     EntryHints& hints) noexcept {
   return detail::occluder_first(occluder, light, x, direction(angle), hints);
+}
+
+// Calls emit(lo, hi) for each piece of the light's arc (light frame) that occluder k is in
+// front of, x in neither shape: the part of the occluder's span inside the arc, split where
+// the nearer of the two shapes can change.
+template <class Emit>
+void for_each_blocked_piece(const PreparedLight& light, const ConvexShape& occluder, std::size_t k, Vec2 x,
+                            const AngularSpan& arc, const AngularSpan& span, ScalarScratch& scratch, Emit&& emit) {
+  scratch.pieces.clear();
+  clip_to_light_arc(arc, span, scratch.pieces);
+  if (scratch.pieces.empty()) return;
+  const auto overlap = std::lower_bound(light.overlapping_occluders.begin(), light.overlapping_occluders.end(), k);
+  if (overlap == light.overlapping_occluders.end() || *overlap != k) {
+    // Disjoint convex shapes: along every direction that meets both, the same one comes
+    // first (the paper's depth test), so one key ray per piece decides the whole piece.
+    EntryHints hints;
+    for (const ArcInterval& piece : scratch.pieces) {
+      if (occluder_first(occluder, light.shape, x, arc.start + 0.5 * (piece.lo + piece.hi), hints))
+        emit(piece.lo, piece.hi);
+    }
+    return;
+  }
+  // Overlapping shapes: which one comes first can only change at a direction through a
+  // point where their boundaries meet, so test one key ray between consecutive such
+  // directions.
+  const auto& points = light.overlap_points[static_cast<std::size_t>(overlap - light.overlapping_occluders.begin())];
+  // Key rays in angular order: each ray's entry edges are found from the previous ones'.
+  EntryHints hints;
+  for (const ArcInterval& piece : scratch.pieces) {
+    scratch.events.assign({piece.lo, piece.hi});
+    for (Vec2 p : points) {
+      const Vec2 d = p - x;
+      if (d.x == 0.0 && d.y == 0.0) continue;
+      const double a = angle_in_light_frame(arc, std::atan2(d.y, d.x));
+      if (a > piece.lo && a < piece.hi) scratch.events.push_back(a);
+    }
+    std::sort(scratch.events.begin(), scratch.events.end());
+    for (std::size_t e = 0; e + 1 < scratch.events.size(); ++e) {
+      const double lo = scratch.events[e], hi = scratch.events[e + 1];
+      if (hi > lo && occluder_first(occluder, light.shape, x, arc.start + 0.5 * (lo + hi), hints)) emit(lo, hi);
+    }
+  }
 }
 
 }  // namespace
@@ -29,43 +73,8 @@ double visible_measure(const PreparedScene& scene, std::size_t light_index, Vec2
 
   scratch.blocked.clear();
   for (std::size_t k = 0; k < scene.occluders.size(); ++k) {
-    scratch.pieces.clear();
-    clip_to_light_arc(arc, occluder_spans[k], scratch.pieces);
-    if (scratch.pieces.empty()) continue;
-    const ConvexShape& occluder = scene.occluders[k];
-    const auto overlap = std::lower_bound(light.overlapping_occluders.begin(),
-                                          light.overlapping_occluders.end(), k);
-    if (overlap == light.overlapping_occluders.end() || *overlap != k) {
-      // Disjoint convex shapes: along every direction that meets both, the same one comes
-      // first (the paper's depth test), so one key ray per piece decides the whole piece.
-      EntryHints hints;
-      for (const ArcInterval& piece : scratch.pieces) {
-        if (occluder_first(occluder, light.shape, x, arc.start + 0.5 * (piece.lo + piece.hi), hints))
-          scratch.blocked.push_back(piece);
-      }
-      continue;
-    }
-    // Overlapping shapes: which one comes first can only change at a direction through a
-    // point where their boundaries meet, so test one key ray between consecutive such
-    // directions.
-    const auto& points = light.overlap_points[static_cast<std::size_t>(overlap - light.overlapping_occluders.begin())];
-    // Key rays in angular order: each ray's entry edges are found from the previous ones'.
-    EntryHints hints;
-    for (const ArcInterval& piece : scratch.pieces) {
-      scratch.events.assign({piece.lo, piece.hi});
-      for (Vec2 p : points) {
-        const Vec2 d = p - x;
-        if (d.x == 0.0 && d.y == 0.0) continue;
-        const double a = angle_in_light_frame(arc, std::atan2(d.y, d.x));
-        if (a > piece.lo && a < piece.hi) scratch.events.push_back(a);
-      }
-      std::sort(scratch.events.begin(), scratch.events.end());
-      for (std::size_t e = 0; e + 1 < scratch.events.size(); ++e) {
-        const double lo = scratch.events[e], hi = scratch.events[e + 1];
-        if (hi > lo && occluder_first(occluder, light.shape, x, arc.start + 0.5 * (lo + hi), hints))
-          scratch.blocked.push_back({lo, hi});
-      }
-    }
+    for_each_blocked_piece(light, scene.occluders[k], k, x, arc, occluder_spans[k], scratch,
+                           [&](double lo, double hi) { scratch.blocked.push_back({lo, hi}); });
   }
   // Blocked pieces that meet end to end come from different atan2 calls: a cover of the whole
   // arc can leave a residue of a few ulps of it, which is rounding, not a visible sliver.
@@ -73,7 +82,10 @@ double visible_measure(const PreparedScene& scene, std::size_t light_index, Vec2
   return visible > kContactTolerance * arc.width ? visible : 0.0;
 }
 
-Rgb scalar_irradiance(const PreparedScene& scene, Vec2 x, ScalarScratch& scratch) {
+namespace {
+
+// docs/contract.md section 1 (every occluder opaque and acting on every light, no other term).
+Rgb plain_irradiance(const PreparedScene& scene, Vec2 x, ScalarScratch& scratch) {
   Rgb e{0.0, 0.0, 0.0};
   if (scene.lights.empty()) return e;
   scratch.occluder_spans.resize(scene.occluders.size());
@@ -87,6 +99,158 @@ Rgb scalar_irradiance(const PreparedScene& scene, Vec2 x, ScalarScratch& scratch
     for (int c = 0; c < 3; ++c) e[c] += scene.lights[l].emission[c] * weight;
   }
   return e;
+}
+
+// Whether occluder k acts on a light with mask `mask` at x (docs/contract.md section 6: masks
+// share a bit, and x is not inside it when its interior is lit).
+bool acts(const OccluderTerms& terms, bool x_inside, std::uint32_t mask) noexcept {
+  return terms.acts_on(mask) && !(x_inside && terms.lit_interior);
+}
+
+void set_shading(AngularProfile<double>& p, double origin, const Vec3& n, double sin_el, double cos_el) noexcept {
+  set_profile_shading(p, origin, std::atan2(n.y, n.x), std::hypot(n.x, n.y), n.z, sin_el, cos_el);
+}
+
+// Integral over the arc u in [0, width] of V(u) * profile(u), per channel, where V(u) is the
+// product of the transmittances of the blocked pieces (scratch.piece_lo_hi, blocked by
+// scratch.piece_occluder) covering u: the pieces' end points cut the arc into elementary
+// pieces, each covered by a fixed set. Uncovered pieces narrower than kContactTolerance of the
+// arc are the rounding between pieces that meet end to end (see visible_measure), not light.
+Rgb covered_integral(const PreparedScene& scene, const AngularProfile<double>& p, double width,
+                     ScalarScratch& scratch) {
+  const auto cumulative = [&p](double u) { return profile_cumulative(p, u); };
+  auto& sweep = scratch.sweep;
+  sweep.clear();
+  for (std::size_t q = 0; q < scratch.piece_lo_hi.size(); ++q) {
+    const ArcInterval piece = scratch.piece_lo_hi[q];
+    if (!(piece.hi > piece.lo)) continue;
+    sweep.push_back({piece.lo, static_cast<int>(q) + 1});
+    sweep.push_back({piece.hi, -static_cast<int>(q) - 1});
+  }
+  std::sort(sweep.begin(), sweep.end(),
+            [](const std::pair<double, int>& a, const std::pair<double, int>& b) { return a.first < b.first; });
+  scratch.active.clear();
+  int opaque = 0;
+  Rgb sum{0.0, 0.0, 0.0};
+  double at = 0.0, f_at = cumulative(0.0);
+  const double residue = kContactTolerance * width;
+  // Adds the elementary piece [at, to] with the current cover, and moves `at` to `to`.
+  const auto advance = [&](double to) {
+    if (!(to > at)) return;
+    const double f_to = cumulative(to);
+    if (opaque == 0 && !(scratch.active.empty() && to - at < residue)) {
+      Rgb t{1.0, 1.0, 1.0};
+      for (std::uint32_t q : scratch.active) {
+        const Rgb& tq = scene.occluder_terms[scratch.piece_occluder[q]].transmittance;
+        for (int c = 0; c < 3; ++c) t[c] *= tq[c];
+      }
+      for (int c = 0; c < 3; ++c) sum[c] += t[c] * (f_to - f_at);
+    }
+    at = to;
+    f_at = f_to;
+  };
+  for (const auto& [position, event] : sweep) {
+    advance(std::min(position, width));
+    if (event > 0) {
+      const std::uint32_t q = static_cast<std::uint32_t>(event - 1);
+      if (scene.occluder_terms[scratch.piece_occluder[q]].opaque())
+        ++opaque;
+      else
+        scratch.active.push_back(q);
+    } else {
+      const std::uint32_t q = static_cast<std::uint32_t>(-event - 1);
+      if (scene.occluder_terms[scratch.piece_occluder[q]].opaque()) {
+        --opaque;
+      } else {
+        const auto it = std::find(scratch.active.begin(), scratch.active.end(), q);
+        *it = scratch.active.back();
+        scratch.active.pop_back();
+      }
+    }
+  }
+  advance(width);
+  return sum;
+}
+
+// docs/contract.md section 6 at x, shaded by `normal` when not null.
+Rgb model_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, ScalarScratch& scratch) {
+  Rgb e = scene.ambient;
+  const std::size_t occluders = scene.occluders.size();
+  scratch.occluder_spans.resize(occluders);
+  scratch.inside.resize(occluders);
+  for (std::size_t k = 0; k < occluders; ++k) {
+    scratch.occluder_spans[k] = angular_span(scene.occluders[k], x);
+    scratch.inside[k] = scratch.occluder_spans[k].full ? 1 : 0;
+  }
+  AngularProfile<double> profile;
+  for (const PreparedLight& light : scene.lights) {
+    const LightTerms& terms = light.terms;
+    double window = 1.0;
+    if (terms.has_range()) {
+      window = range_window(point_distance(light.shape, x), 1.0 / terms.range);
+      if (!(window > 0.0)) continue;
+    }
+    // Acting occluders containing x: t_B = 0 <= t_L along every direction.
+    Rgb factor{window, window, window};
+    for (std::size_t k = 0; k < occluders; ++k) {
+      if (!scratch.inside[k] || !acts(scene.occluder_terms[k], true, terms.mask)) continue;
+      for (int c = 0; c < 3; ++c) factor[c] *= scene.occluder_terms[k].transmittance[c];
+    }
+    if (!(std::max({factor[0], factor[1], factor[2]}) > 0.0)) continue;
+    const AngularSpan arc = angular_span(light.shape, x);
+    if (arc.width <= 0.0) continue;
+    scratch.piece_lo_hi.clear();
+    scratch.piece_occluder.clear();
+    // Inside the light (t_L = 0) only occluders containing x come first.
+    if (!arc.full) {
+      for (std::size_t k = 0; k < occluders; ++k) {
+        if (scratch.inside[k] || !acts(scene.occluder_terms[k], false, terms.mask)) continue;
+        for_each_blocked_piece(light, scene.occluders[k], k, x, arc, scratch.occluder_spans[k], scratch,
+                               [&](double lo, double hi) {
+                                 scratch.piece_lo_hi.push_back({lo, hi});
+                                 scratch.piece_occluder.push_back(static_cast<std::uint32_t>(k));
+                               });
+      }
+    }
+    profile = AngularProfile<double>{};
+    if (terms.has_cone) set_profile_cone(profile, arc.start, terms.cone_center, terms.cone_half, terms.cone_fade);
+    if (normal) set_shading(profile, arc.start, *normal, terms.sin_elevation, terms.cos_elevation);
+    const Rgb seen = covered_integral(scene, profile, arc.width, scratch);
+    for (int c = 0; c < 3; ++c) e[c] += light.emission[c] * factor[c] * seen[c] / kTwoPi;
+  }
+  for (const PreparedDirectional& sun : scene.directionals) {
+    // Every acting occluder the ray meets is in front of a light at infinity; one containing
+    // x meets every ray (its span is the full circle).
+    const AngularSpan arc{sun.start, sun.width, false};
+    scratch.piece_lo_hi.clear();
+    scratch.piece_occluder.clear();
+    for (std::size_t k = 0; k < occluders; ++k) {
+      if (!acts(scene.occluder_terms[k], scratch.inside[k] != 0, sun.mask)) continue;
+      scratch.pieces.clear();
+      clip_to_light_arc(arc, scratch.occluder_spans[k], scratch.pieces);
+      for (const ArcInterval& piece : scratch.pieces) {
+        scratch.piece_lo_hi.push_back(piece);
+        scratch.piece_occluder.push_back(static_cast<std::uint32_t>(k));
+      }
+    }
+    profile = AngularProfile<double>{};
+    if (normal) set_shading(profile, arc.start, *normal, sun.sin_elevation, sun.cos_elevation);
+    const Rgb seen = covered_integral(scene, profile, arc.width, scratch);
+    for (int c = 0; c < 3; ++c) e[c] += sun.emission[c] * seen[c] / kTwoPi;
+  }
+  return e;
+}
+
+}  // namespace
+
+Rgb scalar_irradiance(const PreparedScene& scene, Vec2 x, ScalarScratch& scratch) {
+  if (!scene.model) return plain_irradiance(scene, x, scratch);
+  return model_irradiance(scene, x, nullptr, scratch);
+}
+
+Rgb scalar_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, ScalarScratch& scratch) {
+  if (!scene.model) return plain_irradiance(scene, x, scratch);
+  return model_irradiance(scene, x, normal, scratch);
 }
 
 }  // namespace par2d::detail

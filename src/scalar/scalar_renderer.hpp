@@ -2,6 +2,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "geometry/angular_intervals.hpp"
@@ -15,10 +17,23 @@ struct ScalarScratch {
   std::vector<ArcInterval> pieces;
   std::vector<ArcInterval> blocked;
   std::vector<double> events;
+  // The game lighting model (docs/contract.md section 6): which occluders contain the point,
+  // the blocked pieces of one light's arc with the occluder that blocks each, and the sweep.
+  std::vector<unsigned char> inside;
+  std::vector<ArcInterval> piece_lo_hi;
+  std::vector<std::uint32_t> piece_occluder;
+  std::vector<std::pair<double, int>> sweep;
+  std::vector<std::uint32_t> active;
 };
 
-// E(x) of docs/contract.md section 1.
+// E(x) of docs/contract.md section 1; with the game lighting model's terms (scene.model) those
+// of section 6, plain (s = 1).
 Rgb scalar_irradiance(const PreparedScene& scene, Vec2 x, ScalarScratch& scratch);
+
+// E(x) of docs/contract.md section 6 with the surface normal `normal` (unit, world axes) for
+// the shading term, or plain irradiance when `normal` is null. Scenes without model terms
+// take the section 1 path (the normal is then ignored: such scenes have no normal source).
+Rgb scalar_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, ScalarScratch& scratch);
 
 // Radians of light `light`'s arc seen from x that no occluder blocks. `occluder_spans`
 // holds angular_span(occluder k, x) for every occluder; x must lie in no occluder.

@@ -257,6 +257,9 @@ PreparedScene prepare_scene(const Scene& scene) {
 void update_scene_bounds(PreparedScene& out) noexcept {
   out.e_max = 0.0;
   for (const PreparedLight& l : out.lights) out.e_max += std::max({l.emission[0], l.emission[1], l.emission[2]});
+  // docs/contract.md section 6: directional lights and the ambient term count too.
+  for (const PreparedDirectional& d : out.directionals) out.e_max += std::max({d.emission[0], d.emission[1], d.emission[2]});
+  out.e_max += std::max({out.ambient[0], out.ambient[1], out.ambient[2]});
   out.extent = 0.0;
   const Vec2 center{0.5 * out.view.x0 + 0.5 * out.view.x1, 0.5 * out.view.y0 + 0.5 * out.view.y1};
   auto grow_extent = [&](Vec2 lo, Vec2 hi) {

@@ -154,7 +154,8 @@ PreparedScene prepare_scene(const Scene& scene);
 // The power of two all prepared coordinates are scaled by (see PreparedScene).
 double scene_scale(const View& view, double largest_coordinate) noexcept;
 void scale_shape(ConvexShape& shape, double factor) noexcept;
-// e_max and extent of a prepared scene from its view, lights and occluders.
+// e_max (lights, directional lights and ambient) and extent of a prepared scene from its
+// view, lights and occluders.
 void update_scene_bounds(PreparedScene& scene) noexcept;
 // light.overlapping_occluders / overlap_points from scratch, with the scene's index.
 void find_light_overlaps(const PreparedScene& scene, PreparedLight& light, std::vector<std::uint32_t>& scratch);

@@ -59,6 +59,74 @@ Shape random_shape(PortableRandom& rng, const RandomSceneOptions& o, Vec2 c, dou
   return poly;
 }
 
+// A random unit vector: uniform on the sphere, or in the upper hemisphere (z >= 0).
+Vec3 random_unit(PortableRandom& rng, bool upper) {
+  const double z = upper ? rng.uniform() : rng.uniform(-1.0, 1.0);
+  const double a = rng.uniform(0.0, kTwoPi), r = std::sqrt(std::max(0.0, 1.0 - z * z));
+  return {r * std::cos(a), r * std::sin(a), z};
+}
+
+std::uint32_t random_mask(PortableRandom& rng) {
+  // A few bits, so that some pairs share one and some do not; now and then all of them.
+  constexpr std::uint32_t kMasks[] = {0xFFFFFFFFu, 1u, 2u, 3u, 4u, 6u};
+  return kMasks[rng.integer(0, 5)];
+}
+
+double random_elevation(PortableRandom& rng) {
+  const int pick = rng.integer(0, 4);
+  return pick == 0 ? 0.0 : pick == 1 ? 90.0 : rng.uniform(0.0, 90.0);
+}
+
+// The section 6 terms RandomSceneOptions asks for, from their own generator.
+void add_model_terms(std::uint32_t seed, const RandomSceneOptions& o, Scene& scene) {
+  PortableRandom rng(seed ^ 0x6d2b79f5u);
+  const double size = std::min(std::fabs(scene.view.x1 - scene.view.x0), std::fabs(scene.view.y1 - scene.view.y0));
+  for (Light& light : scene.lights) {
+    if (o.ranges && rng.chance(0.5)) light.range = size * rng.uniform(0.2, 1.5);
+    if (o.cones && rng.chance(0.5)) {
+      Cone cone;
+      cone.direction = rng.uniform(-360.0, 360.0);
+      const int pick = rng.integer(0, 3);
+      cone.half_angle = pick == 0 ? 180.0 : rng.uniform(10.0, 170.0);
+      cone.fade = pick == 1 ? 0.0 : pick == 2 ? cone.half_angle : cone.half_angle * rng.uniform();
+      light.cone = cone;
+    }
+    if (o.masks) light.mask = random_mask(rng);
+    if (o.elevations) light.elevation = random_elevation(rng);
+  }
+  for (Occluder& occluder : scene.occluders) {
+    if (o.translucent && rng.chance(0.5)) occluder.transmittance = {rng.uniform(), rng.uniform(), rng.uniform()};
+    if (o.masks) occluder.mask = random_mask(rng);
+    if (o.lit_interiors && rng.chance(0.35)) occluder.interior = Interior::lit;
+  }
+  for (int k = 0; k < o.directional_lights; ++k) {
+    DirectionalLight sun;
+    sun.angle0 = rng.uniform(-360.0, 360.0);
+    sun.angle1 = sun.angle0 + (rng.chance(0.3) ? rng.uniform(1.0, 10.0) : rng.uniform(10.0, 350.0));
+    sun.color = {rng.uniform(), rng.uniform(), rng.uniform()};
+    sun.intensity = rng.uniform(o.min_intensity, o.max_intensity);
+    if (o.masks) sun.mask = random_mask(rng);
+    if (o.elevations) sun.elevation = random_elevation(rng);
+    scene.directional_lights.push_back(sun);
+  }
+  if (o.ambient) scene.ambient = {0.2 * rng.uniform(), 0.2 * rng.uniform(), 0.2 * rng.uniform()};
+  if (o.normals == RandomSceneOptions::Normals::constant) {
+    scene.normal = random_unit(rng, false);
+  } else if (o.normals == RandomSceneOptions::Normals::map) {
+    NormalMap map;
+    map.width = scene.width;
+    map.height = scene.height;
+    for (int p = 0; p < scene.width * scene.height; ++p) {
+      // Mostly toward the viewer, as normal maps are; some facing away.
+      const Vec3 n = random_unit(rng, !rng.chance(0.2));
+      const double length = rng.uniform(0.5, 2.0);  // any non-zero length is allowed
+      map.normals.insert(map.normals.end(), {static_cast<float>(length * n.x), static_cast<float>(length * n.y),
+                                             static_cast<float>(length * n.z)});
+    }
+    scene.normal_map = std::move(map);
+  }
+}
+
 }  // namespace
 
 double PortableRandom::uniform() noexcept {
@@ -124,7 +192,15 @@ Scene random_scene(std::uint32_t seed, const RandomSceneOptions& o) {
       break;
     }
   }
+  add_model_terms(seed, o, scene);
   return scene;
+}
+
+RandomSceneOptions with_every_model_term(RandomSceneOptions o) {
+  o.ranges = o.cones = o.masks = o.translucent = o.lit_interiors = o.ambient = o.elevations = true;
+  o.directional_lights = 2;
+  o.normals = RandomSceneOptions::Normals::map;
+  return o;
 }
 
 double distance_to_boundary(const Shape& shape, Vec2 p) noexcept {
@@ -160,7 +236,9 @@ double emission_max_sum(const Scene& scene) noexcept {
   double sum = 0.0;
   for (const auto& l : scene.lights)
     sum += l.intensity * std::max({l.color[0], l.color[1], l.color[2]});
-  return sum;
+  for (const auto& d : scene.directional_lights)
+    sum += d.intensity * std::max({d.color[0], d.color[1], d.color[2]});
+  return sum + std::max({scene.ambient[0], scene.ambient[1], scene.ambient[2]});
 }
 
 RenderedImage render_image(const Scene& scene, const RenderOptions& options, Status& status) {

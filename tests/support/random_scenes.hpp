@@ -66,7 +66,26 @@ struct RandomSceneOptions {
   // Intensity range; colors are uniform in [0, 1] per channel. Default: 0.25 .. 4.
   double min_intensity = 0.25;
   double max_intensity = 4.0;
+
+  // The game lighting model's terms (docs/contract.md section 6). They are drawn from a
+  // second generator seeded from the same seed, after the shapes: a scene has exactly the
+  // shapes, colors and intensities it has with every flag off. Default: all off.
+  bool ranges = false;         // about half the lights: range 0.2 .. 1.5 view sizes
+  bool cones = false;          // about half the lights: a cone (some with fade 0, some with half angle 180)
+  bool masks = false;          // lights, occluders and directional lights: masks of a few bits, some disjoint
+  bool translucent = false;    // about half the occluders: a transmittance in [0, 1] per channel
+  bool lit_interiors = false;  // about a third of the occluders: interior "lit"
+  int directional_lights = 0;  // this many directional lights (random arcs, some narrow)
+  bool ambient = false;        // a random ambient term
+  bool elevations = false;     // random elevations 0 .. 90 (lights and directional lights; some 0 and 90)
+  enum class Normals { none, constant, map };
+  // The normal source: one random unit normal (possibly facing away, z < 0), or a
+  // width x height map of random normals (some facing away). Default: none.
+  Normals normals = Normals::none;
 };
+
+// Every term of RandomSceneOptions switched on (normal map, 2 directional lights).
+RandomSceneOptions with_every_model_term(RandomSceneOptions options);
 
 // A valid scene (docs/contract.md section 3) drawn from `seed`: the same seed and options give
 // the same scene on every platform. Polygons are random points on a rotated ellipse
@@ -86,8 +105,9 @@ Vec2 pixel_center(const Scene& scene, int i, int j) noexcept;
 // docs/contract.md section 2's pixel width: min(|x1 - x0| / width, |y1 - y0| / height).
 double pixel_width(const Scene& scene) noexcept;
 
-// Sum over lights of the largest channel of intensity * color (docs/contract.md section 5's
-// e_max), computed here so tests do not depend on the library's own version.
+// Sum over lights and directional lights of the largest channel of intensity * color, plus
+// the largest ambient channel (docs/contract.md section 5's e_max, extended by section 6),
+// computed here so tests do not depend on the library's own version.
 double emission_max_sum(const Scene& scene) noexcept;
 
 // A rendered float RGB image, tightly packed, top row first.
