@@ -306,3 +306,113 @@ TEST_CASE("model SIMD: a persistent Renderer with moving ranged torches equals o
     }
   }
 }
+
+namespace {
+
+// The SIMD path against the scalar reference (docs/contract.md section 5: 1e-4 e_max away from
+// 0.05 px of every boundary, e_max with directional lights and ambient) for every ISA here.
+void check_against_scalar(const Scene& scene, const std::string& what, bool shaded = true, int spp = 1) {
+  RenderOptions scalar;
+  scalar.backend = Backend::scalar;
+  scalar.threads = 2;
+  scalar.shaded = shaded;
+  scalar.spp = spp;
+  const RenderedImage reference = render_or_fail(scene, scalar);
+  const double bound = 1e-4 * emission_max_sum(scene);
+  for (Isa isa : simd_isas_here()) {
+    RenderOptions options = simd_options(isa);
+    options.shaded = shaded;
+    options.spp = spp;
+    const RenderedImage got = render_or_fail(scene, options);
+    int checked = 0, over = 0;
+    double worst = 0.0;
+    std::string first_failure;
+    // With several samples a pixel is exempt when a boundary passes within 0.05 px of the
+    // farthest point a sample may take (0.71 px from the center).
+    const double exempt = spp == 1 ? 0.05 * pixel_width(scene) : 0.76 * pixel_width(scene);
+    for (int j = 0; j < scene.height; ++j) {
+      for (int i = 0; i < scene.width; ++i) {
+        if (near_boundary(scene, pixel_center(scene, i, j), exempt)) continue;
+        ++checked;
+        for (int c = 0; c < 3; ++c) {
+          const double err = std::abs(static_cast<double>(reference.at(i, j, c)) - got.at(i, j, c));
+          worst = std::max(worst, err);
+          if (!(err <= bound) && over++ == 0)
+            first_failure = "pixel (" + std::to_string(i) + "," + std::to_string(j) + ") channel " +
+                            std::to_string(c) + ": scalar " + std::to_string(reference.at(i, j, c)) + ", got " +
+                            std::to_string(got.at(i, j, c));
+        }
+      }
+    }
+    INFO(what, " isa=", std::string(isa_name(isa)), " checked=", checked, " worst=", worst, " bound=", bound);
+    CHECK(checked > 0);
+    CHECK_MESSAGE(over == 0, first_failure);
+  }
+}
+
+struct Feature {
+  const char* name;
+  void (*apply)(RandomSceneOptions&);
+};
+
+const Feature kFeatures[] = {
+    {"range", [](RandomSceneOptions& o) { o.ranges = true; }},
+    {"cone", [](RandomSceneOptions& o) { o.cones = true; }},
+    {"mask", [](RandomSceneOptions& o) { o.masks = true; }},
+    {"translucent", [](RandomSceneOptions& o) { o.translucent = true; }},
+    {"lit interior", [](RandomSceneOptions& o) { o.lit_interiors = true; }},
+    {"directional", [](RandomSceneOptions& o) { o.directional_lights = 2; }},
+    {"ambient", [](RandomSceneOptions& o) { o.ambient = true; }},
+    {"constant normal",
+     [](RandomSceneOptions& o) {
+       o.elevations = true;
+       o.normals = RandomSceneOptions::Normals::constant;
+     }},
+    {"normal map",
+     [](RandomSceneOptions& o) {
+       o.elevations = true;
+       o.normals = RandomSceneOptions::Normals::map;
+     }},
+    {"every term", [](RandomSceneOptions& o) { o = with_every_model_term(o); }},
+};
+
+}  // namespace
+
+TEST_CASE("model SIMD: random scenes with each term and all together match the scalar reference") {
+  for (const Feature& feature : kFeatures) {
+    for (std::uint32_t seed = 1; seed <= 12; ++seed) {
+      RandomSceneOptions options;
+      options.width = 40;
+      options.height = 30;
+      options.max_occluders = 16;
+      feature.apply(options);
+      const Scene scene = random_scene(7000 + seed, options);
+      check_against_scalar(scene, std::string(feature.name) + " seed " + std::to_string(7000 + seed));
+    }
+  }
+}
+
+TEST_CASE("model SIMD: overlapping lights and occluders with every term match the scalar reference") {
+  for (std::uint32_t seed = 1; seed <= 16; ++seed) {
+    RandomSceneOptions options = with_every_model_term({});
+    options.width = 40;
+    options.height = 30;
+    options.lights_disjoint_from_occluders = false;
+    options.max_occluders = 10;
+    const Scene scene = random_scene(7100 + seed, options);
+    check_against_scalar(scene, "overlapping, every term, seed " + std::to_string(7100 + seed));
+    check_against_scalar(scene, "overlapping, every term, unshaded, seed " + std::to_string(7100 + seed), false);
+  }
+}
+
+TEST_CASE("model SIMD: a mirrored far view and several samples per pixel with every term match the scalar reference") {
+  for (std::uint32_t seed = 1; seed <= 6; ++seed) {
+    RandomSceneOptions options = with_every_model_term({});
+    options.width = 32;
+    options.height = 24;
+    options.view = View{1e5 + 32.0, 1e5, 1e5, 1e5 + 24.0};
+    const Scene scene = random_scene(7200 + seed, options);
+    check_against_scalar(scene, "mirrored far view, seed " + std::to_string(7200 + seed));
+    check_against_scalar(scene, "mirrored far view, 4 spp, seed " + std::to_string(7200 + seed), true, 4);
+  }
+}
