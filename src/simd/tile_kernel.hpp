@@ -662,7 +662,7 @@ struct KernelProfile {
   detail::AngularProfile<B> p;
   B total{};  // integral over a whole turn of the lone cone or lobe
 
-  B cumulative(const B& u) const noexcept {
+  PAR2D_KERNEL_INLINE B cumulative(const B& u) const noexcept {
     if (!p.cone && !p.shading) return u;
     if (p.cone && p.shading) return detail::profile_cumulative(p, u);
     const B v = u - (p.shading ? p.lobe_center : p.cone_center);
@@ -823,6 +823,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
   // The lobe of the pixel's normal for the last elevation seen (lights mostly share one):
   // its half width needs an acos, its total a square root.
   detail::AngularProfile<B> lobe;
+  KernelProfile<A> profile;  // set per light (constructing one per light costs as much as using it)
   B lobe_total;
   double lobe_sin = 2.0, lobe_cos = 2.0;
   for (std::size_t l = 0; l < work.lights.size(); ++l) {
@@ -914,7 +915,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
       owner[n] = static_cast<float>(pair.occluder);
       ++n;
     }
-    KernelProfile<A> profile;
+    profile.p.cone = terms.cone;
     if (terms.cone) {
       detail::set_profile_cone(profile.p, arc.start, terms.cone_center, terms.cone_half, terms.cone_fade);
       profile.total = profile.p.half + profile.p.plateau;
