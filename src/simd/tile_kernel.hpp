@@ -855,6 +855,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
     // start at 0 and merge into [0, reach0].
     const bool split_wraps = terms.translucent;
     B reach0(0.0f);
+    auto dark_inside = none;  // in an opaque dark occluder acting on the light: it contributes 0
     std::size_t n = 0;
     for (std::size_t p = 0; p < light.pair_count; ++p) {
       const KernelPair& pair = work.pairs[light.first_pair + p];
@@ -887,18 +888,35 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
       auto blocks = terms.directional ? ~none
                     : pair.front     ? ~arc.inside
                                      : (xsimd::fma(B(pair.nx), px, B(pair.ny) * py) >= B(pair.c)) & ~arc.inside;
-      auto whole = none;
-      if (occ_terms.lit_interior) {
-        blocks = blocks & ~in_occ;
-      } else {
-        whole = in_occ;
-        blocks = blocks & ~in_occ;
-      }
       B o = occ_start - arc.start;
       o -= B(kTwoPiF) * xsimd::floor(o * B(kInvTwoPiF));  // into [0, 2*pi)
       const B end = o + occ_w;
-      // An interval empty in every lane (not in front, or seen outside the arc) changes no
-      // sum: skipped, which keeps the sweeps short where a pair matters to few pixels.
+      if (occ_terms.opaque && !occ_terms.lit_interior) {
+        // As in the plain kernel: inside it the light is 0 (set after the sum), so whatever
+        // the interval says there does not matter.
+        dark_inside = dark_inside | in_occ;
+        // An interval empty in every lane (not in front, or seen outside the arc) changes no
+        // sum: skipped, which keeps the sweeps short where a pair matters to few pixels.
+        if (!xsimd::any(blocks & ((o < width) | (end > B(kTwoPiF))))) continue;
+        xsimd::select(blocks, xsimd::min(o, width), width).store_aligned(lo + n * W);
+        xsimd::select(blocks, xsimd::min(end, width), width).store_aligned(hi + n * W);
+        owner[n] = static_cast<float>(pair.occluder);
+        ++n;
+        if (!split_wraps) {
+          reach0 = xsimd::select(blocks, xsimd::max(reach0, xsimd::min(end - B(kTwoPiF), width)), reach0);
+          continue;
+        }
+        xsimd::select(blocks, B(0.0f), width).store_aligned(lo + n * W);
+        xsimd::select(blocks, xsimd::max(xsimd::min(end - B(kTwoPiF), width), B(0.0f)), width)
+            .store_aligned(hi + n * W);
+        owner[n] = static_cast<float>(pair.occluder);
+        ++n;
+        continue;
+      }
+      // A translucent dark occluder around the lane covers every direction once; a lit one
+      // is absent there.
+      const auto whole = occ_terms.lit_interior ? none : in_occ;
+      blocks = blocks & ~in_occ;
       if (!xsimd::any(whole | (blocks & ((o < width) | (end > B(kTwoPiF)))))) continue;
       xsimd::select(whole, B(0.0f), xsimd::select(blocks, xsimd::min(o, width), width)).store_aligned(lo + n * W);
       xsimd::select(whole, width, xsimd::select(blocks, xsimd::min(end, width), width)).store_aligned(hi + n * W);
@@ -942,7 +960,8 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
     if (terms.translucent) {
       B visible[3];
       translucent_pieces<A>(work, profile, lo, hi, owner, n, width, keys, visible);
-      for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]) * window, visible[c], e[c]);
+      for (int c = 0; c < 3; ++c)
+        e[c] = xsimd::fma(B(light.emission[c]) * window, xsimd::select(dark_inside, B(0.0f), visible[c]), e[c]);
       continue;
     }
     B visible;
@@ -969,6 +988,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
       sort_by_lo<A>(lo, hi, used);
       visible = xsimd::max(width - sorted_union_measure<A>(lo, hi, n, reach), B(0.0f));
     }
+    visible = xsimd::select(dark_inside, B(0.0f), visible);
     for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]) * window, visible, e[c]);
   }
 }
