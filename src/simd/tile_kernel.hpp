@@ -900,12 +900,13 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
         if (!xsimd::any(blocks & ((o < width) | (end > B(kTwoPiF))))) continue;
         xsimd::select(blocks, xsimd::min(o, width), width).store_aligned(lo + n * W);
         xsimd::select(blocks, xsimd::min(end, width), width).store_aligned(hi + n * W);
-        owner[n] = static_cast<float>(pair.occluder);
-        ++n;
-        if (!split_wraps) {
+        if (!split_wraps) {  // owners matter only to the translucent pieces
+          ++n;
           reach0 = xsimd::select(blocks, xsimd::max(reach0, xsimd::min(end - B(kTwoPiF), width)), reach0);
           continue;
         }
+        owner[n] = static_cast<float>(pair.occluder);
+        ++n;
         xsimd::select(blocks, B(0.0f), width).store_aligned(lo + n * W);
         xsimd::select(blocks, xsimd::max(xsimd::min(end - B(kTwoPiF), width), B(0.0f)), width)
             .store_aligned(hi + n * W);
