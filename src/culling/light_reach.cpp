@@ -24,8 +24,9 @@ constexpr int kStripBudget = 32;
 // arc's ends first (y lies on the center's side of the chord, the arc on the other). So
 // when every segment from the chord to the light is blocked strictly between the two, so
 // is every segment from x.
-bool sector_hidden(const PreparedScene& scene, const ConvexShape& light, const LightReach& reach, int k, double r,
+bool sector_hidden(const PreparedScene& scene, std::size_t light_index, const LightReach& reach, int k, double r,
                    LightReachScratch& scratch) {
+  const ConvexShape& light = scene.lights[light_index].shape;
   const double half = 0.5 * kSectorWidth + std::asin(std::min(1.0, reach.radius / r)) + 1e-9;
   if (!(half < 0.5 * kPi) || !(r * std::cos(half) > reach.radius)) return false;
   const double mid = -kPi + (k + 0.5) * kSectorWidth;
@@ -40,6 +41,16 @@ bool sector_hidden(const PreparedScene& scene, const ConvexShape& light, const L
   }
   scratch.candidates.clear();
   scene.occluder_bvh.query_convex(scratch.hull.data(), static_cast<int>(scratch.hull.size()), scratch.candidates);
+  if (scene.model) {
+    // Only opaque, dark occluders acting on the light may prove it hidden (section 6).
+    const std::uint32_t mask = scene.lights[light_index].terms.mask;
+    scratch.candidates.erase(std::remove_if(scratch.candidates.begin(), scratch.candidates.end(),
+                                            [&](std::uint32_t id) {
+                                              const OccluderTerms& t = scene.occluder_terms[id];
+                                              return !(t.opaque() && !t.lit_interior && t.acts_on(mask));
+                                            }),
+                             scratch.candidates.end());
+  }
   if (scratch.candidates.empty()) return false;
   const Vec2 toward_light{-std::cos(mid), -std::sin(mid)};
   return segments_blocked(chord, 2, toward_light, light, scene.occluders, scratch.candidates.data(),
@@ -91,6 +102,13 @@ LightReach compute_light_reach(const PreparedScene& scene, std::size_t light_ind
   double farthest = 0.0;
   for (const Vec2 corner : {Vec2{view.x0, view.y0}, Vec2{view.x1, view.y0}, Vec2{view.x0, view.y1}, Vec2{view.x1, view.y1}})
     farthest = std::max(farthest, length(corner - reach.center));
+  // A ranged light reaches no point farther than its range from its shape (section 6): at
+  // distance radius + range from the center the window is 0. Proofs need go no farther.
+  const LightTerms& terms = scene.lights[light_index].terms;
+  if (scene.model && terms.has_range()) {
+    reach.reach.fill(reach.radius + terms.range);
+    farthest = std::min(farthest, reach.radius + terms.range);
+  }
   // No pixel lies beyond the farthest view corner, so larger radii would hide nothing.
   double radii[kMaxRadii];
   int count = 0;
@@ -100,7 +118,7 @@ LightReach compute_light_reach(const PreparedScene& scene, std::size_t light_ind
     int lo = 0, hi = count - 1;
     while (lo <= hi) {
       const int mid = (lo + hi) / 2;
-      if (sector_hidden(scene, light, reach, k, radii[mid], scratch)) {
+      if (sector_hidden(scene, light_index, reach, k, radii[mid], scratch)) {
         reach.reach[static_cast<std::size_t>(k)] = radii[mid];
         hi = mid - 1;
       } else {

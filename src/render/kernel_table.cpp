@@ -68,9 +68,9 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
                           std::min(tile.y1, region.y1)};
       if (part.x0 >= part.x1 || part.y0 >= part.y1) return;
       if (!kernels) {  // Isa::scalar: the reference, tile by tile
-        render_tile_scalar(scene, settings.spp, part, tile.x0, tile.y0, state.scalar, state.result);
+        render_tile_scalar(scene, settings.spp, part, tile.x0, tile.y0, state.scalar, state.result, settings.shaded);
       } else {
-        build_tile_work(scene, tile, settings.spp, cull, state.work, state.setup);
+        build_tile_work(scene, tile, settings.spp, cull, state.work, state.setup, settings.shaded);
         float* scratch = state.kernel_scratch(kernel_scratch_floats(state.work, kernels->lanes));
         kernels->render_tile(state.work, scratch, state.result);
       }

@@ -45,6 +45,7 @@ struct FrameSettings {
   int spp = 1;
   bool culling = true;
   Isa isa = Isa::scalar;
+  bool shaded = false;  // RenderOptions::shaded (docs/contract.md section 6)
 };
 
 // Renders frames of prepared scenes into host buffers, tile by tile, keeping every

@@ -163,7 +163,7 @@ Status render(const Scene& scene, const RenderOptions& options, const ImageView&
     target.row_stride = image.row_stride * static_cast<std::ptrdiff_t>(sizeof(float));
     target.region = {0, 0, scene.width, scene.height};
     detail::FrameEngine engine;
-    engine.render(prepared, culling ? &world.reach() : nullptr, detail::FrameSettings{options.spp, culling, isa},
+    engine.render(prepared, culling ? &world.reach() : nullptr, detail::FrameSettings{options.spp, culling, isa, options.shaded},
                   scheduler, target);
     return {};
   } catch (const std::bad_alloc&) {

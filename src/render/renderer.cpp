@@ -193,7 +193,7 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
     target.exposure = buffer.exposure;
     target.region = {region.x0, region.y0, region.x1, region.y1};
     impl.engine.render(scene, culling ? &impl.world.reach() : nullptr,
-                       detail::FrameSettings{impl.options.spp, culling, impl.isa}, impl.scheduler, target);
+                       detail::FrameSettings{impl.options.spp, culling, impl.isa, impl.options.shaded}, impl.scheduler, target);
     ++impl.world.stats().frames;
     return {};
   });

@@ -495,6 +495,62 @@ constexpr int kBlockStripBudget = 64;
 constexpr int kTileStripBudget = 16;
 constexpr std::size_t kTileProofMinPairs = 8;
 
+// Game lighting model (docs/contract.md section 6).
+// Whether occluder k may prove a shadow of a light with this mask: only opaque, dark-interior
+// occluders acting on it hide what lies behind them.
+bool proves_shadow(const PreparedScene& scene, std::uint32_t k, std::uint32_t light_mask) noexcept {
+  const OccluderTerms& t = scene.occluder_terms[k];
+  return t.opaque() && !t.lit_interior && t.acts_on(light_mask);
+}
+
+// Whether every point of `box` lies at least `range` from the light's shape (its box is
+// nearer than the shape): the range window is 0 there.
+bool beyond_range(const Aabb& box, const ConvexShape& light, const LightTerms& terms) noexcept {
+  if (!terms.has_range()) return false;
+  const double dx = std::max({light.bounds_min.x - box.max_x, 0.0, box.min_x - light.bounds_max.x});
+  const double dy = std::max({light.bounds_min.y - box.max_y, 0.0, box.min_y - light.bounds_max.y});
+  return std::hypot(dx, dy) >= terms.range;
+}
+
+// Occluders a ray from the box in a direction within [start, start + width] may meet: the
+// box swept along those directions, as convex hulls of sub-arcs at most pi/2 wide reaching
+// past every shape (`reach`), queried in the index and merged.
+void directional_candidates(const PreparedScene& scene, const std::array<Vec2, 4>& corners, double start,
+                            double width, double reach, TileSetupScratch& scratch, std::vector<std::uint32_t>& out) {
+  out.clear();
+  const int parts = std::max(1, static_cast<int>(std::ceil(width / (0.5 * kPi))));
+  const double step = width / parts;
+  for (int part = 0; part < parts; ++part) {
+    const double a0 = start + part * step, a1 = a0 + step, mid = 0.5 * (a0 + a1);
+    // The sector of radius `reach` lies in the hull of its ends and the tangents' meeting point.
+    const Vec2 far[3] = {reach * Vec2{std::cos(a0), std::sin(a0)}, reach * Vec2{std::cos(a1), std::sin(a1)},
+                         (reach / std::cos(0.5 * step)) * Vec2{std::cos(mid), std::sin(mid)}};
+    Vec2 points[16];
+    int count = 0;
+    for (Vec2 c : corners) {
+      points[count++] = c;
+      for (Vec2 f : far) points[count++] = c + f;
+    }
+    scratch.hull.resize(2 * 16 + 1);
+    const int hull_count = convex_hull(points, count, scratch.hull.data());
+    scratch.pair_occluders.clear();
+    scene.occluder_bvh.query_convex(scratch.hull.data(), hull_count, scratch.pair_occluders);
+    out.insert(out.end(), scratch.pair_occluders.begin(), scratch.pair_occluders.end());
+  }
+  if (parts > 1) {
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+  }
+}
+
+KernelOccluderTerms kernel_occluder_terms(const OccluderTerms& t) noexcept {
+  KernelOccluderTerms k;
+  for (int c = 0; c < 3; ++c) k.transmittance[c] = static_cast<float>(t.transmittance[static_cast<std::size_t>(c)]);
+  k.opaque = t.opaque();
+  k.lit_interior = t.lit_interior;
+  return k;
+}
+
 }  // namespace
 
 void gather_block_candidates(const PreparedScene& scene, const TileRect& block, const std::vector<LightReach>* reach,
@@ -508,21 +564,37 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
     std::vector<std::uint32_t>& candidates = scratch.block_candidates[l];
     candidates.clear();
     if (!reach) {
-      for (std::uint32_t k = 0; k < scene.occluders.size(); ++k) candidates.push_back(k);
+      for (std::uint32_t k = 0; k < scene.occluders.size(); ++k)
+        if (!scene.model || scene.occluder_terms[k].acts_on(scene.lights[l].terms.mask)) candidates.push_back(k);
       continue;
     }
-    if ((*reach)[l].hides(box)) {
+    if ((*reach)[l].hides(box) || (scene.model && beyond_range(box, scene.lights[l].shape, scene.lights[l].terms))) {
       scratch.block_shadowed[l] = 1;
       continue;
     }
     const ConvexShape& light = scene.lights[l].shape;
     hull_with_shape(corners.data(), 4, light, scratch.hull_points, scratch.hull);
     scene.occluder_bvh.query_convex(scratch.hull.data(), static_cast<int>(scratch.hull.size()), candidates);
+    const std::uint32_t* provers = candidates.data();
+    std::size_t prover_count = candidates.size();
+    if (scene.model) {
+      // Occluders that do not act on the light are not its candidates; of the rest, only
+      // opaque dark ones may prove it hidden.
+      const std::uint32_t mask = scene.lights[l].terms.mask;
+      candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
+                                      [&](std::uint32_t k) { return !scene.occluder_terms[k].acts_on(mask); }),
+                       candidates.end());
+      scratch.pair_occluders.clear();
+      for (std::uint32_t k : candidates)
+        if (proves_shadow(scene, k, mask)) scratch.pair_occluders.push_back(k);
+      provers = scratch.pair_occluders.data();
+      prover_count = scratch.pair_occluders.size();
+    }
     // Hidden from the whole block by one occluder or several together (rooms behind a
     // wall, a field of rubble): the proof's cost is shared by the block's tiles.
-    if (!candidates.empty()) {
-      if (rect_hidden_from_light({box.min_x, box.min_y}, {box.max_x, box.max_y}, light, scene.occluders,
-                                 candidates.data(), candidates.size(), kBlockStripBudget, scratch.occlusion)) {
+    if (prover_count != 0) {
+      if (rect_hidden_from_light({box.min_x, box.min_y}, {box.max_x, box.max_y}, light, scene.occluders, provers,
+                                 prover_count, kBlockStripBudget, scratch.occlusion)) {
         candidates.clear();
         scratch.block_shadowed[l] = 1;
       }
@@ -531,8 +603,10 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
 }
 
 void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, bool culling, TileWork& work,
-                     TileSetupScratch& scratch) {
+                     TileSetupScratch& scratch, bool shaded) {
   work.clear();
+  const bool model = scene.model;
+  work.model = model;
   culling = culling && culling_trusted(scene);
   const Vec2 origin = sample_position(scene, tile.x0, tile.y0, 0.0, 0.0);
   const TileFrame frame = tile_frame(scene, origin);
@@ -565,6 +639,7 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
     if (scratch.block_shadowed[l]) continue;
     const PreparedLight& light = scene.lights[l];
+    if (model && beyond_range(box, light.shape, light.terms)) continue;
     const std::vector<std::uint32_t>& candidates = scratch.block_candidates[l];
     std::optional<BoxPairHull> tile_hull;
     CornerTangents light_tangents;
@@ -591,7 +666,8 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       // A light wholly in the closed occluder is hidden everywhere (contacts count as hidden,
       // as in the scalar reference): nothing of it reaches this tile. Not for far-reaching
       // pairs, whose whole shapes double cannot place to within a contact.
-      if (overlapping && !far_pair && contained_within_contact(light.shape, occluder)) {
+      const bool prover = !model || proves_shadow(scene, k, light.terms.mask);
+      if (overlapping && !far_pair && prover && contained_within_contact(light.shape, occluder)) {
         shadowed = true;
         break;
       }
@@ -608,7 +684,8 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       } else if (!overlapping) {
         line = scene.separators.get(l, k, light.shape, occluder);
       }
-      if (!line && overlapping && !clip) {
+      // Clipping drops the cap inside the occluder: only where the occluder hides it.
+      if (!line && overlapping && !clip && prover) {
         LightClip c;
         if (clip_light_by_occluder(light.shape, occluder, c)) {
           clip = c;
@@ -645,7 +722,7 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
           pair.nx = pair.ny = 0.0f;
           pair.c = -1.0f;
           pair.front = true;
-          if (rect_in_umbra(light.shape, occluder, corners, light_tangents)) {
+          if (prover && rect_in_umbra(light.shape, occluder, corners, light_tangents)) {
             shadowed = true;
             break;
           }
@@ -657,7 +734,9 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     // point meets an occluder before it, so every ray meets one before its first light point.
     if (!shadowed && culling && work.pairs.size() - kl.first_pair >= kTileProofMinPairs) {
       scratch.pair_occluders.clear();
-      for (std::uint32_t p = kl.first_pair; p < work.pairs.size(); ++p) scratch.pair_occluders.push_back(work.pairs[p].occluder);
+      for (std::uint32_t p = kl.first_pair; p < work.pairs.size(); ++p)
+        if (!model || proves_shadow(scene, work.pairs[p].occluder, light.terms.mask))
+          scratch.pair_occluders.push_back(work.pairs[p].occluder);
       shadowed = rect_hidden_from_light({box.min_x, box.min_y}, {box.max_x, box.max_y}, light.shape, scene.occluders,
                                         scratch.pair_occluders.data(), scratch.pair_occluders.size(), kTileStripBudget,
                                         scratch.occlusion);
@@ -669,9 +748,12 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       continue;
     }
     kl.pair_count = static_cast<std::uint32_t>(work.pairs.size()) - kl.first_pair;
+    KernelLightTerms terms;
     for (std::uint32_t p = kl.first_pair; p < work.pairs.size(); ++p) {
       KernelPair& pair = work.pairs[p];
-      kl.interval_count += pair.general ? pair.point_count + 1 : 1;
+      // The model kernel keeps a separated pair's wrapped part as an interval of its own.
+      kl.interval_count += pair.general ? pair.point_count + 1 : (model ? 2 : 1);
+      if (model && !scene.occluder_terms[pair.occluder].opaque()) terms.translucent = true;
       work.max_points_per_pair = std::max(work.max_points_per_pair, pair.point_count);
       std::int32_t& local = scratch.local_index[pair.occluder];
       if (local < 0) {
@@ -682,7 +764,10 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       if (pair.general) scratch.used_whole[static_cast<std::size_t>(local)] = 1;
       pair.occluder = static_cast<std::uint32_t>(local);
     }
-    kl.shape = kernel_shape(light.shape, frame, corners, general, work, scratch.clipped, scratch.hull_points);
+    // A ranged light is kept whole: the window needs the distance to the whole shape.
+    const bool ranged = model && light.terms.has_range();
+    kl.shape =
+        kernel_shape(light.shape, frame, corners, general || ranged, work, scratch.clipped, scratch.hull_points);
     // Over a tile wholly before the clip line that sees no light point past it, the clipped
     // light's arc is the whole light's (and the pair was dropped as behind): skip the clip.
     if (clip && culling && light_before_line(light.shape, clip->line, corners, light_tangent_points)) clip.reset();
@@ -697,10 +782,74 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     for (int c = 0; c < 3; ++c) kl.emission[c] = static_cast<float>(light.emission[c] / kTwoPi);
     work.max_intervals_per_light = std::max(work.max_intervals_per_light, kl.interval_count);
     work.lights.push_back(kl);
+    if (model) {
+      if (ranged) terms.inv_range = static_cast<float>(1.0 / (light.terms.range * frame.scale));
+      terms.cone = light.terms.has_cone;
+      terms.cone_center = light.terms.cone_center;
+      terms.cone_half = light.terms.cone_half;
+      terms.cone_fade = light.terms.cone_fade;
+      terms.sin_elevation = light.terms.sin_elevation;
+      terms.cos_elevation = light.terms.cos_elevation;
+      work.light_terms.push_back(terms);
+    }
   }
-  for (std::size_t u = 0; u < scratch.used.size(); ++u)
+  if (model) {
+    // Directional lights: tile lights whose pairs are every acting occluder a ray of their
+    // arc may meet from the tile (all are in front: the light is at infinity).
+    const double sweep = 2.0 * scene.extent + 4.0 * std::max(std::abs(box.max_x - box.min_x), std::abs(box.max_y - box.min_y));
+    for (const PreparedDirectional& d : scene.directionals) {
+      KernelLight kl;
+      KernelLightTerms terms;
+      terms.directional = true;
+      terms.dir_start = static_cast<float>(d.start);
+      terms.dir_width = static_cast<float>(d.width);
+      terms.sin_elevation = d.sin_elevation;
+      terms.cos_elevation = d.cos_elevation;
+      kl.first_pair = static_cast<std::uint32_t>(work.pairs.size());
+      directional_candidates(scene, corners, d.start, d.width, sweep, scratch, scratch.directional);
+      for (std::uint32_t k : scratch.directional) {
+        const OccluderTerms& ot = scene.occluder_terms[k];
+        if (!ot.acts_on(d.mask)) continue;
+        if (!ot.opaque()) terms.translucent = true;
+        KernelPair pair;
+        pair.front = true;
+        pair.c = -1.0f;
+        std::int32_t& local = scratch.local_index[k];
+        if (local < 0) {
+          local = static_cast<std::int32_t>(scratch.used.size());
+          scratch.used.push_back(k);
+          scratch.used_whole.push_back(0);
+        }
+        pair.occluder = static_cast<std::uint32_t>(local);
+        work.pairs.push_back(pair);
+      }
+      kl.pair_count = static_cast<std::uint32_t>(work.pairs.size()) - kl.first_pair;
+      kl.interval_count = 2 * kl.pair_count;
+      for (int c = 0; c < 3; ++c) kl.emission[c] = static_cast<float>(d.emission[static_cast<std::size_t>(c)] / kTwoPi);
+      work.max_intervals_per_light = std::max(work.max_intervals_per_light, kl.interval_count);
+      work.lights.push_back(kl);
+      work.light_terms.push_back(terms);
+    }
+    for (int c = 0; c < 3; ++c) work.ambient[c] = static_cast<float>(scene.ambient[static_cast<std::size_t>(c)]);
+    work.shaded = shading_active(scene, shaded);
+    if (work.shaded) {
+      for (int r = 0; r < kTileSize; ++r) {
+        for (int c = 0; c < kTileSize; ++c) {
+          const int i = tile.x0 + c, j = tile.y0 + r;
+          const Vec3 n = i < scene.width && j < scene.height ? scene.normal_at(i, j) : Vec3{0.0, 0.0, 1.0};
+          const std::size_t at = static_cast<std::size_t>(r * kTileSize + c);
+          work.normal_x[at] = static_cast<float>(n.x);
+          work.normal_y[at] = static_cast<float>(n.y);
+          work.normal_z[at] = static_cast<float>(n.z);
+        }
+      }
+    }
+  }
+  for (std::size_t u = 0; u < scratch.used.size(); ++u) {
     work.occluders.push_back(kernel_shape(scene.occluders[scratch.used[u]], frame, corners, scratch.used_whole[u] != 0,
                                           work, scratch.clipped, scratch.hull_points));
+    if (model) work.occluder_terms.push_back(kernel_occluder_terms(scene.occluder_terms[scratch.used[u]]));
+  }
 }
 
 }  // namespace par2d::detail

@@ -25,6 +25,7 @@ struct TileSetupScratch {
   std::vector<Vec2> hull_points, hull;
   ConvexShape clipped, clipped_light;  // shapes reaching far from the tile, clipped to a box around it
   std::vector<std::uint32_t> pair_occluders;
+  std::vector<std::uint32_t> directional;  // a directional light's candidate occluders
   OcclusionProofScratch occlusion;
 };
 
@@ -41,7 +42,10 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
 // tile are dropped, and lights in the umbra of one occluder over the whole tile, or
 // proven hidden by several (culling/occlusion_proof.hpp), are skipped; the image is the
 // same either way.
+// Scenes with the game lighting model (PreparedScene::model) get the model's work: range
+// culling, pairs only for occluders acting on each light, directional lights as tile lights,
+// ambient, and per-pixel normals when `shaded` and the scene has a normal source.
 void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, bool culling, TileWork& work,
-                     TileSetupScratch& scratch);
+                     TileSetupScratch& scratch, bool shaded = false);
 
 }  // namespace par2d::detail

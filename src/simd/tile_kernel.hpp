@@ -16,14 +16,18 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <utility>
 
+#include "lighting/angular_profile.hpp"
 #include "simd/fast_atan2.hpp"
 #include "simd/tile_work.hpp"
 
 namespace par2d::simd {
 
 using detail::KernelLight;
+using detail::KernelLightTerms;
+using detail::KernelOccluderTerms;
 using detail::KernelPair;
 using detail::KernelShape;
 using detail::ShapeKind;
@@ -590,12 +594,437 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const xsimd::ba
   for (int c = 0; c < 3; ++c) e[c] = xsimd::select(in_occluder, B(0.0f), e[c]);
 }
 
+
+// ---- The game lighting model (docs/contract.md section 6): scenes with PreparedScene::model.
+
+// Distance from (px, py) to the closed shape `s` (0 inside), `s` a whole shape. Circles
+// from the cancellation-free excess |x - c|^2 - r^2 = (d)(d + 2r).
+template <class A>
+inline xsimd::batch<float, A> shape_distance(const TileWork& work, const KernelShape& s,
+                                             const xsimd::batch<float, A>& px,
+                                             const xsimd::batch<float, A>& py) noexcept {
+  using B = xsimd::batch<float, A>;
+  if (s.kind == ShapeKind::circle) {
+    const B excess = xsimd::max(circle_excess<A>(s, px, py), B(0.0f));
+    const B r(s.r);
+    return excess / (xsimd::sqrt(xsimd::fma(r, r, excess)) + r);
+  }
+  const float* vx = work.vx.data() + s.first;
+  const float* vy = work.vy.data() + s.first;
+  const std::uint32_t edges = s.kind == ShapeKind::segment ? 1 : s.count;
+  B best(std::numeric_limits<float>::infinity());
+  for (std::uint32_t i = 0; i < edges; ++i) {
+    const std::uint32_t j = i + 1 == s.count ? 0 : i + 1;
+    const B ax = px - B(vx[i]), ay = py - B(vy[i]);
+    const float ex = vx[j] - vx[i], ey = vy[j] - vy[i];
+    const float len2 = ex * ex + ey * ey;
+    const B t = len2 > 0.0f ? xsimd::min(xsimd::max(xsimd::fma(ax, B(ex), ay * B(ey)) * B(1.0f / len2), B(0.0f)),
+                                         B(1.0f))
+                            : B(0.0f);
+    const B qx = xsimd::fnma(t, B(ex), ax), qy = xsimd::fnma(t, B(ey), ay);
+    best = xsimd::min(best, xsimd::fma(qx, qx, qy * qy));
+  }
+  B d = xsimd::sqrt(best);
+  if (s.kind == ShapeKind::polygon) {
+    const float* nx = work.edge_nx.data() + s.first;
+    const float* ny = work.edge_ny.data() + s.first;
+    const float* nc = work.edge_c.data() + s.first;
+    B outside_by = B(nc[0]) - xsimd::fma(B(nx[0]), px, B(ny[0]) * py);
+    for (std::uint32_t i = 1; i < s.count; ++i)
+      outside_by = xsimd::max(outside_by, B(nc[i]) - xsimd::fma(B(nx[i]), px, B(ny[i]) * py));
+    d = xsimd::select(outside_by <= B(0.0f), B(0.0f), d);
+  }
+  return d;
+}
+
+// sin t for |t| <= pi: folded into [-pi/2, pi/2] (sin t = sin(+-pi - t)), then the Taylor
+// polynomial to t^11 (error below 6e-8 there); the lobe integral needs no cosine.
+template <class A>
+PAR2D_KERNEL_INLINE xsimd::batch<float, A> lobe_sin(const xsimd::batch<float, A>& t) noexcept {
+  using B = xsimd::batch<float, A>;
+  const B pi(3.14159265358979f), half_pi(1.57079632679490f);
+  const B x = xsimd::select(t > half_pi, pi - t, xsimd::select(t < -half_pi, -pi - t, t));
+  const B x2 = x * x;
+  B p = xsimd::fma(x2, B(-2.50521083854417e-8f), B(2.75573192239859e-6f));
+  p = xsimd::fma(x2, p, B(-1.98412698412698e-4f));
+  p = xsimd::fma(x2, p, B(8.33333333333333e-3f));
+  p = xsimd::fma(x2, p, B(-1.66666666666667e-1f));
+  return xsimd::fma(x * x2, p, x);
+}
+
+// A light's direction profile in the kernel: the closed forms of lighting/angular_profile.hpp,
+// with one copy of a lone cone or lobe instead of three (u - center wrapped into [-pi, pi),
+// where the whole support lies, plus whole turns times the profile's total), so a shaded
+// evaluation costs one sincos. Cone and shading together take the general form.
+template <class A>
+struct KernelProfile {
+  using B = xsimd::batch<float, A>;
+  detail::AngularProfile<B> p;
+  B total{};  // integral over a whole turn of the lone cone or lobe
+
+  PAR2D_KERNEL_INLINE B cumulative(const B& u) const noexcept {
+    if (!p.cone && !p.shading) return u;
+    if (p.cone && p.shading) return detail::profile_cumulative(p, u);
+    const B v = u - (p.shading ? p.lobe_center : p.cone_center);
+    const B turns = xsimd::floor((v + B(3.14159265358979f)) * B(kInvTwoPiF));
+    const B v0 = xsimd::fnma(turns, B(kTwoPiF), v);
+    if (p.shading) {  // lobe_cumulative of lighting/angular_profile.hpp
+      const B t = xsimd::min(xsimd::max(v0, -p.lobe_half), p.lobe_half);
+      return xsimd::fma(turns, total, xsimd::fma(p.amplitude, lobe_sin<A>(t), p.offset * t));
+    }
+    return xsimd::fma(turns, total, detail::profile_detail::trapezoid_cumulative(p, v0));
+  }
+  bool flat() const noexcept { return !p.cone && !p.shading; }
+};
+
+// Weight of the arc [0, width] minus the union of opaque intervals lo/hi (`count`, padded
+// to `slots` with `width`), under the profile: the gaps of the sorted intervals.
+// The gap sweep over N <= 8 intervals sorted in registers (lo/hi as in union_measure_in_registers).
+template <class A, std::size_t N>
+PAR2D_KERNEL_INLINE xsimd::batch<float, A> profiled_gaps_in_registers(const KernelProfile<A>& profile,
+                                                                      const float* lo_mem, const float* hi_mem,
+                                                                      std::size_t count,
+                                                                      const xsimd::batch<float, A>& width,
+                                                                      const xsimd::batch<float, A>& reach0) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  B lo[N], hi[N];
+  for (std::size_t i = 0; i < N; ++i) {
+    lo[i] = i < count ? B::load_aligned(lo_mem + i * W) : width;
+    hi[i] = i < count ? B::load_aligned(hi_mem + i * W) : width;
+  }
+  sort_in_registers<A, N>(lo, hi, std::make_index_sequence<SortingNetwork<N>::kSize>{});
+  B reach = reach0, reach_value = profile.cumulative(reach), sum(0.0f);
+  for (std::size_t i = 0; i < count; ++i) {  // padding sorts last and adds nothing
+    const B gap_end = xsimd::max(lo[i], reach);
+    const B gap_end_value = profile.cumulative(gap_end);
+    sum += gap_end_value - reach_value;
+    const B next = xsimd::max(reach, hi[i]);
+    reach_value = xsimd::select(next > reach, profile.cumulative(next), gap_end_value);
+    reach = next;
+  }
+  sum += profile.cumulative(xsimd::max(width, reach)) - reach_value;
+  return xsimd::max(sum, B(0.0f));
+}
+
+template <class A>
+inline xsimd::batch<float, A> profiled_gaps(const KernelProfile<A>& profile, float* lo, float* hi, std::size_t count,
+                                            const xsimd::batch<float, A>& width,
+                                            const xsimd::batch<float, A>& reach0) noexcept {
+  if (count == 1) return profiled_gaps_in_registers<A, 1>(profile, lo, hi, count, width, reach0);
+  if (count == 2) return profiled_gaps_in_registers<A, 2>(profile, lo, hi, count, width, reach0);
+  if (count <= 4) return profiled_gaps_in_registers<A, 4>(profile, lo, hi, count, width, reach0);
+  if (count <= 8) return profiled_gaps_in_registers<A, 8>(profile, lo, hi, count, width, reach0);
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  const std::size_t used = sort_slots<A>(count);
+  for (std::size_t p = count; p < used; ++p) {
+    width.store_aligned(lo + p * W);
+    width.store_aligned(hi + p * W);
+  }
+  sort_by_lo<A>(lo, hi, used);
+  // The gaps between the covered parts, from the part [0, reach0] that wraps past 0.
+  B reach = reach0, reach_value = profile.cumulative(reach), sum(0.0f);
+  for (std::size_t i = 0; i < count; ++i) {
+    const B l = B::load_aligned(lo + i * W), h = B::load_aligned(hi + i * W);
+    const B gap_end = xsimd::max(l, reach);
+    const B gap_end_value = profile.cumulative(gap_end);
+    sum += gap_end_value - reach_value;
+    const B next = xsimd::max(reach, h);
+    reach_value = xsimd::select(next > reach, profile.cumulative(next), gap_end_value);
+    reach = next;
+  }
+  sum += profile.cumulative(xsimd::max(width, reach)) - reach_value;
+  return xsimd::max(sum, B(0.0f));
+}
+
+// Per channel, the integral over [0, width] of the product of the transmittances of the
+// intervals covering each direction, under the profile: the interval ends sorted into
+// elementary pieces, each piece's product taken at its middle (an end lies on no piece's inside).
+template <class A>
+inline void translucent_pieces(const TileWork& work, const KernelProfile<A>& profile, const float* lo, const float* hi,
+                               const float* owner, std::size_t count, const xsimd::batch<float, A>& width,
+                               float* keys, xsimd::batch<float, A> (&visible)[3]) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  const std::size_t key_count = 2 * count + 2;
+  const std::size_t slots = sort_slots<A>(key_count);
+  B(0.0f).store_aligned(keys);
+  for (std::size_t i = 0; i < count; ++i) {
+    B::load_aligned(lo + i * W).store_aligned(keys + (2 * i + 1) * W);
+    B::load_aligned(hi + i * W).store_aligned(keys + (2 * i + 2) * W);
+  }
+  for (std::size_t k = 2 * count + 1; k < slots; ++k) width.store_aligned(keys + k * W);
+  sort_keys<A>(keys, slots);
+  for (int c = 0; c < 3; ++c) visible[c] = B(0.0f);
+  B prev = B::load_aligned(keys);
+  B prev_value = profile.cumulative(prev);
+  for (std::size_t k = 1; k < key_count; ++k) {
+    const B next = B::load_aligned(keys + k * W);
+    const B next_value = profile.cumulative(next);
+    const B mid = B(0.5f) * (prev + next);
+    B t[3] = {B(1.0f), B(1.0f), B(1.0f)};
+    for (std::size_t i = 0; i < count; ++i) {
+      const auto covers = (B::load_aligned(lo + i * W) < mid) & (mid < B::load_aligned(hi + i * W));
+      const KernelOccluderTerms& terms = work.occluder_terms[static_cast<std::size_t>(owner[i])];
+      if (terms.opaque) {
+        for (int c = 0; c < 3; ++c) t[c] = xsimd::select(covers, B(0.0f), t[c]);
+      } else {
+        for (int c = 0; c < 3; ++c) t[c] = xsimd::select(covers, t[c] * B(terms.transmittance[c]), t[c]);
+      }
+    }
+    const B piece = xsimd::max(next_value - prev_value, B(0.0f));
+    for (int c = 0; c < 3; ++c) visible[c] = xsimd::fma(t[c], piece, visible[c]);
+    prev = next;
+    prev_value = next_value;
+  }
+}
+
+// Irradiance of one packet under the game lighting model (reference: the scalar renderer's
+// model path). Per light: its arc (a directional light's fixed one), the range window, the
+// blocked intervals of the occluders acting on it (lit-interior ones dropped where the lane is
+// inside them; a dark one containing the lane covers the whole arc), then the weight of the
+// visible set: the union measure when every occluder is opaque and the profile is flat, else
+// the profile's integral over the gaps, or over every elementary piece times its transmittances.
+template <class A, bool kShaded>
+PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsimd::batch<float, A>& px,
+                                                 const xsimd::batch<float, A>& py, std::size_t pixel,
+                                                 float* scratch, xsimd::batch<float, A> (&e)[3]) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  const std::size_t occluder_count = work.occluders.size();
+  float* occ_start_all = scratch;
+  float* occ_width = occ_start_all + occluder_count * W;
+  float* lo = occ_width + occluder_count * W;
+  const std::size_t slots = sort_slots<A>(work.max_intervals_per_light);
+  float* hi = lo + slots * W;
+  float* events = hi + slots * W;
+  float* occ_inside = events + sort_slots<A>(work.max_points_per_pair) * W;
+  std::size_t key_slots = 1;
+  while (key_slots < 2 * static_cast<std::size_t>(work.max_intervals_per_light) + 2) key_slots *= 2;
+  float* keys = occ_inside + occluder_count * W;
+  float* owner = keys + 2 * key_slots * W;  // one float per interval (tile-constant)
+
+  for (std::size_t k = 0; k < occluder_count; ++k) {
+    const Arc<A> arc = shape_arc<A>(work, work.occluders[k], px, py);
+    arc.start.store_aligned(occ_start_all + k * W);
+    arc.width.store_aligned(occ_width + k * W);
+    xsimd::select(arc.inside, B(1.0f), B(0.0f)).store_aligned(occ_inside + k * W);
+  }
+  for (int c = 0; c < 3; ++c) e[c] = B(work.ambient[c]);
+  B beta, normal_xy, normal_z;
+  if constexpr (kShaded) {
+    const B nx = B::load_aligned(work.normal_x + pixel), ny = B::load_aligned(work.normal_y + pixel);
+    beta = fast_atan2(ny, nx);
+    normal_xy = xsimd::sqrt(xsimd::fma(nx, nx, ny * ny));
+    normal_z = B::load_aligned(work.normal_z + pixel);
+  }
+  const auto none = B(0.0f) > B(0.0f);
+  // The lobe of the pixel's normal for the last elevation seen (lights mostly share one):
+  // its half width needs an acos, its total a square root.
+  detail::AngularProfile<B> lobe;
+  KernelProfile<A> profile;  // set per light (constructing one per light costs as much as using it)
+  B lobe_total;
+  double lobe_sin = 2.0, lobe_cos = 2.0;
+  for (std::size_t l = 0; l < work.lights.size(); ++l) {
+    const KernelLight& light = work.lights[l];
+    const KernelLightTerms& terms = work.light_terms[l];
+    B window(1.0f);
+    if (terms.inv_range > 0.0f) {
+      window = detail::range_window(shape_distance<A>(work, light.shape, px, py), B(terms.inv_range));
+      if (!xsimd::any(window > B(0.0f))) continue;
+    }
+    if (!kShaded && !terms.cone && light.pair_count == 0 && !terms.directional) {
+      // Nothing in front anywhere in the tile and a flat profile: the width alone.
+      const Arc<A> arc = shape_arc<A, false>(work, light.shape, px, py);
+      const B visible = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
+      for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]) * window, visible, e[c]);
+      continue;
+    }
+    Arc<A> arc;
+    B width;
+    if (terms.directional) {
+      arc.start = B(terms.dir_start);
+      arc.width = width = B(terms.dir_width);
+      arc.inside = none;
+    } else {
+      arc = shape_arc<A>(work, light.shape, px, py);
+      width = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
+    }
+    // Translucent pieces need each wrapped part as an interval of its own; opaque ones all
+    // start at 0 and merge into [0, reach0].
+    const bool split_wraps = terms.translucent;
+    B reach0(0.0f);
+    auto dark_inside = none;  // in an opaque dark occluder acting on the light: it contributes 0
+    std::size_t n = 0;
+    for (std::size_t p = 0; p < light.pair_count; ++p) {
+      const KernelPair& pair = work.pairs[light.first_pair + p];
+      const KernelOccluderTerms& occ_terms = work.occluder_terms[pair.occluder];
+      const B occ_start = B::load_aligned(occ_start_all + pair.occluder * W);
+      const B occ_w = B::load_aligned(occ_width + pair.occluder * W);
+      const auto in_occ = B::load_aligned(occ_inside + pair.occluder * W) > B(0.0f);
+      if (pair.general) {
+        general_pair_intervals<A>(work, light, pair, arc, width, occ_start, occ_w, px, py, events, lo + n * W,
+                                  hi + n * W);
+        // Inside the occluder: a lit interior is absent, a dark one covers every direction once.
+        for (std::uint32_t j = 0; j <= pair.point_count; ++j) {
+          float* l_slot = lo + (n + j) * W;
+          float* h_slot = hi + (n + j) * W;
+          B l = B::load_aligned(l_slot), h = B::load_aligned(h_slot);
+          if (occ_terms.lit_interior || j > 0) {
+            l = xsimd::select(in_occ, width, l);
+            h = xsimd::select(in_occ, width, h);
+          } else {
+            l = xsimd::select(in_occ, B(0.0f), l);
+            h = xsimd::select(in_occ, width, h);
+          }
+          l.store_aligned(l_slot);
+          h.store_aligned(h_slot);
+          owner[n + j] = static_cast<float>(pair.occluder);
+        }
+        n += pair.point_count + 1;
+        continue;
+      }
+      auto blocks = terms.directional ? ~none
+                    : pair.front     ? ~arc.inside
+                                     : (xsimd::fma(B(pair.nx), px, B(pair.ny) * py) >= B(pair.c)) & ~arc.inside;
+      B o = occ_start - arc.start;
+      o -= B(kTwoPiF) * xsimd::floor(o * B(kInvTwoPiF));  // into [0, 2*pi)
+      const B end = o + occ_w;
+      if (occ_terms.opaque && !occ_terms.lit_interior) {
+        // As in the plain kernel: inside it the light is 0 (set after the sum), so whatever
+        // the interval says there does not matter.
+        dark_inside = dark_inside | in_occ;
+        // An interval empty in every lane (not in front, or seen outside the arc) changes no
+        // sum: skipped, which keeps the sweeps short where a pair matters to few pixels.
+        if (!xsimd::any(blocks & ((o < width) | (end > B(kTwoPiF))))) continue;
+        xsimd::select(blocks, xsimd::min(o, width), width).store_aligned(lo + n * W);
+        xsimd::select(blocks, xsimd::min(end, width), width).store_aligned(hi + n * W);
+        if (!split_wraps) {  // owners matter only to the translucent pieces
+          ++n;
+          reach0 = xsimd::select(blocks, xsimd::max(reach0, xsimd::min(end - B(kTwoPiF), width)), reach0);
+          continue;
+        }
+        owner[n] = static_cast<float>(pair.occluder);
+        ++n;
+        xsimd::select(blocks, B(0.0f), width).store_aligned(lo + n * W);
+        xsimd::select(blocks, xsimd::max(xsimd::min(end - B(kTwoPiF), width), B(0.0f)), width)
+            .store_aligned(hi + n * W);
+        owner[n] = static_cast<float>(pair.occluder);
+        ++n;
+        continue;
+      }
+      // A translucent dark occluder around the lane covers every direction once; a lit one
+      // is absent there.
+      const auto whole = occ_terms.lit_interior ? none : in_occ;
+      blocks = blocks & ~in_occ;
+      if (!xsimd::any(whole | (blocks & ((o < width) | (end > B(kTwoPiF)))))) continue;
+      xsimd::select(whole, B(0.0f), xsimd::select(blocks, xsimd::min(o, width), width)).store_aligned(lo + n * W);
+      xsimd::select(whole, width, xsimd::select(blocks, xsimd::min(end, width), width)).store_aligned(hi + n * W);
+      owner[n] = static_cast<float>(pair.occluder);
+      ++n;
+      // The part that wraps past the arc's start.
+      if (!split_wraps) {
+        reach0 = xsimd::select(blocks, xsimd::max(reach0, xsimd::min(end - B(kTwoPiF), width)), reach0);
+        continue;
+      }
+      xsimd::select(blocks, B(0.0f), width).store_aligned(lo + n * W);
+      xsimd::select(blocks, xsimd::max(xsimd::min(end - B(kTwoPiF), width), B(0.0f)), width)
+          .store_aligned(hi + n * W);
+      owner[n] = static_cast<float>(pair.occluder);
+      ++n;
+    }
+    profile.p.cone = terms.cone;
+    if (terms.cone) {
+      detail::set_profile_cone(profile.p, arc.start, terms.cone_center, terms.cone_half, terms.cone_fade);
+      profile.total = profile.p.half + profile.p.plateau;
+    }
+    if constexpr (kShaded) {
+      if (terms.sin_elevation != lobe_sin || terms.cos_elevation != lobe_cos) {
+        detail::set_profile_shading(lobe, B(0.0f), beta, normal_xy, normal_z, terms.sin_elevation,
+                                    terms.cos_elevation);
+        // Over a whole turn: 2 (A sin h + C h), with A sin h = sqrt(A^2 - C^2) where the lobe is partial.
+        const B a = lobe.amplitude, c = lobe.offset;
+        const B a_sin = xsimd::select(xsimd::abs(c) < a, xsimd::sqrt(xsimd::max(xsimd::fms(a, a, c * c), B(0.0f))),
+                                      B(0.0f));
+        lobe_total = B(2.0f) * xsimd::fma(c, lobe.lobe_half, a_sin);
+        lobe_sin = terms.sin_elevation;
+        lobe_cos = terms.cos_elevation;
+      }
+      profile.p.shading = true;
+      profile.p.amplitude = lobe.amplitude;
+      profile.p.offset = lobe.offset;
+      profile.p.lobe_half = lobe.lobe_half;
+      profile.p.lobe_center = detail::profile_wrap(beta - arc.start);
+      profile.total = lobe_total;
+    }
+    if (terms.translucent) {
+      B visible[3];
+      translucent_pieces<A>(work, profile, lo, hi, owner, n, width, keys, visible);
+      for (int c = 0; c < 3; ++c)
+        e[c] = xsimd::fma(B(light.emission[c]) * window, xsimd::select(dark_inside, B(0.0f), visible[c]), e[c]);
+      continue;
+    }
+    B visible;
+    const B reach = xsimd::max(reach0, B(0.0f));
+    if (!profile.flat()) {
+      visible = n == 0 ? profile.cumulative(width) - profile.cumulative(B(0.0f))
+                       : profiled_gaps<A>(profile, lo, hi, n, width, reach);
+    } else if (n == 0) {
+      visible = width;
+    } else if (n == 1) {
+      visible = xsimd::max(width - union_measure_in_registers<A, 1>(lo, hi, 1, width, reach), B(0.0f));
+    } else if (n == 2) {
+      visible = xsimd::max(width - union_measure_in_registers<A, 2>(lo, hi, 2, width, reach), B(0.0f));
+    } else if (n <= 4) {
+      visible = xsimd::max(width - union_measure_in_registers<A, 4>(lo, hi, n, width, reach), B(0.0f));
+    } else if (n <= 8) {
+      visible = xsimd::max(width - union_measure_in_registers<A, 8>(lo, hi, n, width, reach), B(0.0f));
+    } else {
+      const std::size_t used = sort_slots<A>(n);
+      for (std::size_t p = n; p < used; ++p) {
+        width.store_aligned(lo + p * W);
+        width.store_aligned(hi + p * W);
+      }
+      sort_by_lo<A>(lo, hi, used);
+      visible = xsimd::max(width - sorted_union_measure<A>(lo, hi, n, reach), B(0.0f));
+    }
+    visible = xsimd::select(dark_inside, B(0.0f), visible);
+    for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]) * window, visible, e[c]);
+  }
+}
+
+template <class A, bool kShaded>
+void render_tile_model(const TileWork& work, float* scratch, TileResult& out) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  const B inv_spp(1.0f / static_cast<float>(work.spp));
+  for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
+    B sum[3] = {B(0.0f), B(0.0f), B(0.0f)};
+    for (int s = 0; s < work.spp; ++s) {
+      const B px = B::load_unaligned(work.sample_x.data() + s * detail::kTileSize + first % detail::kTileSize);
+      const B py(work.sample_y[s * detail::kTileSize + first / detail::kTileSize]);
+      B e[3];
+      packet_irradiance_model<A, kShaded>(work, px, py, first, scratch, e);
+      for (int c = 0; c < 3; ++c) sum[c] += e[c];
+    }
+    for (int c = 0; c < 3; ++c) {
+      const B mean = work.spp == 1 ? sum[c] : sum[c] * inv_spp;
+      mean.store_aligned(out.rgb[c] + first);
+    }
+  }
+}
+
 // Fills `out` with the mean irradiance over the work's samples for all the tile's pixels.
 template <class A>
 void render_tile(const TileWork& work, float* scratch, TileResult& out) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   static_assert(detail::kTileSize % W == 0, "a packet must not straddle a tile row");
+  if (work.model) {
+    if (work.shaded) return render_tile_model<A, true>(work, scratch, out);
+    return render_tile_model<A, false>(work, scratch, out);
+  }
   if (work.spp == 1) {  // the pixel centers: no sum, no division
     for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
       const B px = B::load_unaligned(work.sample_x.data() + first % detail::kTileSize);

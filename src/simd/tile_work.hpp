@@ -76,8 +76,39 @@ struct KernelLight {
   std::uint32_t interval_count = 0;
 };
 
+// A light's game-model terms (docs/contract.md section 6) for the model kernel, parallel to
+// TileWork::lights. Angles are ray directions in radians.
+struct KernelLightTerms {
+  // A directional light: the fixed arc [dir_start, dir_start + dir_width] at infinity (the
+  // light's shape is unused; every pair is in front wherever its occluder is seen).
+  bool directional = false;
+  float dir_start = 0, dir_width = 0;
+  float inv_range = 0;  // 1 / range, 0: no range
+  bool cone = false;
+  double cone_center = 0, cone_half = 0, cone_fade = 0;
+  double sin_elevation = 0, cos_elevation = 1;
+  bool translucent = false;  // some pair's occluder lets light through (per-piece products needed)
+};
+
+// An occluder's game-model terms, parallel to TileWork::occluders.
+struct KernelOccluderTerms {
+  float transmittance[3] = {0, 0, 0};
+  bool opaque = true;
+  bool lit_interior = false;
+};
+
 struct TileWork {
   int spp = 1;
+  // The game lighting model: `model` selects the model kernel (plain scenes never set it).
+  bool model = false;
+  bool shaded = false;  // per-pixel normals below are in use
+  float ambient[3] = {0, 0, 0};
+  std::vector<KernelLightTerms> light_terms;
+  std::vector<KernelOccluderTerms> occluder_terms;
+  // Per tile pixel (row-major), shading only: the unit normal in world axes (z toward the viewer).
+  alignas(64) float normal_x[kTilePixels];
+  alignas(64) float normal_y[kTilePixels];
+  alignas(64) float normal_z[kTilePixels];
   // Sample positions relative to the tile origin: sample s of the pixel in tile column c
   // is at x = sample_x[s * kTileSize + c], and in tile row r at y = sample_y[s * kTileSize + r].
   // Each is the scalar path's double position (docs/contract.md section 2) minus the origin, so
@@ -96,6 +127,10 @@ struct TileWork {
   void clear() noexcept {
     occluders.clear();
     lights.clear();
+    light_terms.clear();
+    occluder_terms.clear();
+    model = false;
+    shaded = false;
     pairs.clear();
     vertex_count = 0;
     point_x.clear();
@@ -119,7 +154,16 @@ inline std::size_t kernel_scratch_floats(const TileWork& work, int lanes) noexce
   while (sort_slots < work.max_intervals_per_light) sort_slots *= 2;
   std::size_t event_slots = 1;
   while (event_slots < work.max_points_per_pair) event_slots *= 2;
-  return static_cast<std::size_t>(lanes) * (2 * work.occluders.size() + 2 * sort_slots + event_slots + 2);
+  std::size_t model_floats = 0;
+  if (work.model) {
+    // Inside flags per occluder, interval owners, and the sorted piece ends with their
+    // cumulative profile values (2 per interval plus the arc's ends).
+    std::size_t key_slots = 1;
+    while (key_slots < 2 * static_cast<std::size_t>(work.max_intervals_per_light) + 2) key_slots *= 2;
+    model_floats = work.occluders.size() + 2 * key_slots + sort_slots / 1 + 1;
+  }
+  return static_cast<std::size_t>(lanes) *
+         (2 * work.occluders.size() + 2 * sort_slots + event_slots + 2 + model_floats);
 }
 
 }  // namespace par2d::detail
