@@ -290,7 +290,7 @@ TEST_CASE("model SIMD: a persistent Renderer with moving ranged torches equals o
     for (int frame = 0; frame < 4; ++frame) {
       for (std::size_t k = 0; k < handles.size(); ++k) {
         Light& l = moved.lights[k];
-        l.shape = Circle{{10.0 + 15.0 * k + 2.5 * frame, 12.0 + 7.0 * (k % 3) + 3.0 * frame}, 1.5};
+        l.shape = Circle{{10.0 + 15.0 * static_cast<double>(k) + 2.5 * frame, 12.0 + 7.0 * static_cast<double>(k % 3) + 3.0 * frame}, 1.5};
         REQUIRE(renderer.update_light(handles[k], l).ok());
       }
       RenderedImage persistent;

@@ -870,16 +870,16 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
         for (std::uint32_t j = 0; j <= pair.point_count; ++j) {
           float* l_slot = lo + (n + j) * W;
           float* h_slot = hi + (n + j) * W;
-          B l = B::load_aligned(l_slot), h = B::load_aligned(h_slot);
+          B piece_lo = B::load_aligned(l_slot), piece_hi = B::load_aligned(h_slot);
           if (occ_terms.lit_interior || j > 0) {
-            l = xsimd::select(in_occ, width, l);
-            h = xsimd::select(in_occ, width, h);
+            piece_lo = xsimd::select(in_occ, width, piece_lo);
+            piece_hi = xsimd::select(in_occ, width, piece_hi);
           } else {
-            l = xsimd::select(in_occ, B(0.0f), l);
-            h = xsimd::select(in_occ, width, h);
+            piece_lo = xsimd::select(in_occ, B(0.0f), piece_lo);
+            piece_hi = xsimd::select(in_occ, width, piece_hi);
           }
-          l.store_aligned(l_slot);
-          h.store_aligned(h_slot);
+          piece_lo.store_aligned(l_slot);
+          piece_hi.store_aligned(h_slot);
           owner[n + j] = static_cast<float>(pair.occluder);
         }
         n += pair.point_count + 1;
