@@ -87,7 +87,7 @@ def main():
     lights = []
     occluders = []
     for k, (cx, cy) in enumerate([(70, 70), (250, 60), (440, 80), (120, 240), (330, 220), (470, 330), (200, 340)]):
-        lights.append(torch(cx, cy, intensity=10, range=150 + 25 * (k % 3)))
+        lights.append(torch(cx, cy, intensity=12, range=95 + 20 * (k % 3)))
     for cx, cy in [(160, 120), (300, 130), (390, 270), (90, 320), (260, 280)]:
         occluders.append(box(cx - 12, cy - 12, cx + 12, cy + 12))
     write_scene("lighting_range.json", {"width": 512, "height": 384, "lights": lights, "occluders": occluders})
