@@ -10,6 +10,7 @@
 #include "par2d/render.hpp"
 #include "par2d/renderer.hpp"
 #include "support/random_scenes.hpp"
+#include "support/render_checks.hpp"
 
 using namespace par2d;
 using namespace par2d::test;
@@ -324,26 +325,13 @@ void check_against_scalar(const Scene& scene, const std::string& what, bool shad
     options.shaded = shaded;
     options.spp = spp;
     const RenderedImage got = render_or_fail(scene, options);
-    int checked = 0, over = 0;
-    double worst = 0.0;
-    std::string first_failure;
     // With several samples a pixel is exempt when a boundary passes within 0.05 px of the
     // farthest point a sample may take (0.71 px from the center).
     const double exempt = spp == 1 ? 0.05 * pixel_width(scene) : 0.76 * pixel_width(scene);
-    for (int j = 0; j < scene.height; ++j) {
-      for (int i = 0; i < scene.width; ++i) {
-        if (near_boundary(scene, pixel_center(scene, i, j), exempt)) continue;
-        ++checked;
-        for (int c = 0; c < 3; ++c) {
-          const double err = std::abs(static_cast<double>(reference.at(i, j, c)) - got.at(i, j, c));
-          worst = std::max(worst, err);
-          if (!(err <= bound) && over++ == 0)
-            first_failure = "pixel (" + std::to_string(i) + "," + std::to_string(j) + ") channel " +
-                            std::to_string(c) + ": scalar " + std::to_string(reference.at(i, j, c)) + ", got " +
-                            std::to_string(got.at(i, j, c));
-        }
-      }
-    }
+    const Comparison c = compare_renders(scene, reference, got, bound, exempt);
+    const int checked = c.checked, over = c.over;
+    const double worst = c.max_error;
+    const std::string& first_failure = c.first_failure;
     INFO(what, " isa=", std::string(isa_name(isa)), " checked=", checked, " worst=", worst, " bound=", bound);
     CHECK(checked > 0);
     CHECK_MESSAGE(over == 0, first_failure);

@@ -15,6 +15,7 @@
 #include "world/prepared_scene.hpp"
 #include "scattered_scene.hpp"
 #include "support/random_scenes.hpp"
+#include "support/render_checks.hpp"
 
 using namespace par2d;
 using namespace par2d::test;
@@ -34,35 +35,10 @@ RenderOptions scalar_options() {
   return o;
 }
 
-struct Comparison {
-  double max_error = 0.0;     // over pixels docs/contract.md section 5 holds to the bound
-  int checked = 0;
-  int over = 0;
-  std::string first_failure;
-};
-
 // Compares two renders at the pixels whose centers are farther than 0.05 pixel widths
 // from every shape boundary.
 Comparison compare(const Scene& scene, const RenderedImage& ref, const RenderedImage& got, double bound) {
-  Comparison c;
-  const double exempt = 0.05 * pixel_width(scene);
-  for (int j = 0; j < scene.height; ++j) {
-    for (int i = 0; i < scene.width; ++i) {
-      if (near_boundary(scene, pixel_center(scene, i, j), exempt)) continue;
-      ++c.checked;
-      for (int ch = 0; ch < 3; ++ch) {
-        const double err = std::abs(static_cast<double>(ref.at(i, j, ch)) - got.at(i, j, ch));
-        c.max_error = std::max(c.max_error, err);
-        if (!(err <= bound)) {
-          if (c.over++ == 0)
-            c.first_failure = "pixel (" + std::to_string(i) + "," + std::to_string(j) + ") channel " +
-                              std::to_string(ch) + ": reference " + std::to_string(ref.at(i, j, ch)) + ", got " +
-                              std::to_string(got.at(i, j, ch));
-        }
-      }
-    }
-  }
-  return c;
+  return compare_renders(scene, ref, got, bound, 0.05 * pixel_width(scene));
 }
 
 void check_simd_matches_scalar(const Scene& scene, const std::string& what) {
