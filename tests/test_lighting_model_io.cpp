@@ -15,6 +15,7 @@
 
 #include <stb/stb_image_write.h>
 
+#include "support/temp_dir.hpp"
 #include "par2d/image_io.hpp"
 #include "par2d/render.hpp"
 #include "par2d/renderer.hpp"
@@ -30,19 +31,7 @@ using par2d::Scene;
 using par2d::Status;
 using par2d::StatusCode;
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "par2d_model_io_XXXXXX").string();
-    REQUIRE(::mkdtemp(tmpl.data()) != nullptr);
-    path = tmpl;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::string operator/(const std::string& name) const { return (path / name).string(); }
-};
+using par2d::test::TempDir;
 
 Status parse(const std::string& json, Scene& scene) { return par2d::parse_scene(json, "s.json", scene); }
 
@@ -328,7 +317,7 @@ TEST_CASE("scenes built in code are checked for the same terms by validate_scene
 }
 
 TEST_CASE("scene_to_json writes every lighting-model term so that the scene loads back bit for bit") {
-  TempDir dir;
+  TempDir dir("par2d_model_io");
   write_png(dir / "bumps.png", 4, 3, 3, {128, 200, 255});
   Scene scene;
   scene.width = 4;
@@ -431,7 +420,7 @@ TEST_CASE("scene_to_json writes every lighting-model term so that the scene load
 }
 
 TEST_CASE("a PNG normal map is read relative to the scene file, decoded as 2 rgb / 255 - 1, and refused unless it fits") {
-  TempDir dir;
+  TempDir dir("par2d_model_io");
   fs::create_directory(dir / "maps");
   write_png(dir / "maps/rgb.png", 4, 3, 3, {255, 0, 128});
   write_png(dir / "maps/rgba.png", 4, 3, 4, {0, 255, 191, 7});
@@ -569,7 +558,7 @@ TEST_CASE("Renderer setters for the scene-wide terms refuse bad values and keep 
 }
 
 TEST_CASE("the CLI writes the plain irradiance next to the shaded one, all files or none") {
-  TempDir dir;
+  TempDir dir("par2d_model_io");
   write_png(dir / "n.png", 12, 8, 3, {200, 90, 230});
   {
     std::ofstream(dir / "scene.json")

@@ -25,6 +25,7 @@
 #include <thread>
 #include <vector>
 
+#include "support/temp_dir.hpp"
 #include "par2d/par2d.hpp"
 #include "support/random_scenes.hpp"
 
@@ -36,27 +37,7 @@ using namespace par2d;
 namespace fs = std::filesystem;
 
 // A fresh directory under the system temp dir, removed at scope exit.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "par2d_out_XXXXXX").string();
-    REQUIRE(::mkdtemp(tmpl.data()) != nullptr);
-    path = tmpl;
-    fs::permissions(path, fs::perms::all);  // a dropped-privilege child must be able to work here
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::string operator/(const std::string& name) const { return (path / name).string(); }
-  // Names in the directory, sorted.
-  std::vector<std::string> names() const {
-    std::vector<std::string> out;
-    for (const auto& e : fs::directory_iterator(path)) out.push_back(e.path().filename().string());
-    std::sort(out.begin(), out.end());
-    return out;
-  }
-};
+using par2d::test::TempDir;
 
 std::string read_all(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -137,7 +118,7 @@ std::string scene_file(const TempDir& dir, const Scene& s) {
 TEST_CASE("PNG golden values: linear 0.0031308, 0.214, 0.2141, 0.5, 1.0 give sRGB 10, 127, 128, 188, 255 (decoded back)") {
   // Code 128 starts at linear 0.214041 (the inverse curve at 127.5/255), so 0.214 is still 127.
   // Gamma 2.2 instead of the sRGB curve gives 127 for 0.2141 and 186 for 0.5.
-  TempDir dir;
+  TempDir dir("par2d_out");
   Pixels p = gray_row({0.0f, 0.0031308f, 0.214f, 0.2141f, 0.5f, 1.0f, 2.0f, -1.0f, NAN, 0.25f});
   REQUIRE(write_png(dir / "g.png", p.view()).ok());
   int w = 0, h = 0;
@@ -164,7 +145,7 @@ TEST_CASE("PNG golden values: linear 0.0031308, 0.214, 0.2141, 0.5, 1.0 give sRG
 }
 
 TEST_CASE("PFM round trip through the API: header, bottom row first, bits unchanged") {
-  TempDir dir;
+  TempDir dir("par2d_out");
   Pixels p{3, 2, {}};
   for (int k = 0; k < 18; ++k) p.data.push_back(k == 5 ? -0.0f : static_cast<float>(k * 0.37 - 1.0));
   REQUIRE(write_pfm(dir / "x.pfm", p.view()).ok());
@@ -184,7 +165,7 @@ TEST_CASE("PFM round trip through the API: header, bottom row first, bits unchan
 }
 
 TEST_CASE("CLI PNG and PFM hold exactly the API's render") {
-  TempDir dir;
+  TempDir dir("par2d_out");
   const Scene scene = small_scene();
   const std::string json = scene_file(dir, scene);
   REQUIRE(run_cli({"render", json, "-o", dir / "out.png", "--pfm", dir / "out.pfm", "--backend", "scalar",
@@ -211,7 +192,7 @@ TEST_CASE("CLI PNG and PFM hold exactly the API's render") {
 }
 
 TEST_CASE("replacing a regular file keeps its permission bits and leaves no temporary") {
-  TempDir dir;
+  TempDir dir("par2d_out");
   Pixels p = gray_row({0.5f, 0.25f});
   write_all(dir / "a.png", "old");
   fs::permissions(dir / "a.png", fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read,
@@ -224,7 +205,7 @@ TEST_CASE("replacing a regular file keeps its permission bits and leaves no temp
 }
 
 TEST_CASE("a symbolic link is followed: the link stays, its target gets the image") {
-  TempDir dir;
+  TempDir dir("par2d_out");
   Pixels p = gray_row({0.5f});
   fs::create_directory(dir / "sub");
   write_all(dir / "sub/target.pfm", "old");
@@ -240,7 +221,7 @@ TEST_CASE("a symbolic link is followed: the link stays, its target gets the imag
 }
 
 TEST_CASE("a FIFO is written through, not replaced by a regular file") {
-  TempDir dir;
+  TempDir dir("par2d_out");
   Pixels p = gray_row({0.5f, 1.0f});
   REQUIRE(::mkfifo((dir / "pipe").c_str(), 0600) == 0);
   std::string received;
@@ -254,7 +235,7 @@ TEST_CASE("a FIFO is written through, not replaced by a regular file") {
 }
 
 TEST_CASE("a character device is written through, not replaced (a null device node made in a temp dir)") {
-  TempDir dir;
+  TempDir dir("par2d_out");
   // Making a device node needs root (CAP_MKNOD); elsewhere this case says so and checks nothing.
   if (::mknod((dir / "null").c_str(), S_IFCHR | 0666, makedev(1, 3)) != 0) {
     MESSAGE("cannot mknod here (not root): the device case is covered by the FIFO case only");
@@ -269,7 +250,7 @@ TEST_CASE("a character device is written through, not replaced (a null device no
 }
 
 TEST_CASE("a file the user may not write is refused, and stays as it was") {
-  TempDir dir;
+  TempDir dir("par2d_out");
   write_all(dir / "ro.png", "keep");
   fs::permissions(dir / "ro.png", fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read,
                   fs::perm_options::replace);
@@ -292,7 +273,7 @@ TEST_CASE("a file the user may not write is refused, and stays as it was") {
 }
 
 TEST_CASE("a failed batch leaves every pre-existing file exactly as it was (API and CLI)") {
-  TempDir dir;
+  TempDir dir("par2d_out");
   Pixels p = gray_row({0.5f});
   write_all(dir / "old.png", "old png");
   const Status s = write_images({{dir / "old.png", ImageOutput::Format::png, 1.0},
@@ -310,7 +291,7 @@ TEST_CASE("a failed batch leaves every pre-existing file exactly as it was (API 
 }
 
 TEST_CASE("two outputs naming one file by different strings are refused before anything is written") {
-  TempDir dir;
+  TempDir dir("par2d_out");
   Pixels p = gray_row({0.5f});
   const std::string a = dir / "a.png";
   const std::string dotted = (dir.path / "." / "a.png").string();
@@ -336,7 +317,7 @@ TEST_CASE("SIGTERM or SIGINT while the CLI writes leaves no partial file and the
   // tried (unnamed O_TMPFILE, and named ones as on filesystems without it).
   for (const char* mode : {"", "1"}) {
     for (int sig : {SIGTERM, SIGINT}) {
-      TempDir dir;
+      TempDir dir("par2d_out");
       Scene scene = small_scene();
       scene.width = scene.height = 256;  // a 786 kB PFM: far more than a pipe holds
       std::string json = read_all(scene_file(dir, small_scene()));

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <string>
 
+#include "support/temp_dir.hpp"
 #include "par2d/scene.hpp"
 
 extern char** environ;
@@ -20,19 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "par2d_load_XXXXXX").string();
-    REQUIRE(::mkdtemp(tmpl.data()) != nullptr);
-    path = tmpl;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::string operator/(const std::string& name) const { return (path / name).string(); }
-};
+using par2d::test::TempDir;
 
 // ~`bytes` of scene text: many small circle occluders (the shape of a big level file).
 std::string big_scene(std::size_t bytes) {
@@ -68,7 +57,7 @@ TEST_CASE("an 8 MB scene loads within 3x its size of new memory and fails cleanl
   // memory makes address-space limits meaningless; tools/ci/resources.sh covers the CLI.
   MESSAGE("not run under AddressSanitizer");
 #else
-  TempDir dir;
+  TempDir dir("par2d_load");
   const std::string text = big_scene(8u << 20);
   {
     std::ofstream(dir / "big.json", std::ios::binary) << text;
@@ -83,7 +72,7 @@ TEST_CASE("an 8 MB scene loads within 3x its size of new memory and fails cleanl
 }
 
 TEST_CASE("a FIFO with no writer, a directory and other non-regular scene files are refused without blocking") {
-  TempDir dir;
+  TempDir dir("par2d_load");
   REQUIRE(::mkfifo((dir / "scene.fifo").c_str(), 0600) == 0);
   par2d::Scene scene;
   par2d::Status s = par2d::load_scene_file(dir / "scene.fifo", scene);

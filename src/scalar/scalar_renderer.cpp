@@ -24,8 +24,7 @@ bool occluder_first(const ConvexShape& occluder, const ConvexShape& light, Vec2 
 
 // Calls emit(lo, hi) for each piece of the light's arc (light frame) that occluder k is in
 // front of, x in neither shape: the part of the occluder's span inside the arc, split where
-// the nearer of the two shapes can change. The same steps as visible_measure's loop, which
-// keeps its own copy so that section 1 scenes run exactly the code (and speed) they had.
+// the nearer of the two shapes can change.
 template <class Emit>
 void for_each_blocked_piece(const PreparedLight& light, const ConvexShape& occluder, std::size_t k, Vec2 x,
                             const AngularSpan& arc, const AngularSpan& span, ScalarScratch& scratch, Emit&& emit) {
@@ -77,43 +76,8 @@ double visible_measure(const PreparedScene& scene, std::size_t light_index, Vec2
 
   scratch.blocked.clear();
   for (std::size_t k = 0; k < scene.occluders.size(); ++k) {
-    scratch.pieces.clear();
-    clip_to_light_arc(arc, occluder_spans[k], scratch.pieces);
-    if (scratch.pieces.empty()) continue;
-    const ConvexShape& occluder = scene.occluders[k];
-    const auto overlap = std::lower_bound(light.overlapping_occluders.begin(),
-                                          light.overlapping_occluders.end(), k);
-    if (overlap == light.overlapping_occluders.end() || *overlap != k) {
-      // Disjoint convex shapes: along every direction that meets both, the same one comes
-      // first (the paper's depth test), so one key ray per piece decides the whole piece.
-      EntryHints hints;
-      for (const ArcInterval& piece : scratch.pieces) {
-        if (occluder_first(occluder, light.shape, x, arc.start + 0.5 * (piece.lo + piece.hi), hints))
-          scratch.blocked.push_back(piece);
-      }
-      continue;
-    }
-    // Overlapping shapes: which one comes first can only change at a direction through a
-    // point where their boundaries meet, so test one key ray between consecutive such
-    // directions.
-    const auto& points = light.overlap_points[static_cast<std::size_t>(overlap - light.overlapping_occluders.begin())];
-    // Key rays in angular order: each ray's entry edges are found from the previous ones'.
-    EntryHints hints;
-    for (const ArcInterval& piece : scratch.pieces) {
-      scratch.events.assign({piece.lo, piece.hi});
-      for (Vec2 p : points) {
-        const Vec2 d = p - x;
-        if (d.x == 0.0 && d.y == 0.0) continue;
-        const double a = angle_in_light_frame(arc, std::atan2(d.y, d.x));
-        if (a > piece.lo && a < piece.hi) scratch.events.push_back(a);
-      }
-      std::sort(scratch.events.begin(), scratch.events.end());
-      for (std::size_t e = 0; e + 1 < scratch.events.size(); ++e) {
-        const double lo = scratch.events[e], hi = scratch.events[e + 1];
-        if (hi > lo && occluder_first(occluder, light.shape, x, arc.start + 0.5 * (lo + hi), hints))
-          scratch.blocked.push_back({lo, hi});
-      }
-    }
+    for_each_blocked_piece(light, scene.occluders[k], k, x, arc, occluder_spans[k], scratch,
+                           [&](double lo, double hi) { scratch.blocked.push_back({lo, hi}); });
   }
   // Blocked pieces that meet end to end come from different atan2 calls: a cover of the whole
   // arc can leave a residue of a few ulps of it, which is rounding, not a visible sliver.

@@ -12,6 +12,8 @@
 
 #include <stb/stb_image.h>
 
+#include "io/input_file.hpp"
+
 #include "par2d/scene.hpp"
 
 namespace par2d {
@@ -27,23 +29,9 @@ Status bad_map(const std::string& path, const std::string& what) {
 
 Status load_normal_map_png(const std::string& path, NormalMap& out) {
   try {
-    // O_NONBLOCK: a FIFO without a writer must not block the load; only regular files are read.
-    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
-    if (fd < 0) {
-      const int error = errno;
-      return Status(StatusCode::io_error, path + ": cannot open: " + std::strerror(error));
-    }
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(::fdopen(fd, "rb"), &std::fclose);
-    if (!file) {
-      const int error = errno;
-      ::close(fd);
-      return Status(StatusCode::io_error, path + ": cannot open: " + std::strerror(error));
-    }
+    detail::FileHandle file(nullptr, &std::fclose);
     struct stat st {};
-    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-      return Status(StatusCode::io_error, path + ": cannot read: not a regular file");
-    }
-    ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+    if (Status s = detail::open_regular_file(path, file, st); !s.ok()) return s;
     unsigned char signature[8] = {};
     if (std::fread(signature, 1, sizeof signature, file.get()) != sizeof signature ||
         std::memcmp(signature, kPngSignature, sizeof signature) != 0) {

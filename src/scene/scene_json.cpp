@@ -22,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "par2d/scene.hpp"
+#include "io/input_file.hpp"
 #include "scene/scene_validate.hpp"
 
 namespace par2d {
@@ -712,31 +713,14 @@ Status parse_scene(std::string_view json_text, std::string_view name, Scene& out
 
 Status load_scene_file(const std::string& path, Scene& out) {
   try {
-    // O_NONBLOCK: opening a FIFO that has no writer must not wait for one. Only regular
-    // files are read; their size is known, and nothing else is a scene.
-    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
-    if (fd < 0) {
-      const int error = errno;
-      return Status(StatusCode::io_error, path + ": cannot open: " + std::strerror(error));
-    }
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(::fdopen(fd, "rb"), &std::fclose);
-    if (!file) {
-      const int error = errno;
-      ::close(fd);
-      return Status(StatusCode::io_error, path + ": cannot open: " + std::strerror(error));
-    }
+    // Only regular files are read; their size is known, and nothing else is a scene.
+    detail::FileHandle file(nullptr, &std::fclose);
     struct stat st {};
-    if (::fstat(fd, &st) != 0) {
-      const int error = errno;
-      return Status(StatusCode::io_error, path + ": cannot read: " + std::strerror(error));
-    }
-    if (S_ISDIR(st.st_mode)) return Status(StatusCode::io_error, path + ": cannot read: " + std::strerror(EISDIR));
-    if (!S_ISREG(st.st_mode)) return Status(StatusCode::io_error, path + ": cannot read: not a regular file");
+    if (Status s = detail::open_regular_file(path, file, st); !s.ok()) return s;
     if (static_cast<unsigned long long>(st.st_size) > kMaxFileBytes) {
       return Status(StatusCode::io_error, path + ": cannot read: larger than " +
                                               std::to_string(kMaxFileBytes >> 20) + " MiB");
     }
-    ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
     // Parsed as it is read: no copy of the text is kept.
     Status status = parse_with([&](SceneBuilder& b) { return Json::sax_parse(file.get(), &b); }, path, out);
     if (std::ferror(file.get())) {
