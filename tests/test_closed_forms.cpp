@@ -10,6 +10,7 @@
 #include "par2d/render.hpp"
 #include "par2d/scene.hpp"
 #include "support/random_scenes.hpp"
+#include "support/render_checks.hpp"
 
 namespace par2d::test {
 namespace {
@@ -46,33 +47,7 @@ double angle_between(Vec2 a, Vec2 b, Vec2 x) {
 // channel (docs/contract.md section 5). Reports the worst pixel; returns how many were compared.
 int check_against(const Scene& scene, const RenderedImage& image, const std::function<Rgb(Vec2)>& expected,
                   double skip = 1e-3) {
-  const double tol = 1e-6 * emission_max_sum(scene);
-  const double skip_dist = skip * pixel_width(scene);
-  double worst = -1.0;
-  std::string where;
-  int compared = 0;
-  for (int j = 0; j < scene.height; ++j) {
-    for (int i = 0; i < scene.width; ++i) {
-      const Vec2 p = pixel_center(scene, i, j);
-      if (near_boundary(scene, p, skip_dist)) continue;
-      ++compared;
-      const Rgb e = expected(p);
-      for (int c = 0; c < 3; ++c) {
-        const double err = std::fabs(image.at(i, j, c) - e[c]);
-        if (err > worst) {
-          worst = err;
-          std::ostringstream s;
-          s.precision(10);
-          s << "pixel (" << i << ", " << j << ") at (" << p.x << ", " << p.y << ") channel " << c
-            << ": expected " << e[c] << ", got " << image.at(i, j, c);
-          where = s.str();
-        }
-      }
-    }
-  }
-  INFO("worst: " << where << " (tolerance " << tol << ")");
-  CHECK(worst <= tol);
-  return compared;
+  return check_against_closed_form(scene, image, [&](int, int, Vec2 p) { return expected(p); }, skip);
 }
 
 Polygon rectangle(double x0, double y0, double x1, double y1) {

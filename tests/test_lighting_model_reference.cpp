@@ -27,6 +27,7 @@
 #include "raycast/raycast_renderer.hpp"
 #include "scalar/scalar_renderer.hpp"
 #include "support/random_scenes.hpp"
+#include "support/render_checks.hpp"
 #include "world/prepared_scene.hpp"
 
 namespace par2d::test {
@@ -147,33 +148,7 @@ RenderedImage render_scalar(const Scene& scene) {
 // section 5, e_max as extended by section 6). Returns how many pixels were compared.
 int check_against(const Scene& scene, const RenderedImage& image, const std::function<Rgb(int, int, Vec2)>& expected,
                   double skip = 1e-3) {
-  const double tol = 1e-6 * emission_max_sum(scene);
-  const double skip_dist = skip * pixel_width(scene);
-  double worst = -1.0;
-  std::string where;
-  int compared = 0;
-  for (int j = 0; j < scene.height; ++j) {
-    for (int i = 0; i < scene.width; ++i) {
-      const Vec2 p = pixel_center(scene, i, j);
-      if (near_boundary(scene, p, skip_dist)) continue;
-      ++compared;
-      const Rgb e = expected(i, j, p);
-      for (int c = 0; c < 3; ++c) {
-        const double err = std::fabs(image.at(i, j, c) - e[c]);
-        if (err > worst) {
-          worst = err;
-          std::ostringstream s;
-          s.precision(10);
-          s << "pixel (" << i << ", " << j << ") at (" << p.x << ", " << p.y << ") channel " << c << ": expected "
-            << e[c] << ", got " << image.at(i, j, c);
-          where = s.str();
-        }
-      }
-    }
-  }
-  INFO("worst: " << where << " (tolerance " << tol << ")");
-  CHECK(worst <= tol);
-  return compared;
+  return check_against_closed_form(scene, image, expected, skip);
 }
 
 Polygon rectangle(double x0, double y0, double x1, double y1) {

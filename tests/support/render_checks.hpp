@@ -1,6 +1,7 @@
 // Test-case helpers that report through doctest (render_checks.cpp; doctest binaries only).
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "support/random_scenes.hpp"
@@ -19,5 +20,11 @@ struct Comparison {
 // `exempt` world units from every shape boundary.
 Comparison compare_renders(const Scene& scene, const RenderedImage& ref, const RenderedImage& got, double bound,
                            double exempt);
+
+// Compares every pixel farther than `skip` pixel widths from every shape boundary with
+// expected(i, j, pixel center): |got - expected| <= 1e-6 * e_max per channel (docs/contract.md
+// section 5, the scalar path's bound). Reports the worst pixel; returns how many were compared.
+int check_against_closed_form(const Scene& scene, const RenderedImage& image,
+                              const std::function<Rgb(int, int, Vec2)>& expected, double skip = 1e-3);
 
 }  // namespace par2d::test
