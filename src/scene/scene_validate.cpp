@@ -326,14 +326,17 @@ MaybeProblem check_normal_map(const NormalMap& map, int width, int height) {
   }
   for (std::size_t p = 0; p < expected; p += 3) {
     const float* n = map.normals.data() + p;
+    const bool finite = std::isfinite(n[0]) && std::isfinite(n[1]) && std::isfinite(n[2]);
+    if (finite && !(n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f)) continue;
+    // The place string only for the refused pixel: every render validates the whole map.
     const std::size_t pixel = p / 3;
     const std::string at = "normal_map: pixel (" + std::to_string(pixel % static_cast<std::size_t>(width)) + ", " +
                            std::to_string(pixel / static_cast<std::size_t>(width)) + ")";
-    if (!std::isfinite(n[0]) || !std::isfinite(n[1]) || !std::isfinite(n[2])) {
+    if (!finite) {
       return SceneProblem{at, "not a finite normal (" + format_number(n[0]) + ", " + format_number(n[1]) + ", " +
                                   format_number(n[2]) + ")"};
     }
-    if (n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f) return SceneProblem{at, "has a zero normal"};
+    return SceneProblem{at, "has a zero normal"};
   }
   return std::nullopt;
 }

@@ -780,6 +780,52 @@ inline void translucent_pieces(const TileWork& work, const KernelProfile<A>& pro
   }
 }
 
+// A shaded light with nothing in front anywhere in the tile (no pairs, no cone, not clipped)
+// whose lobe covers every direction in every lane (C >= A: s = A cos(theta - beta) + C > 0 on
+// the whole turn): the integral over the arc [th1, th2] is A [sin(th2 - beta) - sin(th1 - beta)]
+// + C width, and A sin(th - beta) = cos(el) cross(v, n_xy) / |v| for a tangent vector v, so
+// neither the arc's start angle nor beta nor a polynomial sine is needed. Inside: 2 pi C.
+constexpr float kTinyF = 1e-30f;
+
+template <class A>
+PAR2D_KERNEL_INLINE void shaded_unblocked_light(const TileWork& work, const KernelLight& light,
+                                                const xsimd::batch<float, A>& px, const xsimd::batch<float, A>& py,
+                                                const xsimd::batch<float, A>& nx, const xsimd::batch<float, A>& ny,
+                                                const xsimd::batch<float, A>& c_term,
+                                                const xsimd::batch<float, A>& cos_el,
+                                                const xsimd::batch<float, A>& window,
+                                                xsimd::batch<float, A> (&e)[3]) noexcept {
+  using B = xsimd::batch<float, A>;
+  const KernelShape& s = light.shape;
+  B lobe, width;
+  xsimd::batch_bool<float, A> inside;
+  if (s.kind == ShapeKind::circle) {
+    // Tangent vectors (d t +- perp(d) r) of length |d|^2 = excess + r^2: their difference is
+    // 2 r perp(d), so the sine difference is 2 r (d . n_xy) / |d|^2.
+    const B excess = circle_excess<A>(s, px, py);
+    inside = excess <= B(0.0f);
+    const B room = xsimd::max(excess, B(0.0f));
+    const B r(s.r);
+    const B half = fast_atan2(r, xsimd::sqrt(room));
+    width = half + half;
+    const B dx = B(s.cx) - px, dy = B(s.cy) - py;
+    lobe = cos_el * B(2.0f * s.r) * xsimd::fma(dx, nx, dy * ny) / xsimd::max(xsimd::fma(r, r, room), B(kTinyF));
+  } else {
+    B lox, loy, hix, hiy;
+    vertex_tangents<A>(work, s, px, py, lox, loy, hix, hiy, inside);
+    Arc<A> arc;
+    arc_from_tangents<A, false>(lox, loy, hix, hiy, arc);
+    width = arc.width;
+    // A lane on an end (|v| = 0, cross 0) takes 0 rather than 0/0.
+    const B sin_hi = xsimd::fms(hiy, nx, hix * ny) / xsimd::max(xsimd::sqrt(xsimd::fma(hix, hix, hiy * hiy)), B(kTinyF));
+    const B sin_lo = xsimd::fms(loy, nx, lox * ny) / xsimd::max(xsimd::sqrt(xsimd::fma(lox, lox, loy * loy)), B(kTinyF));
+    lobe = cos_el * (sin_hi - sin_lo);
+  }
+  const B visible = xsimd::select(inside, B(kTwoPiF) * c_term, xsimd::fma(c_term, width, lobe));
+  const B weighted = xsimd::max(visible, B(0.0f)) * window;
+  for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]), weighted, e[c]);
+}
+
 // Irradiance of one packet under the game lighting model (reference: the scalar renderer's
 // model path). Per light: its arc (a directional light's fixed one), the range window, the
 // blocked intervals of the occluders acting on it (lit-interior ones dropped where the lane is
@@ -812,9 +858,11 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
     xsimd::select(arc.inside, B(1.0f), B(0.0f)).store_aligned(occ_inside + k * W);
   }
   for (int c = 0; c < 3; ++c) e[c] = B(work.ambient[c]);
-  B beta, normal_xy, normal_z;
+  B beta, normal_xy, normal_z, nx_raw, ny_raw;
   if constexpr (kShaded) {
     const B nx = B::load_aligned(work.normal_x + pixel), ny = B::load_aligned(work.normal_y + pixel);
+    nx_raw = nx;
+    ny_raw = ny;
     beta = fast_atan2(ny, nx);
     normal_xy = xsimd::sqrt(xsimd::fma(nx, nx, ny * ny));
     normal_z = B::load_aligned(work.normal_z + pixel);
@@ -840,6 +888,16 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
       const B visible = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
       for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]) * window, visible, e[c]);
       continue;
+    }
+    if constexpr (kShaded) {
+      if (!terms.cone && light.pair_count == 0 && !terms.directional && !light.shape.clipped) {
+        const B c_term = B(static_cast<float>(terms.sin_elevation)) * normal_z;
+        const B cos_el(static_cast<float>(terms.cos_elevation));
+        if (xsimd::all(c_term >= cos_el * normal_xy)) {
+          shaded_unblocked_light<A>(work, light, px, py, nx_raw, ny_raw, c_term, cos_el, window, e);
+          continue;
+        }
+      }
     }
     Arc<A> arc;
     B width;
