@@ -32,9 +32,6 @@ RenderedImage render_scalar(const Scene& scene) {
   return image;
 }
 
-Rgb emission(const Light& light) {
-  return {light.intensity * light.color[0], light.intensity * light.color[1], light.intensity * light.color[2]};
-}
 
 // Angle between a - x and b - x in [0, pi], computed stably.
 double angle_between(Vec2 a, Vec2 b, Vec2 x) {

@@ -28,42 +28,18 @@
 #include "par2d/scene.hpp"
 #include "raycast/raycast_renderer.hpp"
 #include "support/random_scenes.hpp"
+#include "support/render_checks.hpp"
 
 namespace par2d::test {
 namespace {
 
 constexpr int kRays = 4096;
 
-Rgb emission(const Light& light) {
-  return {light.intensity * light.color[0], light.intensity * light.color[1], light.intensity * light.color[2]};
-}
 
-// k in the comment above.
-int boundary_complexity(const Shape& shape) {
-  if (const auto* p = std::get_if<Polygon>(&shape)) return static_cast<int>(p->vertices.size());
-  if (std::holds_alternative<Segment>(shape)) return 1;
-  return std::numeric_limits<int>::max();
-}
 
-int boundary_intersections(const Shape& a, const Shape& b) {
-  if (std::holds_alternative<Circle>(a) && std::holds_alternative<Circle>(b)) return 2;
-  return 2 * std::min(boundary_complexity(a), boundary_complexity(b));
-}
 
-// Per-channel bound on |E_par - E_ray| at any pixel (see the file comment).
-Rgb stratification_bound(const Scene& scene, int rays, bool overlapping) {
-  Rgb bound{0, 0, 0};
-  for (const Light& l : scene.lights) {
-    double boundaries = 2.0 + 2.0 * static_cast<double>(scene.occluders.size());
-    if (overlapping)
-      for (const Occluder& o : scene.occluders) boundaries += boundary_intersections(l.shape, o.shape);
-    const Rgb e = emission(l);
-    for (int c = 0; c < 3; ++c) bound[c] += e[c] * boundaries / rays;
-  }
-  const double par_slack = 1e-6 * emission_max_sum(scene);
-  for (double& b : bound) b += par_slack;
-  return bound;
-}
+
+
 
 Scene raycast_scene(std::uint32_t seed, bool disjoint) {
   RandomSceneOptions o;

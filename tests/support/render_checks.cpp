@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <variant>
 #include <sstream>
 
 namespace par2d::test {
@@ -67,6 +69,40 @@ int check_against_closed_form(const Scene& scene, const RenderedImage& image,
   INFO("worst: " << where << " (tolerance " << tol << ")");
   CHECK(worst <= tol);
   return compared;
+}
+
+Rgb emission(const Light& light) {
+  return {light.intensity * light.color[0], light.intensity * light.color[1], light.intensity * light.color[2]};
+}
+
+int boundary_complexity(const Shape& shape) {
+  if (const auto* p = std::get_if<Polygon>(&shape)) return static_cast<int>(p->vertices.size());
+  if (std::holds_alternative<Segment>(shape)) return 1;
+  return std::numeric_limits<int>::max();
+}
+
+Rgb stratification_bound(const Scene& scene, int rays, bool overlapping, bool shaded) {
+  const double shading = shaded && (scene.normal || scene.normal_map) ? 2.0 : 0.0;
+  Rgb bound{0, 0, 0};
+  for (const Light& l : scene.lights) {
+    double variation = 2.0 + 2.0 * static_cast<double>(scene.occluders.size()) + shading + (l.cone ? 2.0 : 0.0);
+    if (overlapping) {
+      for (const Occluder& o : scene.occluders) {
+        const bool circles = std::holds_alternative<Circle>(l.shape) && std::holds_alternative<Circle>(o.shape);
+        variation += circles ? 2.0 : 2.0 * std::min(boundary_complexity(l.shape), boundary_complexity(o.shape));
+      }
+    }
+    const Rgb e = emission(l);
+    for (int c = 0; c < 3; ++c) bound[c] += e[c] * variation / rays;
+  }
+  for (const DirectionalLight& d : scene.directional_lights) {
+    const double variation = 2.0 * static_cast<double>(scene.occluders.size()) + shading;
+    const double share = (d.angle1 - d.angle0) / 360.0;
+    for (int c = 0; c < 3; ++c) bound[c] += d.intensity * d.color[c] * share * variation / rays;
+  }
+  const double par_slack = 1e-6 * emission_max_sum(scene);
+  for (double& b : bound) b += par_slack;
+  return bound;
 }
 
 }  // namespace par2d::test

@@ -27,4 +27,15 @@ Comparison compare_renders(const Scene& scene, const RenderedImage& ref, const R
 int check_against_closed_form(const Scene& scene, const RenderedImage& image,
                               const std::function<Rgb(int, int, Vec2)>& expected, double skip = 1e-3);
 
+// intensity * color of a light.
+Rgb emission(const Light& light);
+// Vertices of a polygon, 1 for a segment, "unbounded" for a circle: how often its boundary can
+// cross another's.
+int boundary_complexity(const Shape& shape);
+// Per-channel bound on |E_par - E_ray| at any pixel for `rays` stratified directions (a jump
+// of the integrand is misplaced by at most one stratum): 2 per light's arc end and per
+// occluder, crossings of overlapping boundaries, 2 more for a cone's profile and for shading,
+// directional lights in proportion to their arc; plus section 5's 1e-6 e_max.
+Rgb stratification_bound(const Scene& scene, int rays, bool overlapping, bool shaded = false);
+
 }  // namespace par2d::test
