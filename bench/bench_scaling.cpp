@@ -3,13 +3,17 @@
 // Names are parsed by tools/plot_bench.py:
 //   scaling/<sweep>/occluders:<N>/lights:<M>/<culled|unculled>[/skipped:over_pair_budget]/real_time
 // with <sweep> one of occluder_sweep (16 lights), light_sweep (256 occluders) or target (the
-// issue's two target points). Every run uses the default SIMD ISA and all hardware threads.
+// two points of the 16x goal), and
+//   scaling/size_grid/occluder_size:<MIN>-<MAX>/light_size:<MIN>-<MAX>/occluders:<N>/lights:<M>/culled/real_time
+// for the 16 + 256 and 256 + 4096 levels over a grid of occluder and light sizes (pixels
+// across). Every run uses the default SIMD ISA and all hardware threads.
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "par2d/par2d.hpp"
@@ -39,8 +43,9 @@ long unculled_max_pairs() {
   return kDefaultUnculledMaxPairs;
 }
 
-void run_scaling(benchmark::State& state, int lights, int occluders, bool culling) {
-  const par2d::Scene scene = par2d::bench::scattered_scene(lights, occluders, kSeed, kWidth, kHeight);
+void run_scaling(benchmark::State& state, int lights, int occluders, bool culling,
+                 const par2d::bench::ScatteredSizes& sizes = {}) {
+  const par2d::Scene scene = par2d::bench::scattered_scene(lights, occluders, kSeed, kWidth, kHeight, sizes);
   par2d::RenderOptions options;
   options.backend = par2d::Backend::simd;  // at the default ISA: what an embedding engine gets
   options.threads = 0;
@@ -69,6 +74,40 @@ void register_point(const char* sweep, int lights, int occluders, bool culling) 
       ->UseRealTime();
 }
 
+// A size band as its name in benchmark names and tables: "1.5-4".
+std::string band_name(double lo, double hi) {
+  const auto text = [](double v) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%g", v);
+    return std::string(buffer);
+  };
+  return text(lo) + "-" + text(hi);
+}
+
+// Occluder sizes from rubble (1.5-4 px) to crates and pillars (12-40 px), light sizes from
+// sparks (3-5 px) to lamps (6-12 px, the sweeps' default): the distributions that decide how
+// many lights a tile sees against how many its pixels see.
+void register_size_grid() {
+  const std::pair<double, double> occluder_bands[] = {{1.5, 4.0}, {4.0, 12.0}, {12.0, 40.0}};
+  const std::pair<double, double> light_bands[] = {{3.0, 5.0}, {6.0, 12.0}};
+  for (const auto& [omin, omax] : occluder_bands) {
+    for (const auto& [lmin, lmax] : light_bands) {
+      const par2d::bench::ScatteredSizes sizes{omin, omax, lmin, lmax};
+      for (const auto& [lights, occluders] : {std::pair{16, 256}, std::pair{256, 4096}}) {
+        const std::string name = "scaling/size_grid/occluder_size:" + band_name(omin, omax) +
+                                 "/light_size:" + band_name(lmin, lmax) + "/occluders:" + std::to_string(occluders) +
+                                 "/lights:" + std::to_string(lights) + "/culled";
+        benchmark::RegisterBenchmark(name.c_str(),
+                                     [lights = lights, occluders = occluders, sizes](benchmark::State& state) {
+                                       run_scaling(state, lights, occluders, true, sizes);
+                                     })
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime();
+      }
+    }
+  }
+}
+
 const bool registered = [] {
   for (const bool culling : {true, false}) {
     for (const int occluders : {16, 64, 256, 1024, 4096}) register_point("occluder_sweep", 16, occluders, culling);
@@ -76,6 +115,7 @@ const bool registered = [] {
   }
   register_point("target", 16, 256, true);
   register_point("target", 256, 4096, true);
+  register_size_grid();
   return true;
 }();
 

@@ -1,6 +1,7 @@
 // Writes a synthetic level of small scattered occluders and lights (the scaling benchmark's scenes) as scene JSON.
 //
 // Usage: par2d_make_field --lights 256 --occluders 4096 > field.json
+//        par2d_make_field --lights 256 --occluders 4096 --occluder-size 1.5 4 --light-size 3 5 > small.json
 //        par2d bench field.json --threads 2
 // The scene is the one bench/par2d_bench's scaling/ benchmarks render for the same counts,
 // seed and size, so `par2d bench` reproduces their numbers from the command line.
@@ -9,6 +10,9 @@
 
 #include <cstdint>
 #include <iostream>
+#include <string>
+#include <utility>
+#include <vector>
 #include <type_traits>
 #include <variant>
 
@@ -51,9 +55,26 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, par2d::kMaxImageSide));
   app.add_option("--height", height, "Image height in pixels. Default: 1080")->check(CLI::Range(1, par2d::kMaxImageSide));
   app.add_option("--seed", seed, "Random seed. Default: 20240611 (the benchmark's)");
+  par2d::bench::ScatteredSizes sizes;
+  std::vector<double> occluder_size{sizes.occluder_min, sizes.occluder_max};
+  std::vector<double> light_size{sizes.light_min, sizes.light_max};
+  app.add_option("--occluder-size", occluder_size,
+                 "Occluder size range MIN MAX in pixels across, drawn uniformly. Default: 4 12")
+      ->expected(2)
+      ->check(CLI::Range(1e-3, 1e4));
+  app.add_option("--light-size", light_size, "Light size range MIN MAX in pixels across (diameter). Default: 6 12")
+      ->expected(2)
+      ->check(CLI::Range(1e-3, 1e4));
   CLI11_PARSE(app, argc, argv);
+  for (const auto& [name, range] : {std::pair{"--occluder-size", &occluder_size}, std::pair{"--light-size", &light_size}}) {
+    if ((*range)[0] > (*range)[1]) {
+      std::cerr << "par2d_make_field: " << name << " " << (*range)[0] << " " << (*range)[1] << ": MIN is above MAX\n";
+      return 2;
+    }
+  }
+  sizes = {occluder_size[0], occluder_size[1], light_size[0], light_size[1]};
 
-  const par2d::Scene scene = par2d::bench::scattered_scene(lights, occluders, seed, width, height);
+  const par2d::Scene scene = par2d::bench::scattered_scene(lights, occluders, seed, width, height, sizes);
   Json out;
   out["width"] = scene.width;
   out["height"] = scene.height;

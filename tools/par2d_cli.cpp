@@ -84,6 +84,7 @@ struct BenchArgs {
   int width = 0;   // 0: the scene's
   int height = 0;  // 0: the scene's
   bool json = false;
+  bool stats = false;
 };
 
 const CLI::Validator kBackendName(
@@ -225,6 +226,65 @@ int run_render(const CommonArgs& common, const RenderArgs& args) {
   return 0;
 }
 
+// FrameStats as a JSON object of its counts.
+std::string stats_json(const par2d::FrameStats& s) {
+  const std::pair<const char*, std::uint64_t> fields[] = {
+      {"pixels", s.pixels},
+      {"samples", s.samples},
+      {"blocks", s.blocks},
+      {"block_lights", s.block_lights},
+      {"block_lights_out_of_reach", s.block_lights_out_of_reach},
+      {"block_candidates", s.block_candidates},
+      {"block_proofs_tried", s.block_proofs_tried},
+      {"block_proofs_succeeded", s.block_proofs_succeeded},
+      {"tiles", s.tiles},
+      {"tile_lights", s.tile_lights},
+      {"tile_pairs", s.tile_pairs},
+      {"tile_general_pairs", s.tile_general_pairs},
+      {"tile_proofs_tried", s.tile_proofs_tried},
+      {"tile_proofs_succeeded", s.tile_proofs_succeeded},
+      {"umbra_tests", s.umbra_tests},
+      {"umbra_hits", s.umbra_hits},
+      {"light_samples", s.light_samples},
+      {"pair_samples", s.pair_samples},
+      {"scalar_tiles", s.scalar_tiles},
+  };
+  std::string out = "{";
+  for (const auto& [name, value] : fields) {
+    if (out.size() > 1) out += ", ";
+    out += std::string("\"") + name + "\": " + std::to_string(value);
+  }
+  return out + "}";
+}
+
+// `part` / `whole`, 0 when `whole` is 0.
+double ratio(std::uint64_t part, std::uint64_t whole) {
+  return whole == 0 ? 0.0 : static_cast<double>(part) / static_cast<double>(whole);
+}
+
+// FrameStats as a few readable lines: where a frame's work goes, from blocks down to samples.
+void print_stats(const par2d::FrameStats& s) {
+  std::printf("stats per frame: %llu pixels, %llu tiles (16x16), %llu blocks (64x64)\n",
+              static_cast<unsigned long long>(s.pixels), static_cast<unsigned long long>(s.tiles),
+              static_cast<unsigned long long>(s.blocks));
+  std::printf(
+      "  blocks x lights: %llu, %.1f %% out of reach; %.1f occluders per (block, light) from the index; "
+      "proofs %llu tried, %llu hid the light (%.1f %%)\n",
+      static_cast<unsigned long long>(s.block_lights), 100.0 * ratio(s.block_lights_out_of_reach, s.block_lights),
+      ratio(s.block_candidates, s.block_lights - s.block_lights_out_of_reach),
+      static_cast<unsigned long long>(s.block_proofs_tried), static_cast<unsigned long long>(s.block_proofs_succeeded),
+      100.0 * ratio(s.block_proofs_succeeded, s.block_proofs_tried));
+  std::printf(
+      "  per tile: %.2f lights, %.2f pairs (%.3f overlapping or touching); proofs %llu tried, %llu hid the light; "
+      "umbra tests %llu, %llu hit\n",
+      ratio(s.tile_lights, s.tiles), ratio(s.tile_pairs, s.tiles), ratio(s.tile_general_pairs, s.tiles),
+      static_cast<unsigned long long>(s.tile_proofs_tried), static_cast<unsigned long long>(s.tile_proofs_succeeded),
+      static_cast<unsigned long long>(s.umbra_tests), static_cast<unsigned long long>(s.umbra_hits));
+  std::printf("  per sample (kernel): %.2f light arcs, %.2f pairs; %.2f samples per pixel (tile padding included)\n",
+              ratio(s.light_samples, s.samples), ratio(s.pair_samples, s.samples), ratio(s.samples, s.pixels));
+  std::printf("  tiles computed by the scalar reference: %llu\n", static_cast<unsigned long long>(s.scalar_tiles));
+}
+
 int run_bench(const CommonArgs& common, const BenchArgs& args) {
   par2d::Scene scene;
   if (par2d::Status s = par2d::load_scene_file(common.scene_path, scene); !s)
@@ -240,7 +300,9 @@ int run_bench(const CommonArgs& common, const BenchArgs& args) {
 
   const par2d::RenderOptions options = make_options(common);
   // One untimed frame first: it pays for thread-pool start-up and first-touch page faults.
-  if (par2d::Status s = par2d::render(scene, options, image); !s) return fail(s.message());
+  // Its work counts are those of every frame (the scene does not change).
+  par2d::FrameStats stats;
+  if (par2d::Status s = par2d::render(scene, options, image, stats); !s) return fail(s.message());
 
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
@@ -261,14 +323,16 @@ int run_bench(const CommonArgs& common, const BenchArgs& args) {
     std::printf(
         "{\"ms_per_frame\": %.6g, \"frames_per_s\": %.6g, \"mpixel_per_s\": %.6g, "
         "\"backend\": \"%s\", \"isa\": \"%s\", \"threads\": %d, \"width\": %d, "
-        "\"height\": %d, \"frames\": %d, \"spp\": %d, \"lights\": %zu, \"occluders\": %zu}\n",
+        "\"height\": %d, \"frames\": %d, \"spp\": %d, \"lights\": %zu, \"occluders\": %zu%s}\n",
         ms_per_frame, std::isfinite(frames_per_s) ? frames_per_s : 0.0,
         std::isfinite(mpixel_per_s) ? mpixel_per_s : 0.0, backend, isa, threads, scene.width,
-        scene.height, args.frames, options.spp, scene.lights.size(), scene.occluders.size());
+        scene.height, args.frames, options.spp, scene.lights.size(), scene.occluders.size(),
+        args.stats ? (", \"stats\": " + stats_json(stats)).c_str() : "");
   } else {
     std::printf("ms/frame=%.3f frames/s=%.2f Mpixel/s=%.2f backend=%s isa=%s threads=%d size=%dx%d\n",
                 ms_per_frame, frames_per_s, mpixel_per_s, backend, isa, threads, scene.width,
                 scene.height);
+    if (args.stats) print_stats(stats);
   }
   return 0;
 }
@@ -321,6 +385,9 @@ int main(int argc, char** argv) {
   bench->add_option("--height", bench_args.height, "Override the image height, keeping the view")
       ->check(CLI::Range(1, par2d::kMaxImageSide));
   bench->add_flag("--json", bench_args.json, "Print one JSON object instead of a line");
+  bench->add_flag("--stats", bench_args.stats,
+                  "Also print what a frame's culling and kernel did: lights and pairs per tile and per pixel, "
+                  "proofs tried and succeeded, scalar fallbacks");
 
   CLI::App* info = app.add_subcommand("info", "Print the version, detected and selected ISA");
 #ifdef PAR2D_HAVE_VIEWER

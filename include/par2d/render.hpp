@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 
 #include "par2d/isa.hpp"
@@ -81,6 +82,38 @@ void sample_offset(int k, int spp, double& dx, double& dy) noexcept;
 // whose size must equal the scene's width and height. Validates the scene and the
 // arguments first; on failure the image content is unspecified and a status says why.
 Status render(const Scene& scene, const RenderOptions& options, const ImageView& image);
+
+// What one frame's culling and kernel did: the numbers that say why a level costs what it
+// costs (`par2d bench --stats` prints them). Counts are totals over the frame; divide by
+// `tiles` or `pixels` for averages. The SIMD path works in blocks of 64x64 pixels (one
+// spatial-index query and proof attempt per block and light) split into tiles of 16x16
+// (the kernel's unit: per tile, the lights that may reach it and, per light, the occluders
+// that may stand in front of it somewhere in the tile, the "pairs"). Zero for the raycast
+// backend; the scalar backend counts only pixels, tiles and scalar_tiles.
+struct FrameStats {
+  std::uint64_t pixels = 0;   // pixels rendered
+  std::uint64_t samples = 0;  // samples the kernel computed, tile padding included (pixels x spp when tiles fit)
+  std::uint64_t blocks = 0;
+  std::uint64_t block_lights = 0;               // (block, light) combinations looked at: blocks x lights
+  std::uint64_t block_lights_out_of_reach = 0;  // skipped without a query: light reach or range proves the block unlit
+  std::uint64_t block_candidates = 0;           // occluders the index queries returned, over (block, light)
+  std::uint64_t block_proofs_tried = 0;         // occlusion proofs over a whole block and light
+  std::uint64_t block_proofs_succeeded = 0;     // ... that proved the light hidden from the block
+  std::uint64_t tiles = 0;
+  std::uint64_t tile_lights = 0;          // lights handed to the kernel, summed over tiles
+  std::uint64_t tile_pairs = 0;           // (light, occluder) pairs handed to the kernel, summed over tiles
+  std::uint64_t tile_general_pairs = 0;   // of those, overlapping or touching pairs (a depth test per piece)
+  std::uint64_t tile_proofs_tried = 0;    // occlusion proofs over a tile and one of its lights
+  std::uint64_t tile_proofs_succeeded = 0;
+  std::uint64_t umbra_tests = 0;          // "is the tile in this one occluder's umbra" tests
+  std::uint64_t umbra_hits = 0;
+  std::uint64_t light_samples = 0;        // light arcs the kernel evaluates: sum over tiles of lights x samples
+  std::uint64_t pair_samples = 0;         // occluder arcs likewise: sum over tiles of pairs x samples
+  std::uint64_t scalar_tiles = 0;         // tiles computed by the scalar reference (only with Isa::scalar)
+};
+
+// render() that also reports the frame's work in `stats` (overwritten).
+Status render(const Scene& scene, const RenderOptions& options, const ImageView& image, FrameStats& stats);
 
 // The ISA the SIMD path would use for these options on this CPU (scalar when the
 // backend is scalar or raycast).

@@ -144,6 +144,8 @@ class Renderer {
   Scene snapshot() const;
 
   RendererStats stats() const noexcept;
+  // The culling and kernel work of the last successful render call (all zero before one).
+  FrameStats frame_stats() const noexcept;
 
  private:
   struct Impl;

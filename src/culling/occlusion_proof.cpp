@@ -250,9 +250,12 @@ bool rect_hidden_from_light(Vec2 lo, Vec2 hi, const ConvexShape& light, const st
                           lo.y - light.bounds_max.y};
   const Vec2 axes[4] = {{1.0, 0.0}, {-1.0, 0.0}, {0.0, 1.0}, {0.0, -1.0}};
   const int side = static_cast<int>(std::max_element(gaps, gaps + 4) - gaps);
+  ++scratch.proofs_tried;
   if (!(gaps[side] > 0.0)) return false;
   const Vec2 corners[4] = {lo, {hi.x, lo.y}, hi, {lo.x, hi.y}};
-  return segments_blocked(corners, 4, axes[side], light, occluders, ids, count, strip_budget, scratch);
+  const bool hidden = segments_blocked(corners, 4, axes[side], light, occluders, ids, count, strip_budget, scratch);
+  scratch.proofs_succeeded += hidden ? 1u : 0u;
+  return hidden;
 }
 
 }  // namespace par2d::detail

@@ -22,6 +22,8 @@ struct OcclusionProofScratch {
   std::vector<double> clip_u, clip_v, half_u, half_v;
   std::vector<std::pair<double, double>> intervals;
   std::vector<std::pair<double, double>> strips;
+  // Counts for FrameStats, accumulated over calls until the owner resets them.
+  std::uint64_t proofs_tried = 0, proofs_succeeded = 0;
 };
 
 // Whether every segment from a point of the convex hull of `viewer[0..viewer_count)` to a point

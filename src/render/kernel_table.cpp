@@ -31,6 +31,7 @@ struct FrameEngine::ThreadState {
   std::size_t scratch_floats = 0;
   float* aligned = nullptr;
   TileResult result;
+  FrameStats counts;  // this lane's share of the frame's FrameStats
 
   float* kernel_scratch(std::size_t floats) {
     if (floats > scratch_floats) {
@@ -49,7 +50,8 @@ FrameEngine::FrameEngine(FrameEngine&&) noexcept = default;
 FrameEngine& FrameEngine::operator=(FrameEngine&&) noexcept = default;
 
 void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReach>* reach,
-                         const FrameSettings& settings, const Scheduler& scheduler, const FrameTarget& target) {
+                         const FrameSettings& settings, const Scheduler& scheduler, const FrameTarget& target,
+                         FrameStats* stats) {
   const KernelSet* kernels = kernels_for(settings.isa);
   const TileRect& region = target.region;
   // Blocks of the whole frame that meet the region.
@@ -59,20 +61,47 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
   const int blocks = columns * (by1 - by0);
   const bool cull = settings.culling && reach != nullptr;
 
+  // Counting costs a few additions per block and tile, so it is always on; `stats` only
+  // decides whether the lanes' counts are summed.
   auto render_block = [&](int b, ThreadState& state) {
     const int x0 = (bx0 + b % columns) * kBlockSize, y0 = (by0 + b / columns) * kBlockSize;
     const TileRect block{x0, y0, std::min(x0 + kBlockSize, scene.width), std::min(y0 + kBlockSize, scene.height)};
-    if (kernels) gather_block_candidates(scene, block, cull ? reach : nullptr, state.setup);
+    FrameStats& counts = state.counts;
+    if (kernels) {
+      const OcclusionProofScratch& proofs = state.setup.occlusion;
+      const std::uint64_t tried = proofs.proofs_tried, succeeded = proofs.proofs_succeeded;
+      gather_block_candidates(scene, block, cull ? reach : nullptr, state.setup);
+      const std::uint64_t proven = proofs.proofs_succeeded - succeeded;
+      std::uint64_t shadowed = 0;
+      for (const unsigned char s : state.setup.block_shadowed) shadowed += s;
+      for (const std::vector<std::uint32_t>& c : state.setup.block_candidates) counts.block_candidates += c.size();
+      ++counts.blocks;
+      counts.block_lights += scene.lights.size();
+      counts.block_lights_out_of_reach += shadowed - proven;
+      counts.block_proofs_tried += proofs.proofs_tried - tried;
+      counts.block_proofs_succeeded += proven;
+    }
     for_each_cell(block, kTileSize, [&](const TileRect& tile) {
       const TileRect part{std::max(tile.x0, region.x0), std::max(tile.y0, region.y0), std::min(tile.x1, region.x1),
                           std::min(tile.y1, region.y1)};
       if (part.x0 >= part.x1 || part.y0 >= part.y1) return;
+      ++counts.tiles;
+      counts.pixels += static_cast<std::uint64_t>(part.x1 - part.x0) * static_cast<std::uint64_t>(part.y1 - part.y0);
       if (!kernels) {  // Isa::scalar: the reference, tile by tile
+        ++counts.scalar_tiles;
         render_tile_scalar(scene, settings.spp, part, tile.x0, tile.y0, state.scalar, state.result, settings.shaded);
       } else {
         build_tile_work(scene, tile, settings.spp, cull, state.work, state.setup, settings.shaded);
-        float* scratch = state.kernel_scratch(kernel_scratch_floats(state.work, kernels->lanes));
-        kernels->render_tile(state.work, scratch, state.result);
+        const TileWork& work = state.work;
+        const std::uint64_t samples = static_cast<std::uint64_t>(work.spp) * kTilePixels;
+        counts.samples += samples;
+        counts.tile_lights += work.lights.size();
+        counts.tile_pairs += work.pairs.size();
+        for (const KernelPair& pair : work.pairs) counts.tile_general_pairs += pair.general ? 1u : 0u;
+        counts.light_samples += work.lights.size() * samples;
+        counts.pair_samples += work.pairs.size() * samples;
+        float* scratch = state.kernel_scratch(kernel_scratch_floats(work, kernels->lanes));
+        kernels->render_tile(work, scratch, state.result);
       }
       store_tile(state.result, tile.x0, tile.y0, part, target);
     });
@@ -87,8 +116,41 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
   if (states_.size() < static_cast<std::size_t>(lanes)) states_.resize(static_cast<std::size_t>(lanes));
   scheduler.for_each_index(lanes, [&](int lane, int) {
     ThreadState& state = states_[static_cast<std::size_t>(lane)];
+    state.counts = FrameStats{};
+    state.setup.occlusion.proofs_tried = state.setup.occlusion.proofs_succeeded = 0;
+    state.setup.umbra_tests = state.setup.umbra_hits = 0;
     for (int b = lane; b < blocks; b += lanes) render_block(b, state);
   });
+  if (stats) *stats = sum_counts(lanes);
+}
+
+FrameStats FrameEngine::sum_counts(int lanes) const noexcept {
+  FrameStats sum;
+  for (int lane = 0; lane < lanes; ++lane) {
+    const ThreadState& state = states_[static_cast<std::size_t>(lane)];
+    const FrameStats& c = state.counts;
+    sum.pixels += c.pixels;
+    sum.samples += c.samples;
+    sum.blocks += c.blocks;
+    sum.block_lights += c.block_lights;
+    sum.block_lights_out_of_reach += c.block_lights_out_of_reach;
+    sum.block_candidates += c.block_candidates;
+    sum.block_proofs_tried += c.block_proofs_tried;
+    sum.block_proofs_succeeded += c.block_proofs_succeeded;
+    sum.tiles += c.tiles;
+    sum.tile_lights += c.tile_lights;
+    sum.tile_pairs += c.tile_pairs;
+    sum.tile_general_pairs += c.tile_general_pairs;
+    // The proof counters run over blocks and tiles alike; the blocks' share is counted above.
+    sum.tile_proofs_tried += state.setup.occlusion.proofs_tried - c.block_proofs_tried;
+    sum.tile_proofs_succeeded += state.setup.occlusion.proofs_succeeded - c.block_proofs_succeeded;
+    sum.umbra_tests += state.setup.umbra_tests;
+    sum.umbra_hits += state.setup.umbra_hits;
+    sum.light_samples += c.light_samples;
+    sum.pair_samples += c.pair_samples;
+    sum.scalar_tiles += c.scalar_tiles;
+  }
+  return sum;
 }
 
 }  // namespace par2d::detail

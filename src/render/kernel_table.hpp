@@ -61,11 +61,13 @@ class FrameEngine {
   // The pixels of target.region, each tile computed whole and stored straight into the
   // target's format. Tiles and blocks are those of the whole frame, so a region's pixels
   // equal the same pixels of a whole frame bit for bit. `reach` (with culling): per light.
+  // `stats`, when given, receives the frame's culling and kernel work (FrameStats).
   void render(const PreparedScene& scene, const std::vector<LightReach>* reach, const FrameSettings& settings,
-              const Scheduler& scheduler, const FrameTarget& target);
+              const Scheduler& scheduler, const FrameTarget& target, FrameStats* stats = nullptr);
 
  private:
   struct ThreadState;
+  FrameStats sum_counts(int lanes) const noexcept;
   std::vector<ThreadState> states_;
 };
 

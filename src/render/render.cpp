@@ -141,7 +141,9 @@ Status check_frame_buffer(const FrameBuffer& buffer, const PixelRect& region, in
 
 }  // namespace detail
 
-Status render(const Scene& scene, const RenderOptions& options, const ImageView& image) {
+namespace {
+
+Status render_frame(const Scene& scene, const RenderOptions& options, const ImageView& image, FrameStats* stats) {
   try {
     if (Status s = check_arguments(scene, options, image); !s.ok()) return s;
     if (options.backend == Backend::raycast) {
@@ -164,13 +166,24 @@ Status render(const Scene& scene, const RenderOptions& options, const ImageView&
     target.region = {0, 0, scene.width, scene.height};
     detail::FrameEngine engine;
     engine.render(prepared, culling ? &world.reach() : nullptr, detail::FrameSettings{options.spp, culling, isa, options.shaded},
-                  scheduler, target);
+                  scheduler, target, stats);
     return {};
   } catch (const std::bad_alloc&) {
     return Status(StatusCode::out_of_memory, "render: out of memory");
   } catch (const std::exception& e) {
     return Status(StatusCode::invalid_argument, std::string("render: ") + e.what());
   }
+}
+
+}  // namespace
+
+Status render(const Scene& scene, const RenderOptions& options, const ImageView& image) {
+  return render_frame(scene, options, image, nullptr);
+}
+
+Status render(const Scene& scene, const RenderOptions& options, const ImageView& image, FrameStats& stats) {
+  stats = FrameStats{};
+  return render_frame(scene, options, image, &stats);
 }
 
 }  // namespace par2d

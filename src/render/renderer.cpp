@@ -19,6 +19,7 @@ struct Renderer::Impl {
   detail::Scheduler scheduler;
   detail::World world;
   detail::FrameEngine engine;
+  FrameStats frame_stats;  // the last successful render's
 };
 
 namespace {
@@ -193,7 +194,8 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
     target.exposure = buffer.exposure;
     target.region = {region.x0, region.y0, region.x1, region.y1};
     impl.engine.render(scene, culling ? &impl.world.reach() : nullptr,
-                       detail::FrameSettings{impl.options.spp, culling, impl.isa, impl.options.shaded}, impl.scheduler, target);
+                       detail::FrameSettings{impl.options.spp, culling, impl.isa, impl.options.shaded}, impl.scheduler, target,
+                       &impl.frame_stats);
     ++impl.world.stats().frames;
     return {};
   });
@@ -202,5 +204,7 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
 Scene Renderer::snapshot() const { return impl_->world.snapshot(); }
 
 RendererStats Renderer::stats() const noexcept { return impl_->world.stats(); }
+
+FrameStats Renderer::frame_stats() const noexcept { return impl_->frame_stats; }
 
 }  // namespace par2d

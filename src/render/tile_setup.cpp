@@ -722,9 +722,13 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
           pair.nx = pair.ny = 0.0f;
           pair.c = -1.0f;
           pair.front = true;
-          if (prover && rect_in_umbra(light.shape, occluder, corners, light_tangents)) {
-            shadowed = true;
-            break;
+          if (prover) {
+            ++scratch.umbra_tests;
+            if (rect_in_umbra(light.shape, occluder, corners, light_tangents)) {
+              ++scratch.umbra_hits;
+              shadowed = true;
+              break;
+            }
           }
         }
       }

@@ -27,6 +27,8 @@ struct TileSetupScratch {
   std::vector<std::uint32_t> pair_occluders;
   std::vector<std::uint32_t> directional;  // a directional light's candidate occluders
   OcclusionProofScratch occlusion;
+  // Counts for FrameStats, accumulated until the owner resets them.
+  std::uint64_t umbra_tests = 0, umbra_hits = 0;
 };
 
 // Fills scratch.block_candidates for the pixel rectangle `block`, skipping the lights that
