@@ -73,6 +73,18 @@ TEST_CASE("FrameStats follow the frame's blocks and tiles, and the kernel's work
   CHECK(s.tile_general_pairs == 0u);  // the generator keeps lights clear of occluders
   CHECK(s.scalar_tiles == 0u);
 
+  SUBCASE("the sampled needs: one pixel per tile, visible lights among the kernel's, the same unculled") {
+    CHECK(s.sampled_pixels == s.tiles);
+    CHECK(s.sampled_visible_lights > 0u);
+    CHECK(s.sampled_visible_lights <= s.tile_lights);
+    CHECK(s.sampled_blocking_pairs > 0u);
+    RenderOptions unculled = options;
+    unculled.culling = false;
+    const FrameStats u = stats_of(scene, unculled);
+    CHECK(u.sampled_visible_lights == s.sampled_visible_lights);
+    CHECK(u.sampled_blocking_pairs == s.sampled_blocking_pairs);
+  }
+
   SUBCASE("the same counts at 1 thread, 4 samples per pixel scale the samples only") {
     RenderOptions one = options;
     one.threads = 1;
@@ -100,6 +112,7 @@ TEST_CASE("FrameStats follow the frame's blocks and tiles, and the kernel's work
     CHECK(r.tile_lights == s.tile_lights);
     CHECK(r.tile_pairs == s.tile_pairs);
     CHECK(r.block_proofs_succeeded == s.block_proofs_succeeded);
+    CHECK(r.sampled_pixels == 0u);  // the exact sampling is render()'s only
   }
 
   SUBCASE("the scalar reference counts its tiles as scalar tiles and nothing else") {
@@ -130,6 +143,24 @@ TEST_CASE("FrameStats: culling removes a walled-in light from the blocks outside
   CHECK(unculled.tile_proofs_tried == 0u);
   CHECK(unculled.umbra_tests == 0u);
   CHECK(unculled.tile_pairs == unculled.tiles * 2u * 4u);  // every light with every wall
+}
+
+TEST_CASE("FrameStats' sampled needs in closed cases: an open view sees every light; walls hide the walled-in one") {
+  Scene open = closed_room();
+  open.occluders.clear();
+  RenderOptions options;
+  options.backend = Backend::simd;
+  const FrameStats o = stats_of(open, options);
+  CHECK(o.sampled_visible_lights == 2u * o.sampled_pixels);
+  CHECK(o.sampled_blocking_pairs == 0u);
+  // Only the walled-in light: it is visible exactly at the tile middles inside the room's
+  // interior (14 < x, y < 66): x, y in {24.5, 40.5, 56.5}, 9 of the 192.
+  Scene room = closed_room();
+  room.lights.pop_back();
+  const FrameStats w = stats_of(room, options);
+  CHECK(w.sampled_pixels == 16u * 12u);
+  CHECK(w.sampled_visible_lights == 9u);
+  CHECK(w.sampled_blocking_pairs == 0u);  // from inside, no wall is in front of the light
 }
 
 TEST_CASE("FrameStats count a light containing an occluder as general pairs, on the SIMD path") {

@@ -248,6 +248,9 @@ std::string stats_json(const par2d::FrameStats& s) {
       {"light_samples", s.light_samples},
       {"pair_samples", s.pair_samples},
       {"scalar_tiles", s.scalar_tiles},
+      {"sampled_pixels", s.sampled_pixels},
+      {"sampled_visible_lights", s.sampled_visible_lights},
+      {"sampled_blocking_pairs", s.sampled_blocking_pairs},
   };
   std::string out = "{";
   for (const auto& [name, value] : fields) {
@@ -282,6 +285,9 @@ void print_stats(const par2d::FrameStats& s) {
       static_cast<unsigned long long>(s.umbra_tests), static_cast<unsigned long long>(s.umbra_hits));
   std::printf("  per sample (kernel): %.2f light arcs, %.2f pairs; %.2f samples per pixel (tile padding included)\n",
               ratio(s.light_samples, s.samples), ratio(s.pair_samples, s.samples), ratio(s.samples, s.pixels));
+  std::printf("  per pixel (exact, at %llu sampled pixels): %.2f lights visible, %.2f occluders cutting into their arcs\n",
+              static_cast<unsigned long long>(s.sampled_pixels), ratio(s.sampled_visible_lights, s.sampled_pixels),
+              ratio(s.sampled_blocking_pairs, s.sampled_pixels));
   std::printf("  tiles computed by the scalar reference: %llu\n", static_cast<unsigned long long>(s.scalar_tiles));
 }
 

@@ -110,9 +110,20 @@ struct FrameStats {
   std::uint64_t light_samples = 0;        // light arcs the kernel evaluates: sum over tiles of lights x samples
   std::uint64_t pair_samples = 0;         // occluder arcs likewise: sum over tiles of pairs x samples
   std::uint64_t scalar_tiles = 0;         // tiles computed by the scalar reference (only with Isa::scalar)
+  // What pixels really need, by the exact double geometry at one pixel per tile (the tile's
+  // middle pixel), for comparison with the kernel's work above: lights visible there (some
+  // direction reaches the light with no occluder in front; the lighting model's cone, range
+  // and transmittance aside) and, for those lights, the occluders in front of a part of the
+  // light's arc. Directional lights are not counted. Filled by render()'s
+  // FrameStats overload only (it costs about a scalar pixel per tile); zero from
+  // Renderer::frame_stats.
+  std::uint64_t sampled_pixels = 0;
+  std::uint64_t sampled_visible_lights = 0;
+  std::uint64_t sampled_blocking_pairs = 0;
 };
 
-// render() that also reports the frame's work in `stats` (overwritten).
+// render() that also reports the frame's work in `stats` (overwritten), including the sampled
+// needs (slower than render() by about one scalar pixel per 16x16 tile).
 Status render(const Scene& scene, const RenderOptions& options, const ImageView& image, FrameStats& stats);
 
 // The ISA the SIMD path would use for these options on this CPU (scalar when the

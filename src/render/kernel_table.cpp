@@ -9,6 +9,7 @@
 #include "render/tiling.hpp"
 #include "render/scalar_tiles.hpp"
 #include "render/frame_output.hpp"
+#include "scalar/scalar_renderer.hpp"
 
 namespace par2d::detail {
 
@@ -21,6 +22,21 @@ const KernelSet* kernels_for(Isa isa) noexcept {
 }
 
 constexpr int kLanesPerWorker = 4;
+
+// FrameStats' sampled needs at the middle pixel of `part`, a part of a tile of the block last
+// given to gather_block_candidates: that block's candidates hold every occluder that can stand
+// between its pixels and each light it may see.
+void sample_needs(const PreparedScene& scene, const TileRect& part, const TileSetupScratch& setup, ScalarScratch& scalar,
+                  FrameStats& counts) {
+  const Vec2 x = sample_position(scene, (part.x0 + part.x1) / 2, (part.y0 + part.y1) / 2, 0.5, 0.5);
+  ++counts.sampled_pixels;
+  for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+    if (setup.block_shadowed[l]) continue;
+    const LightNeeds needs = light_needs(scene, l, x, setup.block_candidates[l], scalar);
+    counts.sampled_visible_lights += needs.visible ? 1u : 0u;
+    counts.sampled_blocking_pairs += needs.blocking;
+  }
+}
 
 // Everything one lane of blocks reuses from tile to tile and frame to frame.
 struct FrameEngine::ThreadState {
@@ -100,6 +116,7 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
         for (const KernelPair& pair : work.pairs) counts.tile_general_pairs += pair.general ? 1u : 0u;
         counts.light_samples += work.lights.size() * samples;
         counts.pair_samples += work.pairs.size() * samples;
+        if (settings.sample_needs) sample_needs(scene, part, state.setup, state.scalar, counts);
         float* scratch = state.kernel_scratch(kernel_scratch_floats(work, kernels->lanes));
         kernels->render_tile(work, scratch, state.result);
       }
@@ -149,6 +166,9 @@ FrameStats FrameEngine::sum_counts(int lanes) const noexcept {
     sum.light_samples += c.light_samples;
     sum.pair_samples += c.pair_samples;
     sum.scalar_tiles += c.scalar_tiles;
+    sum.sampled_pixels += c.sampled_pixels;
+    sum.sampled_visible_lights += c.sampled_visible_lights;
+    sum.sampled_blocking_pairs += c.sampled_blocking_pairs;
   }
   return sum;
 }

@@ -46,6 +46,7 @@ struct FrameSettings {
   bool culling = true;
   Isa isa = Isa::scalar;
   bool shaded = false;  // RenderOptions::shaded (docs/contract.md section 6)
+  bool sample_needs = false;  // fill FrameStats' sampled counts (one exact pixel per tile)
 };
 
 // Renders frames of prepared scenes into host buffers, tile by tile, keeping every

@@ -165,8 +165,9 @@ Status render_frame(const Scene& scene, const RenderOptions& options, const Imag
     target.row_stride = image.row_stride * static_cast<std::ptrdiff_t>(sizeof(float));
     target.region = {0, 0, scene.width, scene.height};
     detail::FrameEngine engine;
-    engine.render(prepared, culling ? &world.reach() : nullptr, detail::FrameSettings{options.spp, culling, isa, options.shaded},
-                  scheduler, target, stats);
+    engine.render(prepared, culling ? &world.reach() : nullptr,
+                  detail::FrameSettings{options.spp, culling, isa, options.shaded, stats != nullptr}, scheduler, target,
+                  stats);
     return {};
   } catch (const std::bad_alloc&) {
     return Status(StatusCode::out_of_memory, "render: out of memory");

@@ -85,6 +85,28 @@ double visible_measure(const PreparedScene& scene, std::size_t light_index, Vec2
   return visible > kContactTolerance * arc.width ? visible : 0.0;
 }
 
+LightNeeds light_needs(const PreparedScene& scene, std::size_t light_index, Vec2 x, const std::vector<std::uint32_t>& ids,
+                       ScalarScratch& scratch) {
+  const PreparedLight& light = scene.lights[light_index];
+  const AngularSpan arc = angular_span(light.shape, x);
+  if (arc.width <= 0.0) return {};
+  LightNeeds needs;
+  scratch.blocked.clear();
+  for (const std::uint32_t k : ids) {
+    const AngularSpan span = angular_span(scene.occluders[k], x);
+    if (span.full) return {};  // inside an occluder: every direction is blocked at t = 0
+    if (arc.full) continue;    // inside the light: nothing comes first
+    const std::size_t before = scratch.blocked.size();
+    for_each_blocked_piece(light, scene.occluders[k], k, x, arc, span, scratch,
+                           [&](double lo, double hi) { scratch.blocked.push_back({lo, hi}); });
+    if (scratch.blocked.size() > before) ++needs.blocking;
+  }
+  const double visible = arc.full ? arc.width : arc.width - union_measure(scratch.blocked);
+  needs.visible = visible > kContactTolerance * arc.width;
+  if (!needs.visible) needs.blocking = 0;
+  return needs;
+}
+
 namespace {
 
 // docs/contract.md section 1 (every occluder opaque and acting on every light, no other term).

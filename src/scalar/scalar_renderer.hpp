@@ -40,4 +40,15 @@ Rgb scalar_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, Sc
 double visible_measure(const PreparedScene& scene, std::size_t light, Vec2 x,
                        const std::vector<AngularSpan>& occluder_spans, ScalarScratch& scratch);
 
+// What point x needs of light `light_index` among the occluders `ids` (FrameStats' sampled
+// counts): whether some direction reaches the light with none of them in front, and if so
+// how many of them are in front of a part of its arc (0 when it is hidden). Geometry only: the lighting model's
+// transmittance, cone and range are not looked at.
+struct LightNeeds {
+  bool visible = false;
+  std::uint32_t blocking = 0;
+};
+LightNeeds light_needs(const PreparedScene& scene, std::size_t light_index, Vec2 x, const std::vector<std::uint32_t>& ids,
+                       ScalarScratch& scratch);
+
 }  // namespace par2d::detail
