@@ -13,6 +13,57 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // docs/contract.md section 3: a turn this small relative to its edges counts as straight.
 constexpr double kStraightTurn = 1e-9;
 
+// Error-free transformations: a + b = s + e and a * b = p + e exactly (no overflow assumed;
+// coordinates are scaled to at most 2^500 before they get here, so products fit).
+void two_sum(double a, double b, double& s, double& e) noexcept {
+  s = a + b;
+  const double bb = s - a;
+  e = (a - (s - bb)) + (b - bb);
+}
+
+void two_product(double a, double b, double& p, double& e) noexcept {
+  p = a * b;
+  e = std::fma(a, b, -p);
+}
+
+// An exact sum of doubles as a nonoverlapping expansion (Shewchuk's grow-expansion with zero
+// elimination): components in increasing magnitude whose sum is exactly what was added.
+class ExactSum {
+ public:
+  void add(double x) noexcept {
+    int kept = 0;
+    for (int i = 0; i < count_; ++i) {
+      double s, e;
+      two_sum(x, parts_[i], s, e);
+      if (e != 0.0) parts_[kept++] = e;
+      x = s;
+    }
+    if (x != 0.0) parts_[kept++] = x;
+    count_ = kept;
+  }
+  void add_product(double a, double b) noexcept {
+    double p, e;
+    two_product(a, b, p, e);
+    add(e);
+    add(p);
+  }
+  // The sum to about an ulp: the components, smallest first, add up with little rounding.
+  double value() const noexcept {
+    double v = 0.0;
+    for (int i = 0; i < count_; ++i) v += parts_[i];
+    return v;
+  }
+
+ private:
+  static constexpr int kMaxParts = 40;  // at most one part per input: 20 products here
+  double parts_[kMaxParts];
+  int count_ = 0;
+};
+
+// Beyond this fraction of the sum of the magnitudes of its terms, a plain cross product or
+// power is accurate to ~2^-30 of itself (its rounding is a few ulps of the magnitudes).
+constexpr double kPlainEnough = 0x1p-20;
+
 double wrap_angle(double a) noexcept {  // into (-pi, pi]
   while (a > kPi) a -= kTwoPi;
   while (a <= -kPi) a += kTwoPi;
@@ -26,6 +77,12 @@ double point_segment_distance(Vec2 p, Vec2 a, Vec2 b, Vec2* closest = nullptr) n
   s = std::clamp(s, 0.0, 1.0);
   const Vec2 q = a + s * ab;
   if (closest) *closest = q;
+  if (s > 0.0 && s < 1.0) {
+    // The foot lies inside: the distance to the line, from the exact cross product. The
+    // point q is rounded to the end points' magnitude (16 units on an edge 1e17 long).
+    const double len = length(ab);
+    if (len > 0.0 && len < kInfinity) return std::abs(cross_from(a, b, p)) / len;
+  }
   return length(p - q);
 }
 
@@ -60,7 +117,7 @@ bool core_contains(const ConvexShape& s, Vec2 p) noexcept {
   if (n < 3) return false;  // points and segments have no interior; distance covers them
   if (p.x < s.bounds_min.x || p.x > s.bounds_max.x || p.y < s.bounds_min.y || p.y > s.bounds_max.y) return false;
   for (int i = 0; i < n; ++i) {
-    if (cross(s.vertices[(i + 1) % n] - s.vertices[i], p - s.vertices[i]) < 0.0) return false;
+    if (cross_from(s.vertices[i], s.vertices[(i + 1) % n], p) < 0.0) return false;
   }
   return true;
 }
@@ -200,7 +257,7 @@ double ray_segment(Vec2 x, Vec2 dir, Vec2 a, Vec2 b) noexcept {
   const Vec2 e = b - a, w = a - x;
   const double denom = cross(dir, e);
   if (denom != 0.0) {
-    const double t = cross(w, e) / denom;
+    const double t = cross_from(a, b, x) / denom;
     const double s = cross(w, dir) / denom;
     return (t >= 0.0 && s >= 0.0 && s <= 1.0) ? t : kInfinity;
   }
@@ -246,6 +303,58 @@ void segment_segment_points(Vec2 a, Vec2 b, Vec2 c, Vec2 d, std::vector<Vec2>& o
 }
 
 }  // namespace
+
+double cross_from(Vec2 a, Vec2 b, Vec2 x) noexcept {
+  const Vec2 w = a - x, e = b - a;
+  const double l = w.x * e.y, r = w.y * e.x;
+  const double plain = l - r;
+  const double magnitude = std::abs(l) + std::abs(r);
+  if (std::abs(plain) > kPlainEnough * magnitude || !(magnitude < kInfinity)) return plain;
+  // cross(a - x, b - x) with each difference split exactly into a rounded part and its error.
+  double ax, axe, ay, aye, bx, bxe, by, bye;
+  two_sum(a.x, -x.x, ax, axe);
+  two_sum(a.y, -x.y, ay, aye);
+  two_sum(b.x, -x.x, bx, bxe);
+  two_sum(b.y, -x.y, by, bye);
+  ExactSum sum;
+  sum.add_product(axe, bye);
+  sum.add_product(-aye, bxe);
+  sum.add_product(ax, bye);
+  sum.add_product(axe, by);
+  sum.add_product(-ay, bxe);
+  sum.add_product(-aye, bx);
+  sum.add_product(ax, by);
+  sum.add_product(-ay, bx);
+  return sum.value();
+}
+
+double circle_power(Vec2 center, double radius, Vec2 x) noexcept {
+  const Vec2 m = x - center;
+  const double mm = dot(m, m), rr = radius * radius;
+  const double plain = mm - rr;
+  if (std::abs(plain) > kPlainEnough * (mm + rr) || !(mm + rr < kInfinity)) return plain;
+  double mx, mxe, my, mye;
+  two_sum(x.x, -center.x, mx, mxe);
+  two_sum(x.y, -center.y, my, mye);
+  ExactSum sum;
+  sum.add_product(mxe, mxe);
+  sum.add_product(mye, mye);
+  sum.add_product(2.0 * mx, mxe);
+  sum.add_product(2.0 * my, mye);
+  sum.add_product(-radius, radius);
+  sum.add_product(mx, mx);
+  sum.add_product(my, my);
+  return sum.value();
+}
+
+Vec2 to_circle_boundary(Vec2 center, double radius, Vec2 p) noexcept {
+  const Vec2 d = center - p;
+  const double len = length(d);
+  if (!(len > 0.0)) return {radius, 0.0};
+  // Signed distance to the circle (negative inside), then along the unit direction to the center.
+  const double dist = circle_power(center, radius, p) / (len + radius);
+  return dist * ((1.0 / len) * d);
+}
 
 double length(Vec2 a) noexcept {
   // sqrt of the squared length is as exact as hypot and much faster; hypot only where the
@@ -336,13 +445,10 @@ void make_convex_shape(const Shape& shape, ConvexShape& s) {
 
 bool contains(const ConvexShape& s, Vec2 x) noexcept {
   switch (s.kind) {
-    case ShapeKind::circle: {
-      const Vec2 d = x - s.vertices[0];
-      return dot(d, d) <= s.radius * s.radius;
-    }
+    case ShapeKind::circle: return circle_power(s.vertices[0], s.radius, x) <= 0.0;
     case ShapeKind::segment: {
       const Vec2 a = s.vertices[0], b = s.vertices[1];
-      return cross(b - a, x - a) == 0.0 && dot(x - a, b - a) >= 0.0 && dot(x - b, a - b) >= 0.0;
+      return cross_from(a, b, x) == 0.0 && dot(x - a, b - a) >= 0.0 && dot(x - b, a - b) >= 0.0;
     }
     case ShapeKind::polygon: return core_contains(s, x);
   }
@@ -353,12 +459,13 @@ double ray_entry(const ConvexShape& s, Vec2 x, Vec2 dir) noexcept {
   switch (s.kind) {
     case ShapeKind::circle: {
       const Vec2 m = x - s.vertices[0];
-      const double c = dot(m, m) - s.radius * s.radius;
+      const double c = circle_power(s.vertices[0], s.radius, x);
       if (c <= 0.0) return 0.0;
       const double b = dot(m, dir);
       const double disc = b * b - c;
       if (b > 0.0 || disc < 0.0) return kInfinity;  // pointing away, or passing by
-      return -b - std::sqrt(disc);
+      // -b - sqrt(disc) without its cancellation (a point near a circle of radius 1e17).
+      return c / (-b + std::sqrt(disc));
     }
     case ShapeKind::segment: return ray_segment(x, dir, s.vertices[0], s.vertices[1]);
     case ShapeKind::polygon: {
@@ -382,7 +489,9 @@ AngularSpan angular_span(const ConvexShape& s, Vec2 x) noexcept {
   }
   if (s.kind == ShapeKind::circle) {
     const Vec2 d = s.vertices[0] - x;
-    const double half = std::asin(std::min(1.0, s.radius / length(d)));
+    // asin(r / |d|) loses everything where r / |d| rounds to 1 (x near a huge circle); the
+    // tangent length sqrt(|d|^2 - r^2) keeps the angle exact.
+    const double half = std::atan2(s.radius, std::sqrt(std::max(0.0, circle_power(s.vertices[0], s.radius, x))));
     span.start = wrap_angle(std::atan2(d.y, d.x) - half);
     span.width = 2.0 * half;
     return span;
@@ -408,7 +517,7 @@ bool tangent_directions(const ConvexShape& s, Vec2 x, Vec2& cw, Vec2& ccw) noexc
     // Rotate the center direction by +-asin(r/d): cos = t/d, sin = r/d with t the tangent
     // length; scaled by d, no trigonometry needed.
     const Vec2 d = s.vertices[0] - x;
-    const double t = std::sqrt(std::max(0.0, dot(d, d) - s.radius * s.radius));
+    const double t = std::sqrt(std::max(0.0, circle_power(s.vertices[0], s.radius, x)));
     const double r = s.radius;
     cw = {d.x * t + d.y * r, -d.x * r + d.y * t};
     ccw = {d.x * t - d.y * r, d.x * r + d.y * t};
@@ -446,6 +555,10 @@ double shape_distance(const ConvexShape& a, const ConvexShape& b) noexcept {
 
 double point_distance(const ConvexShape& s, Vec2 p) noexcept {
   if (s.kind == ShapeKind::polygon && core_contains(s, p)) return 0.0;
+  if (s.kind == ShapeKind::circle) {
+    const double power = circle_power(s.vertices[0], s.radius, p);
+    return power <= 0.0 ? 0.0 : power / (length(p - s.vertices[0]) + s.radius);
+  }
   Vec2 closest;
   return std::max(0.0, point_core_distance(s, p, closest) - s.radius);
 }
@@ -464,9 +577,10 @@ double entry_with_hint(const ConvexShape& s, Vec2 x, Vec2 dir, int& hint) noexce
       if (denom == 0.0) break;
       const double u = cross(w, dir) / denom;
       if (u >= 0.0 && u <= 1.0) {
-        const double t = cross(w, e) / denom;
+        const double side = cross_from(a, s.vertices[(i + 1) % n], x);  // cross(w, e) = cross(e, x - a)
+        const double t = side / denom;
         // The entry is on a front-facing edge (x outside it); a back edge means a scan is needed.
-        if (t >= 0.0 && cross(e, x - a) < 0.0) {
+        if (t >= 0.0 && side < 0.0) {
           hint = i;
           return t;
         }

@@ -231,7 +231,7 @@ KernelShape circle_kernel_shape(const ConvexShape& s, const TileFrame& frame, Ve
   // The circle point nearest the tile, relative to the origin: formed from small
   // relative terms, because the inside test needs it on the circle to float precision
   // (its absolute coordinates would be rounded to the scene's magnitude).
-  const Vec2 nearest = (c - frame.origin) + s.radius * u;
+  const Vec2 nearest = (tile_center - frame.origin) + to_circle_boundary(c, s.radius, tile_center);
   if (s.radius * frame.scale > kMaxRadius) {
     // A far larger circle: the one of radius kMaxRadius tangent to it inside at `nearest`.
     const double r = kMaxRadius / frame.scale;
