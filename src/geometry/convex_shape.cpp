@@ -75,14 +75,16 @@ double point_segment_distance(Vec2 p, Vec2 a, Vec2 b, Vec2* closest = nullptr) n
   const double len2 = dot(ab, ab);
   double s = len2 > 0.0 ? dot(p - a, ab) / len2 : 0.0;
   s = std::clamp(s, 0.0, 1.0);
-  const Vec2 q = a + s * ab;
-  if (closest) *closest = q;
-  if (s > 0.0 && s < 1.0) {
-    // The foot lies inside: the distance to the line, from the exact cross product. The
-    // point q is rounded to the end points' magnitude (16 units on an edge 1e17 long).
-    const double len = length(ab);
-    if (len > 0.0 && len < kInfinity) return std::abs(cross_from(a, b, p)) / len;
+  Vec2 q = a + s * ab;
+  if (s > 0.0 && s < 1.0 && len2 < kInfinity) {
+    // The foot lies inside: a + s * ab is rounded to the end points' magnitude (16 units on
+    // an edge 1e17 long), so it is found from p instead, along the normal, by the exact cross
+    // product (p's signed distance to the left of a -> b, times |ab|).
+    const double c = cross_from(a, b, p);
+    q = p - (c / len2) * Vec2{-ab.y, ab.x};
   }
+  // Callers of closest points (separating lines) need the distance to be |p - q| itself.
+  if (closest) *closest = q;
   return length(p - q);
 }
 
