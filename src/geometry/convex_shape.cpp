@@ -170,17 +170,76 @@ bool segment_meets_box(Vec2 a, Vec2 b, const CoreBox& box) noexcept {
 // in row order (edges of a outer); stops when fn returns true. Edges meet only inside both
 // cores' boxes, so an edge of a outside b's box skips its whole row: two polygons of
 // thousands of vertices that are apart cost n + m box tests, not n * m.
+//
+// Two many-gons whose boxes overlap would still pair every edge with every other; there the
+// edges of b are indexed by runs monotone in x (a convex polygon has at most three: its
+// lower and upper chains, one split where the vertex list starts), in which the edges' x
+// ranges follow each other, so each edge of a visits, by binary search, only the edges of b
+// whose x range meets its own: O((n + m) log m) for two overlapping 7000-gons instead of
+// n * m. Edges with disjoint x ranges share no point, so fn sees every pair that can meet;
+// only the order of the pairs within a row changes (callers depend on the row order alone).
 template <class Fn>
 bool any_edge_pair(const ConvexShape& a, const ConvexShape& b, Fn&& fn) {
   const CoreBox box_a = core_box(a), box_b = core_box(b);
-  for (int i = 0, n = core_edge_count(a); i < n; ++i) {
+  const int n = core_edge_count(a), m = core_edge_count(b);
+  // Each run: edges of b in increasing x, as indices into `order`, from run_start[r].
+  thread_local std::vector<int> order;
+  thread_local std::vector<int> run_start;
+  bool indexed = false;
+  if (static_cast<long long>(n) * m > 4096) {
+    order.clear();
+    run_start.clear();
+    int sign = 0;  // of dx along the current run: +1, -1, or 0 while only vertical edges
+    std::size_t first = 0;
+    auto close_run = [&]() {
+      if (sign < 0) std::reverse(order.begin() + static_cast<std::ptrdiff_t>(first), order.end());
+      run_start.push_back(static_cast<int>(first));
+    };
+    for (int j = 0; j < m; ++j) {
+      Vec2 b0, b1;
+      core_edge(b, j, b0, b1);
+      const int s = b1.x > b0.x ? 1 : (b1.x < b0.x ? -1 : 0);
+      if (s != 0 && sign != 0 && s != sign) {
+        close_run();
+        first = order.size();
+        sign = 0;
+      }
+      if (s != 0) sign = s;
+      order.push_back(j);
+    }
+    close_run();
+    run_start.push_back(static_cast<int>(order.size()));
+    indexed = run_start.size() <= 9;  // at most 8 runs (convex cores have 3)
+  }
+  for (int i = 0; i < n; ++i) {
     Vec2 a0, a1;
     core_edge(a, i, a0, a1);
     if (!segment_meets_box(a0, a1, box_b)) continue;
-    for (int j = 0, m = core_edge_count(b); j < m; ++j) {
-      Vec2 b0, b1;
-      core_edge(b, j, b0, b1);
-      if (segment_meets_box(b0, b1, box_a) && fn(a0, a1, b0, b1)) return true;
+    if (!indexed) {
+      for (int j = 0; j < m; ++j) {
+        Vec2 b0, b1;
+        core_edge(b, j, b0, b1);
+        if (segment_meets_box(b0, b1, box_a) && fn(a0, a1, b0, b1)) return true;
+      }
+      continue;
+    }
+    const double x0 = std::min(a0.x, a1.x), x1 = std::max(a0.x, a1.x);
+    const CoreBox edge_box{{x0, std::min(a0.y, a1.y)}, {x1, std::max(a0.y, a1.y)}};
+    for (std::size_t r = 0; r + 1 < run_start.size(); ++r) {
+      const auto begin = order.begin() + run_start[r], end = order.begin() + run_start[r + 1];
+      // The first edge of the run whose x range reaches x0 (their right ends increase).
+      auto it = std::partition_point(begin, end, [&](int j) {
+        Vec2 b0, b1;
+        core_edge(b, j, b0, b1);
+        return std::max(b0.x, b1.x) < x0;
+      });
+      for (; it != end; ++it) {
+        Vec2 b0, b1;
+        core_edge(b, *it, b0, b1);
+        if (std::min(b0.x, b1.x) > x1) break;  // this and every later edge lie right of the edge
+        if (segment_meets_box(b0, b1, box_a) && segment_meets_box(b0, b1, edge_box) && fn(a0, a1, b0, b1))
+          return true;
+      }
     }
   }
   return false;
