@@ -64,6 +64,18 @@ class ExactSum {
 // power is accurate to ~2^-30 of itself (its rounding is a few ulps of the magnitudes).
 constexpr double kPlainEnough = 0x1p-20;
 
+[[gnu::noinline]] double exact_cross_from(Vec2 a, Vec2 b, Vec2 x) noexcept;
+
+// cross_from's plain path, inlined where this file uses it (the exact one is out of line).
+inline double side_of(Vec2 a, Vec2 b, Vec2 x) noexcept {
+  const Vec2 w = a - x, e = b - a;
+  const double l = w.x * e.y, r = w.y * e.x;
+  const double plain = l - r;
+  const double magnitude = std::abs(l) + std::abs(r);
+  if (std::abs(plain) > kPlainEnough * magnitude || !(magnitude < kInfinity)) return plain;
+  return exact_cross_from(a, b, x);
+}
+
 double wrap_angle(double a) noexcept {  // into (-pi, pi]
   while (a > kPi) a -= kTwoPi;
   while (a <= -kPi) a += kTwoPi;
@@ -80,7 +92,7 @@ double point_segment_distance(Vec2 p, Vec2 a, Vec2 b, Vec2* closest = nullptr) n
     // The foot lies inside: a + s * ab is rounded to the end points' magnitude (16 units on
     // an edge 1e17 long), so it is found from p instead, along the normal, by the exact cross
     // product (p's signed distance to the left of a -> b, times |ab|).
-    const double c = cross_from(a, b, p);
+    const double c = side_of(a, b, p);
     q = p - (c / len2) * Vec2{-ab.y, ab.x};
   }
   // Callers of closest points (separating lines) need the distance to be |p - q| itself.
@@ -119,7 +131,7 @@ bool core_contains(const ConvexShape& s, Vec2 p) noexcept {
   if (n < 3) return false;  // points and segments have no interior; distance covers them
   if (p.x < s.bounds_min.x || p.x > s.bounds_max.x || p.y < s.bounds_min.y || p.y > s.bounds_max.y) return false;
   for (int i = 0; i < n; ++i) {
-    if (cross_from(s.vertices[i], s.vertices[(i + 1) % n], p) < 0.0) return false;
+    if (side_of(s.vertices[i], s.vertices[(i + 1) % n], p) < 0.0) return false;
   }
   return true;
 }
@@ -318,7 +330,7 @@ double ray_segment(Vec2 x, Vec2 dir, Vec2 a, Vec2 b) noexcept {
   const Vec2 e = b - a, w = a - x;
   const double denom = cross(dir, e);
   if (denom != 0.0) {
-    const double t = cross_from(a, b, x) / denom;
+    const double t = side_of(a, b, x) / denom;
     const double s = cross(w, dir) / denom;
     return (t >= 0.0 && s >= 0.0 && s <= 1.0) ? t : kInfinity;
   }
@@ -365,13 +377,11 @@ void segment_segment_points(Vec2 a, Vec2 b, Vec2 c, Vec2 d, std::vector<Vec2>& o
 
 }  // namespace
 
-double cross_from(Vec2 a, Vec2 b, Vec2 x) noexcept {
-  const Vec2 w = a - x, e = b - a;
-  const double l = w.x * e.y, r = w.y * e.x;
-  const double plain = l - r;
-  const double magnitude = std::abs(l) + std::abs(r);
-  if (std::abs(plain) > kPlainEnough * magnitude || !(magnitude < kInfinity)) return plain;
-  // cross(a - x, b - x) with each difference split exactly into a rounded part and its error.
+namespace {
+
+// cross(a - x, b - x) with each difference split exactly into a rounded part and its error,
+// the eight products split exactly, all summed without error. Out of line: rarely needed.
+[[gnu::noinline]] double exact_cross_from(Vec2 a, Vec2 b, Vec2 x) noexcept {
   double ax, axe, ay, aye, bx, bxe, by, bye;
   two_sum(a.x, -x.x, ax, axe);
   two_sum(a.y, -x.y, ay, aye);
@@ -389,11 +399,13 @@ double cross_from(Vec2 a, Vec2 b, Vec2 x) noexcept {
   return sum.value();
 }
 
-double circle_power(Vec2 center, double radius, Vec2 x) noexcept {
-  const Vec2 m = x - center;
-  const double mm = dot(m, m), rr = radius * radius;
-  const double plain = mm - rr;
-  if (std::abs(plain) > kPlainEnough * (mm + rr) || !(mm + rr < kInfinity)) return plain;
+}  // namespace
+
+double cross_from(Vec2 a, Vec2 b, Vec2 x) noexcept { return side_of(a, b, x); }
+
+namespace {
+
+[[gnu::noinline]] double exact_circle_power(Vec2 center, double radius, Vec2 x) noexcept {
   double mx, mxe, my, mye;
   two_sum(x.x, -center.x, mx, mxe);
   two_sum(x.y, -center.y, my, mye);
@@ -406,6 +418,16 @@ double circle_power(Vec2 center, double radius, Vec2 x) noexcept {
   sum.add_product(mx, mx);
   sum.add_product(my, my);
   return sum.value();
+}
+
+}  // namespace
+
+double circle_power(Vec2 center, double radius, Vec2 x) noexcept {
+  const Vec2 m = x - center;
+  const double mm = dot(m, m), rr = radius * radius;
+  const double plain = mm - rr;
+  if (std::abs(plain) > kPlainEnough * (mm + rr) || !(mm + rr < kInfinity)) return plain;
+  return exact_circle_power(center, radius, x);
 }
 
 Vec2 to_circle_boundary(Vec2 center, double radius, Vec2 p) noexcept {
@@ -509,7 +531,7 @@ bool contains(const ConvexShape& s, Vec2 x) noexcept {
     case ShapeKind::circle: return circle_power(s.vertices[0], s.radius, x) <= 0.0;
     case ShapeKind::segment: {
       const Vec2 a = s.vertices[0], b = s.vertices[1];
-      return cross_from(a, b, x) == 0.0 && dot(x - a, b - a) >= 0.0 && dot(x - b, a - b) >= 0.0;
+      return side_of(a, b, x) == 0.0 && dot(x - a, b - a) >= 0.0 && dot(x - b, a - b) >= 0.0;
     }
     case ShapeKind::polygon: return core_contains(s, x);
   }
@@ -638,7 +660,7 @@ double entry_with_hint(const ConvexShape& s, Vec2 x, Vec2 dir, int& hint) noexce
       if (denom == 0.0) break;
       const double u = cross(w, dir) / denom;
       if (u >= 0.0 && u <= 1.0) {
-        const double side = cross_from(a, s.vertices[(i + 1) % n], x);  // cross(w, e) = cross(e, x - a)
+        const double side = side_of(a, s.vertices[(i + 1) % n], x);  // cross(w, e) = cross(e, x - a)
         const double t = side / denom;
         // The entry is on a front-facing edge (x outside it); a back edge means a scan is needed.
         if (t >= 0.0 && side < 0.0) {
