@@ -10,6 +10,7 @@
 
 #include "fuzz/fuzz_checks.hpp"
 #include "fuzz/fuzz_contact_checks.hpp"
+#include "fuzz/fuzz_huge_checks.hpp"
 #include "par2d/par2d.hpp"
 #include "support/random_scenes.hpp"
 
@@ -353,7 +354,7 @@ TEST_CASE("zero-area views are refused; a 1e-300-wide view renders its one world
 TEST_CASE("fuzz corpora replay: every checked-in input keeps every fuzz property") {
   namespace fs = std::filesystem;
   int replayed = 0;
-  for (const char* which : {"loader", "render", "contact"}) {
+  for (const char* which : {"loader", "render", "contact", "huge"}) {
     const fs::path dir = fs::path(PAR2D_SOURCE_DIR) / "tests" / "fuzz" / "corpus" / which;
     REQUIRE(fs::is_directory(dir));
     for (const auto& entry : fs::directory_iterator(dir)) {
@@ -364,6 +365,7 @@ TEST_CASE("fuzz corpora replay: every checked-in input keeps every fuzz property
       const std::string kind = which;
       const std::string problem = kind == "loader"   ? fuzz::check_scene_text(data, bytes.size())
                                   : kind == "render" ? fuzz::check_render_bytes(data, bytes.size())
+                                  : kind == "huge"   ? fuzz::check_huge_bytes(data, bytes.size())
                                                      : fuzz::check_contact_bytes(data, bytes.size());
       INFO(entry.path().string());
       CHECK_MESSAGE(problem.empty(), problem);

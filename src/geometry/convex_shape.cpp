@@ -13,6 +13,69 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // docs/contract.md section 3: a turn this small relative to its edges counts as straight.
 constexpr double kStraightTurn = 1e-9;
 
+// Error-free transformations: a + b = s + e and a * b = p + e exactly (no overflow assumed;
+// coordinates are scaled to at most 2^500 before they get here, so products fit).
+void two_sum(double a, double b, double& s, double& e) noexcept {
+  s = a + b;
+  const double bb = s - a;
+  e = (a - (s - bb)) + (b - bb);
+}
+
+void two_product(double a, double b, double& p, double& e) noexcept {
+  p = a * b;
+  e = std::fma(a, b, -p);
+}
+
+// An exact sum of doubles as a nonoverlapping expansion (Shewchuk's grow-expansion with zero
+// elimination): components in increasing magnitude whose sum is exactly what was added.
+class ExactSum {
+ public:
+  void add(double x) noexcept {
+    int kept = 0;
+    for (int i = 0; i < count_; ++i) {
+      double s, e;
+      two_sum(x, parts_[i], s, e);
+      if (e != 0.0) parts_[kept++] = e;
+      x = s;
+    }
+    if (x != 0.0) parts_[kept++] = x;
+    count_ = kept;
+  }
+  void add_product(double a, double b) noexcept {
+    double p, e;
+    two_product(a, b, p, e);
+    add(e);
+    add(p);
+  }
+  // The sum to about an ulp: the components, smallest first, add up with little rounding.
+  double value() const noexcept {
+    double v = 0.0;
+    for (int i = 0; i < count_; ++i) v += parts_[i];
+    return v;
+  }
+
+ private:
+  static constexpr int kMaxParts = 40;  // at most one part per input: 20 products here
+  double parts_[kMaxParts];
+  int count_ = 0;
+};
+
+// Beyond this fraction of the sum of the magnitudes of its terms, a plain cross product or
+// power is accurate to ~2^-30 of itself (its rounding is a few ulps of the magnitudes).
+constexpr double kPlainEnough = 0x1p-20;
+
+[[gnu::noinline]] double exact_cross_from(Vec2 a, Vec2 b, Vec2 x) noexcept;
+
+// cross_from's plain path, inlined where this file uses it (the exact one is out of line).
+inline double side_of(Vec2 a, Vec2 b, Vec2 x) noexcept {
+  const Vec2 w = a - x, e = b - a;
+  const double l = w.x * e.y, r = w.y * e.x;
+  const double plain = l - r;
+  const double magnitude = std::abs(l) + std::abs(r);
+  if (std::abs(plain) > kPlainEnough * magnitude || !(magnitude < kInfinity)) return plain;
+  return exact_cross_from(a, b, x);
+}
+
 double wrap_angle(double a) noexcept {  // into (-pi, pi]
   while (a > kPi) a -= kTwoPi;
   while (a <= -kPi) a += kTwoPi;
@@ -24,7 +87,15 @@ double point_segment_distance(Vec2 p, Vec2 a, Vec2 b, Vec2* closest = nullptr) n
   const double len2 = dot(ab, ab);
   double s = len2 > 0.0 ? dot(p - a, ab) / len2 : 0.0;
   s = std::clamp(s, 0.0, 1.0);
-  const Vec2 q = a + s * ab;
+  Vec2 q = a + s * ab;
+  if (s > 0.0 && s < 1.0 && len2 < kInfinity) {
+    // The foot lies inside: a + s * ab is rounded to the end points' magnitude (16 units on
+    // an edge 1e17 long), so it is found from p instead, along the normal, by the exact cross
+    // product (p's signed distance to the left of a -> b, times |ab|).
+    const double c = side_of(a, b, p);
+    q = p - (c / len2) * Vec2{-ab.y, ab.x};
+  }
+  // Callers of closest points (separating lines) need the distance to be |p - q| itself.
   if (closest) *closest = q;
   return length(p - q);
 }
@@ -60,7 +131,7 @@ bool core_contains(const ConvexShape& s, Vec2 p) noexcept {
   if (n < 3) return false;  // points and segments have no interior; distance covers them
   if (p.x < s.bounds_min.x || p.x > s.bounds_max.x || p.y < s.bounds_min.y || p.y > s.bounds_max.y) return false;
   for (int i = 0; i < n; ++i) {
-    if (cross(s.vertices[(i + 1) % n] - s.vertices[i], p - s.vertices[i]) < 0.0) return false;
+    if (side_of(s.vertices[i], s.vertices[(i + 1) % n], p) < 0.0) return false;
   }
   return true;
 }
@@ -111,17 +182,76 @@ bool segment_meets_box(Vec2 a, Vec2 b, const CoreBox& box) noexcept {
 // in row order (edges of a outer); stops when fn returns true. Edges meet only inside both
 // cores' boxes, so an edge of a outside b's box skips its whole row: two polygons of
 // thousands of vertices that are apart cost n + m box tests, not n * m.
+//
+// Two many-gons whose boxes overlap would still pair every edge with every other; there the
+// edges of b are indexed by runs monotone in x (a convex polygon has at most three: its
+// lower and upper chains, one split where the vertex list starts), in which the edges' x
+// ranges follow each other, so each edge of a visits, by binary search, only the edges of b
+// whose x range meets its own: O((n + m) log m) for two overlapping 7000-gons instead of
+// n * m. Edges with disjoint x ranges share no point, so fn sees every pair that can meet;
+// only the order of the pairs within a row changes (callers depend on the row order alone).
 template <class Fn>
 bool any_edge_pair(const ConvexShape& a, const ConvexShape& b, Fn&& fn) {
   const CoreBox box_a = core_box(a), box_b = core_box(b);
-  for (int i = 0, n = core_edge_count(a); i < n; ++i) {
+  const int n = core_edge_count(a), m = core_edge_count(b);
+  // Each run: edges of b in increasing x, as indices into `order`, from run_start[r].
+  thread_local std::vector<int> order;
+  thread_local std::vector<int> run_start;
+  bool indexed = false;
+  if (static_cast<long long>(n) * m > 4096) {
+    order.clear();
+    run_start.clear();
+    int sign = 0;  // of dx along the current run: +1, -1, or 0 while only vertical edges
+    std::size_t first = 0;
+    auto close_run = [&]() {
+      if (sign < 0) std::reverse(order.begin() + static_cast<std::ptrdiff_t>(first), order.end());
+      run_start.push_back(static_cast<int>(first));
+    };
+    for (int j = 0; j < m; ++j) {
+      Vec2 b0, b1;
+      core_edge(b, j, b0, b1);
+      const int s = b1.x > b0.x ? 1 : (b1.x < b0.x ? -1 : 0);
+      if (s != 0 && sign != 0 && s != sign) {
+        close_run();
+        first = order.size();
+        sign = 0;
+      }
+      if (s != 0) sign = s;
+      order.push_back(j);
+    }
+    close_run();
+    run_start.push_back(static_cast<int>(order.size()));
+    indexed = run_start.size() <= 9;  // at most 8 runs (convex cores have 3)
+  }
+  for (int i = 0; i < n; ++i) {
     Vec2 a0, a1;
     core_edge(a, i, a0, a1);
     if (!segment_meets_box(a0, a1, box_b)) continue;
-    for (int j = 0, m = core_edge_count(b); j < m; ++j) {
-      Vec2 b0, b1;
-      core_edge(b, j, b0, b1);
-      if (segment_meets_box(b0, b1, box_a) && fn(a0, a1, b0, b1)) return true;
+    if (!indexed) {
+      for (int j = 0; j < m; ++j) {
+        Vec2 b0, b1;
+        core_edge(b, j, b0, b1);
+        if (segment_meets_box(b0, b1, box_a) && fn(a0, a1, b0, b1)) return true;
+      }
+      continue;
+    }
+    const double x0 = std::min(a0.x, a1.x), x1 = std::max(a0.x, a1.x);
+    const CoreBox edge_box{{x0, std::min(a0.y, a1.y)}, {x1, std::max(a0.y, a1.y)}};
+    for (std::size_t r = 0; r + 1 < run_start.size(); ++r) {
+      const auto begin = order.begin() + run_start[r], end = order.begin() + run_start[r + 1];
+      // The first edge of the run whose x range reaches x0 (their right ends increase).
+      auto it = std::partition_point(begin, end, [&](int j) {
+        Vec2 b0, b1;
+        core_edge(b, j, b0, b1);
+        return std::max(b0.x, b1.x) < x0;
+      });
+      for (; it != end; ++it) {
+        Vec2 b0, b1;
+        core_edge(b, *it, b0, b1);
+        if (std::min(b0.x, b1.x) > x1) break;  // this and every later edge lie right of the edge
+        if (segment_meets_box(b0, b1, box_a) && segment_meets_box(b0, b1, edge_box) && fn(a0, a1, b0, b1))
+          return true;
+      }
     }
   }
   return false;
@@ -200,7 +330,7 @@ double ray_segment(Vec2 x, Vec2 dir, Vec2 a, Vec2 b) noexcept {
   const Vec2 e = b - a, w = a - x;
   const double denom = cross(dir, e);
   if (denom != 0.0) {
-    const double t = cross(w, e) / denom;
+    const double t = side_of(a, b, x) / denom;
     const double s = cross(w, dir) / denom;
     return (t >= 0.0 && s >= 0.0 && s <= 1.0) ? t : kInfinity;
   }
@@ -246,6 +376,68 @@ void segment_segment_points(Vec2 a, Vec2 b, Vec2 c, Vec2 d, std::vector<Vec2>& o
 }
 
 }  // namespace
+
+namespace {
+
+// cross(a - x, b - x) with each difference split exactly into a rounded part and its error,
+// the eight products split exactly, all summed without error. Out of line: rarely needed.
+[[gnu::noinline]] double exact_cross_from(Vec2 a, Vec2 b, Vec2 x) noexcept {
+  double ax, axe, ay, aye, bx, bxe, by, bye;
+  two_sum(a.x, -x.x, ax, axe);
+  two_sum(a.y, -x.y, ay, aye);
+  two_sum(b.x, -x.x, bx, bxe);
+  two_sum(b.y, -x.y, by, bye);
+  ExactSum sum;
+  sum.add_product(axe, bye);
+  sum.add_product(-aye, bxe);
+  sum.add_product(ax, bye);
+  sum.add_product(axe, by);
+  sum.add_product(-ay, bxe);
+  sum.add_product(-aye, bx);
+  sum.add_product(ax, by);
+  sum.add_product(-ay, bx);
+  return sum.value();
+}
+
+}  // namespace
+
+double cross_from(Vec2 a, Vec2 b, Vec2 x) noexcept { return side_of(a, b, x); }
+
+namespace {
+
+[[gnu::noinline]] double exact_circle_power(Vec2 center, double radius, Vec2 x) noexcept {
+  double mx, mxe, my, mye;
+  two_sum(x.x, -center.x, mx, mxe);
+  two_sum(x.y, -center.y, my, mye);
+  ExactSum sum;
+  sum.add_product(mxe, mxe);
+  sum.add_product(mye, mye);
+  sum.add_product(2.0 * mx, mxe);
+  sum.add_product(2.0 * my, mye);
+  sum.add_product(-radius, radius);
+  sum.add_product(mx, mx);
+  sum.add_product(my, my);
+  return sum.value();
+}
+
+}  // namespace
+
+double circle_power(Vec2 center, double radius, Vec2 x) noexcept {
+  const Vec2 m = x - center;
+  const double mm = dot(m, m), rr = radius * radius;
+  const double plain = mm - rr;
+  if (std::abs(plain) > kPlainEnough * (mm + rr) || !(mm + rr < kInfinity)) return plain;
+  return exact_circle_power(center, radius, x);
+}
+
+Vec2 to_circle_boundary(Vec2 center, double radius, Vec2 p) noexcept {
+  const Vec2 d = center - p;
+  const double len = length(d);
+  if (!(len > 0.0)) return {radius, 0.0};
+  // Signed distance to the circle (negative inside), then along the unit direction to the center.
+  const double dist = circle_power(center, radius, p) / (len + radius);
+  return dist * ((1.0 / len) * d);
+}
 
 double length(Vec2 a) noexcept {
   // sqrt of the squared length is as exact as hypot and much faster; hypot only where the
@@ -336,13 +528,10 @@ void make_convex_shape(const Shape& shape, ConvexShape& s) {
 
 bool contains(const ConvexShape& s, Vec2 x) noexcept {
   switch (s.kind) {
-    case ShapeKind::circle: {
-      const Vec2 d = x - s.vertices[0];
-      return dot(d, d) <= s.radius * s.radius;
-    }
+    case ShapeKind::circle: return circle_power(s.vertices[0], s.radius, x) <= 0.0;
     case ShapeKind::segment: {
       const Vec2 a = s.vertices[0], b = s.vertices[1];
-      return cross(b - a, x - a) == 0.0 && dot(x - a, b - a) >= 0.0 && dot(x - b, a - b) >= 0.0;
+      return side_of(a, b, x) == 0.0 && dot(x - a, b - a) >= 0.0 && dot(x - b, a - b) >= 0.0;
     }
     case ShapeKind::polygon: return core_contains(s, x);
   }
@@ -353,12 +542,13 @@ double ray_entry(const ConvexShape& s, Vec2 x, Vec2 dir) noexcept {
   switch (s.kind) {
     case ShapeKind::circle: {
       const Vec2 m = x - s.vertices[0];
-      const double c = dot(m, m) - s.radius * s.radius;
+      const double c = circle_power(s.vertices[0], s.radius, x);
       if (c <= 0.0) return 0.0;
       const double b = dot(m, dir);
       const double disc = b * b - c;
       if (b > 0.0 || disc < 0.0) return kInfinity;  // pointing away, or passing by
-      return -b - std::sqrt(disc);
+      // -b - sqrt(disc) without its cancellation (a point near a circle of radius 1e17).
+      return c / (-b + std::sqrt(disc));
     }
     case ShapeKind::segment: return ray_segment(x, dir, s.vertices[0], s.vertices[1]);
     case ShapeKind::polygon: {
@@ -382,7 +572,9 @@ AngularSpan angular_span(const ConvexShape& s, Vec2 x) noexcept {
   }
   if (s.kind == ShapeKind::circle) {
     const Vec2 d = s.vertices[0] - x;
-    const double half = std::asin(std::min(1.0, s.radius / length(d)));
+    // asin(r / |d|) loses everything where r / |d| rounds to 1 (x near a huge circle); the
+    // tangent length sqrt(|d|^2 - r^2) keeps the angle exact.
+    const double half = std::atan2(s.radius, std::sqrt(std::max(0.0, circle_power(s.vertices[0], s.radius, x))));
     span.start = wrap_angle(std::atan2(d.y, d.x) - half);
     span.width = 2.0 * half;
     return span;
@@ -408,7 +600,7 @@ bool tangent_directions(const ConvexShape& s, Vec2 x, Vec2& cw, Vec2& ccw) noexc
     // Rotate the center direction by +-asin(r/d): cos = t/d, sin = r/d with t the tangent
     // length; scaled by d, no trigonometry needed.
     const Vec2 d = s.vertices[0] - x;
-    const double t = std::sqrt(std::max(0.0, dot(d, d) - s.radius * s.radius));
+    const double t = std::sqrt(std::max(0.0, circle_power(s.vertices[0], s.radius, x)));
     const double r = s.radius;
     cw = {d.x * t + d.y * r, -d.x * r + d.y * t};
     ccw = {d.x * t - d.y * r, d.x * r + d.y * t};
@@ -446,6 +638,10 @@ double shape_distance(const ConvexShape& a, const ConvexShape& b) noexcept {
 
 double point_distance(const ConvexShape& s, Vec2 p) noexcept {
   if (s.kind == ShapeKind::polygon && core_contains(s, p)) return 0.0;
+  if (s.kind == ShapeKind::circle) {
+    const double power = circle_power(s.vertices[0], s.radius, p);
+    return power <= 0.0 ? 0.0 : power / (length(p - s.vertices[0]) + s.radius);
+  }
   Vec2 closest;
   return std::max(0.0, point_core_distance(s, p, closest) - s.radius);
 }
@@ -464,9 +660,10 @@ double entry_with_hint(const ConvexShape& s, Vec2 x, Vec2 dir, int& hint) noexce
       if (denom == 0.0) break;
       const double u = cross(w, dir) / denom;
       if (u >= 0.0 && u <= 1.0) {
-        const double t = cross(w, e) / denom;
+        const double side = side_of(a, s.vertices[(i + 1) % n], x);  // cross(w, e) = cross(e, x - a)
+        const double t = side / denom;
         // The entry is on a front-facing edge (x outside it); a back edge means a scan is needed.
-        if (t >= 0.0 && cross(e, x - a) < 0.0) {
+        if (t >= 0.0 && side < 0.0) {
           hint = i;
           return t;
         }

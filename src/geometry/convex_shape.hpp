@@ -72,6 +72,24 @@ void tangent_vertices(const ConvexShape& shape, Vec2 x, int& cw, int& ccw) noexc
 // Whether `outer`'s arc from x contains `inner`'s whole arc (x outside both; arcs < pi).
 bool arc_contains(Vec2 outer_cw, Vec2 outer_ccw, Vec2 inner_cw, Vec2 inner_ccw) noexcept;
 
+// cross(a - x, b - a), which equals cross(a - x, b - x): twice the signed area of x, a, b,
+// positive when x lies left of the line a -> b in a y-up frame. Correct to a few ulps of the
+// result and exact in sign wherever the plain formula cancels: for a segment 1e17 long and x
+// a unit from its line, the plain products (~1e34) round by more than the result (~1e17).
+// Where the plain value is well away from its rounding bound it is returned as is; otherwise
+// the differences and products are expanded without error and summed exactly.
+double cross_from(Vec2 a, Vec2 b, Vec2 x) noexcept;
+
+// |x - center|^2 - radius^2 (the power of x with respect to the circle), correct to a few ulps
+// of the result: negative inside, and divided by |x - center| + radius, the distance to the
+// circle, which the plain |x - center| - radius loses entirely for radii of 1e17 and beyond.
+double circle_power(Vec2 center, double radius, Vec2 x) noexcept;
+
+// The vector from p to the point of the circle nearest p, exact to rounding relative to its
+// own length (not to the center's coordinates): for a circle of radius 1e17 whose boundary
+// passes p, center + radius * unit vector would be off by units.
+Vec2 to_circle_boundary(Vec2 center, double radius, Vec2 p) noexcept;
+
 // Distance between the closed shapes (0 when they intersect or touch).
 double shape_distance(const ConvexShape& a, const ConvexShape& b) noexcept;
 

@@ -22,6 +22,79 @@ Vec2 sub(Vec2 a, Vec2 b) noexcept { return {a.x - b.x, a.y - b.y}; }
 double dot(Vec2 a, Vec2 b) noexcept { return a.x * b.x + a.y * b.y; }
 double cross(Vec2 a, Vec2 b) noexcept { return a.x * b.y - a.y * b.x; }
 
+// Exact sum of n doubles (n <= 32) to within an ulp or so of the result, by distillation:
+// passes of error-free additions (Knuth's two-sum) along the terms until none changes, which
+// leaves them nonoverlapping, largest last. Written apart from src/geometry's expansions.
+double distilled_sum(double* t, int n) noexcept {
+  for (int pass = 0; pass < 4 * n + 8; ++pass) {
+    bool changed = false;
+    for (int i = 1; i < n; ++i) {
+      const double s = t[i - 1] + t[i];
+      const double v = s - t[i - 1];
+      const double e = (t[i - 1] - (s - v)) + (t[i] - v);
+      if (s != t[i] || e != t[i - 1]) changed = true;
+      t[i] = s;
+      t[i - 1] = e;
+    }
+    if (!changed) break;
+  }
+  double sum = 0.0;
+  for (int i = 0; i < n; ++i) sum += t[i];
+  return sum;
+}
+
+// Writes a*b as two terms summing to it exactly (fused multiply-add gives the rounding error).
+void push_product(double a, double b, double* t, int& n) noexcept {
+  const double p = a * b;
+  t[n++] = p;
+  t[n++] = std::fma(a, b, -p);
+}
+
+// cross(a - x, b - a) (= cross(a - x, b - x)), accurate where the plain products cancel: a
+// segment 1e17 long a unit from x. The plain value is kept when it is far above its rounding.
+double side_of(Vec2 a, Vec2 b, Vec2 x) noexcept {
+  const Vec2 w = sub(a, x), e = sub(b, a);
+  const double l = w.x * e.y, r = w.y * e.x;
+  const double magnitude = std::fabs(l) + std::fabs(r);
+  if (std::fabs(l - r) > 0x1p-20 * magnitude || !(magnitude < kInf)) return l - r;
+  // a - x = ah + al and b - x = bh + bl exactly (two-sum), then the eight products, each split.
+  auto split_difference = [](double p, double q, double& hi, double& lo) {
+    hi = p - q;
+    const double v = hi - p;
+    lo = (p - (hi - v)) + (-q - v);
+  };
+  double ahx, alx, ahy, aly, bhx, blx, bhy, bly;
+  split_difference(a.x, x.x, ahx, alx);
+  split_difference(a.y, x.y, ahy, aly);
+  split_difference(b.x, x.x, bhx, blx);
+  split_difference(b.y, x.y, bhy, bly);
+  double t[16];
+  int n = 0;
+  for (double ax : {ahx, alx})
+    for (double by : {bhy, bly}) push_product(ax, by, t, n);
+  for (double ay : {ahy, aly})
+    for (double bx : {bhx, blx}) push_product(-ay, bx, t, n);
+  return distilled_sum(t, n);
+}
+
+// |x - c|^2 - r^2, accurate where it cancels (x near a circle of radius 1e17).
+double power_of(Vec2 c, double r, Vec2 x) noexcept {
+  const Vec2 m = sub(x, c);
+  const double mm = dot(m, m), rr = r * r;
+  if (std::fabs(mm - rr) > 0x1p-20 * (mm + rr) || !(mm + rr < kInf)) return mm - rr;
+  double t[16];
+  int n = 0;
+  for (int axis = 0; axis < 2; ++axis) {
+    const double p = axis == 0 ? x.x : x.y, q = axis == 0 ? c.x : c.y;
+    const double hi = p - q, v = hi - p, lo = (p - (hi - v)) + (-q - v);
+    push_product(hi, hi, t, n);
+    push_product(2.0 * hi, lo, t, n);
+    push_product(lo, lo, t, n);
+  }
+  push_product(-r, r, t, n);
+  return distilled_sum(t, n);
+}
+
 // Smallest t >= 0 with x + t*d on the closed segment [a, b], or +inf.
 double ray_segment(Vec2 x, Vec2 d, Vec2 a, Vec2 b) noexcept {
   const Vec2 e = sub(b, a);
@@ -37,7 +110,7 @@ double ray_segment(Vec2 x, Vec2 d, Vec2 a, Vec2 b) noexcept {
     if (tb < 0.0) return kInf;
     return ta <= 0.0 ? 0.0 : ta;
   }
-  const double t = cross(w, e) / denom;
+  const double t = side_of(a, b, x) / denom;
   const double s = cross(w, d) / denom;
   if (t < 0.0 || s < 0.0 || s > 1.0) return kInf;
   return t;
@@ -52,6 +125,7 @@ RaycastRenderer::RayShape RaycastRenderer::make_shape(const Shape& shape) {
     s.kind = Kind::circle;
     s.p0 = circle->center;
     s.radius2 = circle->radius * circle->radius;
+    s.radius = circle->radius;
     s.bound_center = circle->center;
     bound_radius = circle->radius;
   } else if (const auto* segment = std::get_if<Segment>(&shape)) {
@@ -199,13 +273,12 @@ std::optional<Vec3> RaycastRenderer::normal_at(int i, int j) const {
 bool RaycastRenderer::contains(const RayShape& s, Vec2 x) const noexcept {
   switch (s.kind) {
     case Kind::circle: {
-      const Vec2 m = sub(x, s.p0);
-      return dot(m, m) <= s.radius2;
+      return power_of(s.p0, s.radius, x) <= 0.0;
     }
     case Kind::segment: {
       const Vec2 e = sub(s.p1, s.p0);
       const Vec2 w = sub(x, s.p0);
-      if (cross(e, w) != 0.0) return false;
+      if (side_of(s.p0, s.p1, x) != 0.0) return false;
       const double u = dot(e, w);
       return u >= 0.0 && u <= dot(e, e);
     }
@@ -216,7 +289,7 @@ bool RaycastRenderer::contains(const RayShape& s, Vec2 x) const noexcept {
       for (std::uint32_t i = 0; i < s.count; ++i) {
         const Vec2 a = v[i];
         const Vec2 b = v[i + 1 == s.count ? 0 : i + 1];
-        if (cross(sub(b, a), sub(x, a)) * s.orientation < 0.0) return false;
+        if (side_of(a, b, x) * s.orientation < 0.0) return false;
       }
       return true;
     }
@@ -241,7 +314,7 @@ double RaycastRenderer::hit_distance(const RayShape& s, Vec2 x, Vec2 d, double l
   switch (s.kind) {
     case Kind::circle: {
       const Vec2 mc = sub(s.p0, x);
-      const double c = dot(mc, mc) - s.radius2;
+      const double c = power_of(s.p0, s.radius, x);
       if (c <= 0.0) return 0.0;
       const double b = dot(mc, d);
       if (b <= 0.0) return kInf;
@@ -321,12 +394,16 @@ double RaycastRenderer::distance_to(const RayShape& s, Vec2 x) const noexcept {
     const Vec2 e = sub(b, a), w = sub(p, a);
     const double ee = dot(e, e);
     const double u = ee > 0.0 ? std::clamp(dot(w, e) / ee, 0.0, 1.0) : 0.0;
+    // Inside the segment, the distance to its line (the foot point would round to the end
+    // points' magnitude).
+    if (u > 0.0 && u < 1.0) return std::fabs(side_of(a, b, p)) / std::hypot(e.x, e.y);
     return std::hypot(w.x - u * e.x, w.y - u * e.y);
   };
   switch (s.kind) {
     case Kind::circle: {
       const Vec2 m = sub(x, s.p0);
-      return std::max(0.0, std::hypot(m.x, m.y) - std::sqrt(s.radius2));
+      const double power = power_of(s.p0, s.radius, x);
+      return power <= 0.0 ? 0.0 : power / (std::hypot(m.x, m.y) + s.radius);
     }
     case Kind::segment: return to_segment(x, s.p0, s.p1);
     case Kind::polygon: {

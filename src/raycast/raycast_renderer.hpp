@@ -45,7 +45,7 @@ class RaycastRenderer {
     double bound_radius2 = 0.0;
     // circle: p0 = center, radius2 = r^2. segment: p0 = a, p1 = b.
     Vec2 p0, p1;
-    double radius2 = 0.0;
+    double radius2 = 0.0, radius = 0.0;
     // polygon: vertices [first, first + count) of `vertices_`, closed, and the sign
     // (+1 or -1) that makes cross(edge, x - start) >= 0 mean "on the inner side".
     std::uint32_t first = 0;

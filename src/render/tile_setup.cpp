@@ -149,10 +149,7 @@ std::uint32_t grow_vertices(TileWork& work, std::size_t count) {
 int far_circle_shift(const ConvexShape& s, const TileFrame& frame, Vec2 tile_center) noexcept {
   if (!frame.far || s.kind != ShapeKind::circle) return 0;
   const Vec2 c = s.vertices[0];
-  Vec2 u = tile_center - c;
-  const double len = length(u);
-  u = len > 0.0 ? (1.0 / len) * u : Vec2{1.0, 0.0};
-  const double d = length((c - frame.origin) + s.radius * u);
+  const double d = length((tile_center - frame.origin) + to_circle_boundary(c, s.radius, tile_center));
   if (!(d > 0.0) || !std::isfinite(d)) return 0;
   const int e = std::ilogb(d) + std::ilogb(frame.scale);
   return e > 50 ? 50 - e : 0;
@@ -186,7 +183,7 @@ const ConvexShape& kernel_view(const ConvexShape& s, const TileFrame& frame, Vec
     const double len = length(u);
     u = len > 0.0 ? (1.0 / len) * u : Vec2{1.0, 0.0};
     const double capped = kMaxRadius / frame.scale;
-    c = c + (r - capped) * u;
+    c = (tile_center + to_circle_boundary(c, r, tile_center)) - capped * u;
     r = capped;
   }
   out.kind = ShapeKind::circle;
@@ -231,7 +228,7 @@ KernelShape circle_kernel_shape(const ConvexShape& s, const TileFrame& frame, Ve
   // The circle point nearest the tile, relative to the origin: formed from small
   // relative terms, because the inside test needs it on the circle to float precision
   // (its absolute coordinates would be rounded to the scene's magnitude).
-  const Vec2 nearest = (c - frame.origin) + s.radius * u;
+  const Vec2 nearest = (tile_center - frame.origin) + to_circle_boundary(c, s.radius, tile_center);
   if (s.radius * frame.scale > kMaxRadius) {
     // A far larger circle: the one of radius kMaxRadius tangent to it inside at `nearest`.
     const double r = kMaxRadius / frame.scale;

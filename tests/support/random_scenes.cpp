@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
+
+#include "geometry/convex_shape.hpp"
 
 namespace par2d::test {
 namespace {
@@ -18,13 +21,30 @@ bool apart(const Placed& a, const Placed& b, double gap) {
   return std::hypot(a.center.x - b.center.x, a.center.y - b.center.y) > a.radius + b.radius + gap;
 }
 
+// A power of two bringing the largest of the magnitudes to 2^500 or below: products of
+// scaled coordinates of 1e307 then fit a double, and scaling is exact.
+double product_scale(std::initializer_list<double> values) noexcept {
+  double largest = 0.0;
+  for (double v : values) largest = std::max(largest, std::fabs(v));
+  int exponent = 0;
+  std::frexp(largest, &exponent);
+  return exponent > 500 ? std::ldexp(1.0, 500 - exponent) : 1.0;
+}
+
 double point_segment_distance(Vec2 p, Vec2 a, Vec2 b) noexcept {
+  const double f = product_scale({p.x, p.y, a.x, a.y, b.x, b.y});
+  p = {f * p.x, f * p.y};
+  a = {f * a.x, f * a.y};
+  b = {f * b.x, f * b.y};
   const double ex = b.x - a.x, ey = b.y - a.y;
   const double wx = p.x - a.x, wy = p.y - a.y;
   const double ee = ex * ex + ey * ey;
   double s = ee > 0.0 ? (wx * ex + wy * ey) / ee : 0.0;
   s = std::clamp(s, 0.0, 1.0);
-  return std::hypot(wx - s * ex, wy - s * ey);
+  // With the foot inside, the distance to the line from an exactly expanded cross product: the
+  // foot point itself rounds to the end points' magnitude (units, on a segment 1e17 long).
+  if (s > 0.0 && s < 1.0) return std::fabs(detail::cross_from(a, b, p)) / std::sqrt(ee) / f;
+  return std::hypot(wx - s * ex, wy - s * ey) / f;
 }
 
 // A shape whose bounding circle is (center, radius).
@@ -204,8 +224,13 @@ RandomSceneOptions with_every_model_term(RandomSceneOptions o) {
 }
 
 double distance_to_boundary(const Shape& shape, Vec2 p) noexcept {
-  if (const auto* c = std::get_if<Circle>(&shape))
-    return std::fabs(std::hypot(p.x - c->center.x, p.y - c->center.y) - c->radius);
+  if (const auto* c = std::get_if<Circle>(&shape)) {
+    // |p - c|^2 - r^2 expanded exactly, over |p - c| + r: no cancellation for radii of 1e17.
+    const double f = product_scale({p.x, p.y, c->center.x, c->center.y, c->radius});
+    const Vec2 q{f * p.x, f * p.y}, m{f * c->center.x, f * c->center.y};
+    const double power = detail::circle_power(m, f * c->radius, q);
+    return std::fabs(power) / (std::hypot(q.x - m.x, q.y - m.y) + f * c->radius) / f;
+  }
   if (const auto* s = std::get_if<Segment>(&shape)) return point_segment_distance(p, s->a, s->b);
   const auto& v = std::get<Polygon>(shape).vertices;
   double d = HUGE_VAL;

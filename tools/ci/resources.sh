@@ -84,6 +84,43 @@ echo "{\"width\": 8, \"height\": 8, \"lights\": [{\"circle\": {\"center\": [4, 4
 expect_clean_failure "emission beyond float output" "bright.json: lights\[0\]: emission too large" -- \
   "$CLI" render "$WORK/bright.json" -o "$WORK/out.png"
 
+# --- Shapes far larger than the view (coordinates up to ~5.6e306), emissions near the 1e38 limit,
+# and contacts (a light on an occluder's edge, equal circles): every backend renders under a
+# 1 GiB address-space limit, exits 0 and writes a PFM that is finite and within [0, sum of e_L].
+python3 - "$WORK/huge.json" <<'PY'
+import json, sys
+d, k = 2.0 ** 1016, 2.0 ** 1012  # lines 3x = 8y and circles (3K, -4K) of radius 5K through the origin
+scene = {"width": 48, "height": 48, "view": [-4, -6, 12, 10],
+         "lights": [{"polygon": [[-8 * d, -3 * d], [8 * d, -3 * d], [8 * d, 3 * d]], "intensity": 3e37},
+                    {"segment": [[-2, 7], [4, 6]], "intensity": 2e37},
+                    {"circle": {"center": [-2, 6], "radius": 0.5}, "intensity": 1e37}],
+         "occluders": [{"segment": [[-8 * d, -3 * d], [8 * d, 3 * d]]},
+                       {"polygon": [[-2, 7], [4, 6], [4, 9], [-2, 9]]},
+                       {"circle": {"center": [-2, 6], "radius": 0.5}},
+                       {"circle": {"center": [3 * k + 6, -4 * k], "radius": 5 * k}}]}
+json.dump(scene, open(sys.argv[1], "w"))
+PY
+for backend in scalar simd raycast; do
+  rc=0
+  bash -c 'ulimit -v 1048576; exec "$0" render "$1" --pfm "$2" --backend "$3" --threads 2' \
+    "$CLI" "$WORK/huge.json" "$WORK/huge_$backend.pfm" "$backend" 2>"$WORK/err" || rc=$?
+  if [ "$rc" -eq 0 ] && python3 - "$WORK/huge_$backend.pfm" <<'PY'
+import math, struct, sys
+data = open(sys.argv[1], "rb").read()
+header = data.split(b"\n", 3)
+w, h = map(int, header[1].split())
+values = struct.unpack("<%df" % (3 * w * h), header[3][:12 * w * h])
+# sum of e_L per channel (white lights): 6e37; float rounding allowed
+sys.exit(0 if all(math.isfinite(v) and 0.0 <= v <= 6e37 * (1 + 1e-5) for v in values) else 1)
+PY
+  then
+    echo "resources.sh: ok   huge shapes, emissions and contacts render finite and bounded ($backend)"
+  else
+    echo "resources.sh: FAIL huge shapes ($backend): exit $rc" >&2; cat "$WORK/err" >&2; failures=$((failures + 1))
+  fi
+done
+rm -f "$WORK"/huge_*.pfm
+
 # --- Special output files and signals during writes.
 echo '{"width": 256, "height": 256, "lights": [{"circle": {"center": [64, 64], "radius": 8}}]}' >"$WORK/s.json"
 mkfifo "$WORK/pipe"
