@@ -833,11 +833,22 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     for (int c = 0; c < 3; ++c) work.ambient[c] = static_cast<float>(scene.ambient[static_cast<std::size_t>(c)]);
     work.shaded = shading_active(scene, shaded);
     if (work.shaded) {
+      // A map's rows are copied as they are stored (floats, what normal_at widens to double).
+      const float* map = scene.normal_source == NormalSource::map ? scene.normal_map->data() : nullptr;
       for (int r = 0; r < kTileSize; ++r) {
+        const int j = tile.y0 + r;
+        const int inside = j < scene.height ? std::max(0, std::min(kTileSize, scene.width - tile.x0)) : 0;
         for (int c = 0; c < kTileSize; ++c) {
-          const int i = tile.x0 + c, j = tile.y0 + r;
-          const Vec3 n = i < scene.width && j < scene.height ? scene.normal_at(i, j) : Vec3{0.0, 0.0, 1.0};
           const std::size_t at = static_cast<std::size_t>(r * kTileSize + c);
+          if (map && c < inside) {
+            const float* n = map + 3 * (static_cast<std::size_t>(j) * static_cast<std::size_t>(scene.width) +
+                                        static_cast<std::size_t>(tile.x0 + c));
+            work.normal_x[at] = n[0];
+            work.normal_y[at] = n[1];
+            work.normal_z[at] = n[2];
+            continue;
+          }
+          const Vec3 n = c < inside ? scene.normal_at(tile.x0 + c, j) : Vec3{0.0, 0.0, 1.0};
           work.normal_x[at] = static_cast<float>(n.x);
           work.normal_y[at] = static_cast<float>(n.y);
           work.normal_z[at] = static_cast<float>(n.z);

@@ -6,6 +6,8 @@
 #include <charconv>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <new>
 #include <string>
@@ -324,7 +326,28 @@ MaybeProblem check_normal_map(const NormalMap& map, int width, int height) {
     return SceneProblem{"normal_map.normals", "expected 3 * width * height = " + std::to_string(expected) +
                                                   " floats, got " + std::to_string(map.normals.size())};
   }
-  for (std::size_t p = 0; p < expected; p += 3) {
+  // Every render validates the whole map: a branch-free pass over blocks of pixels (it
+  // vectorizes) finds the first block with a bad normal, walked below for its message.
+  std::size_t first_bad = expected;
+  constexpr std::size_t kBlock = 3 * 1024;
+  for (std::size_t b = 0; b < expected; b += kBlock) {
+    const std::size_t end = std::min(expected, b + kBlock);
+    std::uint32_t bad = 0;
+    for (std::size_t p = b; p < end; p += 3) {
+      std::uint32_t bits[3];
+      std::memcpy(bits, map.normals.data() + p, sizeof bits);
+      const std::uint32_t exponent = 0x7f800000u;
+      bad |= static_cast<std::uint32_t>((bits[0] & exponent) == exponent) |
+             static_cast<std::uint32_t>((bits[1] & exponent) == exponent) |
+             static_cast<std::uint32_t>((bits[2] & exponent) == exponent) |
+             static_cast<std::uint32_t>(((bits[0] | bits[1] | bits[2]) & 0x7fffffffu) == 0);
+    }
+    if (bad) {
+      first_bad = b;
+      break;
+    }
+  }
+  for (std::size_t p = first_bad; p < expected; p += 3) {
     const float* n = map.normals.data() + p;
     const bool finite = std::isfinite(n[0]) && std::isfinite(n[1]) && std::isfinite(n[2]);
     if (finite && !(n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f)) continue;
