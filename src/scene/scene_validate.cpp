@@ -6,8 +6,6 @@
 #include <charconv>
 #include <cmath>
 #include <cstddef>
-#include <cstdint>
-#include <cstring>
 #include <limits>
 #include <new>
 #include <string>
@@ -326,22 +324,19 @@ MaybeProblem check_normal_map(const NormalMap& map, int width, int height) {
     return SceneProblem{"normal_map.normals", "expected 3 * width * height = " + std::to_string(expected) +
                                                   " floats, got " + std::to_string(map.normals.size())};
   }
-  // Every render validates the whole map: a branch-free pass over blocks of pixels (it
-  // vectorizes) finds the first block with a bad normal, walked below for its message.
+  // Every render validates the whole map: branch-free passes over blocks of pixels (they
+  // vectorize) find the first block with a bad normal, walked below for its message.
   std::size_t first_bad = expected;
   constexpr std::size_t kBlock = 3 * 1024;
+  constexpr float kLargest = std::numeric_limits<float>::max();
+  const float* normals = map.normals.data();
   for (std::size_t b = 0; b < expected; b += kBlock) {
     const std::size_t end = std::min(expected, b + kBlock);
-    std::uint32_t bad = 0;
-    for (std::size_t p = b; p < end; p += 3) {
-      std::uint32_t bits[3];
-      std::memcpy(bits, map.normals.data() + p, sizeof bits);
-      const std::uint32_t exponent = 0x7f800000u;
-      bad |= static_cast<std::uint32_t>((bits[0] & exponent) == exponent) |
-             static_cast<std::uint32_t>((bits[1] & exponent) == exponent) |
-             static_cast<std::uint32_t>((bits[2] & exponent) == exponent) |
-             static_cast<std::uint32_t>(((bits[0] | bits[1] | bits[2]) & 0x7fffffffu) == 0);
-    }
+    int bad = 0;
+    for (std::size_t k = b; k < end; ++k) bad |= static_cast<int>(!(std::fabs(normals[k]) <= kLargest));
+    for (std::size_t p = b; p < end; p += 3)
+      bad |= static_cast<int>(normals[p] == 0.0f) & static_cast<int>(normals[p + 1] == 0.0f) &
+             static_cast<int>(normals[p + 2] == 0.0f);
     if (bad) {
       first_bad = b;
       break;
