@@ -1064,8 +1064,13 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
     B visible;
     const B reach = xsimd::max(reach0, B(0.0f));
     if (!profile.flat()) {
-      visible = n == 0 ? profile.cumulative(width) - profile.cumulative(B(0.0f))
-                       : profiled_gaps<A>(profile, lo, hi, n, width, reach);
+      if (n > 0) {
+        visible = profiled_gaps<A>(profile, lo, hi, n, width, reach);
+      } else if (kShaded && !terms.cone) {
+        visible = profile.template cumulative<kProfileLobe>(width) - profile.template cumulative<kProfileLobe>(B(0.0f));
+      } else {
+        visible = profile.cumulative(width) - profile.cumulative(B(0.0f));
+      }
     } else if (n == 0) {
       visible = width;
     } else if (n == 1) {
