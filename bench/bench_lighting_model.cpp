@@ -4,7 +4,8 @@
 // Names: lighting_model/<case>/threads:<n>. Compare within one run:
 //   plain vs model_noop   the model path on an identical image (every mask 1) vs the plain path
 //   torches256/no_range vs torches256/range200   range culling (issue 11 target: >= 5x)
-//   plain vs normal_map   per-pixel shading (target: <= 1.5x)
+//   plain vs normal_map   per-pixel shading (target: <= 1.5x), one-shot render() and
+//                         persistent/<case>: a Renderer that keeps the scene across frames
 //   plain vs cone, translucent, directional   one feature each
 #include <benchmark/benchmark.h>
 
@@ -87,8 +88,34 @@ void register_case(const std::string& name, par2d::Scene scene, int threads) {
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }
 
+// The same frame from a persistent Renderer (what a game keeps across frames): the scene,
+// its normal map in world axes and its validation are set once, outside the timed loop.
+void register_persistent_case(const std::string& name, par2d::Scene scene, int threads) {
+  par2d::RenderOptions options;
+  options.backend = par2d::Backend::simd;
+  options.threads = threads;
+  auto* b = benchmark::RegisterBenchmark(
+      ("lighting_model/persistent/" + name + "/threads:" + std::to_string(threads)).c_str(),
+      [scene = std::move(scene), options](benchmark::State& state) {
+        par2d::Renderer renderer;
+        if (!renderer.set_options(options).ok() || !renderer.set_scene(scene).ok())
+          return state.SkipWithError("set_options or set_scene failed");
+        std::vector<float> pixels(static_cast<std::size_t>(scene.width) * scene.height * 3);
+        const par2d::ImageView image{pixels.data(), scene.width, scene.height, std::ptrdiff_t{3} * scene.width};
+        if (!renderer.render(image).ok()) return state.SkipWithError("render failed");  // sizes the buffers
+        for (auto _ : state) {
+          if (!renderer.render(image).ok()) return state.SkipWithError("render failed");
+          benchmark::DoNotOptimize(pixels.data());
+          benchmark::ClobberMemory();
+        }
+      });
+  b->Unit(benchmark::kMillisecond)->UseRealTime();
+}
+
 const bool kRegistered = [] {
   for (const int threads : {1, 2}) {
+    for (const char* feature : {"plain", "normal_map"})
+      register_persistent_case(feature, feature_level(feature), threads);
     for (const char* feature : {"plain", "model_noop", "normal_map", "cone", "translucent", "directional"})
       register_case(feature, feature_level(feature), threads);
     register_case("torches256/no_range", torches(false), threads);

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -587,4 +588,30 @@ TEST_CASE("the CLI writes the plain irradiance next to the shaded one, all files
   // Two options naming one file are refused before anything is rendered.
   CHECK(run_cli({"render", dir / "scene.json", "-o", dir / "x.png", "--plain-png", dir / "x.png"}) == 2);
   CHECK_FALSE(fs::exists(dir / "x.png"));
+}
+
+TEST_CASE("a large normal map is checked in blocks: the first bad pixel of a late block is named, tiny normals pass") {
+  Scene scene;
+  scene.width = 1500;
+  scene.height = 7;  // 10500 pixels: ten blocks of 1024 and a partial one
+  scene.view = {0, 0, 1500, 7};
+  par2d::NormalMap map;
+  map.width = scene.width;
+  map.height = scene.height;
+  map.normals.assign(3 * static_cast<std::size_t>(map.width) * map.height, 0.0f);
+  for (std::size_t p = 2; p < map.normals.size(); p += 3) map.normals[p] = 1.0f;
+  map.normals[3 * 9000 + 2] = 1e-45f;  // subnormal but not zero: a direction
+  scene.normal_map = map;
+  REQUIRE(par2d::validate_scene(scene).ok());
+  auto message = [&] { return par2d::validate_scene(scene, "code").message(); };
+  auto at = [&](int i, int j, int c) -> float& {
+    return scene.normal_map->normals[3 * (static_cast<std::size_t>(j) * 1500 + static_cast<std::size_t>(i)) +
+                                     static_cast<std::size_t>(c)];
+  };
+  at(1499, 6, 0) = std::numeric_limits<float>::infinity();  // the last pixel, in the partial block
+  CHECK(message() == "code: normal_map: pixel (1499, 6): not a finite normal (inf, 0, 1)");
+  at(3, 5, 2) = -0.0f;  // a negative zero is zero too; this pixel comes first
+  CHECK(message() == "code: normal_map: pixel (3, 5): has a zero normal");
+  at(1023, 0, 1) = -std::numeric_limits<float>::infinity();  // the last pixel of the first block
+  CHECK(message() == "code: normal_map: pixel (1023, 0): not a finite normal (0, -inf, 1)");
 }

@@ -834,14 +834,37 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     for (int c = 0; c < 3; ++c) work.ambient[c] = static_cast<float>(scene.ambient[static_cast<std::size_t>(c)]);
     work.shaded = shading_active(scene, shaded);
     if (work.shaded) {
+      // A map's rows are copied as they are stored (floats, what normal_at widens to double);
+      // pixels past the image take (0, 0, 1).
+      const float* map = scene.normal_source == NormalSource::map ? scene.normal_map->data() : nullptr;
+      const Vec3 constant = scene.normal;
+      const std::size_t row_floats = 3 * static_cast<std::size_t>(scene.width);
+      const int columns = std::max(0, std::min(kTileSize, scene.width - tile.x0));
       for (int r = 0; r < kTileSize; ++r) {
-        for (int c = 0; c < kTileSize; ++c) {
-          const int i = tile.x0 + c, j = tile.y0 + r;
-          const Vec3 n = i < scene.width && j < scene.height ? scene.normal_at(i, j) : Vec3{0.0, 0.0, 1.0};
-          const std::size_t at = static_cast<std::size_t>(r * kTileSize + c);
-          work.normal_x[at] = static_cast<float>(n.x);
-          work.normal_y[at] = static_cast<float>(n.y);
-          work.normal_z[at] = static_cast<float>(n.z);
+        const int j = tile.y0 + r;
+        const int inside = j < scene.height ? columns : 0;
+        float* out_x = work.normal_x + r * kTileSize;
+        float* out_y = work.normal_y + r * kTileSize;
+        float* out_z = work.normal_z + r * kTileSize;
+        int c = 0;
+        if (map && inside > 0) {
+          const float* n = map + static_cast<std::size_t>(j) * row_floats + 3 * static_cast<std::size_t>(tile.x0);
+          for (; c < inside; ++c, n += 3) {
+            out_x[c] = n[0];
+            out_y[c] = n[1];
+            out_z[c] = n[2];
+          }
+        } else if (!map) {
+          for (; c < inside; ++c) {
+            out_x[c] = static_cast<float>(constant.x);
+            out_y[c] = static_cast<float>(constant.y);
+            out_z[c] = static_cast<float>(constant.z);
+          }
+        }
+        for (; c < kTileSize; ++c) {
+          out_x[c] = 0.0f;
+          out_y[c] = 0.0f;
+          out_z[c] = 1.0f;
         }
       }
     }

@@ -324,7 +324,25 @@ MaybeProblem check_normal_map(const NormalMap& map, int width, int height) {
     return SceneProblem{"normal_map.normals", "expected 3 * width * height = " + std::to_string(expected) +
                                                   " floats, got " + std::to_string(map.normals.size())};
   }
-  for (std::size_t p = 0; p < expected; p += 3) {
+  // Every render validates the whole map: branch-free passes over blocks of pixels (they
+  // vectorize) find the first block with a bad normal, walked below for its message.
+  std::size_t first_bad = expected;
+  constexpr std::size_t kBlock = 3 * 1024;
+  constexpr float kLargest = std::numeric_limits<float>::max();
+  const float* normals = map.normals.data();
+  for (std::size_t b = 0; b < expected; b += kBlock) {
+    const std::size_t end = std::min(expected, b + kBlock);
+    int bad = 0;
+    for (std::size_t k = b; k < end; ++k) bad |= static_cast<int>(!(std::fabs(normals[k]) <= kLargest));
+    for (std::size_t p = b; p < end; p += 3)
+      bad |= static_cast<int>(normals[p] == 0.0f) & static_cast<int>(normals[p + 1] == 0.0f) &
+             static_cast<int>(normals[p + 2] == 0.0f);
+    if (bad) {
+      first_bad = b;
+      break;
+    }
+  }
+  for (std::size_t p = first_bad; p < expected; p += 3) {
     const float* n = map.normals.data() + p;
     const bool finite = std::isfinite(n[0]) && std::isfinite(n[1]) && std::isfinite(n[2]);
     if (finite && !(n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f)) continue;

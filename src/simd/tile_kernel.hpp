@@ -656,13 +656,26 @@ PAR2D_KERNEL_INLINE xsimd::batch<float, A> lobe_sin(const xsimd::batch<float, A>
 // with one copy of a lone cone or lobe instead of three (u - center wrapped into [-pi, pi),
 // where the whole support lies, plus whole turns times the profile's total), so a shaded
 // evaluation costs one sincos. Cone and shading together take the general form.
+// kProfileLobe: a caller that knows the profile is a lone lobe (shading, no cone) compiles
+// the sweep without the per-evaluation tests of the profile's kind.
+inline constexpr int kProfileAny = 0;
+inline constexpr int kProfileLobe = 1;
+
 template <class A>
 struct KernelProfile {
   using B = xsimd::batch<float, A>;
   detail::AngularProfile<B> p;
   B total{};  // integral over a whole turn of the lone cone or lobe
 
+  template <int kKind = kProfileAny>
   PAR2D_KERNEL_INLINE B cumulative(const B& u) const noexcept {
+    if constexpr (kKind == kProfileLobe) {
+      const B v = u - p.lobe_center;
+      const B turns = xsimd::floor((v + B(3.14159265358979f)) * B(kInvTwoPiF));
+      const B v0 = xsimd::fnma(turns, B(kTwoPiF), v);
+      const B t = xsimd::min(xsimd::max(v0, -p.lobe_half), p.lobe_half);
+      return xsimd::fma(turns, total, xsimd::fma(p.amplitude, lobe_sin<A>(t), p.offset * t));
+    }
     if (!p.cone && !p.shading) return u;
     if (p.cone && p.shading) return detail::profile_cumulative(p, u);
     const B v = u - (p.shading ? p.lobe_center : p.cone_center);
@@ -677,10 +690,37 @@ struct KernelProfile {
   bool flat() const noexcept { return !p.cone && !p.shading; }
 };
 
+// One step of the gap sweep over intervals sorted by lo: the gap [reach, max(lo, reach)]
+// adds its weight, then reach moves to max(reach, hi). reach_value is always
+// profile.cumulative(reach), so a step where no lane's interval starts beyond reach (no gap)
+// or ends beyond it (reach stays) skips that evaluation: the same values, bit for bit.
+// Intervals of nearby occluders overlap in most lanes of a packet, so many steps skip one.
+template <class A, int kKind>
+PAR2D_KERNEL_INLINE void profiled_gap_step(const KernelProfile<A>& profile, const xsimd::batch<float, A>& lo,
+                                           const xsimd::batch<float, A>& hi, xsimd::batch<float, A>& reach,
+                                           xsimd::batch<float, A>& reach_value,
+                                           xsimd::batch<float, A>& sum) noexcept {
+  using B = xsimd::batch<float, A>;
+  B gap_end_value = reach_value;
+  if (xsimd::any(lo > reach)) {
+    const B gap_end = xsimd::max(lo, reach);
+    gap_end_value = profile.template cumulative<kKind>(gap_end);
+    sum += gap_end_value - reach_value;
+  }
+  const auto moves = hi > reach;
+  if (xsimd::any(moves)) {
+    const B next = xsimd::max(reach, hi);
+    reach_value = xsimd::select(moves, profile.template cumulative<kKind>(next), gap_end_value);
+    reach = next;
+  } else {
+    reach_value = gap_end_value;
+  }
+}
+
 // Weight of the arc [0, width] minus the union of opaque intervals lo/hi (`count`, padded
 // to `slots` with `width`), under the profile: the gaps of the sorted intervals.
 // The gap sweep over N <= 8 intervals sorted in registers (lo/hi as in union_measure_in_registers).
-template <class A, std::size_t N>
+template <class A, int kKind, std::size_t N>
 PAR2D_KERNEL_INLINE xsimd::batch<float, A> profiled_gaps_in_registers(const KernelProfile<A>& profile,
                                                                       const float* lo_mem, const float* hi_mem,
                                                                       std::size_t count,
@@ -694,27 +734,22 @@ PAR2D_KERNEL_INLINE xsimd::batch<float, A> profiled_gaps_in_registers(const Kern
     hi[i] = i < count ? B::load_aligned(hi_mem + i * W) : width;
   }
   sort_in_registers<A, N>(lo, hi, std::make_index_sequence<SortingNetwork<N>::kSize>{});
-  B reach = reach0, reach_value = profile.cumulative(reach), sum(0.0f);
+  B reach = reach0, reach_value = profile.template cumulative<kKind>(reach), sum(0.0f);
   for (std::size_t i = 0; i < count; ++i) {  // padding sorts last and adds nothing
-    const B gap_end = xsimd::max(lo[i], reach);
-    const B gap_end_value = profile.cumulative(gap_end);
-    sum += gap_end_value - reach_value;
-    const B next = xsimd::max(reach, hi[i]);
-    reach_value = xsimd::select(next > reach, profile.cumulative(next), gap_end_value);
-    reach = next;
+    profiled_gap_step<A, kKind>(profile, lo[i], hi[i], reach, reach_value, sum);
   }
-  sum += profile.cumulative(xsimd::max(width, reach)) - reach_value;
+  sum += profile.template cumulative<kKind>(xsimd::max(width, reach)) - reach_value;
   return xsimd::max(sum, B(0.0f));
 }
 
-template <class A>
-inline xsimd::batch<float, A> profiled_gaps(const KernelProfile<A>& profile, float* lo, float* hi, std::size_t count,
-                                            const xsimd::batch<float, A>& width,
-                                            const xsimd::batch<float, A>& reach0) noexcept {
-  if (count == 1) return profiled_gaps_in_registers<A, 1>(profile, lo, hi, count, width, reach0);
-  if (count == 2) return profiled_gaps_in_registers<A, 2>(profile, lo, hi, count, width, reach0);
-  if (count <= 4) return profiled_gaps_in_registers<A, 4>(profile, lo, hi, count, width, reach0);
-  if (count <= 8) return profiled_gaps_in_registers<A, 8>(profile, lo, hi, count, width, reach0);
+template <class A, int kKind>
+inline xsimd::batch<float, A> profiled_gaps_of_kind(const KernelProfile<A>& profile, float* lo, float* hi,
+                                                    std::size_t count, const xsimd::batch<float, A>& width,
+                                                    const xsimd::batch<float, A>& reach0) noexcept {
+  if (count == 1) return profiled_gaps_in_registers<A, kKind, 1>(profile, lo, hi, count, width, reach0);
+  if (count == 2) return profiled_gaps_in_registers<A, kKind, 2>(profile, lo, hi, count, width, reach0);
+  if (count <= 4) return profiled_gaps_in_registers<A, kKind, 4>(profile, lo, hi, count, width, reach0);
+  if (count <= 8) return profiled_gaps_in_registers<A, kKind, 8>(profile, lo, hi, count, width, reach0);
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   const std::size_t used = sort_slots<A>(count);
@@ -724,18 +759,21 @@ inline xsimd::batch<float, A> profiled_gaps(const KernelProfile<A>& profile, flo
   }
   sort_by_lo<A>(lo, hi, used);
   // The gaps between the covered parts, from the part [0, reach0] that wraps past 0.
-  B reach = reach0, reach_value = profile.cumulative(reach), sum(0.0f);
-  for (std::size_t i = 0; i < count; ++i) {
-    const B l = B::load_aligned(lo + i * W), h = B::load_aligned(hi + i * W);
-    const B gap_end = xsimd::max(l, reach);
-    const B gap_end_value = profile.cumulative(gap_end);
-    sum += gap_end_value - reach_value;
-    const B next = xsimd::max(reach, h);
-    reach_value = xsimd::select(next > reach, profile.cumulative(next), gap_end_value);
-    reach = next;
-  }
-  sum += profile.cumulative(xsimd::max(width, reach)) - reach_value;
+  B reach = reach0, reach_value = profile.template cumulative<kKind>(reach), sum(0.0f);
+  for (std::size_t i = 0; i < count; ++i)
+    profiled_gap_step<A, kKind>(profile, B::load_aligned(lo + i * W), B::load_aligned(hi + i * W), reach, reach_value,
+                                sum);
+  sum += profile.template cumulative<kKind>(xsimd::max(width, reach)) - reach_value;
   return xsimd::max(sum, B(0.0f));
+}
+
+template <class A>
+inline xsimd::batch<float, A> profiled_gaps(const KernelProfile<A>& profile, float* lo, float* hi, std::size_t count,
+                                            const xsimd::batch<float, A>& width,
+                                            const xsimd::batch<float, A>& reach0) noexcept {
+  if (profile.p.shading && !profile.p.cone)
+    return profiled_gaps_of_kind<A, kProfileLobe>(profile, lo, hi, count, width, reach0);
+  return profiled_gaps_of_kind<A, kProfileAny>(profile, lo, hi, count, width, reach0);
 }
 
 // Per channel, the integral over [0, width] of the product of the transmittances of the
@@ -1026,8 +1064,13 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
     B visible;
     const B reach = xsimd::max(reach0, B(0.0f));
     if (!profile.flat()) {
-      visible = n == 0 ? profile.cumulative(width) - profile.cumulative(B(0.0f))
-                       : profiled_gaps<A>(profile, lo, hi, n, width, reach);
+      if (n > 0) {
+        visible = profiled_gaps<A>(profile, lo, hi, n, width, reach);
+      } else if (kShaded && !terms.cone) {
+        visible = profile.template cumulative<kProfileLobe>(width) - profile.template cumulative<kProfileLobe>(B(0.0f));
+      } else {
+        visible = profile.cumulative(width) - profile.cumulative(B(0.0f));
+      }
     } else if (n == 0) {
       visible = width;
     } else if (n == 1) {
