@@ -14,6 +14,7 @@
 
 #include "geometry/convex_shape.hpp"
 #include "par2d/render.hpp"
+#include "par2d/scene.hpp"
 #include "raycast/raycast_renderer.hpp"
 #include "support/random_scenes.hpp"
 #include "support/render_checks.hpp"
@@ -307,4 +308,17 @@ TEST_CASE("overlapping many-gons: boundary crossings and render match the all-pa
         CHECK_MESSAGE(std::abs(ref.at(i, j, c) - ray[c]) <= bound[c], "pixel " << i << "," << j << " channel " << c);
     }
   CHECK(checked >= s.width * s.height / 2);
+}
+
+TEST_CASE("a band light 5e8 pixels across, seen from a view off the origin: SIMD against scalar") {
+  // Found by fuzz_huge: the tile setup clipped shapes only beyond 2^40 pixels, so the kernel
+  // got this light's vertices 5e8 units away in float, tens of units off, and the edge
+  // passing half a pixel from the view moved (scalar 0.609, SIMD 0.457 at pixel (0, 5)).
+  Scene scene;
+  const std::string path = std::string(PAR2D_SOURCE_DIR) + "/tests/fuzz/corpus/huge/simd_band_light_5e8_pixels_off_origin.json";
+  REQUIRE(load_scene_file(path, scene).ok());
+  REQUIRE(scene.lights.size() == 1);
+  const double pixel = (scene.view.x1 - scene.view.x0) / scene.width;
+  const Shape light = scene.lights[0].shape;
+  check_simd(scene, "band light", Exempt{[&](Vec2 p) { return distance_to_boundary(light, p) / pixel; }});
 }

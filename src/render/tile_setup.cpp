@@ -62,8 +62,11 @@ bool tile_tangent_pair(const ConvexShape& s, const std::array<Vec2, 4>& corners,
 struct TileFrame {
   Vec2 origin;
   double scale = 1.0;
-  // Whether some shape may reach 2^40 kernel units from a tile (twice the scene's largest
-  // coordinate does): else no shape needs clipping and no pair is decided anew.
+  // Whether some shape may reach 2^18 kernel units from a tile (twice the scene's largest
+  // coordinate does): else no shape needs clipping and no pair is decided anew. Much beyond
+  // that, float cross products of a pixel with far vertices (~2^36 at 2^18, rounded to 24
+  // bits: errors near 2^12) cancel down to the size of what decides the side of an edge for a
+  // pixel 0.05 px from it (about 2^14 there): at 5e8 pixels the kernel moved such edges.
   bool far = true;
 
   // Beyond this, float arithmetic in the kernel could overflow; values are clamped to it
@@ -97,16 +100,17 @@ TileFrame tile_frame(const PreparedScene& scene, Vec2 origin) noexcept {
   int pixel_exponent = 0;
   std::frexp(pixel, &pixel_exponent);
   const double scale = std::ldexp(1.0, -pixel_exponent);
-  return {origin, scale, !(2.0 * scene.extent * scale < 0x1p40)};
+  return {origin, scale, !(2.0 * scene.extent * scale < 0x1p18)};
 }
 
 // Half sizes, in kernel units (about pixels), of the boxes around a tile that shapes are
 // clipped to. Cutting a shape at distance D changes the directions in which it is seen from
-// the tile by at most about tile size / D (2^-36 rad at 2^40, far below the contract's bound),
+// the tile by at most about tile size / D (2^-14 rad at 2^18: about 1e-5 of a light's
+// emission, a tenth of the contract's 1e-4 bound),
 // and within the near box float products (up to ~2^82) stay in range. A shape that misses
 // the near box is clipped to the far one (its coordinates then stay below TileFrame::kLimit);
 // one that misses both lies more than 2^58 pixels from the tile.
-constexpr double kNearHalf = 0x1p40;
+constexpr double kNearHalf = 0x1p18;
 constexpr double kFarHalf = 0x1p58;
 // A circle of a larger radius (kernel units) is replaced by the circle of this radius with
 // the same point nearest the tile and the same normal there: a subset of it that departs from
