@@ -155,12 +155,14 @@ bool segments_blocked(const Vec2* viewer, int viewer_count, Vec2 axis, const Con
                       int strip_budget, OcclusionProofScratch& scratch) {
   if (viewer_count <= 0 || count == 0) return false;
   // Most proofs that fail do so because the light is plainly visible: one segment, from the
-  // viewer points' mean to the light's interior point, that passes every occluder settles
-  // it for a fraction of the proof's cost.
+  // viewer points' mean or from one of them to the light's interior point, that passes
+  // every occluder settles it for a fraction of the proof's cost.
   Vec2 viewer_mean{0.0, 0.0};
   for (int i = 0; i < viewer_count; ++i) viewer_mean = viewer_mean + viewer[i];
   viewer_mean = (1.0 / viewer_count) * viewer_mean;
   if (segment_passes(viewer_mean, light.centroid, occluders, ids, count)) return false;
+  for (int i = 0; i < viewer_count; ++i)
+    if (segment_passes(viewer[i], light.centroid, occluders, ids, count)) return false;
   Frame frame{axis, viewer[0]};
   double magnitude = 0.0;
   for (const Vec2 p : {light.bounds_min, light.bounds_max}) magnitude = std::max({magnitude, std::abs(p.x), std::abs(p.y)});
