@@ -51,6 +51,11 @@ bool segments_blocked(const Vec2* viewer, int viewer_count, Vec2 axis, const Con
                       const std::vector<ConvexShape>& occluders, const std::uint32_t* ids, std::size_t count,
                       int strip_budget, OcclusionProofScratch& scratch);
 
+// Whether the segment [a, b] certainly meets none of the occluders `ids[0..count)` (closed
+// shapes; a touch counts as a meeting). Then no proof that they hide b from a can succeed.
+bool segment_passes(Vec2 a, Vec2 b, const std::vector<ConvexShape>& occluders, const std::uint32_t* ids,
+                    std::size_t count) noexcept;
+
 // The same for the rectangle [lo, hi] as the viewer, across the side with the widest gap
 // to the light's box (false when the boxes' projections overlap on both axes).
 bool rect_hidden_from_light(Vec2 lo, Vec2 hi, const ConvexShape& light, const std::vector<ConvexShape>& occluders,

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "geometry/box_clip.hpp"
@@ -327,6 +328,51 @@ bool rect_in_umbra(const ConvexShape& light, const ConvexShape& occluder, const 
   return true;
 }
 
+// A disc inside a light (center and radius), for umbra_possible; radius < 0: not computed yet.
+struct InnerDisc {
+  Vec2 center;
+  double radius = -1.0;
+};
+
+// Whether the rectangle can lie in the occluder's umbra for the light at all, in O(1): the
+// umbra of the occluder for the light lies in that of the occluder's bounding disc (box
+// center, half diagonal) for a disc inside the light, which lies between the discs' two
+// outer common tangents, |h| cos b <= R + t sin b (t along the axis from the light's disc
+// to the occluder's, h across it, sin b = (R - r) / D). A corner outside that band rules
+// the rectangle out. Only a shortcut: rect_in_umbra decides when this says maybe (most
+// tries fail: lights larger than small occluders have short umbrae narrower than a tile).
+bool umbra_possible(const ConvexShape& light, const ConvexShape& occluder, const std::array<Vec2, 4>& corners,
+                    InnerDisc& disc) noexcept {
+  if (disc.radius < 0.0) {
+    disc.center = light.centroid;
+    if (light.kind == ShapeKind::circle) {
+      disc.radius = light.radius;
+    } else if (light.kind == ShapeKind::segment) {
+      disc.radius = 0.0;
+    } else {
+      double r = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < light.vertices.size(); ++i)
+        r = std::min(r, dot(light.edge_normals[i], light.centroid - light.vertices[i]));
+      disc.radius = std::max(r, 0.0);
+    }
+  }
+  const Vec2 center = 0.5 * (occluder.bounds_min + occluder.bounds_max);
+  const double big_r = length(0.5 * (occluder.bounds_max - occluder.bounds_min));
+  const Vec2 axis = center - disc.center;
+  const double dist = length(axis);
+  // Discs one inside the other have no outer tangents: no shortcut.
+  if (!(dist > std::abs(big_r - disc.radius) * (1.0 + 1e-9) + 1e-300)) return true;
+  const Vec2 u = (1.0 / dist) * axis;
+  const double sin_b = (big_r - disc.radius) / dist;
+  const double cos_b = std::sqrt(std::max(0.0, 1.0 - sin_b * sin_b));
+  for (const Vec2 x : corners) {
+    const Vec2 q = x - center;
+    // A relative margin keeps corners on the band's edge (rounding) as "maybe".
+    if (std::abs(cross(u, q)) * cos_b > (big_r + dot(u, q) * sin_b) * (1.0 + 1e-9) + 1e-12 * dist) return false;
+  }
+  return true;
+}
+
 // A light's tangent points (where its arc's two bounding rays touch it) seen from the four
 // corners of a rectangle, on first use.
 struct CornerTangentPoints {
@@ -644,6 +690,7 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     const std::vector<std::uint32_t>& candidates = scratch.block_candidates[l];
     std::optional<BoxPairHull> tile_hull;
     CornerTangents light_tangents;
+    InnerDisc inner_disc;
     CornerTangentPoints light_tangent_points;
     std::optional<LightClip> clip;
     if (culling && !candidates.empty()) tile_hull.emplace(box, bounds_of(light.shape));
@@ -723,7 +770,7 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
           pair.nx = pair.ny = 0.0f;
           pair.c = -1.0f;
           pair.front = true;
-          if (prover) {
+          if (prover && umbra_possible(light.shape, occluder, corners, inner_disc)) {
             ++scratch.umbra_tests;
             if (rect_in_umbra(light.shape, occluder, corners, light_tangents)) {
               ++scratch.umbra_hits;

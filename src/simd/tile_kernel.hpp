@@ -535,6 +535,8 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const xsimd::ba
     arc.width.store_aligned(occ_width + k * W);
   }
   for (int c = 0; c < 3; ++c) e[c] = B(0.0f);
+  // Every lane inside an occluder: 0 whatever the lights (the select at the end).
+  if (occluder_count != 0 && xsimd::all(in_occluder)) return;
   for (const KernelLight& light : work.lights) {
     if (light.pair_count == 0) {  // nothing in front of this light anywhere in the tile
       const Arc<A> arc = shape_arc<A, false>(work, light.shape, px, py);
@@ -546,6 +548,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const xsimd::ba
     const B width = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
     B reach0(0.0f);
     std::size_t n = 0;  // intervals written
+    bool hidden = false;  // the light is covered in every lane outside the occluders
     for (std::size_t p = 0; p < light.pair_count; ++p) {
       const KernelPair& pair = work.pairs[light.first_pair + p];
       const B occ_start = B::load_aligned(occ_start_all + pair.occluder * W);
@@ -558,21 +561,39 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const xsimd::ba
       }
       // Disjoint convex shapes: the occluder is in front along every shared direction
       // exactly when the pixel is on its side of a separating line. Inside the light
-      // nothing is in front (t_L = 0).
-      const auto blocks =
-          pair.front ? ~arc.inside : (xsimd::fma(B(pair.nx), px, B(pair.ny) * py) >= B(pair.c)) & ~arc.inside;
+      // nothing is in front (t_L = 0). Lanes inside an occluder get 0 at the end, so what
+      // their intervals say does not matter.
+      const auto blocks = pair.front ? ~(arc.inside | in_occluder)
+                                     : (xsimd::fma(B(pair.nx), px, B(pair.ny) * py) >= B(pair.c)) &
+                                           ~(arc.inside | in_occluder);
       B o = occ_start - arc.start;
       o -= B(kTwoPiF) * xsimd::floor(o * B(kInvTwoPiF));  // into [0, 2*pi)
       const B end = o + occ_w;
-      xsimd::select(blocks, xsimd::min(o, width), width).store_aligned(lo + n * W);
-      xsimd::select(blocks, xsimd::min(end, width), width).store_aligned(hi + n * W);
-      ++n;
       // The part that wraps past the light's start begins at 0: a running max suffices.
       reach0 = xsimd::select(blocks, xsimd::max(reach0, xsimd::min(end - B(kTwoPiF), width)), reach0);
+      // One occluder's arc holding the light's in every lane (it starts before the light's
+      // arc and ends past it) hides the light there: the union is the whole arc whatever
+      // the other intervals, and the light adds exactly 0, so the rest of its work is skipped.
+      if (xsimd::all((reach0 >= width) | in_occluder)) {
+        hidden = true;
+        break;
+      }
+      // An interval empty in every lane (not in front, or starting past the light's arc)
+      // adds nothing to the union (it sorts after every interval it could overlap): not
+      // kept, so the sort and sweep run over the intervals this packet really sees.
+      const B lo_p = xsimd::select(blocks, xsimd::min(o, width), width);
+      const B hi_p = xsimd::select(blocks, xsimd::min(end, width), width);
+      if (!xsimd::any(hi_p > lo_p)) continue;
+      lo_p.store_aligned(lo + n * W);
+      hi_p.store_aligned(hi + n * W);
+      ++n;
     }
+    if (hidden) continue;
     B visible = width;
     const B reach = xsimd::max(reach0, B(0.0f));
-    if (n == 1) {
+    if (n == 0) {
+      visible = xsimd::max(width - reach, B(0.0f));
+    } else if (n == 1) {
       visible = xsimd::max(width - union_measure_in_registers<A, 1>(lo, hi, 1, width, reach), B(0.0f));
     } else if (n == 2) {
       visible = xsimd::max(width - union_measure_in_registers<A, 2>(lo, hi, 2, width, reach), B(0.0f));
