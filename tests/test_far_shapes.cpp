@@ -13,6 +13,7 @@
 #include "geometry/convex_shape.hpp"
 #include "par2d/render.hpp"
 #include "support/random_scenes.hpp"
+#include "support/render_checks.hpp"
 
 using namespace par2d;
 using namespace par2d::test;
@@ -47,37 +48,17 @@ void check_far_scene(const Scene& scene, const std::string& what, bool against_s
                      const std::function<void(int, int, int, float)>& pin = nullptr) {
   REQUIRE(validate_scene(scene).ok());
   const RenderedImage ref = render_or_fail(scene, options_for(Backend::scalar));
-  const double bound = 1e-4 * emission_max_sum(scene);
   const double exempt = 0.05 * pixel_width(scene);
-  REQUIRE(!simd_isas_here().empty());
-  for (Isa isa : simd_isas_here()) {
-    for (bool culling : {true, false}) {
-      const RenderedImage got = render_or_fail(scene, options_for(Backend::simd, isa, culling));
-      int checked = 0, over = 0;
-      std::string first;
-      for (int j = 0; j < scene.height; ++j) {
-        for (int i = 0; i < scene.width; ++i) {
-          if (pin)
-            for (int c = 0; c < 3; ++c) pin(i, j, c, got.at(i, j, c));
-          if (!against_scalar || near_boundary(scene, pixel_center(scene, i, j), exempt)) continue;
-          ++checked;
-          for (int c = 0; c < 3; ++c) {
-            const double err = std::abs(static_cast<double>(ref.at(i, j, c)) - got.at(i, j, c));
-            if (!(err <= bound) && over++ == 0) {
-              std::ostringstream s;
-              s << "pixel (" << i << ", " << j << ") channel " << c << ": scalar " << ref.at(i, j, c) << ", simd "
-                << got.at(i, j, c);
-              first = s.str();
-            }
-          }
-        }
-      }
-      INFO(what << " isa=" << std::string(isa_name(isa)) << " culling=" << culling << " checked=" << checked);
-      CHECK_MESSAGE(over == 0, first);
-      // Near a huge circle the double boundary test exempts more pixels; a quarter must remain.
-      if (against_scalar) CHECK(checked >= scene.width * scene.height / 4);
-    }
-  }
+  const auto pin_all = [&](const RenderedImage& got) {
+    if (!pin) return;
+    for (int j = 0; j < scene.height; ++j)
+      for (int i = 0; i < scene.width; ++i)
+        for (int c = 0; c < 3; ++c) pin(i, j, c, got.at(i, j, c));
+  };
+  // Near a huge circle the double boundary test exempts more pixels; a quarter must remain.
+  check_simd_against_scalar(
+      scene, ref, what, [&](Vec2 p) { return !against_scalar || near_boundary(scene, p, exempt); },
+      against_scalar ? scene.width * scene.height / 4 : 0, pin_all);
 }
 
 std::string named(const char* what, double extent) {

@@ -10,12 +10,22 @@
 
 #include "par2d/par2d.hpp"
 #include "scattered_scene.hpp"
+#include "support/random_scenes.hpp"
 
 using namespace par2d;
 
 namespace {
 
 std::uint64_t cells(int pixels, int cell) { return static_cast<std::uint64_t>((pixels + cell - 1) / cell); }
+
+// The best SIMD level here, named explicitly: PAR2D_ISA=scalar (one of ctest's runs) would
+// otherwise send Backend::simd to the scalar reference, which counts no kernel work.
+RenderOptions simd_options() {
+  RenderOptions options;
+  options.backend = Backend::simd;
+  options.isa = test::simd_isas_here().back();
+  return options;
+}
 
 FrameStats stats_of(const Scene& scene, RenderOptions options) {
   std::vector<float> pixels(static_cast<std::size_t>(scene.width) * static_cast<std::size_t>(scene.height) * 3);
@@ -54,8 +64,7 @@ Scene closed_room() {
 
 TEST_CASE("FrameStats follow the frame's blocks and tiles, and the kernel's work per tile") {
   const Scene scene = bench::scattered_scene(12, 90, 7, 200, 136);
-  RenderOptions options;
-  options.backend = Backend::simd;
+  RenderOptions options = simd_options();
   options.threads = 2;
   const FrameStats s = stats_of(scene, options);
   CHECK(s.pixels == 200u * 136u);
@@ -128,8 +137,7 @@ TEST_CASE("FrameStats follow the frame's blocks and tiles, and the kernel's work
 
 TEST_CASE("FrameStats: culling removes a walled-in light from the blocks outside its room; without culling every tile gets every light") {
   const Scene scene = closed_room();
-  RenderOptions options;
-  options.backend = Backend::simd;
+  RenderOptions options = simd_options();
   const FrameStats culled = stats_of(scene, options);
   // The room spans one 64 px block's worth of pixels; blocks beyond it lose the inner light
   // to its reach or to a proof, and no tile far from the room computes it.
@@ -148,8 +156,7 @@ TEST_CASE("FrameStats: culling removes a walled-in light from the blocks outside
 TEST_CASE("FrameStats' sampled needs in closed cases: an open view sees every light; walls hide the walled-in one") {
   Scene open = closed_room();
   open.occluders.clear();
-  RenderOptions options;
-  options.backend = Backend::simd;
+  RenderOptions options = simd_options();
   const FrameStats o = stats_of(open, options);
   CHECK(o.sampled_visible_lights == 2u * o.sampled_pixels);
   CHECK(o.sampled_blocking_pairs == 0u);
@@ -169,8 +176,7 @@ TEST_CASE("FrameStats count a light containing an occluder as general pairs, on 
   Occluder inner;
   inner.shape = box(195, 145, 205, 155);  // wholly inside the light: no line separates them
   scene.occluders.push_back(inner);
-  RenderOptions options;
-  options.backend = Backend::simd;
+  RenderOptions options = simd_options();
   const FrameStats s = stats_of(scene, options);
   CHECK(s.tile_general_pairs > 0u);
   CHECK(s.scalar_tiles == 0u);

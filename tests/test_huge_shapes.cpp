@@ -140,34 +140,8 @@ void check_scalar(const Scene& scene, const std::string& what, const Exempt& exe
 // The SIMD path on every ISA, culling on and off, within 1e-4 e_max of the scalar reference
 // away from 0.05 pixel of every boundary.
 void check_simd(const Scene& scene, const std::string& what, const Exempt& exempt) {
-  const RenderedImage ref = render_or_fail(scene, options_for(Backend::scalar));
-  const double bound = 1e-4 * emission_max_sum(scene);
-  REQUIRE(!simd_isas_here().empty());
-  for (Isa isa : simd_isas_here()) {
-    for (bool culling : {true, false}) {
-      const RenderedImage got = render_or_fail(scene, options_for(Backend::simd, isa, culling));
-      int checked = 0, over = 0;
-      std::string first;
-      for (int j = 0; j < scene.height; ++j) {
-        for (int i = 0; i < scene.width; ++i) {
-          if (exempt(scene, pixel_center(scene, i, j))) continue;
-          ++checked;
-          for (int c = 0; c < 3; ++c) {
-            const double err = std::abs(static_cast<double>(ref.at(i, j, c)) - got.at(i, j, c));
-            if (!(err <= bound) && over++ == 0) {
-              std::ostringstream s;
-              s << "pixel (" << i << ", " << j << ") channel " << c << ": scalar " << ref.at(i, j, c) << ", simd "
-                << got.at(i, j, c);
-              first = s.str();
-            }
-          }
-        }
-      }
-      INFO(what << " isa=" << std::string(isa_name(isa)) << " culling=" << culling << " checked=" << checked);
-      CHECK_MESSAGE(over == 0, over << " values, first " << first);
-      CHECK(checked >= scene.width * scene.height / 2);
-    }
-  }
+  check_simd_against_scalar(scene, render_or_fail(scene, options_for(Backend::scalar)), what,
+                            [&](Vec2 p) { return exempt(scene, p); }, scene.width * scene.height / 2);
 }
 
 }  // namespace

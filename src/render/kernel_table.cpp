@@ -141,34 +141,28 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
   if (stats) *stats = sum_counts(lanes);
 }
 
+// The counts each lane keeps in ThreadState::counts (the rest come from its setup scratch).
+constexpr std::uint64_t FrameStats::*kLaneCounts[] = {
+    &FrameStats::pixels,         &FrameStats::samples,          &FrameStats::blocks,
+    &FrameStats::block_lights,   &FrameStats::block_lights_out_of_reach,
+    &FrameStats::block_candidates, &FrameStats::block_proofs_tried, &FrameStats::block_proofs_succeeded,
+    &FrameStats::tiles,          &FrameStats::tile_lights,      &FrameStats::tile_pairs,
+    &FrameStats::tile_general_pairs, &FrameStats::light_samples, &FrameStats::pair_samples,
+    &FrameStats::scalar_tiles,   &FrameStats::sampled_pixels,   &FrameStats::sampled_visible_lights,
+    &FrameStats::sampled_blocking_pairs,
+};
+
 FrameStats FrameEngine::sum_counts(int lanes) const noexcept {
   FrameStats sum;
   for (int lane = 0; lane < lanes; ++lane) {
     const ThreadState& state = states_[static_cast<std::size_t>(lane)];
     const FrameStats& c = state.counts;
-    sum.pixels += c.pixels;
-    sum.samples += c.samples;
-    sum.blocks += c.blocks;
-    sum.block_lights += c.block_lights;
-    sum.block_lights_out_of_reach += c.block_lights_out_of_reach;
-    sum.block_candidates += c.block_candidates;
-    sum.block_proofs_tried += c.block_proofs_tried;
-    sum.block_proofs_succeeded += c.block_proofs_succeeded;
-    sum.tiles += c.tiles;
-    sum.tile_lights += c.tile_lights;
-    sum.tile_pairs += c.tile_pairs;
-    sum.tile_general_pairs += c.tile_general_pairs;
+    for (std::uint64_t FrameStats::*count : kLaneCounts) sum.*count += c.*count;
     // The proof counters run over blocks and tiles alike; the blocks' share is counted above.
     sum.tile_proofs_tried += state.setup.occlusion.proofs_tried - c.block_proofs_tried;
     sum.tile_proofs_succeeded += state.setup.occlusion.proofs_succeeded - c.block_proofs_succeeded;
     sum.umbra_tests += state.setup.umbra_tests;
     sum.umbra_hits += state.setup.umbra_hits;
-    sum.light_samples += c.light_samples;
-    sum.pair_samples += c.pair_samples;
-    sum.scalar_tiles += c.scalar_tiles;
-    sum.sampled_pixels += c.sampled_pixels;
-    sum.sampled_visible_lights += c.sampled_visible_lights;
-    sum.sampled_blocking_pairs += c.sampled_blocking_pairs;
   }
   return sum;
 }

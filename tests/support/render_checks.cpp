@@ -22,10 +22,32 @@ RenderedImage render_or_fail(const Scene& scene, const RenderOptions& options) {
 
 Comparison compare_renders(const Scene& scene, const RenderedImage& ref, const RenderedImage& got, double bound,
                            double exempt) {
+  return compare_renders(scene, ref, got, bound, [&](Vec2 p) { return near_boundary(scene, p, exempt); });
+}
+
+void check_simd_against_scalar(const Scene& scene, const RenderedImage& ref, const std::string& what,
+                               const std::function<bool(Vec2)>& exempt, int min_checked,
+                               const std::function<void(const RenderedImage&)>& visit) {
+  const double bound = 1e-4 * emission_max_sum(scene);
+  REQUIRE(!simd_isas_here().empty());
+  for (Isa isa : simd_isas_here()) {
+    for (bool culling : {true, false}) {
+      const RenderedImage got = render_or_fail(scene, options_for(Backend::simd, isa, culling));
+      if (visit) visit(got);
+      const Comparison c = compare_renders(scene, ref, got, bound, exempt);
+      INFO(what << " isa=" << std::string(isa_name(isa)) << " culling=" << culling << " checked=" << c.checked);
+      CHECK_MESSAGE(c.over == 0, c.over << " values, first " << c.first_failure);
+      CHECK(c.checked >= min_checked);
+    }
+  }
+}
+
+Comparison compare_renders(const Scene& scene, const RenderedImage& ref, const RenderedImage& got, double bound,
+                           const std::function<bool(Vec2)>& exempt) {
   Comparison c;
   for (int j = 0; j < scene.height; ++j) {
     for (int i = 0; i < scene.width; ++i) {
-      if (near_boundary(scene, pixel_center(scene, i, j), exempt)) continue;
+      if (exempt(pixel_center(scene, i, j))) continue;
       ++c.checked;
       for (int ch = 0; ch < 3; ++ch) {
         const double err = std::abs(static_cast<double>(ref.at(i, j, ch)) - got.at(i, j, ch));

@@ -20,6 +20,16 @@ struct Comparison {
 // `exempt` world units from every shape boundary.
 Comparison compare_renders(const Scene& scene, const RenderedImage& ref, const RenderedImage& got, double bound,
                            double exempt);
+// The same at the pixels whose centers `exempt` does not exempt.
+Comparison compare_renders(const Scene& scene, const RenderedImage& ref, const RenderedImage& got, double bound,
+                           const std::function<bool(Vec2)>& exempt);
+
+// The SIMD path on every ISA here, culling on and off, against the scalar reference `ref`:
+// the contract's 1e-4 e_max at every pixel `exempt` leaves, and at least `min_checked` such
+// pixels per render. `visit(got)`, when given, checks each SIMD render further.
+void check_simd_against_scalar(const Scene& scene, const RenderedImage& ref, const std::string& what,
+                               const std::function<bool(Vec2)>& exempt, int min_checked,
+                               const std::function<void(const RenderedImage&)>& visit = nullptr);
 
 // Compares every pixel farther than `skip` pixel widths from every shape boundary with
 // expected(i, j, pixel center): |got - expected| <= 1e-6 * e_max per channel (docs/contract.md
