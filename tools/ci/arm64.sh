@@ -41,10 +41,10 @@ QEMU=(qemu-aarch64)
 run() { echo "+ PAR2D_ISA=${PAR2D_ISA:-} ${QEMU[*]} $*"; "${QEMU[@]}" "$@"; }
 
 # The numeric core, with the default ISA (NEON): every SIMD test compares each ISA this CPU
-# has (here neon64) against the scalar reference within SPEC's bounds.
+# has (here neon64) against the scalar reference within the contract's bounds (docs/contract.md section 5).
 # Left out (named, not skipped): the two culling tests over 1000-occluder fields, ~270 s
 # emulated; culling's SIMD exactness is still checked here by "culling never changes the SIMD
-# image beyond SPEC.md bounds", and those two run in the native x86 suite.
+# image beyond docs/contract.md bounds", and those two run in the native x86 suite.
 FILTER='*SIMD*,*simd*,*ISA*,*isa*,*culling*,*closed*,*circle light*,*segment light*,*thread*,*identical*,*edge*,*kernel*,*atan2*,*union*'
 # The lighting-model examples at full size (scalar renders of 7 scenes, ~200 s emulated) run
 # natively too; the model kernel's NEON exactness is checked here by the "model SIMD" cases.
