@@ -110,10 +110,14 @@ double ray_segment(Vec2 x, Vec2 d, Vec2 a, Vec2 b) noexcept {
     if (tb < 0.0) return kInf;
     return ta <= 0.0 ? 0.0 : ta;
   }
+  // The ray's line separates a from b (or touches one): decided by each end's own side, so
+  // a vertex shared by two segments (a segment light ending at an occluder's corner) is on the
+  // same side for both. The quotient s = cross(w, d) / denom in [0, 1] rounds differently per
+  // segment there, and a ray through the corner hit the light but missed the occluder.
+  const double side_a = cross(d, w), side_b = cross(d, sub(b, x));
+  if ((side_a > 0.0 && side_b > 0.0) || (side_a < 0.0 && side_b < 0.0)) return kInf;
   const double t = side_of(a, b, x) / denom;
-  const double s = cross(w, d) / denom;
-  if (t < 0.0 || s < 0.0 || s > 1.0) return kInf;
-  return t;
+  return t < 0.0 ? kInf : t;
 }
 
 }  // namespace
