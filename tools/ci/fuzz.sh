@@ -6,13 +6,16 @@
 # (tests/fuzz/fuzz_huge_checks.hpp).
 #
 # Env: FUZZ_SECONDS (default 60: the time each of the first three targets had; the four targets now
-# share 3 * FUZZ_SECONDS equally, so the run takes as long as before), JOBS (build, default nproc), CXX_CLANG (default clang++-14).
+# share 3 * FUZZ_SECONDS equally, so the run takes as long as before), JOBS (build, default nproc), CXX_CLANG (default clang++-14),
+# FUZZ_SEED (default 1: the gate explores the same inputs on every run, so a finding reproduces
+# from the log; set another seed, or a longer FUZZ_SECONDS, for a campaign that looks further).
 # Findings land in build-fuzz/artifacts/; turn each into a file under tests/fuzz/corpus/ (it is then
 # replayed by every build's test suite) and fix it.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 ROOT=$PWD
 FUZZ_SECONDS=${FUZZ_SECONDS:-60}
+FUZZ_SEED=${FUZZ_SEED:-1}
 PER_TARGET=$(( 3 * FUZZ_SECONDS / 4 ))
 JOBS=${JOBS:-$(nproc)}
 CXX_CLANG=${CXX_CLANG:-clang++-14}
@@ -38,7 +41,7 @@ run_target() {  # target, seed corpus dir, max input length
   mkdir -p "$work"
   # The checked-in seeds are read, never written: new inputs go to the work corpus.
   # -timeout: an input that takes this long is reported as a hang; -rss_limit_mb: as a leak/blow-up.
-  if ! "$BUILD/tests/fuzz/$target" "$work" "$seeds" -max_total_time="$PER_TARGET" -max_len="$max_len" \
+  if ! "$BUILD/tests/fuzz/$target" "$work" "$seeds" -max_total_time="$PER_TARGET" -max_len="$max_len" -seed="$FUZZ_SEED" \
         -timeout=25 -rss_limit_mb=2560 -print_final_stats=1 \
         -artifact_prefix="$BUILD/artifacts/$target-" 2>"$BUILD/$target.log"; then
     echo "fuzz.sh: $target found a problem; last lines of $BUILD/$target.log:" >&2
