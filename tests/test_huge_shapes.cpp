@@ -224,6 +224,54 @@ TEST_CASE("huge circles through the view: scalar against closed forms and the ra
   }
 }
 
+TEST_CASE("huge shapes whose boundary passes 2^6 to 2^40 pixels from the view: SIMD against scalar, scalar against rays") {
+  // The SIMD tile setup clips shapes reaching far from a tile to a box around it. A box of
+  // fixed size (2^18 pixels) cut a half-plane light whose edge passed 2^17 pixels away down to
+  // a strip, seen 8 % of the emission smaller; a huge circle light 1e106 pixels off was 2 %
+  // short. Each shape's boundary runs along the line 3x - 8y = 8H (2^k pixels below the
+  // origin), out to 2^(k + span) pixels both ways, where the shapes are exact in double; a
+  // huge circle's nearest point is H below the origin.
+  for (int k : {6, 12, 17, 24, 33, 40}) {
+    for (int span : {40, 50}) {
+      const double h = std::ldexp(1.0, k), d = std::ldexp(1.0, k + span);
+      const Vec2 a{-8.0 * d, -3.0 * d - h}, b{8.0 * d, 3.0 * d - h}, c{8.0 * d, -3.0 * d - h};
+      // Only the short wall's ends and line are boundaries near the view.
+      const Exempt wall{[](Vec2) { return 1e300; }};
+      const Occluder short_wall{Segment{{-2.0, 7.0}, {4.0, 6.0}}};
+      std::ostringstream tag;
+      tag << ": 2^" << k << " pixels below the view, 2^" << k + span << " long";
+      {
+        Scene s = blank();
+        s.lights.push_back(light_of(Polygon{{a, c, b}}));
+        s.occluders.push_back(short_wall);
+        check_scalar(s, "half-plane light" + tag.str(), wall);
+        check_simd(s, "half-plane light" + tag.str(), wall);
+      }
+      {
+        Scene s = blank();
+        s.lights.push_back(light_of(Segment{a, b}));
+        s.occluders.push_back(short_wall);
+        check_simd(s, "segment light" + tag.str(), wall);
+      }
+      {
+        // A strip occluder along the line, 2^k thick, in front of a half-plane light below
+        // it: every ray to the light crosses the strip, so the scene is dark.
+        Scene s = blank();
+        auto down = [h](Vec2 p, double times) { return Vec2{p.x, p.y - times * h}; };
+        s.occluders.push_back(Occluder{Polygon{{down(a, 1.0), down(b, 1.0), b, a}}});
+        s.lights.push_back(light_of(Polygon{{down(a, 3.0), down(c, 3.0), down(b, 3.0)}}));
+        check_simd(s, "strip occluder over a half-plane light" + tag.str(), wall);
+      }
+      {
+        Scene s = blank();
+        s.lights.push_back(light_of(Circle{{0.0, -(h + 4.0 * d)}, 4.0 * d}));
+        s.occluders.push_back(short_wall);
+        check_simd(s, "huge circle light" + tag.str(), wall);
+      }
+    }
+  }
+}
+
 TEST_CASE("overlapping many-gons: boundary crossings and render match the all-pairs answer and the ray caster") {
   // Edge pairs are indexed by x-monotone runs above 4096 pairs: the crossings must be those
   // of every edge pair (generic position, so each crossing is one proper intersection).
@@ -284,15 +332,29 @@ TEST_CASE("overlapping many-gons: boundary crossings and render match the all-pa
   CHECK(checked >= s.width * s.height / 2);
 }
 
-TEST_CASE("a band light 5e8 pixels across, seen from a view off the origin: SIMD against scalar") {
-  // Found by fuzz_huge: the tile setup clipped shapes only beyond 2^40 pixels, so the kernel
-  // got this light's vertices 5e8 units away in float, tens of units off, and the edge
-  // passing half a pixel from the view moved (scalar 0.609, SIMD 0.457 at pixel (0, 5)).
-  Scene scene;
-  const std::string path = std::string(PAR2D_SOURCE_DIR) + "/tests/fuzz/corpus/huge/simd_band_light_5e8_pixels_off_origin.json";
-  REQUIRE(load_scene_file(path, scene).ok());
-  REQUIRE(scene.lights.size() == 1);
-  const double pixel = (scene.view.x1 - scene.view.x0) / scene.width;
-  const Shape light = scene.lights[0].shape;
-  check_simd(scene, "band light", Exempt{[&](Vec2 p) { return distance_to_boundary(light, p) / pixel; }});
+TEST_CASE("fuzz_huge findings, huge lights seen from views off the origin: SIMD against scalar") {
+  // Each found by fuzz_huge (tests/fuzz/FINDINGS.md #7), one light each:
+  // - a band light 5e8 pixels across: the tile setup clipped shapes only beyond 2^40 pixels,
+  //   so the kernel got its vertices 5e8 units away in float, tens of units off, and the edge
+  //   passing half a pixel from the view moved (scalar 0.609, SIMD 0.457 at pixel (0, 5));
+  // - a band light 1e217 across whose edge passes 100 units from the view: clipped with its
+  //   edge line's offset n.a formed from vertices 1e217 away, the line moved by 1e201
+  //   (scalar 0.656, SIMD 1.3125);
+  // - a circle light of radius 1e127 (1e122 pixels) whose boundary passes 1e106 pixels from
+  //   the view: capped to a radius of 2^59 pixels at 2^50 pixels off, it subtended 0.125 rad
+  //   less than the half-plane it looks like (scalar 1.09375, SIMD 1.0466);
+  // - a triangle light 20 pixels across at 1e202: its one differing pixel (scalar 1.14,
+  //   SIMD 0.57) is centered on an edge (within rounding), which the contract exempts.
+  for (const char* name : {"simd_band_light_5e8_pixels_off_origin.json", "simd_band_light_1e217_edge_100_units_off.json",
+                           "simd_circle_light_radius_1e127_1e106_pixels_off.json",
+                           "simd_triangle_light_view_at_1e202.json"}) {
+    Scene scene;
+    const std::string path = std::string(PAR2D_SOURCE_DIR) + "/tests/fuzz/corpus/huge/" + name;
+    REQUIRE(load_scene_file(path, scene).ok());
+    REQUIRE(scene.lights.size() == 1);
+    REQUIRE(scene.occluders.empty());
+    const double pixel = std::abs(scene.view.x1 - scene.view.x0) / scene.width;
+    const Shape light = scene.lights[0].shape;
+    check_simd(scene, name, Exempt{[&](Vec2 p) { return distance_to_boundary(light, p) / pixel; }});
+  }
 }

@@ -686,12 +686,23 @@ double entry_with_hint(const ConvexShape& s, Vec2 x, Vec2 dir, int& hint) noexce
 
 }  // namespace
 
+namespace {
+
+// kContactTolerance relative to the shape's coordinates, as occluder_first's tolerance is
+// relative to the light point's: a huge other shape must not widen what counts as a contact.
+double contact_tolerance_of(const ConvexShape& s) noexcept {
+  return kContactTolerance *
+         std::max({std::abs(s.bounds_min.x), std::abs(s.bounds_min.y), std::abs(s.bounds_max.x), std::abs(s.bounds_max.y)});
+}
+
+}  // namespace
+
+bool meets_within_contact(const ConvexShape& light, const ConvexShape& occluder) noexcept {
+  return shape_distance(light, occluder) <= contact_tolerance_of(light);
+}
+
 bool contained_within_contact(const ConvexShape& inner, const ConvexShape& outer) noexcept {
-  // Relative to the inner shape's coordinates, as occluder_first's tolerance is relative to
-  // the light point's: a huge outer shape must not widen what counts as a contact.
-  const double scale = std::max({std::abs(inner.bounds_min.x), std::abs(inner.bounds_min.y), std::abs(inner.bounds_max.x),
-                                 std::abs(inner.bounds_max.y)});
-  const double tolerance = kContactTolerance * scale;
+  const double tolerance = contact_tolerance_of(inner);
   if (inner.kind != ShapeKind::circle) {
     // Convex: the hull of the vertices lies in the (grown) convex outer shape with them.
     for (Vec2 v : inner.vertices)

@@ -109,6 +109,12 @@ inline constexpr double kContactTolerance = 0x1p-40;
 // hidden from every point: a ray to any of its points meets the occluder no later.
 bool contained_within_contact(const ConvexShape& inner, const ConvexShape& outer) noexcept;
 
+// Whether `light` meets the closed `occluder` or comes within kContactTolerance of it
+// (relative to the light's coordinates, as above): the pairs whose depth order the reference
+// decides by contact, which a fast path must not take for disjoint. A segment light cut from
+// an occluder's edge lies off the edge's line by rounding, on either side.
+bool meets_within_contact(const ConvexShape& light, const ConvexShape& occluder) noexcept;
+
 // Polygon edges where the last rays entered the two shapes (-1: none yet). Rays cast in
 // angular order from one point enter a convex polygon along its near chain in order, so
 // starting from the last entry edge and walking finds the next in O(1) amortized, where a

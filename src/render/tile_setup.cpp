@@ -105,14 +105,28 @@ TileFrame tile_frame(const PreparedScene& scene, Vec2 origin) noexcept {
 }
 
 // Half sizes, in kernel units (about pixels), of the boxes around a tile that shapes are
-// clipped to. Cutting a shape at distance D changes the directions in which it is seen from
-// the tile by at most about tile size / D (2^-14 rad at 2^18: about 1e-5 of a light's
-// emission, a tenth of the contract's 1e-4 bound),
-// and within the near box float products (up to ~2^82) stay in range. A shape that misses
-// the near box is clipped to the far one (its coordinates then stay below TileFrame::kLimit);
-// one that misses both lies more than 2^58 pixels from the tile.
+// clipped to. Cutting a shape at distance D turns each direction in which a pixel sees it
+// along an edge running out past D by about h / D, h the pixel's distance from that edge's
+// line (a half-plane light whose edge passes h from a pixel subtends pi; clipped, pi - 2h/D).
+// So the box grows with the shape's distance h from the tile: D = 2^17 (h - tile half
+// diagonal), at least 2^18, keeps h / D under 2^-14 (about 1e-5 of the light's emission, a
+// tenth of the contract's 1e-4 bound) for the tile's nearest and farthest pixels. A fixed
+// 2^18 box put 8 % of a band light's emission at 2^17 pixels out of sight. D can be that
+// large because float side tests against vertices at D err by about D^2 2^-24, and the value
+// they decide is about h D: the margin h 2^24 / D stays 2^7. The box stops at 2^58 (float
+// products of its coordinates, up to 2^116, stay in range); one that misses it lies more than
+// 2^58 pixels from the tile.
 constexpr double kNearHalf = 0x1p18;
 constexpr double kFarHalf = 0x1p58;
+constexpr double kBoxPerDistance = 0x1p17;
+constexpr double kTileHalfDiagonal = 0.7072 * kTileSize;
+
+// Half size of the box around the tile that `s` (reaching past kNearHalf) is clipped to.
+double clip_half_size(const ConvexShape& s, const TileFrame& frame, Vec2 tile_center) noexcept {
+  const double h = distance_to_shape(s, tile_center) * frame.scale;
+  const double half = kBoxPerDistance * (h - kTileHalfDiagonal);
+  return (half > kNearHalf ? std::min(half, kFarHalf) : kNearHalf) / frame.scale;
+}
 // A circle of a larger radius (kernel units) is replaced by the circle of this radius with
 // the same point nearest the tile and the same normal there: a subset of it that departs from
 // it, over the near box, by under 2^40 / 2^60 radians as seen from the tile, and whose
@@ -130,8 +144,8 @@ const ConvexShape& near_shape(const ConvexShape& s, const TileFrame& frame, Vec2
   if (s.bounds_min.x >= tile_center.x - near && s.bounds_max.x <= tile_center.x + near &&
       s.bounds_min.y >= tile_center.y - near && s.bounds_max.y <= tile_center.y + near)
     return s;
-  if (clip_to_box(s, tile_center, near, clipped, tmp)) return clipped;
-  if (clip_to_box(s, tile_center, kFarHalf / frame.scale, clipped, tmp)) return clipped;
+  // The box reaches past the shape's nearest point unless capped at kFarHalf.
+  if (clip_to_box(s, tile_center, clip_half_size(s, frame, tile_center), clipped, tmp)) return clipped;
   return s;
 }
 
@@ -148,8 +162,9 @@ std::uint32_t grow_vertices(TileWork& work, std::size_t count) {
 }
 
 // A circle whose nearest point lies more than 2^50 kernel units from the tile origin is seen
-// scaled about the origin by a power of two (this exponent) that brings it to 2^50: its
-// directions from the origin do not change, from elsewhere in the tile by under 2^-45 rad,
+// scaled about the origin by a power of two (this exponent) that brings it to 2^50 (2^28 if
+// its radius is then still capped): its directions from the origin do not change, from
+// elsewhere in the tile by under 2^-24 rad,
 // and float holds its coordinates (a light 1e300 pixels off in a view 1e-300 wide).
 int far_circle_shift(const ConvexShape& s, const TileFrame& frame, Vec2 tile_center) noexcept {
   if (!frame.far || s.kind != ShapeKind::circle) return 0;
@@ -157,7 +172,13 @@ int far_circle_shift(const ConvexShape& s, const TileFrame& frame, Vec2 tile_cen
   const double d = length((tile_center - frame.origin) + to_circle_boundary(c, s.radius, tile_center));
   if (!(d > 0.0) || !std::isfinite(d)) return 0;
   const int e = std::ilogb(d) + std::ilogb(frame.scale);
-  return e > 50 ? 50 - e : 0;
+  // A circle whose radius stays above kMaxRadius is replaced by one of that radius tangent at
+  // the nearest point; seen from distance h that subtends 2 sqrt(2 h / kMaxRadius) rad less
+  // than a half-plane (an eighth of a radian at 2^50: 2 % of a light 1e106 pixels off with a
+  // radius of 1e122). Brought to 2^28, under 2^-14 rad.
+  const int radius_e = std::ilogb(s.radius) + std::ilogb(frame.scale);
+  const int target = radius_e - std::max(0, e - 50) >= std::ilogb(kMaxRadius) ? 28 : 50;
+  return e > target ? target - e : 0;
 }
 
 // Whether the kernel gets `s` changed (near_shape, or a circle's radius capped).

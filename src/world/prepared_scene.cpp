@@ -279,7 +279,7 @@ void find_light_overlaps(const PreparedScene& scene, PreparedLight& light, std::
   scene.occluder_bvh.query_box({ls.bounds_min.x, ls.bounds_min.y, ls.bounds_max.x, ls.bounds_max.y}, near);
   for (std::uint32_t k : near) {
     const ConvexShape& occ = scene.occluders[k];
-    if (shape_distance(ls, occ) > 0.0) continue;
+    if (!meets_within_contact(ls, occ)) continue;
     light.overlapping_occluders.push_back(k);
     light.overlap_points.emplace_back();
     boundary_intersections(ls, occ, light.overlap_points.back());

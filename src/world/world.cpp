@@ -448,7 +448,7 @@ void World::occluder_changed(std::size_t k, const Aabb* old_box) {
   const auto index = static_cast<std::uint32_t>(k);
   for (PreparedLight& light : scene_.lights) {
     erase_overlap(light, index);
-    if (!meet(box_of(light.shape), box) || shape_distance(light.shape, occ) > 0.0) continue;
+    if (!meet(box_of(light.shape), box) || !meets_within_contact(light.shape, occ)) continue;
     std::vector<Vec2> points;
     boundary_intersections(light.shape, occ, points);
     insert_overlap(light, index, std::move(points));
