@@ -11,15 +11,16 @@ using namespace par2d;
 
 // A light n-gon and an occluder (0.37·n)-gon on the same circle: their boundaries cross
 // ~0.74·n times, every crossing a direction where the nearer shape may change.
+Polygon ngon(double cx, double cy, double r, int count, double phase) {
+  Polygon p;
+  for (int k = 0; k < count; ++k) {
+    const double a = phase + 2.0 * 3.14159265358979323846 * k / count;
+    p.vertices.push_back({cx + r * std::cos(a), cy + r * std::sin(a)});
+  }
+  return p;
+}
+
 Scene overlapping_polygons(int n) {
-  auto ngon = [](double cx, double cy, double r, int count, double phase) {
-    Polygon p;
-    for (int k = 0; k < count; ++k) {
-      const double a = phase + 2.0 * 3.14159265358979323846 * k / count;
-      p.vertices.push_back({cx + r * std::cos(a), cy + r * std::sin(a)});
-    }
-    return p;
-  };
   Scene s;
   s.width = s.height = 8;
   s.view = {0, 0, 24, 24};
@@ -38,5 +39,26 @@ void BM_OverlappingPolygons(benchmark::State& state) {
 }
 // Linear cost shows as time proportional to n (it was proportional to n^2: 27 s at 7300).
 BENCHMARK(BM_OverlappingPolygons)->Arg(900)->Arg(1800)->Arg(3600)->Arg(7300)->Unit(benchmark::kMillisecond);
+
+// A light (0.37 n)-gon nested in an occluder n-gon without touching it: distance 0 with no
+// boundary crossing, which cost n * 0.37 n point-edge distances before the containment test.
+Scene nested_polygons(int n) {
+  Scene s;
+  s.width = s.height = 8;
+  s.view = {0, 0, 24, 24};
+  Light light;
+  light.shape = ngon(12, 12, 3, static_cast<int>(0.37 * n), 0.3);
+  s.lights.push_back(light);
+  s.occluders.push_back({ngon(12, 12, 9, n, 0.0)});
+  return s;
+}
+
+void BM_NestedPolygons(benchmark::State& state) {
+  RenderOptions options;
+  options.backend = Backend::scalar;
+  options.threads = 1;
+  bench::run_render(state, nested_polygons(static_cast<int>(state.range(0))), options);
+}
+BENCHMARK(BM_NestedPolygons)->Arg(900)->Arg(1800)->Arg(3600)->Arg(7300)->Unit(benchmark::kMillisecond);
 
 }  // namespace

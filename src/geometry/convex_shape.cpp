@@ -2,6 +2,7 @@
 #include "geometry/convex_shape.hpp"
 
 #include <algorithm>
+#include <utility>
 #include <cmath>
 #include <limits>
 
@@ -290,6 +291,15 @@ double core_distance(const ConvexShape& a, const ConvexShape& b, Vec2& pa, Vec2&
     return true;
   });
   if (crossing) return 0.0;
+  // Without crossings, one core inside the other (a many-gon light nested in a many-gon
+  // occluder) is at distance 0: found at once, where the vertex loops below would measure
+  // every vertex of one against every edge of the other, n * m.
+  for (const auto& [inner, outer] : {std::pair{&a, &b}, std::pair{&b, &a}}) {
+    if (core_contains(*outer, inner->vertices[0])) {
+      pa = pb = inner->vertices[0];
+      return 0.0;
+    }
+  }
   // Bounding circles of the cores about their centroids (inside them).
   auto bounding_radius = [](const ConvexShape& s) {
     double r = 0.0;
