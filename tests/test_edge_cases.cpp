@@ -232,6 +232,39 @@ TEST_CASE("coordinates of 1e7 with a view 1e-3 wide: circle light gives 2·asin(
     }
 }
 
+TEST_CASE("a segment light five ulps long at 1e15: angle(a - x, b - x) at every point of the coordinate grid near it") {
+  // Regression (FINDINGS.md #6): the scalar path measured a shape's span from the direction to
+  // its centroid, which for a segment is its midpoint, rounded off the segment far from the
+  // origin (0.06 units here); seen from under a unit away that direction fell outside the
+  // segment's span, which grew to include it: 0.0563 instead of 0.0514 at (0.25, 0.75).
+  const double base = 1e15;  // coordinates 0.125 apart
+  const Vec2 a{base, base + 0.125}, b{base - 0.375, base - 0.375};
+  for (int i = -4; i <= 4; ++i) {
+    for (int j = -4; j <= 8; ++j) {
+      const Vec2 x{base + 0.125 * i, base + 0.125 * j};
+      // One pixel centered on x (the view's corners are on the grid too).
+      Scene scene;
+      scene.width = scene.height = 1;
+      scene.view = {x.x - 0.125, x.y - 0.125, x.x + 0.125, x.y + 0.125};
+      scene.lights.push_back(white_light(Segment{a, b}));
+      const Vec2 da{a.x - x.x, a.y - x.y}, db{b.x - x.x, b.y - x.y};  // exact: nearby doubles
+      const double cross = da.x * db.y - da.y * db.x, dot = da.x * db.x + da.y * db.y;
+      if (cross == 0.0) continue;  // on the segment's line: a boundary, or seen edge-on
+      const double expected = std::abs(std::atan2(cross, dot)) / (2.0 * kPi);
+      Status status;
+      const RenderedImage scalar = test::render_image(scene, scalar_options(), status);
+      REQUIRE(status.ok());
+      INFO("x = base + (", 0.125 * i, ", ", 0.125 * j, ")");
+      CHECK(std::fabs(scalar.at(0, 0, 0) - expected) <= kScalarBound);
+      for (Isa isa : simd_isas()) {
+        const RenderedImage simd = test::render_image(scene, simd_options(isa), status);
+        REQUIRE(status.ok());
+        CHECK(std::fabs(simd.at(0, 0, 0) - expected) <= kSimdBound);
+      }
+    }
+  }
+}
+
 TEST_CASE("translating an occluded scene by 1e7 keeps the scalar image within twice the scalar bound") {
   Scene near;
   near.width = 12;

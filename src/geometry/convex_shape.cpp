@@ -589,9 +589,12 @@ AngularSpan angular_span(const ConvexShape& s, Vec2 x) noexcept {
     span.width = 2.0 * half;
     return span;
   }
-  // Outside a convex shape every vertex lies within less than pi of the direction to an
-  // interior point, so angles relative to that direction order the vertices exactly.
-  const Vec2 ref = s.centroid - x;
+  // Outside a convex shape the directions to its vertices span less than pi, so angles
+  // relative to the direction to one of them order them all exactly. (The centroid, an
+  // interior point, served before; but a segment's midpoint rounds off the segment far from
+  // the origin, 0.06 units at 1e15, and seen from 0.8 units away that direction fell outside
+  // the segment's span, which the span then grew to include: 0.056 instead of 0.051.)
+  const Vec2 ref = s.vertices[0] - x;
   double lo = 0.0, hi = 0.0;
   for (Vec2 v : s.vertices) {
     const Vec2 d = v - x;
