@@ -589,18 +589,32 @@ AngularSpan angular_span(const ConvexShape& s, Vec2 x) noexcept {
     span.width = 2.0 * half;
     return span;
   }
-  // Outside a convex shape the directions to its vertices span less than pi, so angles
-  // relative to the direction to one of them order them all exactly. (The centroid, an
-  // interior point, served before; but a segment's midpoint rounds off the segment far from
-  // the origin, 0.06 units at 1e15, and seen from 0.8 units away that direction fell outside
-  // the segment's span, which the span then grew to include: 0.056 instead of 0.051.)
-  const Vec2 ref = s.vertices[0] - x;
-  double lo = 0.0, hi = 0.0;
-  for (Vec2 v : s.vertices) {
-    const Vec2 d = v - x;
-    const double a = std::atan2(cross(ref, d), dot(ref, d));
-    lo = std::min(lo, a);
-    hi = std::max(hi, a);
+  // Outside a convex shape every vertex lies within less than pi of the direction to an
+  // interior point, so angles relative to that direction order the vertices exactly (relative
+  // to a vertex instead, a half-plane-like polygon seen from near its edge puts the other end
+  // near +-pi, where the sign of a cancelling cross product decides). The span is the range
+  // of the vertices' angles alone.
+  auto measure = [&](Vec2 ref, double& lo, double& hi) {
+    lo = kInfinity;
+    hi = -kInfinity;
+    for (Vec2 v : s.vertices) {
+      const Vec2 d = v - x;
+      const double a = std::atan2(cross(ref, d), dot(ref, d));
+      lo = std::min(lo, a);
+      hi = std::max(hi, a);
+    }
+  };
+  Vec2 ref = s.centroid - x;
+  double lo, hi;
+  measure(ref, lo, hi);
+  if (!(lo <= 0.0 && hi >= 0.0) || (ref.x == 0.0 && ref.y == 0.0)) {
+    // The stored centroid is rounded to its coordinates' ulp: for a shape a few ulps across
+    // (a segment 5 ulps long at 1e15) it can fall off the shape, outside the span (or onto x).
+    // The sum of the vertices' offsets from x points to the centroid without that rounding
+    // wherever the shape is near x; far from x the stored centroid was inside already.
+    ref = {0.0, 0.0};
+    for (Vec2 v : s.vertices) ref = ref + (v - x);
+    measure(ref, lo, hi);
   }
   span.start = wrap_angle(std::atan2(ref.y, ref.x) + lo);
   span.width = hi - lo;

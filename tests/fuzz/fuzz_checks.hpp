@@ -178,7 +178,8 @@ inline FuzzScene decode_scene(ByteReader& in) {
   return f;
 }
 
-// Whether every light is apart from every occluder: docs/contract.md section 5's SIMD bound needs it.
+// Whether every light is apart from every occluder by more than the contact tolerance
+// (meets_within_contact: closer pairs count as touching): docs/contract.md section 5 needs it.
 // Shapes are scaled by one power of two (exact) that brings every coordinate to 2^500 or
 // below, as the renderers do: the distance code squares coordinates, and 1e300 squared is inf.
 inline bool lights_disjoint_from_occluders(const Scene& scene) {
@@ -211,7 +212,7 @@ inline bool lights_disjoint_from_occluders(const Scene& scene) {
   for (const Light& l : scene.lights) {
     const detail::ConvexShape ls = scaled(l.shape);
     for (const Occluder& o : scene.occluders)
-      if (!(detail::shape_distance(ls, scaled(o.shape)) > 0.0)) return false;
+      if (detail::meets_within_contact(ls, scaled(o.shape))) return false;
   }
   return true;
 }
