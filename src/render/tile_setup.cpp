@@ -127,6 +127,7 @@ double clip_half_size(const ConvexShape& s, const TileFrame& frame, Vec2 tile_ce
   const double half = kBoxPerDistance * (h - kTileHalfDiagonal);
   return (half > kNearHalf ? std::min(half, kFarHalf) : kNearHalf) / frame.scale;
 }
+
 // A circle of a larger radius (kernel units) is replaced by the circle of this radius with
 // the same point nearest the tile and the same normal there: a subset of it that departs from
 // it, over the near box, by under 2^40 / 2^60 radians as seen from the tile, and whose
