@@ -70,7 +70,7 @@ double offset_from_center(Vec2 a, Vec2 b, Vec2 center) noexcept {
 // `outside` does).
 Vec2 crossing(const Side& side, Vec2 center, Vec2 n, double offset, Vec2 inside, Vec2 outside) noexcept {
   if (side.axis == 0 && n.y != 0.0) {
-    const double local = side.value - center.x;  // exactly +-half, the box being that size
+    const double local = side.value - center.x;  // +-half, as the side was placed
     return {side.value, center.y + (offset - n.x * local) / n.y};
   }
   if (side.axis == 1 && n.x != 0.0) {
