@@ -21,14 +21,18 @@ bool apart(const Placed& a, const Placed& b, double gap) {
   return std::hypot(a.center.x - b.center.x, a.center.y - b.center.y) > a.radius + b.radius + gap;
 }
 
-// A power of two bringing the largest of the magnitudes to 2^500 or below: products of
-// scaled coordinates of 1e307 then fit a double, and scaling is exact.
+// A power of two bringing the largest of the magnitudes to 2^500 or below (products of
+// scaled coordinates of 1e307 then fit a double), or tiny ones up to about 1 (their products
+// would underflow); scaling is exact.
 double product_scale(std::initializer_list<double> values) noexcept {
   double largest = 0.0;
   for (double v : values) largest = std::max(largest, std::fabs(v));
   int exponent = 0;
   std::frexp(largest, &exponent);
-  return exponent > 500 ? std::ldexp(1.0, 500 - exponent) : 1.0;
+  if (exponent > 500) return std::ldexp(1.0, 500 - exponent);
+  // Tiny coordinates (views of 1e-200 per pixel): squared lengths underflow to 0 below 1e-154.
+  if (exponent < -500 && largest > 0.0) return std::ldexp(1.0, -exponent);
+  return 1.0;
 }
 
 double point_segment_distance(Vec2 p, Vec2 a, Vec2 b) noexcept {
