@@ -68,14 +68,34 @@ inline Vec2 centroid(const Aabb& b) noexcept {
 
 // Axis of hull edge i -> i+1 (unit length, so projections keep the coordinates' magnitude and
 // neither overflow for huge nor underflow for tiny scenes). Returns false for a zero-length edge,
-// which separates nothing.
-inline bool edge_axis(const Vec2* hull, int count, int i, ConvexQuery::Axis& axis) noexcept {
+// which separates nothing. `orientation`: +1 for a counterclockwise hull, -1 clockwise, 0 when
+// unknown (a segment, or no area). With a known orientation only the edge's outer side is
+// kept (the hull lies behind its edge's line, and two disjoint convex polygons always have an
+// edge of one with the other wholly on its outer side), in O(1): the hull's full extent along
+// each of n edges cost n^2 per box, 3.9e9 instructions for one 6218-gon light's reach.
+inline bool edge_axis(const Vec2* hull, int count, int i, int orientation, ConvexQuery::Axis& axis) noexcept {
   const Vec2 a = hull[i];
   const Vec2 b = hull[(i + 1) % count];
   const double len = length(b - a);
   if (!(len > 0.0) || !std::isfinite(len)) return false;
   axis.nx = (a.y - b.y) / len;
   axis.ny = (b.x - a.x) / len;
+  if (orientation != 0) {
+    // (nx, ny) is the edge's left-hand normal: it points into a counterclockwise hull, which
+    // then lies at projections >= the edge's. The edge's projection is widened by far more
+    // than its rounding (nearly straight neighbours may project an ulp beyond it): touching
+    // boxes still count.
+    const double pa = axis.nx * a.x + axis.ny * a.y, pb = axis.nx * b.x + axis.ny * b.y;
+    const double margin = 0x1p-40 * std::max({std::abs(a.x), std::abs(a.y), std::abs(b.x), std::abs(b.y)});
+    if (orientation > 0) {
+      axis.lo = std::min(pa, pb) - margin;
+      axis.hi = kInf;
+    } else {
+      axis.lo = -kInf;
+      axis.hi = std::max(pa, pb) + margin;
+    }
+    return true;
+  }
   axis.lo = kInf;
   axis.hi = -kInf;
   for (int k = 0; k < count; ++k) {
@@ -84,6 +104,21 @@ inline bool edge_axis(const Vec2* hull, int count, int i, ConvexQuery::Axis& axi
     axis.hi = std::max(axis.hi, p);
   }
   return true;
+}
+
+// +1 for a counterclockwise hull of at least 3 points, -1 clockwise, 0 otherwise (twice the
+// signed area, summed relative to the first point; a sliver whose sign rounding could flip
+// is treated as unknown).
+inline int hull_orientation(const Vec2* hull, int count) noexcept {
+  if (count < 3) return 0;
+  double area = 0.0, magnitude = 0.0;
+  for (int k = 1; k + 1 < count; ++k) {
+    const Vec2 u = hull[k] - hull[0], v = hull[k + 1] - hull[0];
+    area += u.x * v.y - u.y * v.x;
+    magnitude += std::abs(u.x * v.y) + std::abs(u.y * v.x);
+  }
+  if (!std::isfinite(area) || !(std::abs(area) > 0x1p-30 * magnitude)) return 0;
+  return area > 0.0 ? 1 : -1;
 }
 
 // Picks the box corner that minimises / maximises the projection. Each term is monotone in the
@@ -101,9 +136,10 @@ ConvexQuery::ConvexQuery(const Vec2* hull, int count) noexcept : hull_(hull), co
   bounds_ = kEmptyBox;
   for (int i = 0; i < count; ++i) grow(bounds_, hull[i]);
   edges_ = count < 2 ? 0 : (count == 2 ? 1 : count);
+  orientation_ = hull_orientation(hull, count);
   const int cached = std::min(edges_, kMaxCachedAxes);
   for (int i = 0; i < cached; ++i) {
-    if (edge_axis(hull, count, i, axes_[axis_count_])) ++axis_count_;
+    if (edge_axis(hull, count, i, orientation_, axes_[axis_count_])) ++axis_count_;
   }
 }
 
@@ -119,7 +155,7 @@ bool ConvexQuery::touches(const Aabb& b) const noexcept {
   if (!may_touch(b)) return false;
   for (int i = kMaxCachedAxes; i < edges_; ++i) {
     Axis axis;
-    if (edge_axis(hull_, count_, i, axis) && axis_separates(axis, b)) return false;
+    if (edge_axis(hull_, count_, i, orientation_, axis) && axis_separates(axis, b)) return false;
   }
   return true;
 }

@@ -55,6 +55,7 @@ class ConvexQuery {
   const Vec2* hull_;
   int count_;
   int edges_ = 0;
+  int orientation_ = 0;  // +1 counterclockwise, -1 clockwise, 0 unknown (see edge_axis)
   int axis_count_ = 0;
   Aabb bounds_;
   Axis axes_[kMaxCachedAxes];
