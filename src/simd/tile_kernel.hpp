@@ -974,6 +974,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
     B reach0(0.0f);
     auto dark_inside = none;  // in an opaque dark occluder acting on the light: it contributes 0
     std::size_t n = 0;
+    bool hidden = false;  // covered in every lane by one opaque arc (or a dark interior)
     for (std::size_t p = 0; p < light.pair_count; ++p) {
       const KernelPair& pair = work.pairs[light.first_pair + p];
       const KernelOccluderTerms& occ_terms = work.occluder_terms[pair.occluder];
@@ -1020,6 +1021,13 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
         if (!split_wraps) {  // owners matter only to the translucent pieces
           ++n;
           reach0 = xsimd::select(blocks, xsimd::max(reach0, xsimd::min(end - B(kTwoPiF), width)), reach0);
+          // As in the plain kernel: one opaque arc holding the light's in every lane (or the
+          // lane inside a dark occluder) leaves no gap, so the light adds exactly 0 under any
+          // profile and window, and the rest of its pairs and its profile are skipped.
+          if (xsimd::all((reach0 >= width) | dark_inside)) {
+            hidden = true;
+            break;
+          }
           continue;
         }
         owner[n] = static_cast<float>(pair.occluder);
@@ -1051,6 +1059,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
       owner[n] = static_cast<float>(pair.occluder);
       ++n;
     }
+    if (hidden) continue;
     profile.p.cone = terms.cone;
     if (terms.cone) {
       detail::set_profile_cone(profile.p, arc.start, terms.cone_center, terms.cone_half, terms.cone_fade);

@@ -53,7 +53,10 @@ FILTER='*SIMD*,*simd*,*ISA*,*isa*,*culling*,*closed*,*circle light*,*segment lig
 # the random-scene and far-shape cases here.
 SLOW='culling is exact with up to 1000 occluders*,culling is exact in a dense field*,the lighting-model examples*,small occluders and small lights*,huge slanted segments*,huge circles through the view*'
 unset PAR2D_ISA
-run "$BUILD/tests/par2d_tests" --test-case="$FILTER" --test-case-exclude="$SLOW"
+# One case per emulated process, on every core (sharded.sh).
+echo "+ sharded: ${QEMU[*]} $BUILD/tests/par2d_tests --test-case=... --test-case-exclude=..."
+SHARD_WRAPPER="${QEMU[*]}" JOBS="$JOBS" tools/ci/sharded.sh "$BUILD/tests/par2d_tests" \
+  --test-case="$FILTER" --test-case-exclude="$SLOW"
 # ISA selection with PAR2D_ISA forced to each level (as ctest does natively): scalar must be
 # honoured, neon64 kept, and x86 names fall back to the best level the CPU has.
 for isa in scalar neon64 avx2; do

@@ -27,10 +27,14 @@ run_asan() {
   local t1; t1=$(stamp)
   # The whole suite once (its SIMD tests force every ISA in turn themselves); the re-runs with
   # PAR2D_ISA forced (ctest's *_isa_* entries) add nothing under a sanitizer but time.
+  # par2d_tests, most of the time, runs one case per process on every core (sharded.sh), from
+  # its ctest working directory; ctest runs the other entries.
   # detect_leaks: LeakSanitizer must be clean too (it is on by default on x86-64 Linux; say so).
-  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1 \
-  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    ctest --test-dir build-asan --output-on-failure -E '_isa_'
+  export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1
+  export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+  (cd build-asan/tests && JOBS="$JOBS" "$ROOT/tools/ci/sharded.sh" ./par2d_tests)
+  ctest --test-dir build-asan --output-on-failure -j"$JOBS" -E '_isa_|^par2d_tests$'
+  unset ASAN_OPTIONS UBSAN_OPTIONS
   echo "sanitizers.sh: asan+ubsan build $((t1 - t0)) s, tests $(( $(stamp) - t1 )) s"
 }
 
@@ -41,9 +45,9 @@ run_tsan() {
         -DPAR2D_BUILD_BENCH=OFF -DPAR2D_BUILD_TOOLS=OFF -DPAR2D_BUILD_FUZZ=OFF >/dev/null
   cmake --build build-tsan -j"$JOBS" --target par2d_tests
   local t1; t1=$(stamp)
-  TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" \
-    ./build-tsan/tests/par2d_tests \
-      -tc='*thread*,*SIMD*,*simd*,*culling*,*culled*,*raycast backend*,*random scenes*,*contact*' --no-intro=true
+  TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" JOBS="$JOBS" \
+    tools/ci/sharded.sh ./build-tsan/tests/par2d_tests \
+      -tc='*thread*,*SIMD*,*simd*,*culling*,*culled*,*raycast backend*,*random scenes*,*contact*'
   echo "sanitizers.sh: tsan build $((t1 - t0)) s, tests $(( $(stamp) - t1 )) s"
 }
 
