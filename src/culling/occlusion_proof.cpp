@@ -328,11 +328,13 @@ bool segments_blocked(const Vec2* viewer, int viewer_count, Vec2 axis, const Con
   const double l_min = gap / light_far;
   const double q_lo = std::min(light_v_lo, light_v_lo + (1.0 - l_min) * (viewer_v_lo - light_v_lo));
   const double q_hi = std::max(light_v_hi, light_v_hi + (1.0 - l_min) * (viewer_v_hi - light_v_hi));
+  // Strips are taken coarsest first (a queue): a proof succeeds only when every strip of the
+  // whole split tree is proven within the budget, whatever the order, but a failing one meets
+  // a gap at a coarse middle pencil sooner than by proving one half to the end first.
   scratch.strips.assign(1, {q_lo, q_hi});
   int strips = 0;
-  while (!scratch.strips.empty()) {
-    const auto [q0, q1] = scratch.strips.back();
-    scratch.strips.pop_back();
+  for (std::size_t next = 0; next < scratch.strips.size(); ++next) {
+    const auto [q0, q1] = scratch.strips[next];
     if (++strips > strip_budget) return false;
     if (cover_strip(scratch, q0, q1, eps, scratch.intervals) == Cover::proven) continue;
     const double mid = 0.5 * (q0 + q1);
