@@ -239,7 +239,7 @@ TEST_CASE("a wall that stops short of the rectangle's reach is no proof; one occ
   CHECK(detail::rect_hidden_from_light({0, 0}, {10, 10}, light, full_wall, &id, 1, 64, scratch));
 }
 
-TEST_CASE("a pillar that hides the light's centroid from the whole rectangle is refused by a probe toward the light's side") {
+TEST_CASE("proof probes: a pillar that hides the light's centroid from the whole rectangle is refused by a probe toward the light's side") {
   // Light: a circle of radius 3 at (60, 5); viewer: the rectangle [0, 10]^2. The pillar close
   // to the light blocks every line to the centroid (|y - 5| <= 0.42 at x = 55), not those to
   // the light's top and bottom, so the probes refuse the proof before its setup; a full wall
@@ -251,11 +251,14 @@ TEST_CASE("a pillar that hides the light's centroid from the whole rectangle is 
   for (const Vec2 v : {Vec2{0, 0}, Vec2{10, 0}, Vec2{10, 10}, Vec2{0, 10}, Vec2{5, 5}})
     CHECK_FALSE(detail::segment_passes(v, light.centroid, pillar, &id, 1));
   detail::OcclusionProofScratch scratch;
-  CHECK_FALSE(detail::rect_hidden_from_light({0, 0}, {10, 10}, light, pillar, &id, 1, 64, scratch));
+  CHECK_FALSE(detail::rect_hidden_from_light({0, 0}, {10, 10}, light, pillar, &id, 1, 64, scratch, true));
   CHECK(scratch.proofs_probed_out == 1);
-  CHECK(detail::rect_hidden_from_light({0, 0}, {10, 10}, light, wall, &id, 1, 64, scratch));
+  CHECK(detail::rect_hidden_from_light({0, 0}, {10, 10}, light, wall, &id, 1, 64, scratch, true));
   CHECK(scratch.proofs_probed_out == 1);
-  CHECK(scratch.proofs_tried == 2);
+  // Without probing, the pillar's proof is refused too, but only by the proof itself.
+  CHECK_FALSE(detail::rect_hidden_from_light({0, 0}, {10, 10}, light, pillar, &id, 1, 64, scratch, false));
+  CHECK(scratch.proofs_probed_out == 1);
+  CHECK(scratch.proofs_tried == 3);
   CHECK(scratch.proofs_succeeded == 1);
 }
 

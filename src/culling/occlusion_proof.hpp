@@ -45,9 +45,11 @@ struct OcclusionProofScratch {
 // strip that is not proven is split; a single line (p, q) at a strip's middle height that
 // meets both shapes and passes every occluder ends the search.
 //
-// Before any of that, probe segments from the viewer points, their mean and points along the
-// viewer polygon's sides to the light's centroid and its two points farthest across `axis`:
-// one that passes every occluder shows the light seen, and refuses the proof cheaply.
+// Before any of that, segments from the viewer points and their mean to the light's centroid;
+// with `probe`, also from points along the viewer polygon's sides, and to the light's two
+// points farthest across `axis`: one that passes every occluder shows the light seen, and
+// refuses the proof cheaply. Probing pays where most proofs fail (tiles among rubble, below
+// tile_setup.cpp's measurements), not where most succeed (a block behind a dungeon's wall).
 //
 // Conservative: false means "not proven" (the light may be hidden all the same), also when
 // more than `strip_budget` strips would be needed, and when the proof would hang on less
@@ -55,7 +57,7 @@ struct OcclusionProofScratch {
 // circle lights as circumscribed octagons.
 bool segments_blocked(const Vec2* viewer, int viewer_count, Vec2 axis, const ConvexShape& light,
                       const std::vector<ConvexShape>& occluders, const std::uint32_t* ids, std::size_t count,
-                      int strip_budget, OcclusionProofScratch& scratch);
+                      int strip_budget, OcclusionProofScratch& scratch, bool probe = false);
 
 // Whether the segment [a, b] certainly meets none of the occluders `ids[0..count)` (closed
 // shapes; a touch counts as a meeting). Then no proof that they hide b from a can succeed.
@@ -66,6 +68,6 @@ bool segment_passes(Vec2 a, Vec2 b, const std::vector<ConvexShape>& occluders, c
 // to the light's box (false when the boxes' projections overlap on both axes).
 bool rect_hidden_from_light(Vec2 lo, Vec2 hi, const ConvexShape& light, const std::vector<ConvexShape>& occluders,
                             const std::uint32_t* ids, std::size_t count, int strip_budget,
-                            OcclusionProofScratch& scratch);
+                            OcclusionProofScratch& scratch, bool probe = false);
 
 }  // namespace par2d::detail
