@@ -24,7 +24,7 @@ struct OcclusionProofScratch {
   std::vector<std::pair<double, double>> strips;
   // Counts for FrameStats, accumulated over calls until the owner resets them.
   std::uint64_t proofs_tried = 0, proofs_succeeded = 0;
-  // Proofs refused before their setup by a probe segment that passes every occluder.
+  // Proofs refused before their setup by a segment to the light that passes every occluder.
   std::uint64_t proofs_probed_out = 0;
 };
 
@@ -45,11 +45,8 @@ struct OcclusionProofScratch {
 // strip that is not proven is split; a single line (p, q) at a strip's middle height that
 // meets both shapes and passes every occluder ends the search.
 //
-// Before any of that, segments from the viewer points and their mean to the light's centroid;
-// with `probe`, also from points along the viewer polygon's sides, and to the light's two
-// points farthest across `axis`: one that passes every occluder shows the light seen, and
-// refuses the proof cheaply. Probing pays where most proofs fail (tiles among rubble, below
-// tile_setup.cpp's measurements), not where most succeed (a block behind a dungeon's wall).
+// Before any of that, segments from the viewer points and their mean to the light's centroid:
+// one that passes every occluder shows the light seen, and refuses the proof cheaply.
 //
 // Conservative: false means "not proven" (the light may be hidden all the same), also when
 // more than `strip_budget` strips would be needed, and when the proof would hang on less
@@ -57,7 +54,7 @@ struct OcclusionProofScratch {
 // circle lights as circumscribed octagons.
 bool segments_blocked(const Vec2* viewer, int viewer_count, Vec2 axis, const ConvexShape& light,
                       const std::vector<ConvexShape>& occluders, const std::uint32_t* ids, std::size_t count,
-                      int strip_budget, OcclusionProofScratch& scratch, bool probe = false);
+                      int strip_budget, OcclusionProofScratch& scratch);
 
 // Whether the segment [a, b] certainly meets none of the occluders `ids[0..count)` (closed
 // shapes; a touch counts as a meeting). Then no proof that they hide b from a can succeed.
@@ -68,6 +65,6 @@ bool segment_passes(Vec2 a, Vec2 b, const std::vector<ConvexShape>& occluders, c
 // to the light's box (false when the boxes' projections overlap on both axes).
 bool rect_hidden_from_light(Vec2 lo, Vec2 hi, const ConvexShape& light, const std::vector<ConvexShape>& occluders,
                             const std::uint32_t* ids, std::size_t count, int strip_budget,
-                            OcclusionProofScratch& scratch, bool probe = false);
+                            OcclusionProofScratch& scratch);
 
 }  // namespace par2d::detail

@@ -559,10 +559,7 @@ int corners_in_front(const Line& line, const std::array<Vec2, 4>& corners) noexc
 // with fewer, the kernel's merge costs less than a failed proof. Measured with
 // bench/par2d_bench on the scaling targets and the dungeon: block budgets 16/32/64 and tile
 // budgets 8/16 moved frame times by under 10%; tile proofs saved ~15% on the 256-light
-// scene and cost nothing measurable on the others. Tile proofs probe more segments before
-// their setup (culling/occlusion_proof.hpp): among rubble most fail (87 % on a 960x540 field
-// of 1.5-4 px occluders), while block proofs behind a dungeon's walls mostly succeed and
-// would pay for the probes (+6 % instructions on the dungeon when blocks probed too).
+// scene and cost nothing measurable on the others.
 constexpr int kBlockStripBudget = 64;
 constexpr int kTileStripBudget = 16;
 constexpr std::size_t kTileProofMinPairs = 8;
@@ -816,7 +813,7 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
           scratch.pair_occluders.push_back(work.pairs[p].occluder);
       shadowed = rect_hidden_from_light({box.min_x, box.min_y}, {box.max_x, box.max_y}, light.shape, scene.occluders,
                                         scratch.pair_occluders.data(), scratch.pair_occluders.size(), kTileStripBudget,
-                                        scratch.occlusion, /*probe=*/true);
+                                        scratch.occlusion);
     }
     if (shadowed) {
       work.pairs.resize(kl.first_pair);
