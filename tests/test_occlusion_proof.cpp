@@ -239,6 +239,29 @@ TEST_CASE("a wall that stops short of the rectangle's reach is no proof; one occ
   CHECK(detail::rect_hidden_from_light({0, 0}, {10, 10}, light, full_wall, &id, 1, 64, scratch));
 }
 
+TEST_CASE("proofs refused before their setup: a segment to the light's centroid that passes; a pillar beside it is refused by the proof") {
+  // Light: a circle of radius 3 at (60, 5); viewer: the rectangle [0, 10]^2. The pillar close
+  // to the light blocks every line to the centroid (|y - 5| <= 0.42 at x = 55), not those to
+  // the light's top and bottom: the proof itself must refuse it. A full wall there is proven;
+  // an occluder off to the side leaves a segment to the centroid free, refused before setup.
+  const ConvexShape light = detail::make_convex_shape(Circle{{60.0, 5.0}, 3.0});
+  const std::vector<ConvexShape> pillar = {detail::make_convex_shape(Polygon{{{55, 4.4}, {56, 4.4}, {56, 5.6}, {55, 5.6}}})};
+  const std::vector<ConvexShape> wall = {detail::make_convex_shape(Polygon{{{55, -50}, {56, -50}, {56, 60}, {55, 60}}})};
+  const std::vector<ConvexShape> aside = {detail::make_convex_shape(Polygon{{{30, 20}, {32, 20}, {32, 40}, {30, 40}}})};
+  const std::uint32_t id = 0;
+  for (const Vec2 v : {Vec2{0, 0}, Vec2{10, 0}, Vec2{10, 10}, Vec2{0, 10}, Vec2{5, 5}})
+    CHECK_FALSE(detail::segment_passes(v, light.centroid, pillar, &id, 1));
+  detail::OcclusionProofScratch scratch;
+  CHECK_FALSE(detail::rect_hidden_from_light({0, 0}, {10, 10}, light, pillar, &id, 1, 64, scratch));
+  CHECK(scratch.proofs_probed_out == 0);
+  CHECK(detail::rect_hidden_from_light({0, 0}, {10, 10}, light, wall, &id, 1, 64, scratch));
+  CHECK(scratch.proofs_probed_out == 0);
+  CHECK_FALSE(detail::rect_hidden_from_light({0, 0}, {10, 10}, light, aside, &id, 1, 64, scratch));
+  CHECK(scratch.proofs_probed_out == 1);
+  CHECK(scratch.proofs_tried == 3);
+  CHECK(scratch.proofs_succeeded == 1);
+}
+
 TEST_CASE("every rectangle proof holds against brute-force segments and the scalar reference (300 random fields)") {
   PortableRandom rng(4242);
   detail::OcclusionProofScratch scratch;

@@ -150,6 +150,24 @@ bool segment_passes(Vec2 a, Vec2 b, const std::vector<ConvexShape>& occluders, c
   return true;
 }
 
+namespace {
+
+// segment_passes, trying first the occluder that blocked the previous probe (`hint`, an index
+// into ids, updated to this probe's blocker): neighbouring probes are mostly blocked by the
+// same occluder, so a proof that goes on to succeed pays less for its probes.
+bool probe_passes(Vec2 a, Vec2 b, const std::vector<ConvexShape>& occluders, const std::uint32_t* ids,
+                  std::size_t count, std::size_t& hint) noexcept {
+  if (hint < count && !segment_misses(a, b, occluders[ids[hint]])) return false;
+  for (std::size_t k = 0; k < count; ++k)
+    if (k != hint && !segment_misses(a, b, occluders[ids[k]])) {
+      hint = k;
+      return false;
+    }
+  return true;
+}
+
+}  // namespace
+
 bool segments_blocked(const Vec2* viewer, int viewer_count, Vec2 axis, const ConvexShape& light,
                       const std::vector<ConvexShape>& occluders, const std::uint32_t* ids, std::size_t count,
                       int strip_budget, OcclusionProofScratch& scratch) {
@@ -160,9 +178,13 @@ bool segments_blocked(const Vec2* viewer, int viewer_count, Vec2 axis, const Con
   Vec2 viewer_mean{0.0, 0.0};
   for (int i = 0; i < viewer_count; ++i) viewer_mean = viewer_mean + viewer[i];
   viewer_mean = (1.0 / viewer_count) * viewer_mean;
-  if (segment_passes(viewer_mean, light.centroid, occluders, ids, count)) return false;
-  for (int i = 0; i < viewer_count; ++i)
-    if (segment_passes(viewer[i], light.centroid, occluders, ids, count)) return false;
+  std::size_t hint = count;
+  bool seen = probe_passes(viewer_mean, light.centroid, occluders, ids, count, hint);
+  for (int i = 0; i < viewer_count && !seen; ++i) seen = probe_passes(viewer[i], light.centroid, occluders, ids, count, hint);
+  if (seen) {
+    ++scratch.proofs_probed_out;
+    return false;
+  }
   Frame frame{axis, viewer[0]};
   double magnitude = 0.0;
   for (const Vec2 p : {light.bounds_min, light.bounds_max}) magnitude = std::max({magnitude, std::abs(p.x), std::abs(p.y)});
@@ -279,11 +301,13 @@ bool segments_blocked(const Vec2* viewer, int viewer_count, Vec2 axis, const Con
   const double l_min = gap / light_far;
   const double q_lo = std::min(light_v_lo, light_v_lo + (1.0 - l_min) * (viewer_v_lo - light_v_lo));
   const double q_hi = std::max(light_v_hi, light_v_hi + (1.0 - l_min) * (viewer_v_hi - light_v_hi));
+  // Strips are taken coarsest first (a queue): a proof succeeds only when every strip of the
+  // whole split tree is proven within the budget, whatever the order, but a failing one meets
+  // a gap at a coarse middle pencil sooner than by proving one half to the end first.
   scratch.strips.assign(1, {q_lo, q_hi});
   int strips = 0;
-  while (!scratch.strips.empty()) {
-    const auto [q0, q1] = scratch.strips.back();
-    scratch.strips.pop_back();
+  for (std::size_t next = 0; next < scratch.strips.size(); ++next) {
+    const auto [q0, q1] = scratch.strips[next];
     if (++strips > strip_budget) return false;
     if (cover_strip(scratch, q0, q1, eps, scratch.intervals) == Cover::proven) continue;
     const double mid = 0.5 * (q0 + q1);

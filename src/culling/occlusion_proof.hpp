@@ -24,6 +24,8 @@ struct OcclusionProofScratch {
   std::vector<std::pair<double, double>> strips;
   // Counts for FrameStats, accumulated over calls until the owner resets them.
   std::uint64_t proofs_tried = 0, proofs_succeeded = 0;
+  // Proofs refused before their setup by a segment to the light that passes every occluder.
+  std::uint64_t proofs_probed_out = 0;
 };
 
 // Whether every segment from a point of the convex hull of `viewer[0..viewer_count)` to a point
@@ -42,6 +44,9 @@ struct OcclusionProofScratch {
 // intervals together cover every p of a line meeting both the viewer and the light. A
 // strip that is not proven is split; a single line (p, q) at a strip's middle height that
 // meets both shapes and passes every occluder ends the search.
+//
+// Before any of that, segments from the viewer points and their mean to the light's centroid:
+// one that passes every occluder shows the light seen, and refuses the proof cheaply.
 //
 // Conservative: false means "not proven" (the light may be hidden all the same), also when
 // more than `strip_budget` strips would be needed, and when the proof would hang on less
