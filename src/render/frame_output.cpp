@@ -53,25 +53,35 @@ struct SrgbTable {
 };
 const SrgbTable kSrgb;
 
+// Calls row(r, g, b, host, count) for each row of `part`: the tile's three channel rows from
+// the part's first column, and the host row's first byte of the part.
+template <int kChannels, class T, class Row>
+void for_each_part_row(const TileResult& result, int tile_x0, int tile_y0, const TileRect& part,
+                       const FrameTarget& target, Row&& row) noexcept {
+  const int count = part.x1 - part.x0;
+  const std::size_t first = static_cast<std::size_t>(part.x0 - tile_x0);
+  for (int j = part.y0; j < part.y1; ++j) {
+    const std::size_t base = static_cast<std::size_t>(j - tile_y0) * kTileSize + first;
+    unsigned char* host = target.data + static_cast<std::ptrdiff_t>(j - target.region.y0) * target.row_stride +
+                          static_cast<std::ptrdiff_t>(part.x0 - target.region.x0) * kChannels *
+                              static_cast<std::ptrdiff_t>(sizeof(T));
+    row(result.rgb[0] + base, result.rgb[1] + base, result.rgb[2] + base, host, count);
+  }
+}
+
 // Interleaves each row of `part` into a small local buffer with put(dst, r, g, b) and
 // copies it to the host row in one memcpy: host rows need not be aligned for float, and
 // one copy per row is cheaper than one per pixel.
 template <int kChannels, class T, class Put>
 void store_rows(const TileResult& result, int tile_x0, int tile_y0, const TileRect& part, const FrameTarget& target,
                 Put&& put) noexcept {
-  T row_buffer[kTileSize * kChannels];
-  const int count = part.x1 - part.x0;
-  const std::size_t first = static_cast<std::size_t>(part.x0 - tile_x0);
-  for (int j = part.y0; j < part.y1; ++j) {
-    const std::size_t base = static_cast<std::size_t>(j - tile_y0) * kTileSize + first;
-    const float* r = result.rgb[0] + base;
-    const float* g = result.rgb[1] + base;
-    const float* b = result.rgb[2] + base;
-    for (int i = 0; i < count; ++i) put(row_buffer + i * kChannels, r[i], g[i], b[i]);
-    unsigned char* row = target.data + static_cast<std::ptrdiff_t>(j - target.region.y0) * target.row_stride +
-                         static_cast<std::ptrdiff_t>(part.x0 - target.region.x0) * kChannels * sizeof(T);
-    std::memcpy(row, row_buffer, static_cast<std::size_t>(count) * kChannels * sizeof(T));
-  }
+  for_each_part_row<kChannels, T>(
+      result, tile_x0, tile_y0, part, target,
+      [&](const float* r, const float* g, const float* b, unsigned char* host, int count) {
+        T row_buffer[kTileSize * kChannels];
+        for (int i = 0; i < count; ++i) put(row_buffer + i * kChannels, r[i], g[i], b[i]);
+        std::memcpy(host, row_buffer, static_cast<std::size_t>(count) * kChannels * sizeof(T));
+      });
 }
 
 // Float rows (3 or 4 channels) written straight into the host row: an SSE2 transpose of 4
@@ -81,47 +91,41 @@ void store_rows(const TileResult& result, int tile_x0, int tile_y0, const TileRe
 template <int kChannels>
 void store_float_rows(const TileResult& result, int tile_x0, int tile_y0, const TileRect& part,
                       const FrameTarget& target) noexcept {
-  const int count = part.x1 - part.x0;
-  const std::size_t first = static_cast<std::size_t>(part.x0 - tile_x0);
-  for (int j = part.y0; j < part.y1; ++j) {
-    const std::size_t base = static_cast<std::size_t>(j - tile_y0) * kTileSize + first;
-    const float* r = result.rgb[0] + base;
-    const float* g = result.rgb[1] + base;
-    const float* b = result.rgb[2] + base;
-    float* row = reinterpret_cast<float*>(target.data + static_cast<std::ptrdiff_t>(j - target.region.y0) * target.row_stride +
-                                          static_cast<std::ptrdiff_t>(part.x0 - target.region.x0) * kChannels *
-                                              static_cast<std::ptrdiff_t>(sizeof(float)));
-    int i = 0;
+  for_each_part_row<kChannels, float>(
+      result, tile_x0, tile_y0, part, target,
+      [](const float* r, const float* g, const float* b, unsigned char* host, int count) {
+        float* row = reinterpret_cast<float*>(host);
+        int i = 0;
 #if defined(__SSE2__)
-    for (; i + 4 <= count; i += 4) {
-      const __m128 vr = _mm_loadu_ps(r + i), vg = _mm_loadu_ps(g + i), vb = _mm_loadu_ps(b + i);
-      float* p = row + i * kChannels;
-      if constexpr (kChannels == 3) {
-        const __m128 rg_lo = _mm_unpacklo_ps(vr, vg);                              // r0 g0 r1 g1
-        const __m128 rg_hi = _mm_unpackhi_ps(vr, vg);                              // r2 g2 r3 g3
-        const __m128 b0r1 = _mm_shuffle_ps(vb, vr, _MM_SHUFFLE(1, 1, 0, 0));      // b0 b0 r1 r1
-        const __m128 g1b1 = _mm_shuffle_ps(vg, vb, _MM_SHUFFLE(1, 1, 1, 1));      // g1 g1 b1 b1
-        const __m128 b2r3 = _mm_shuffle_ps(vb, vr, _MM_SHUFFLE(3, 3, 2, 2));      // b2 b2 r3 r3
-        const __m128 g3b3 = _mm_shuffle_ps(vg, vb, _MM_SHUFFLE(3, 3, 3, 3));      // g3 g3 b3 b3
-        _mm_storeu_ps(p, _mm_shuffle_ps(rg_lo, b0r1, _MM_SHUFFLE(2, 0, 1, 0)));      // r0 g0 b0 r1
-        _mm_storeu_ps(p + 4, _mm_shuffle_ps(g1b1, rg_hi, _MM_SHUFFLE(1, 0, 2, 0)));  // g1 b1 r2 g2
-        _mm_storeu_ps(p + 8, _mm_shuffle_ps(b2r3, g3b3, _MM_SHUFFLE(2, 0, 2, 0)));   // b2 r3 g3 b3
-      } else {
-        const __m128 va = _mm_set1_ps(1.0f);
-        const __m128 rg_lo = _mm_unpacklo_ps(vr, vg), rg_hi = _mm_unpackhi_ps(vr, vg);
-        const __m128 ba_lo = _mm_unpacklo_ps(vb, va), ba_hi = _mm_unpackhi_ps(vb, va);
-        _mm_storeu_ps(p, _mm_movelh_ps(rg_lo, ba_lo));
-        _mm_storeu_ps(p + 4, _mm_movehl_ps(ba_lo, rg_lo));
-        _mm_storeu_ps(p + 8, _mm_movelh_ps(rg_hi, ba_hi));
-        _mm_storeu_ps(p + 12, _mm_movehl_ps(ba_hi, rg_hi));
-      }
-    }
+        for (; i + 4 <= count; i += 4) {
+          const __m128 vr = _mm_loadu_ps(r + i), vg = _mm_loadu_ps(g + i), vb = _mm_loadu_ps(b + i);
+          float* p = row + i * kChannels;
+          if constexpr (kChannels == 3) {
+            const __m128 rg_lo = _mm_unpacklo_ps(vr, vg);                              // r0 g0 r1 g1
+            const __m128 rg_hi = _mm_unpackhi_ps(vr, vg);                              // r2 g2 r3 g3
+            const __m128 b0r1 = _mm_shuffle_ps(vb, vr, _MM_SHUFFLE(1, 1, 0, 0));      // b0 b0 r1 r1
+            const __m128 g1b1 = _mm_shuffle_ps(vg, vb, _MM_SHUFFLE(1, 1, 1, 1));      // g1 g1 b1 b1
+            const __m128 b2r3 = _mm_shuffle_ps(vb, vr, _MM_SHUFFLE(3, 3, 2, 2));      // b2 b2 r3 r3
+            const __m128 g3b3 = _mm_shuffle_ps(vg, vb, _MM_SHUFFLE(3, 3, 3, 3));      // g3 g3 b3 b3
+            _mm_storeu_ps(p, _mm_shuffle_ps(rg_lo, b0r1, _MM_SHUFFLE(2, 0, 1, 0)));      // r0 g0 b0 r1
+            _mm_storeu_ps(p + 4, _mm_shuffle_ps(g1b1, rg_hi, _MM_SHUFFLE(1, 0, 2, 0)));  // g1 b1 r2 g2
+            _mm_storeu_ps(p + 8, _mm_shuffle_ps(b2r3, g3b3, _MM_SHUFFLE(2, 0, 2, 0)));   // b2 r3 g3 b3
+          } else {
+            const __m128 va = _mm_set1_ps(1.0f);
+            const __m128 rg_lo = _mm_unpacklo_ps(vr, vg), rg_hi = _mm_unpackhi_ps(vr, vg);
+            const __m128 ba_lo = _mm_unpacklo_ps(vb, va), ba_hi = _mm_unpackhi_ps(vb, va);
+            _mm_storeu_ps(p, _mm_movelh_ps(rg_lo, ba_lo));
+            _mm_storeu_ps(p + 4, _mm_movehl_ps(ba_lo, rg_lo));
+            _mm_storeu_ps(p + 8, _mm_movelh_ps(rg_hi, ba_hi));
+            _mm_storeu_ps(p + 12, _mm_movehl_ps(ba_hi, rg_hi));
+          }
+        }
 #endif
-    for (; i < count; ++i) {
-      float pixel[4] = {r[i], g[i], b[i], 1.0f};
-      std::memcpy(row + i * kChannels, pixel, kChannels * sizeof(float));
-    }
-  }
+        for (; i < count; ++i) {
+          float pixel[4] = {r[i], g[i], b[i], 1.0f};
+          std::memcpy(row + i * kChannels, pixel, kChannels * sizeof(float));
+        }
+      });
 }
 
 }  // namespace
