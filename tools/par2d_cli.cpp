@@ -306,9 +306,12 @@ int run_bench(const CommonArgs& common, const BenchArgs& args) {
 
   const par2d::RenderOptions options = make_options(common);
   // One untimed frame first: it pays for thread-pool start-up and first-touch page faults.
-  // Its work counts are those of every frame (the scene does not change).
+  // With --stats its work counts are those of every frame (the scene does not change); only
+  // then does it sample each tile's exact needs, which a timed frame never does.
   par2d::FrameStats stats;
-  if (par2d::Status s = par2d::render(scene, options, image, stats); !s) return fail(s.message());
+  const par2d::Status warm_up = args.stats ? par2d::render(scene, options, image, stats)
+                                           : par2d::render(scene, options, image);
+  if (!warm_up) return fail(warm_up.message());
 
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
