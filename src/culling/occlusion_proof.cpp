@@ -141,20 +141,10 @@ bool segment_misses(Vec2 a, Vec2 b, const ConvexShape& s) noexcept {
   return false;
 }
 
-}  // namespace
-
-bool segment_passes(Vec2 a, Vec2 b, const std::vector<ConvexShape>& occluders, const std::uint32_t* ids,
-                    std::size_t count) noexcept {
-  for (std::size_t k = 0; k < count; ++k)
-    if (!segment_misses(a, b, occluders[ids[k]])) return false;
-  return true;
-}
-
-namespace {
-
-// segment_passes, trying first the occluder that blocked the previous probe (`hint`, an index
-// into ids, updated to this probe's blocker): neighbouring probes are mostly blocked by the
-// same occluder, so a proof that goes on to succeed pays less for its probes.
+// Whether the segment [a, b] passes every occluder, trying first the one that blocked the
+// previous probe (`hint`, an index into ids, updated to this probe's blocker; count: none):
+// neighbouring probes are mostly blocked by the same occluder, so a proof that goes on to
+// succeed pays less for its probes.
 bool probe_passes(Vec2 a, Vec2 b, const std::vector<ConvexShape>& occluders, const std::uint32_t* ids,
                   std::size_t count, std::size_t& hint) noexcept {
   if (hint < count && !segment_misses(a, b, occluders[ids[hint]])) return false;
@@ -167,6 +157,12 @@ bool probe_passes(Vec2 a, Vec2 b, const std::vector<ConvexShape>& occluders, con
 }
 
 }  // namespace
+
+bool segment_passes(Vec2 a, Vec2 b, const std::vector<ConvexShape>& occluders, const std::uint32_t* ids,
+                    std::size_t count) noexcept {
+  std::size_t no_hint = count;
+  return probe_passes(a, b, occluders, ids, count, no_hint);
+}
 
 bool segments_blocked(const Vec2* viewer, int viewer_count, Vec2 axis, const ConvexShape& light,
                       const std::vector<ConvexShape>& occluders, const std::uint32_t* ids, std::size_t count,
