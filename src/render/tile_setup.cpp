@@ -907,11 +907,10 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     for (int c = 0; c < 3; ++c) work.ambient[c] = static_cast<float>(scene.ambient[static_cast<std::size_t>(c)]);
     work.shaded = shading_active(scene, shaded);
     if (work.shaded) {
-      // A map's rows are copied as they are stored (floats, what normal_at widens to double);
-      // pixels past the image take (0, 0, 1).
-      const float* map = scene.normal_source == NormalSource::map ? scene.normal_map->data() : nullptr;
+      // A map's rows are copied as they are stored (component planes, what normal_at widens
+      // to double); pixels past the image take (0, 0, 1).
+      const WorldNormals* map = scene.normal_source == NormalSource::map ? scene.normal_map.get() : nullptr;
       const Vec3 constant = scene.normal;
-      const std::size_t row_floats = 3 * static_cast<std::size_t>(scene.width);
       const int columns = std::max(0, std::min(kTileSize, scene.width - tile.x0));
       for (int r = 0; r < kTileSize; ++r) {
         const int j = tile.y0 + r;
@@ -921,12 +920,10 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
         float* out_z = work.normal_z + r * kTileSize;
         int c = 0;
         if (map && inside > 0) {
-          const float* n = map + static_cast<std::size_t>(j) * row_floats + 3 * static_cast<std::size_t>(tile.x0);
-          for (; c < inside; ++c, n += 3) {
-            out_x[c] = n[0];
-            out_y[c] = n[1];
-            out_z[c] = n[2];
-          }
+          std::copy_n(map->row(0, j) + tile.x0, inside, out_x);
+          std::copy_n(map->row(1, j) + tile.x0, inside, out_y);
+          std::copy_n(map->row(2, j) + tile.x0, inside, out_z);
+          c = inside;
         } else if (!map) {
           for (; c < inside; ++c) {
             out_x[c] = static_cast<float>(constant.x);

@@ -313,7 +313,7 @@ MaybeProblem check_normal(const Vec3& normal) {
   return std::nullopt;
 }
 
-MaybeProblem check_normal_map(const NormalMap& map, int width, int height) {
+MaybeProblem check_normal_map(const NormalMap& map, int width, int height, NormalsCheck check) {
   if (map.width != width || map.height != height) {
     return SceneProblem{"normal_map", "is " + std::to_string(map.width) + "x" + std::to_string(map.height) +
                                           " but the image is " + std::to_string(width) + "x" +
@@ -324,6 +324,7 @@ MaybeProblem check_normal_map(const NormalMap& map, int width, int height) {
     return SceneProblem{"normal_map.normals", "expected 3 * width * height = " + std::to_string(expected) +
                                                   " floats, got " + std::to_string(map.normals.size())};
   }
+  if (check == NormalsCheck::size_only) return std::nullopt;
   // Every render validates the whole map: branch-free passes over blocks of pixels (they
   // vectorize) find the first block with a bad normal, walked below for its message.
   std::size_t first_bad = expected;
@@ -359,12 +360,12 @@ MaybeProblem check_normal_map(const NormalMap& map, int width, int height) {
   return std::nullopt;
 }
 
-MaybeProblem check_scene_terms(const Scene& scene) {
+MaybeProblem check_scene_terms(const Scene& scene, NormalsCheck normals) {
   if (scene.normal && scene.normal_map) {
     return SceneProblem{"normal_map", "the scene has both normal and normal_map (at most one normal source)"};
   }
   if (scene.normal_map) {
-    if (auto problem = check_normal_map(*scene.normal_map, scene.width, scene.height)) return problem;
+    if (auto problem = check_normal_map(*scene.normal_map, scene.width, scene.height, normals)) return problem;
   }
   // Every term adds to E: its total must stay finite in float32 output, as the lights' does.
   Rgb total{0.0, 0.0, 0.0};
@@ -410,9 +411,7 @@ std::string format_number(double value) {
   return std::string(buffer.data(), result.ptr);
 }
 
-}  // namespace detail
-
-Status validate_scene(const Scene& scene, std::string_view name) {
+Status validate_scene(const Scene& scene, std::string_view name, NormalsCheck normals) {
   try {
     detail::MaybeProblem problem = detail::check_image_size(scene.width, scene.height);
     if (!problem) problem = detail::check_view(scene.view, scene.width, scene.height);
@@ -428,12 +427,18 @@ Status validate_scene(const Scene& scene, std::string_view name) {
       problem = detail::check_directional(scene.directional_lights[i], "directional_lights[" + std::to_string(i) + "]");
     }
     if (!problem && scene.normal) problem = detail::check_normal(*scene.normal);
-    if (!problem) problem = detail::check_scene_terms(scene);
+    if (!problem) problem = detail::check_scene_terms(scene, normals);
     if (problem) return detail::scene_error(name, *problem);
     return Status::success();
   } catch (const std::bad_alloc&) {
     return Status(StatusCode::out_of_memory, std::string(name) + ": out of memory while validating the scene");
   }
+}
+
+}  // namespace detail
+
+Status validate_scene(const Scene& scene, std::string_view name) {
+  return detail::validate_scene(scene, name, detail::NormalsCheck::each);
 }
 
 double max_emission_sum(const Scene& scene) noexcept {

@@ -42,11 +42,16 @@ MaybeProblem check_occluder(const Occluder& occluder, const std::string& place);
 MaybeProblem check_ambient(const Rgb& ambient);
 MaybeProblem check_directional(const DirectionalLight& light, const std::string& place);
 MaybeProblem check_normal(const Vec3& normal);
+// Whether a normal map's check covers each normal, or only its size: a caller that has
+// converted the map (world_normals) has checked every normal in that pass already.
+enum class NormalsCheck { each, size_only };
 // The map's size against the image's, its buffer's length, each normal finite and non-zero.
-MaybeProblem check_normal_map(const NormalMap& map, int width, int height);
+MaybeProblem check_normal_map(const NormalMap& map, int width, int height, NormalsCheck normals = NormalsCheck::each);
 // Every term that needs the whole scene: at most one normal source, the normal source's size,
 // and the total emission (lights, directional lights and ambient) within kMaxTotalEmission.
-MaybeProblem check_scene_terms(const Scene& scene);
+MaybeProblem check_scene_terms(const Scene& scene, NormalsCheck normals = NormalsCheck::each);
+// par2d::validate_scene, with the normal map's normals checked as `normals` says.
+Status validate_scene(const Scene& scene, std::string_view name, NormalsCheck normals);
 
 // `NAME: PLACE: WHAT` (or `NAME: WHAT` without a place) as an invalid_scene status.
 Status scene_error(std::string_view name, const SceneProblem& problem);

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace par2d::detail {
 namespace {
@@ -152,21 +153,6 @@ OccluderTerms occluder_terms(const Occluder& occluder) noexcept {
   return t;
 }
 
-std::shared_ptr<const std::vector<float>> world_normals(const NormalMap& map, const View& view) {
-  const double sx = view.x1 > view.x0 ? 1.0 : -1.0;
-  // Image up is world -y in a view whose y grows downward.
-  const double sy = view.y1 > view.y0 ? -1.0 : 1.0;
-  auto out = std::make_shared<std::vector<float>>(map.normals.size());
-  for (std::size_t p = 0; p + 2 < map.normals.size(); p += 3) {
-    const double x = sx * map.normals[p], y = sy * map.normals[p + 1], z = map.normals[p + 2];
-    const double length = std::sqrt(x * x + y * y + z * z);
-    (*out)[p] = static_cast<float>(x / length);
-    (*out)[p + 1] = static_cast<float>(y / length);
-    (*out)[p + 2] = static_cast<float>(z / length);
-  }
-  return out;
-}
-
 void update_model_flag(PreparedScene& out) noexcept {
   bool model = !out.directionals.empty() || out.normal_source != NormalSource::none ||
                out.ambient[0] != 0.0 || out.ambient[1] != 0.0 || out.ambient[2] != 0.0;
@@ -176,7 +162,7 @@ void update_model_flag(PreparedScene& out) noexcept {
   out.model = model;
 }
 
-void prepare_model_terms(const Scene& scene, PreparedScene& out) {
+void prepare_model_terms(const Scene& scene, PreparedScene& out, std::shared_ptr<const WorldNormals> converted) {
   out.ambient = scene.ambient;
   out.directionals.clear();
   for (const DirectionalLight& d : scene.directional_lights) {
@@ -199,7 +185,9 @@ void prepare_model_terms(const Scene& scene, PreparedScene& out) {
     out.normal = {n.x / length, n.y / length, n.z / length};
     out.normal_source = NormalSource::constant;
   } else if (scene.normal_map) {
-    out.normal_map = world_normals(*scene.normal_map, scene.view);
+    out.normal_map = converted ? std::move(converted) : world_normals(*scene.normal_map, scene.view);
+    // Only a validated map reaches here, and every validated normal converts.
+    if (!out.normal_map) throw std::invalid_argument("normal_map: a normal did not convert to unit length");
     out.normal_source = NormalSource::map;
   }
   update_model_flag(out);

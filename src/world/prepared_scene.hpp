@@ -10,6 +10,7 @@
 
 #include "geometry/convex_shape.hpp"
 #include "world/occluder_bvh.hpp"
+#include "world/world_normals.hpp"
 #include "par2d/scene.hpp"
 
 namespace par2d::detail {
@@ -120,16 +121,16 @@ struct PreparedScene {
   Rgb ambient{0.0, 0.0, 0.0};
   NormalSource normal_source = NormalSource::none;
   Vec3 normal{0.0, 0.0, 1.0};  // NormalSource::constant: unit, world axes
-  // NormalSource::map: width * height unit normals in world axes, 3 floats each, row-major
-  // from image row 0 (shared: a World keeps it across frames).
-  std::shared_ptr<const std::vector<float>> normal_map;
+  // NormalSource::map: unit normals in world axes, one plane per component (shared: a World
+  // keeps it across frames).
+  std::shared_ptr<const WorldNormals> normal_map;
   bool model = false;
 
   // The unit surface normal (world axes) at pixel (i, j); (0, 0, 1) without a source.
   Vec3 normal_at(int i, int j) const noexcept {
     if (normal_source == NormalSource::map) {
-      const float* n = normal_map->data() + 3 * (static_cast<std::size_t>(j) * static_cast<std::size_t>(width) + static_cast<std::size_t>(i));
-      return {n[0], n[1], n[2]};
+      const auto at = static_cast<std::size_t>(i);
+      return {normal_map->row(0, j)[at], normal_map->row(1, j)[at], normal_map->row(2, j)[at]};
     }
     return normal;
   }
@@ -137,11 +138,12 @@ struct PreparedScene {
 
 // Fills the scene-wide model terms of `out` (ambient, directionals, normal source) from
 // `scene`, then `model`. Occluder and light terms must already be set.
-void prepare_model_terms(const Scene& scene, PreparedScene& out);
+// A map's normals come from `converted` when given (already converted for this view), else
+// are converted here.
+void prepare_model_terms(const Scene& scene, PreparedScene& out,
+                         std::shared_ptr<const WorldNormals> converted = nullptr);
 // Recomputes `out.model` from its terms (after a light or occluder changed).
 void update_model_flag(PreparedScene& out) noexcept;
-// A normal map's normals in world axes, unit, for a view (its mirroring flips components).
-std::shared_ptr<const std::vector<float>> world_normals(const NormalMap& map, const View& view);
 // Whether pixels are shaded: a normal source exists and the options ask for shading.
 inline bool shading_active(const PreparedScene& s, bool shaded) noexcept {
   return shaded && s.normal_source != NormalSource::none;

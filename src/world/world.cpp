@@ -106,15 +106,25 @@ Status World::set_frame(int width, int height, const View& view) {
   view_ = view;
   scene_.view = {view.x0 * factor_, view.y0 * factor_, view.x1 * factor_, view.y1 * factor_};
   // A mirrored view mirrors the map's normals with the image.
-  if (flips && globals_.normal_map && scene_.normal_source == NormalSource::map)
-    scene_.normal_map = world_normals(*globals_.normal_map, view_);
+  if (flips && globals_.normal_map && scene_.normal_source == NormalSource::map) {
+    auto mirrored = world_normals(*globals_.normal_map, view_);
+    if (!mirrored) return Status(StatusCode::invalid_scene, "set_frame: normal_map: a normal does not convert to unit length");
+    scene_.normal_map = std::move(mirrored);
+  }
   // Reach radii are measured in pixels and end at the view's corners.
   std::fill(reach_stale_.begin(), reach_stale_.end(), 1);
   return {};
 }
 
 Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, std::vector<OccluderHandle>* occluders) {
-  if (Status s = validate_scene(scene); !s.ok()) return s;
+  // A normal map of the image's size is converted first: that pass checks every normal too,
+  // so validation then checks only its size (a bad normal leaves `converted` null, and the
+  // full check words the problem).
+  std::shared_ptr<const WorldNormals> converted;
+  if (scene.normal_map && !check_normal_map(*scene.normal_map, scene.width, scene.height, NormalsCheck::size_only))
+    converted = world_normals(*scene.normal_map, scene.view);
+  if (Status s = validate_scene(scene, "scene", converted ? NormalsCheck::size_only : NormalsCheck::each); !s.ok())
+    return s;
   // Build the new state aside, so that a failure (out of memory) keeps the old one.
   World next;
   next.stats_ = stats_;
@@ -157,7 +167,7 @@ Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, st
   next.globals_.normal = scene.normal;
   next.globals_.normal_map = scene.normal_map;
   next.reach_scratch_ = std::move(reach_scratch_);
-  next.reprepare_all();
+  next.reprepare_all(std::move(converted));
   *this = std::move(next);
   if (lights) *lights = std::move(light_handles);
   if (occluders) *occluders = std::move(occluder_handles);
@@ -176,7 +186,7 @@ double World::largest_coordinate() const noexcept {
 }
 
 // Everything from the sources, exactly as prepare_scene does it for a whole scene.
-void World::reprepare_all() {
+void World::reprepare_all(std::shared_ptr<const WorldNormals> converted) {
   scene_.lights.resize(light_sources_.size());
   scene_.occluders.resize(occluder_sources_.size());
   for (std::size_t p = 0; p < light_sources_.size(); ++p) {
@@ -195,7 +205,7 @@ void World::reprepare_all() {
   scene_.occluder_terms.resize(occluder_sources_.size());
   for (std::size_t k = 0; k < occluder_sources_.size(); ++k) scene_.occluder_terms[k] = occluder_terms(occluder_sources_[k]);
   globals_.view = view_;
-  prepare_model_terms(globals_, scene_);
+  prepare_model_terms(globals_, scene_, std::move(converted));
   rebuild_index();
   for (PreparedLight& l : scene_.lights) find_light_overlaps(scene_, l, query_);
   scene_.separators.reset(scene_.lights.size(), scene_.occluders.size());
@@ -307,9 +317,16 @@ Status World::set_model_terms(const char* who, const Scene& terms) {
     problem = SceneProblem{"normal_map", "the scene has both normal and normal_map (at most one normal source)"};
   // Before the first frame the map is checked against its own size; set_frame then refuses
   // a frame of any other size.
+  // The conversion checks every normal (see set_scene); the full check only words a problem.
+  std::shared_ptr<const WorldNormals> converted;
   if (!problem && terms.normal_map) {
-    problem = has_frame() ? check_normal_map(*terms.normal_map, scene_.width, scene_.height)
-                          : check_normal_map(*terms.normal_map, terms.normal_map->width, terms.normal_map->height);
+    const int width = has_frame() ? scene_.width : terms.normal_map->width;
+    const int height = has_frame() ? scene_.height : terms.normal_map->height;
+    problem = check_normal_map(*terms.normal_map, width, height, NormalsCheck::size_only);
+    if (!problem) {
+      converted = world_normals(*terms.normal_map, view_);
+      if (!converted) problem = check_normal_map(*terms.normal_map, width, height);
+    }
   }
   if (!problem) {
     Scene total;  // the emission total over lights, directional lights and ambient
@@ -328,7 +345,7 @@ Status World::set_model_terms(const char* who, const Scene& terms) {
   next.normal_map = terms.normal_map;
   next.view = view_;
   PreparedScene staged;
-  prepare_model_terms(next, staged);
+  prepare_model_terms(next, staged, std::move(converted));
   globals_ = std::move(next);
   scene_.ambient = staged.ambient;
   scene_.directionals = std::move(staged.directionals);

@@ -83,7 +83,8 @@ class World {
   void occluder_changed(std::size_t k, const Aabb* old_box);
   void refresh_light_overlaps_for(std::size_t k);
   void touch_reach(const Aabb& box) noexcept;
-  void reprepare_all();
+  // `converted`: the normal map already converted for the view (see set_scene), if any.
+  void reprepare_all(std::shared_ptr<const WorldNormals> converted = nullptr);
   void rebuild_index();
   double largest_coordinate() const noexcept;
 
