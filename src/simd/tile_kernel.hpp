@@ -909,9 +909,17 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
   while (key_slots < 2 * static_cast<std::size_t>(work.max_intervals_per_light) + 2) key_slots *= 2;
   float* keys = occ_inside + occluder_count * W;
   float* owner = keys + 2 * key_slots * W;  // one float per interval (tile-constant)
+  // The work's arrays through local pointers: a vector store may alias anything (the
+  // intrinsics' types do), so `work.pairs[i]` would reload the vector's start after each.
+  const KernelShape* occluders = work.occluders.data();
+  const KernelLight* lights = work.lights.data();
+  const std::size_t light_count = work.lights.size();
+  const KernelLightTerms* light_terms = work.light_terms.data();
+  const KernelPair* pairs = work.pairs.data();
+  const KernelOccluderTerms* occluder_terms = work.occluder_terms.data();
 
   for (std::size_t k = 0; k < occluder_count; ++k) {
-    const Arc<A> arc = shape_arc<A>(work, work.occluders[k], px, py);
+    const Arc<A> arc = shape_arc<A>(work, occluders[k], px, py);
     arc.start.store_aligned(occ_start_all + k * W);
     arc.width.store_aligned(occ_width + k * W);
     xsimd::select(arc.inside, B(1.0f), B(0.0f)).store_aligned(occ_inside + k * W);
@@ -933,9 +941,9 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
   KernelProfile<A> profile;  // set per light (constructing one per light costs as much as using it)
   B lobe_total;
   double lobe_sin = 2.0, lobe_cos = 2.0;
-  for (std::size_t l = 0; l < work.lights.size(); ++l) {
-    const KernelLight& light = work.lights[l];
-    const KernelLightTerms& terms = work.light_terms[l];
+  for (std::size_t l = 0; l < light_count; ++l) {
+    const KernelLight& light = lights[l];
+    const KernelLightTerms& terms = light_terms[l];
     B window(1.0f);
     if (terms.inv_range > 0.0f) {
       window = detail::range_window(shape_distance<A>(work, light.shape, px, py), B(terms.inv_range));
@@ -976,8 +984,8 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
     std::size_t n = 0;
     bool hidden = false;  // covered in every lane by one opaque arc (or a dark interior)
     for (std::size_t p = 0; p < light.pair_count; ++p) {
-      const KernelPair& pair = work.pairs[light.first_pair + p];
-      const KernelOccluderTerms& occ_terms = work.occluder_terms[pair.occluder];
+      const KernelPair& pair = pairs[light.first_pair + p];
+      const KernelOccluderTerms& occ_terms = occluder_terms[pair.occluder];
       const B occ_start = B::load_aligned(occ_start_all + pair.occluder * W);
       const B occ_w = B::load_aligned(occ_width + pair.occluder * W);
       const auto in_occ = B::load_aligned(occ_inside + pair.occluder * W) > B(0.0f);
