@@ -139,14 +139,25 @@ ConvexQuery::ConvexQuery(const Vec2* hull, int count) noexcept : hull_(hull), co
   orientation_ = hull_orientation(hull, count);
   const int cached = std::min(edges_, kMaxCachedAxes);
   for (int i = 0; i < cached; ++i) {
-    if (edge_axis(hull, count, i, orientation_, axes_[axis_count_])) ++axis_count_;
+    Axis axis;
+    if (!edge_axis(hull, count, i, orientation_, axis)) continue;
+    // axis_separates' two sides, each with the corner it picks made an index: the same sums
+    // and comparisons without a branch per coordinate (may_touch runs for every node and item).
+    // hi < lo_of_hull, hi from the box's maximising corner:
+    if (axis.lo != -kInf)
+      half_tests_[half_test_count_++] = {axis.nx, axis.ny, axis.lo, axis.nx >= 0.0 ? 2 : 0, axis.ny >= 0.0 ? 3 : 1};
+    // lo > hi_of_hull, lo from the minimising corner, negated:
+    if (axis.hi != kInf)
+      half_tests_[half_test_count_++] = {-axis.nx, -axis.ny, -axis.hi, axis.nx >= 0.0 ? 0 : 2, axis.ny >= 0.0 ? 1 : 3};
   }
 }
 
 bool ConvexQuery::may_touch(const Aabb& b) const noexcept {
   if (!boxes_overlap(b, bounds_)) return false;
-  for (int i = 0; i < axis_count_; ++i) {
-    if (axis_separates(axes_[i], b)) return false;
+  const double corner[4] = {b.min_x, b.min_y, b.max_x, b.max_y};
+  for (int i = 0; i < half_test_count_; ++i) {
+    const HalfTest& t = half_tests_[i];
+    if (t.nx * corner[t.x_index] + t.ny * corner[t.y_index] < t.bound) return false;
   }
   return true;
 }
