@@ -271,14 +271,40 @@ KernelShape circle_kernel_shape(const ConvexShape& s, const TileFrame& frame, Ve
   return k;
 }
 
+// The shape's tile tangent pair for these tile corners, taken from its pair over the whole
+// block where it has one (the wedges of points with a given tangent vertex are convex, so
+// the pair at the block's corners is the pair at every point of the block); `block_pair` is
+// the shape's cache entry, or null.
+bool tile_tangent_pair_in_block(const ConvexShape& s, const std::array<Vec2, 4>& corners,
+                                TileSetupScratch::BlockTangentPair* block_pair, const TileSetupScratch& scratch,
+                                int& cw, int& ccw) noexcept {
+  if (!block_pair || s.kind != ShapeKind::polygon) return tile_tangent_pair(s, corners, cw, ccw);
+  if (block_pair->block != scratch.block_serial) {
+    block_pair->block = scratch.block_serial;
+    const std::array<Vec2, 4> block_corners{scratch.block_corners[0], scratch.block_corners[1],
+                                            scratch.block_corners[2], scratch.block_corners[3]};
+    if (!tile_tangent_pair(s, block_corners, block_pair->cw, block_pair->ccw)) block_pair->cw = -1;
+  }
+  if (block_pair->cw < 0) return tile_tangent_pair(s, corners, cw, ccw);
+  cw = block_pair->cw;
+  ccw = block_pair->ccw;
+  return true;
+}
+
 // `whole`: keep every vertex and edge (a general pair's depth test needs the shape itself).
+// `block_pair`: the shape's entry in the scratch's block tangent pairs (null: none).
 KernelShape kernel_shape(const ConvexShape& shape, const TileFrame& frame, const std::array<Vec2, 4>& corners,
-                         bool whole, TileWork& work, ConvexShape& clipped, std::vector<Vec2>& tmp) {
+                         bool whole, TileWork& work, TileSetupScratch& scratch,
+                         TileSetupScratch::BlockTangentPair* block_pair) {
   KernelShape k;
   k.kind = shape.kind;
   const Vec2 tile_center = 0.5 * (corners[0] + corners[2]);
+  ConvexShape& clipped = scratch.clipped;
+  std::vector<Vec2>& tmp = scratch.hull_points;
   const ConvexShape& s = near_shape(shape, frame, tile_center, clipped, tmp);
-  if (int cw, ccw; !whole && tile_tangent_pair(s, corners, cw, ccw)) {
+  // A far-reaching shape is clipped per tile: its pair is the clipped shape's.
+  if (frame.far) block_pair = nullptr;
+  if (int cw, ccw; !whole && tile_tangent_pair_in_block(s, corners, block_pair, scratch, cw, ccw)) {
     k.kind = ShapeKind::segment;
     k.ordered = true;
     k.count = 2;
@@ -627,6 +653,11 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
   scratch.block_candidates.resize(scene.lights.size());
   scratch.block_shadowed.assign(scene.lights.size(), 0);
   const std::array<Vec2, 4> corners = tile_corners(scene, block);
+  // Entries of earlier blocks (or scenes) carry an older serial: found anew on first use.
+  ++scratch.block_serial;
+  std::copy(corners.begin(), corners.end(), scratch.block_corners);
+  scratch.light_block_pairs.resize(scene.lights.size());
+  scratch.occluder_block_pairs.resize(scene.occluders.size());
   const Aabb box = bounds_of(corners);
   if (reach && !culling_trusted(scene)) reach = nullptr;
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
@@ -841,7 +872,7 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     // A ranged light is kept whole: the window needs the distance to the whole shape.
     const bool ranged = model && light.terms.has_range();
     kl.shape =
-        kernel_shape(light.shape, frame, corners, general || ranged, work, scratch.clipped, scratch.hull_points);
+        kernel_shape(light.shape, frame, corners, general || ranged, work, scratch, &scratch.light_block_pairs[l]);
     // Over a tile wholly before the clip line that sees no light point past it, the clipped
     // light's arc is the whole light's (and the pair was dropped as behind): skip the clip.
     if (clip && culling && light_before_line(light.shape, clip->line, corners, light_tangent_points)) clip.reset();
@@ -944,7 +975,7 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
   }
   for (std::size_t u = 0; u < scratch.used.size(); ++u) {
     work.occluders.push_back(kernel_shape(scene.occluders[scratch.used[u]], frame, corners, scratch.used_whole[u] != 0,
-                                          work, scratch.clipped, scratch.hull_points));
+                                          work, scratch, &scratch.occluder_block_pairs[scratch.used[u]]));
     if (model) work.occluder_terms.push_back(kernel_occluder_terms(scene.occluder_terms[scratch.used[u]]));
   }
 }

@@ -27,6 +27,16 @@ struct TileSetupScratch {
   std::vector<std::uint32_t> pair_occluders;
   std::vector<std::uint32_t> directional;  // a directional light's candidate occluders
   OcclusionProofScratch occlusion;
+  // Per shape, its tile tangent pair over the whole current block (see kernel_shape in
+  // tile_setup.cpp), found on the shape's first use in the block: a pair that holds over the
+  // block holds over each of its tiles, which then skip the test. cw < 0: none over the block.
+  struct BlockTangentPair {
+    std::uint64_t block = 0;  // block_serial when found; older entries are stale
+    std::int32_t cw = -1, ccw = -1;
+  };
+  std::vector<BlockTangentPair> light_block_pairs, occluder_block_pairs;
+  std::uint64_t block_serial = 0;  // counts gather_block_candidates calls
+  Vec2 block_corners[4];
   // Counts for FrameStats, accumulated until the owner resets them.
   std::uint64_t umbra_tests = 0, umbra_hits = 0;
 };
