@@ -352,26 +352,23 @@ KernelShape kernel_shape(const ConvexShape& shape, const TileFrame& frame, const
 }
 
 
-// A light's tangent directions seen from the four corners of a rectangle, on first use.
-struct CornerTangents {
-  Vec2 cw[4], ccw[4];
-  signed char outside[4] = {-1, -1, -1, -1};  // -1: not computed yet
-};
+using CornerDirections = TileSetupScratch::CornerDirections;
 
 // Whether the whole rectangle lies in the occluder's umbra for the light, given that it is
 // on the occluder's side of their separating line: from each corner, the occluder's arc
 // must contain the light's. The umbra of a convex occluder for a convex light is convex,
-// so the four corners decide for the whole rectangle.
+// so the four corners decide for the whole rectangle. Tangent directions come from the
+// block's grid caches (`grid`: each corner's grid point), computed there on first use.
 bool rect_in_umbra(const ConvexShape& light, const ConvexShape& occluder, const std::array<Vec2, 4>& corners,
-                   CornerTangents& light_tangents) noexcept {
+                   const int (&grid)[4], CornerDirections* light_directions,
+                   CornerDirections* occluder_directions) noexcept {
   for (int i = 0; i < 4; ++i) {
-    if (light_tangents.outside[i] < 0)
-      light_tangents.outside[i] = tangent_directions(light, corners[i], light_tangents.cw[i], light_tangents.ccw[i]);
-    if (light_tangents.outside[i] == 0) return false;  // a corner inside the light sees it
-    Vec2 occ_cw, occ_ccw;
-    if (tangent_directions(occluder, corners[i], occ_cw, occ_ccw) &&
-        !arc_contains(occ_cw, occ_ccw, light_tangents.cw[i], light_tangents.ccw[i]))
-      return false;
+    CornerDirections& l = light_directions[grid[i]];
+    if (l.outside < 0) l.outside = tangent_directions(light, corners[i], l.cw, l.ccw);
+    if (l.outside == 0) return false;  // a corner inside the light sees it
+    CornerDirections& o = occluder_directions[grid[i]];
+    if (o.outside < 0) o.outside = tangent_directions(occluder, corners[i], o.cw, o.ccw);
+    if (o.outside != 0 && !arc_contains(o.cw, o.ccw, l.cw, l.ccw)) return false;
   }
   return true;
 }
@@ -658,6 +655,10 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
   std::copy(corners.begin(), corners.end(), scratch.block_corners);
   scratch.light_block_pairs.resize(scene.lights.size());
   scratch.occluder_block_pairs.resize(scene.occluders.size());
+  scratch.block_x0 = block.x0;
+  scratch.block_y0 = block.y0;
+  scratch.light_grid.start_block(scene.lights.size());
+  scratch.occluder_grid.start_block(scene.occluders.size());
   const Aabb box = bounds_of(corners);
   if (reach && !culling_trusted(scene)) reach = nullptr;
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
@@ -735,6 +736,11 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
   }
   scratch.used.clear();
   scratch.used_whole.clear();
+  // The tile's corners on the block's tile grid (corner order of tile_corners).
+  const int grid_x = (tile.x0 - scratch.block_x0) / kTileSize, grid_y = (tile.y0 - scratch.block_y0) / kTileSize;
+  const int grid_row = kBlockTiles + 1;
+  const int grid_corner = grid_y * grid_row + grid_x;
+  const int grid[4] = {grid_corner, grid_corner + 1, grid_corner + grid_row + 1, grid_corner + grid_row};
 
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
     if (scratch.block_shadowed[l]) continue;
@@ -742,7 +748,7 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     if (model && beyond_range(box, light.shape, light.terms)) continue;
     const std::vector<std::uint32_t>& candidates = scratch.block_candidates[l];
     std::optional<BoxPairHull> tile_hull;
-    CornerTangents light_tangents;
+    CornerDirections* light_directions = nullptr;  // the light's grid cache, on first umbra test
     InnerDisc inner_disc;
     CornerTangentPoints light_tangent_points;
     std::optional<LightClip> clip;
@@ -825,7 +831,9 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
           pair.front = true;
           if (prover && umbra_possible(light.shape, occluder, corners, inner_disc)) {
             ++scratch.umbra_tests;
-            if (rect_in_umbra(light.shape, occluder, corners, light_tangents)) {
+            if (!light_directions) light_directions = scratch.light_grid.of(l, scratch.block_serial);
+            if (rect_in_umbra(light.shape, occluder, corners, grid, light_directions,
+                              scratch.occluder_grid.of(k, scratch.block_serial))) {
               ++scratch.umbra_hits;
               shadowed = true;
               break;
