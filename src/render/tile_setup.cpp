@@ -655,6 +655,9 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
   std::copy(corners.begin(), corners.end(), scratch.block_corners);
   scratch.light_block_pairs.resize(scene.lights.size());
   scratch.occluder_block_pairs.resize(scene.occluders.size());
+  const TileFrame block_frame = tile_frame(scene, corners[0]);
+  scratch.frame_scale = block_frame.scale;
+  scratch.frame_far = block_frame.far;
   scratch.block_x0 = block.x0;
   scratch.block_y0 = block.y0;
   scratch.light_grid.start_block(scene.lights.size());
@@ -710,7 +713,8 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
   work.model = model;
   culling = culling && culling_trusted(scene);
   const Vec2 origin = sample_position(scene, tile.x0, tile.y0, 0.0, 0.0);
-  const TileFrame frame = tile_frame(scene, origin);
+  // The frame's scale depends on the scene only: found once per block.
+  const TileFrame frame{origin, scratch.frame_scale, scratch.frame_far};
   work.spp = spp;
   work.sample_x.resize(static_cast<std::size_t>(spp) * kTileSize);
   work.sample_y.resize(static_cast<std::size_t>(spp) * kTileSize);
@@ -750,7 +754,8 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     std::optional<BoxPairHull> tile_hull;
     CornerDirections* light_directions = nullptr;  // the light's grid cache, on first umbra test
     InnerDisc inner_disc;
-    CornerTangentPoints light_tangent_points;
+    // Only general pairs and clipped lights use it: built on first use, not per light.
+    std::optional<CornerTangentPoints> light_tangent_points;
     std::optional<LightClip> clip;
     if (culling && !candidates.empty()) tile_hull.emplace(box, bounds_of(light.shape));
     const Vec2 tile_center = 0.5 * (corners[0] + corners[2]);
@@ -803,7 +808,9 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
         // Overlapping or touching shapes (or disjoint ones too close for a separating
         // line, where the depth test alone is exact): the kernel's general pair, unless
         // the occluder lies wholly behind the light over this tile.
-        if (culling && general_pair_behind(light.shape, occluder, corners, light_tangent_points)) continue;
+        if (culling && general_pair_behind(light.shape, occluder, corners,
+                                           light_tangent_points ? *light_tangent_points : light_tangent_points.emplace()))
+          continue;
         pair.general = true;
         general = true;
         pair.first_point = static_cast<std::uint32_t>(work.point_x.size());
@@ -883,7 +890,10 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
         kernel_shape(light.shape, frame, corners, general || ranged, work, scratch, &scratch.light_block_pairs[l]);
     // Over a tile wholly before the clip line that sees no light point past it, the clipped
     // light's arc is the whole light's (and the pair was dropped as behind): skip the clip.
-    if (clip && culling && light_before_line(light.shape, clip->line, corners, light_tangent_points)) clip.reset();
+    if (clip && culling &&
+        light_before_line(light.shape, clip->line, corners,
+                          light_tangent_points ? *light_tangent_points : light_tangent_points.emplace()))
+      clip.reset();
     if (clip) {
       kl.shape.clipped = true;
       kl.shape.clip_nx = static_cast<float>(clip->line.normal.x);

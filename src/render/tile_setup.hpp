@@ -40,6 +40,8 @@ struct TileSetupScratch {
   std::uint64_t block_serial = 0;  // counts gather_block_candidates calls
   Vec2 block_corners[4];
   int block_x0 = 0, block_y0 = 0;  // the current block's first pixel column and row
+  double frame_scale = 1.0;  // the scene's kernel-unit scale and far flag (TileFrame in tile_setup.cpp)
+  bool frame_far = true;
   // A shape's tangent directions seen from the tile corners of the current block (the
   // (kBlockTiles + 1)^2 points of its tile grid, shared by up to four tiles each), for the
   // umbra tests, on first use. Slots are dealt per block to the shapes that need them.
