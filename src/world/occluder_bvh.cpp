@@ -145,11 +145,23 @@ ConvexQuery::ConvexQuery(const Vec2* hull, int count) noexcept : hull_(hull), co
     // and comparisons without a branch per coordinate (may_touch runs for every node and item).
     // hi < lo_of_hull, hi from the box's maximising corner:
     if (axis.lo != -kInf)
-      half_tests_[half_test_count_++] = {axis.nx, axis.ny, axis.lo, axis.nx >= 0.0 ? 2 : 0, axis.ny >= 0.0 ? 3 : 1};
+      add_half_test({axis.nx, axis.ny, axis.lo, axis.nx >= 0.0 ? 2 : 0, axis.ny >= 0.0 ? 3 : 1});
     // lo > hi_of_hull, lo from the minimising corner, negated:
     if (axis.hi != kInf)
-      half_tests_[half_test_count_++] = {-axis.nx, -axis.ny, -axis.hi, axis.nx >= 0.0 ? 0 : 2, axis.ny >= 0.0 ? 1 : 3};
+      add_half_test({-axis.nx, -axis.ny, -axis.hi, axis.nx >= 0.0 ? 0 : 2, axis.ny >= 0.0 ? 1 : 3});
   }
+}
+
+void ConvexQuery::add_half_test(const HalfTest& t) noexcept {
+  // An axis-aligned test (an edge along the hull's bounding box, as most edges of a block's
+  // hull with a box are) reduces exactly to a comparison with one box coordinate (0 * x is
+  // 0, +-1 * y is +-y); where its bound does not pass the hull's bounds, any box it
+  // separates already fails the bounds test in may_touch: not kept.
+  if (t.nx == 0.0 && t.ny == 1.0 && t.bound <= bounds_.min_y) return;    // max_y < bound
+  if (t.nx == 0.0 && t.ny == -1.0 && t.bound <= -bounds_.max_y) return;  // -min_y < bound
+  if (t.ny == 0.0 && t.nx == 1.0 && t.bound <= bounds_.min_x) return;    // max_x < bound
+  if (t.ny == 0.0 && t.nx == -1.0 && t.bound <= -bounds_.max_x) return;  // -min_x < bound
+  half_tests_[half_test_count_++] = t;
 }
 
 bool ConvexQuery::may_touch(const Aabb& b) const noexcept {

@@ -60,6 +60,8 @@ class ConvexQuery {
   bool touches(const Aabb& b) const noexcept;
 
  private:
+  void add_half_test(const HalfTest& t) noexcept;
+
   const Vec2* hull_;
   int count_;
   int edges_ = 0;
