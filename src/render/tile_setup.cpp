@@ -379,15 +379,10 @@ struct InnerDisc {
   double radius = -1.0;
 };
 
-// Whether the rectangle can lie in the occluder's umbra for the light at all, in O(1): the
-// umbra of the occluder for the light lies in that of the occluder's bounding disc (box
-// center, half diagonal) for a disc inside the light, which lies between the discs' two
-// outer common tangents, |h| cos b <= R + t sin b (t along the axis from the light's disc
-// to the occluder's, h across it, sin b = (R - r) / D). A corner outside that band rules
-// the rectangle out. Only a shortcut: rect_in_umbra decides when this says maybe (most
-// tries fail: lights larger than small occluders have short umbrae narrower than a tile).
-bool umbra_possible(const ConvexShape& light, const ConvexShape& occluder, const std::array<Vec2, 4>& corners,
-                    InnerDisc& disc) noexcept {
+// The part of umbra_possible that depends on the light and the occluder only (the band of
+// their discs' outer common tangents), kept per block for each (light, candidate).
+using UmbraBand = TileSetupScratch::UmbraBand;
+void umbra_band(const ConvexShape& light, const ConvexShape& occluder, InnerDisc& disc, UmbraBand& band) noexcept {
   if (disc.radius < 0.0) {
     disc.center = light.centroid;
     if (light.kind == ShapeKind::circle) {
@@ -401,19 +396,36 @@ bool umbra_possible(const ConvexShape& light, const ConvexShape& occluder, const
       disc.radius = std::max(r, 0.0);
     }
   }
-  const Vec2 center = 0.5 * (occluder.bounds_min + occluder.bounds_max);
-  const double big_r = length(0.5 * (occluder.bounds_max - occluder.bounds_min));
-  const Vec2 axis = center - disc.center;
-  const double dist = length(axis);
+  band.center = 0.5 * (occluder.bounds_min + occluder.bounds_max);
+  band.big_r = length(0.5 * (occluder.bounds_max - occluder.bounds_min));
+  const Vec2 axis = band.center - disc.center;
+  band.dist = length(axis);
   // Discs one inside the other have no outer tangents: no shortcut.
-  if (!(dist > std::abs(big_r - disc.radius) * (1.0 + 1e-9) + 1e-300)) return true;
-  const Vec2 u = (1.0 / dist) * axis;
-  const double sin_b = (big_r - disc.radius) / dist;
-  const double cos_b = std::sqrt(std::max(0.0, 1.0 - sin_b * sin_b));
+  if (!(band.dist > std::abs(band.big_r - disc.radius) * (1.0 + 1e-9) + 1e-300)) {
+    band.state = 0;
+    return;
+  }
+  band.u = (1.0 / band.dist) * axis;
+  band.sin_b = (band.big_r - disc.radius) / band.dist;
+  band.cos_b = std::sqrt(std::max(0.0, 1.0 - band.sin_b * band.sin_b));
+  band.state = 1;
+}
+
+// Whether the rectangle can lie in the occluder's umbra for the light at all, in O(1): the
+// umbra of the occluder for the light lies in that of the occluder's bounding disc (box
+// center, half diagonal) for a disc inside the light, which lies between the discs' two
+// outer common tangents, |h| cos b <= R + t sin b (t along the axis from the light's disc
+// to the occluder's, h across it, sin b = (R - r) / D). A corner outside that band rules
+// the rectangle out. Only a shortcut: rect_in_umbra decides when this says maybe (most
+// tries fail: lights larger than small occluders have short umbrae narrower than a tile).
+bool umbra_possible(const UmbraBand& band, const std::array<Vec2, 4>& corners) noexcept {
+  if (band.state == 0) return true;
   for (const Vec2 x : corners) {
-    const Vec2 q = x - center;
+    const Vec2 q = x - band.center;
     // A relative margin keeps corners on the band's edge (rounding) as "maybe".
-    if (std::abs(cross(u, q)) * cos_b > (big_r + dot(u, q) * sin_b) * (1.0 + 1e-9) + 1e-12 * dist) return false;
+    if (std::abs(cross(band.u, q)) * band.cos_b >
+        (band.big_r + dot(band.u, q) * band.sin_b) * (1.0 + 1e-9) + 1e-12 * band.dist)
+      return false;
   }
   return true;
 }
@@ -661,6 +673,8 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
   scratch.block_x0 = block.x0;
   scratch.block_y0 = block.y0;
   scratch.light_grid.start_block(scene.lights.size());
+  scratch.umbra_bands.resize(scene.lights.size());
+  scratch.umbra_band_block.resize(scene.lights.size(), 0);
   scratch.occluder_grid.start_block(scene.occluders.size());
   const Aabb box = bounds_of(corners);
   if (reach && !culling_trusted(scene)) reach = nullptr;
@@ -766,7 +780,8 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     const std::size_t first_point = work.point_x.size();
     bool shadowed = false;
     bool general = false;
-    for (std::uint32_t k : candidates) {
+    for (std::size_t candidate = 0; candidate < candidates.size(); ++candidate) {
+      const std::uint32_t k = candidates[candidate];
       const ConvexShape& occluder = scene.occluders[k];
       if (tile_hull && !tile_hull->touches(bounds_of(occluder))) continue;
       KernelPair pair;
@@ -836,7 +851,17 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
           pair.nx = pair.ny = 0.0f;
           pair.c = -1.0f;
           pair.front = true;
-          if (prover && umbra_possible(light.shape, occluder, corners, inner_disc)) {
+          UmbraBand* band = nullptr;
+          if (prover) {
+            // The light's bands for this block, one per candidate, found on first use.
+            if (scratch.umbra_band_block[l] != scratch.block_serial) {
+              scratch.umbra_band_block[l] = scratch.block_serial;
+              scratch.umbra_bands[l].assign(candidates.size(), UmbraBand{});
+            }
+            band = &scratch.umbra_bands[l][candidate];
+            if (band->state < 0) umbra_band(light.shape, occluder, inner_disc, *band);
+          }
+          if (band && umbra_possible(*band, corners)) {
             ++scratch.umbra_tests;
             if (!light_directions) light_directions = scratch.light_grid.of(l, scratch.block_serial);
             if (rect_in_umbra(light.shape, occluder, corners, grid, light_directions,

@@ -74,6 +74,15 @@ struct TileSetupScratch {
     }
   };
   GridTangents light_grid, occluder_grid;
+  // Per light and block candidate: the band outside which no point lies in the occluder's
+  // umbra (umbra_possible in tile_setup.cpp), on first use in the block.
+  struct UmbraBand {
+    signed char state = -1;  // -1: not computed yet, 0: no band (every point may), 1: band below
+    Vec2 center, u;
+    double big_r = 0, dist = 0, sin_b = 0, cos_b = 0;
+  };
+  std::vector<std::vector<UmbraBand>> umbra_bands;
+  std::vector<std::uint64_t> umbra_band_block;  // per light: block_serial its bands belong to
   // Counts for FrameStats, accumulated until the owner resets them.
   std::uint64_t umbra_tests = 0, umbra_hits = 0;
 };
