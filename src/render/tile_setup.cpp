@@ -152,7 +152,7 @@ const ConvexShape& near_shape(const ConvexShape& s, const TileFrame& frame, Vec2
 
 // Takes `count` vertex slots (edge lines only meaningful for polygons) and returns the first
 // index. The arrays only grow, so that a tile's setup writes in place without bookkeeping.
-std::uint32_t grow_vertices(TileWork& work, std::size_t count) {
+inline std::uint32_t grow_vertices(TileWork& work, std::size_t count) {
   const std::size_t first = work.vertex_count, size = first + count;
   if (size > work.vx.size()) {
     const std::size_t grown = std::max<std::size_t>(2 * size, 64);
@@ -255,7 +255,12 @@ KernelShape circle_kernel_shape(const ConvexShape& s, const TileFrame& frame, Ve
   // The circle point nearest the tile, relative to the origin: formed from small
   // relative terms, because the inside test needs it on the circle to float precision
   // (its absolute coordinates would be rounded to the scene's magnitude).
-  const Vec2 nearest = (tile_center - frame.origin) + to_circle_boundary(c, s.radius, tile_center);
+  // to_circle_boundary(c, s.radius, tile_center) written out, with its length of c - tile_center
+  // taken from `len` (the same value: negation is exact).
+  const Vec2 to_boundary =
+      len > 0.0 ? (circle_power(c, s.radius, tile_center) / (len + s.radius)) * ((1.0 / len) * (c - tile_center))
+                : Vec2{s.radius, 0.0};
+  const Vec2 nearest = (tile_center - frame.origin) + to_boundary;
   if (s.radius * frame.scale > kMaxRadius) {
     // A far larger circle: the one of radius kMaxRadius tangent to it inside at `nearest`.
     const double r = kMaxRadius / frame.scale;
