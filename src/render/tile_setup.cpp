@@ -152,7 +152,7 @@ const ConvexShape& near_shape(const ConvexShape& s, const TileFrame& frame, Vec2
 
 // Takes `count` vertex slots (edge lines only meaningful for polygons) and returns the first
 // index. The arrays only grow, so that a tile's setup writes in place without bookkeeping.
-std::uint32_t grow_vertices(TileWork& work, std::size_t count) {
+inline std::uint32_t grow_vertices(TileWork& work, std::size_t count) {
   const std::size_t first = work.vertex_count, size = first + count;
   if (size > work.vx.size()) {
     const std::size_t grown = std::max<std::size_t>(2 * size, 64);
@@ -255,7 +255,12 @@ KernelShape circle_kernel_shape(const ConvexShape& s, const TileFrame& frame, Ve
   // The circle point nearest the tile, relative to the origin: formed from small
   // relative terms, because the inside test needs it on the circle to float precision
   // (its absolute coordinates would be rounded to the scene's magnitude).
-  const Vec2 nearest = (tile_center - frame.origin) + to_circle_boundary(c, s.radius, tile_center);
+  // to_circle_boundary(c, s.radius, tile_center) written out, with its length of c - tile_center
+  // taken from `len` (the same value: negation is exact).
+  const Vec2 to_boundary =
+      len > 0.0 ? (circle_power(c, s.radius, tile_center) / (len + s.radius)) * ((1.0 / len) * (c - tile_center))
+                : Vec2{s.radius, 0.0};
+  const Vec2 nearest = (tile_center - frame.origin) + to_boundary;
   if (s.radius * frame.scale > kMaxRadius) {
     // A far larger circle: the one of radius kMaxRadius tangent to it inside at `nearest`.
     const double r = kMaxRadius / frame.scale;
@@ -271,14 +276,40 @@ KernelShape circle_kernel_shape(const ConvexShape& s, const TileFrame& frame, Ve
   return k;
 }
 
+// The shape's tile tangent pair for these tile corners, taken from its pair over the whole
+// block where it has one (the wedges of points with a given tangent vertex are convex, so
+// the pair at the block's corners is the pair at every point of the block); `block_pair` is
+// the shape's cache entry, or null.
+bool tile_tangent_pair_in_block(const ConvexShape& s, const std::array<Vec2, 4>& corners,
+                                TileSetupScratch::BlockTangentPair* block_pair, const TileSetupScratch& scratch,
+                                int& cw, int& ccw) noexcept {
+  if (!block_pair || s.kind != ShapeKind::polygon) return tile_tangent_pair(s, corners, cw, ccw);
+  if (block_pair->block != scratch.block_serial) {
+    block_pair->block = scratch.block_serial;
+    const std::array<Vec2, 4> block_corners{scratch.block_corners[0], scratch.block_corners[1],
+                                            scratch.block_corners[2], scratch.block_corners[3]};
+    if (!tile_tangent_pair(s, block_corners, block_pair->cw, block_pair->ccw)) block_pair->cw = -1;
+  }
+  if (block_pair->cw < 0) return tile_tangent_pair(s, corners, cw, ccw);
+  cw = block_pair->cw;
+  ccw = block_pair->ccw;
+  return true;
+}
+
 // `whole`: keep every vertex and edge (a general pair's depth test needs the shape itself).
+// `block_pair`: the shape's entry in the scratch's block tangent pairs (null: none).
 KernelShape kernel_shape(const ConvexShape& shape, const TileFrame& frame, const std::array<Vec2, 4>& corners,
-                         bool whole, TileWork& work, ConvexShape& clipped, std::vector<Vec2>& tmp) {
+                         bool whole, TileWork& work, TileSetupScratch& scratch,
+                         TileSetupScratch::BlockTangentPair* block_pair) {
   KernelShape k;
   k.kind = shape.kind;
   const Vec2 tile_center = 0.5 * (corners[0] + corners[2]);
+  ConvexShape& clipped = scratch.clipped;
+  std::vector<Vec2>& tmp = scratch.hull_points;
   const ConvexShape& s = near_shape(shape, frame, tile_center, clipped, tmp);
-  if (int cw, ccw; !whole && tile_tangent_pair(s, corners, cw, ccw)) {
+  // A far-reaching shape is clipped per tile: its pair is the clipped shape's.
+  if (frame.far) block_pair = nullptr;
+  if (int cw, ccw; !whole && tile_tangent_pair_in_block(s, corners, block_pair, scratch, cw, ccw)) {
     k.kind = ShapeKind::segment;
     k.ordered = true;
     k.count = 2;
@@ -326,26 +357,23 @@ KernelShape kernel_shape(const ConvexShape& shape, const TileFrame& frame, const
 }
 
 
-// A light's tangent directions seen from the four corners of a rectangle, on first use.
-struct CornerTangents {
-  Vec2 cw[4], ccw[4];
-  signed char outside[4] = {-1, -1, -1, -1};  // -1: not computed yet
-};
+using CornerDirections = TileSetupScratch::CornerDirections;
 
 // Whether the whole rectangle lies in the occluder's umbra for the light, given that it is
 // on the occluder's side of their separating line: from each corner, the occluder's arc
 // must contain the light's. The umbra of a convex occluder for a convex light is convex,
-// so the four corners decide for the whole rectangle.
+// so the four corners decide for the whole rectangle. Tangent directions come from the
+// block's grid caches (`grid`: each corner's grid point), computed there on first use.
 bool rect_in_umbra(const ConvexShape& light, const ConvexShape& occluder, const std::array<Vec2, 4>& corners,
-                   CornerTangents& light_tangents) noexcept {
+                   const int (&grid)[4], CornerDirections* light_directions,
+                   CornerDirections* occluder_directions) noexcept {
   for (int i = 0; i < 4; ++i) {
-    if (light_tangents.outside[i] < 0)
-      light_tangents.outside[i] = tangent_directions(light, corners[i], light_tangents.cw[i], light_tangents.ccw[i]);
-    if (light_tangents.outside[i] == 0) return false;  // a corner inside the light sees it
-    Vec2 occ_cw, occ_ccw;
-    if (tangent_directions(occluder, corners[i], occ_cw, occ_ccw) &&
-        !arc_contains(occ_cw, occ_ccw, light_tangents.cw[i], light_tangents.ccw[i]))
-      return false;
+    CornerDirections& l = light_directions[grid[i]];
+    if (l.outside < 0) l.outside = tangent_directions(light, corners[i], l.cw, l.ccw);
+    if (l.outside == 0) return false;  // a corner inside the light sees it
+    CornerDirections& o = occluder_directions[grid[i]];
+    if (o.outside < 0) o.outside = tangent_directions(occluder, corners[i], o.cw, o.ccw);
+    if (o.outside != 0 && !arc_contains(o.cw, o.ccw, l.cw, l.ccw)) return false;
   }
   return true;
 }
@@ -356,15 +384,10 @@ struct InnerDisc {
   double radius = -1.0;
 };
 
-// Whether the rectangle can lie in the occluder's umbra for the light at all, in O(1): the
-// umbra of the occluder for the light lies in that of the occluder's bounding disc (box
-// center, half diagonal) for a disc inside the light, which lies between the discs' two
-// outer common tangents, |h| cos b <= R + t sin b (t along the axis from the light's disc
-// to the occluder's, h across it, sin b = (R - r) / D). A corner outside that band rules
-// the rectangle out. Only a shortcut: rect_in_umbra decides when this says maybe (most
-// tries fail: lights larger than small occluders have short umbrae narrower than a tile).
-bool umbra_possible(const ConvexShape& light, const ConvexShape& occluder, const std::array<Vec2, 4>& corners,
-                    InnerDisc& disc) noexcept {
+// The part of umbra_possible that depends on the light and the occluder only (the band of
+// their discs' outer common tangents), kept per block for each (light, candidate).
+using UmbraBand = TileSetupScratch::UmbraBand;
+void umbra_band(const ConvexShape& light, const ConvexShape& occluder, InnerDisc& disc, UmbraBand& band) noexcept {
   if (disc.radius < 0.0) {
     disc.center = light.centroid;
     if (light.kind == ShapeKind::circle) {
@@ -378,19 +401,36 @@ bool umbra_possible(const ConvexShape& light, const ConvexShape& occluder, const
       disc.radius = std::max(r, 0.0);
     }
   }
-  const Vec2 center = 0.5 * (occluder.bounds_min + occluder.bounds_max);
-  const double big_r = length(0.5 * (occluder.bounds_max - occluder.bounds_min));
-  const Vec2 axis = center - disc.center;
-  const double dist = length(axis);
+  band.center = 0.5 * (occluder.bounds_min + occluder.bounds_max);
+  band.big_r = length(0.5 * (occluder.bounds_max - occluder.bounds_min));
+  const Vec2 axis = band.center - disc.center;
+  band.dist = length(axis);
   // Discs one inside the other have no outer tangents: no shortcut.
-  if (!(dist > std::abs(big_r - disc.radius) * (1.0 + 1e-9) + 1e-300)) return true;
-  const Vec2 u = (1.0 / dist) * axis;
-  const double sin_b = (big_r - disc.radius) / dist;
-  const double cos_b = std::sqrt(std::max(0.0, 1.0 - sin_b * sin_b));
+  if (!(band.dist > std::abs(band.big_r - disc.radius) * (1.0 + 1e-9) + 1e-300)) {
+    band.state = 0;
+    return;
+  }
+  band.u = (1.0 / band.dist) * axis;
+  band.sin_b = (band.big_r - disc.radius) / band.dist;
+  band.cos_b = std::sqrt(std::max(0.0, 1.0 - band.sin_b * band.sin_b));
+  band.state = 1;
+}
+
+// Whether the rectangle can lie in the occluder's umbra for the light at all, in O(1): the
+// umbra of the occluder for the light lies in that of the occluder's bounding disc (box
+// center, half diagonal) for a disc inside the light, which lies between the discs' two
+// outer common tangents, |h| cos b <= R + t sin b (t along the axis from the light's disc
+// to the occluder's, h across it, sin b = (R - r) / D). A corner outside that band rules
+// the rectangle out. Only a shortcut: rect_in_umbra decides when this says maybe (most
+// tries fail: lights larger than small occluders have short umbrae narrower than a tile).
+bool umbra_possible(const UmbraBand& band, const std::array<Vec2, 4>& corners) noexcept {
+  if (band.state == 0) return true;
   for (const Vec2 x : corners) {
-    const Vec2 q = x - center;
+    const Vec2 q = x - band.center;
     // A relative margin keeps corners on the band's edge (rounding) as "maybe".
-    if (std::abs(cross(u, q)) * cos_b > (big_r + dot(u, q) * sin_b) * (1.0 + 1e-9) + 1e-12 * dist) return false;
+    if (std::abs(cross(band.u, q)) * band.cos_b >
+        (band.big_r + dot(band.u, q) * band.sin_b) * (1.0 + 1e-9) + 1e-12 * band.dist)
+      return false;
   }
   return true;
 }
@@ -627,6 +667,20 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
   scratch.block_candidates.resize(scene.lights.size());
   scratch.block_shadowed.assign(scene.lights.size(), 0);
   const std::array<Vec2, 4> corners = tile_corners(scene, block);
+  // Entries of earlier blocks (or scenes) carry an older serial: found anew on first use.
+  ++scratch.block_serial;
+  std::copy(corners.begin(), corners.end(), scratch.block_corners);
+  scratch.light_block_pairs.resize(scene.lights.size());
+  scratch.occluder_block_pairs.resize(scene.occluders.size());
+  const TileFrame block_frame = tile_frame(scene, corners[0]);
+  scratch.frame_scale = block_frame.scale;
+  scratch.frame_far = block_frame.far;
+  scratch.block_x0 = block.x0;
+  scratch.block_y0 = block.y0;
+  scratch.light_grid.start_block(scene.lights.size());
+  scratch.umbra_bands.resize(scene.lights.size());
+  scratch.umbra_band_block.resize(scene.lights.size(), 0);
+  scratch.occluder_grid.start_block(scene.occluders.size());
   const Aabb box = bounds_of(corners);
   if (reach && !culling_trusted(scene)) reach = nullptr;
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
@@ -678,7 +732,8 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
   work.model = model;
   culling = culling && culling_trusted(scene);
   const Vec2 origin = sample_position(scene, tile.x0, tile.y0, 0.0, 0.0);
-  const TileFrame frame = tile_frame(scene, origin);
+  // The frame's scale depends on the scene only: found once per block.
+  const TileFrame frame{origin, scratch.frame_scale, scratch.frame_far};
   work.spp = spp;
   work.sample_x.resize(static_cast<std::size_t>(spp) * kTileSize);
   work.sample_y.resize(static_cast<std::size_t>(spp) * kTileSize);
@@ -704,6 +759,11 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
   }
   scratch.used.clear();
   scratch.used_whole.clear();
+  // The tile's corners on the block's tile grid (corner order of tile_corners).
+  const int grid_x = (tile.x0 - scratch.block_x0) / kTileSize, grid_y = (tile.y0 - scratch.block_y0) / kTileSize;
+  const int grid_row = kBlockTiles + 1;
+  const int grid_corner = grid_y * grid_row + grid_x;
+  const int grid[4] = {grid_corner, grid_corner + 1, grid_corner + grid_row + 1, grid_corner + grid_row};
 
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
     if (scratch.block_shadowed[l]) continue;
@@ -711,9 +771,10 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     if (model && beyond_range(box, light.shape, light.terms)) continue;
     const std::vector<std::uint32_t>& candidates = scratch.block_candidates[l];
     std::optional<BoxPairHull> tile_hull;
-    CornerTangents light_tangents;
+    CornerDirections* light_directions = nullptr;  // the light's grid cache, on first umbra test
     InnerDisc inner_disc;
-    CornerTangentPoints light_tangent_points;
+    // Only general pairs and clipped lights use it: built on first use, not per light.
+    std::optional<CornerTangentPoints> light_tangent_points;
     std::optional<LightClip> clip;
     if (culling && !candidates.empty()) tile_hull.emplace(box, bounds_of(light.shape));
     const Vec2 tile_center = 0.5 * (corners[0] + corners[2]);
@@ -724,7 +785,8 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     const std::size_t first_point = work.point_x.size();
     bool shadowed = false;
     bool general = false;
-    for (std::uint32_t k : candidates) {
+    for (std::size_t candidate = 0; candidate < candidates.size(); ++candidate) {
+      const std::uint32_t k = candidates[candidate];
       const ConvexShape& occluder = scene.occluders[k];
       if (tile_hull && !tile_hull->touches(bounds_of(occluder))) continue;
       KernelPair pair;
@@ -766,7 +828,9 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
         // Overlapping or touching shapes (or disjoint ones too close for a separating
         // line, where the depth test alone is exact): the kernel's general pair, unless
         // the occluder lies wholly behind the light over this tile.
-        if (culling && general_pair_behind(light.shape, occluder, corners, light_tangent_points)) continue;
+        if (culling && general_pair_behind(light.shape, occluder, corners,
+                                           light_tangent_points ? *light_tangent_points : light_tangent_points.emplace()))
+          continue;
         pair.general = true;
         general = true;
         pair.first_point = static_cast<std::uint32_t>(work.point_x.size());
@@ -792,9 +856,21 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
           pair.nx = pair.ny = 0.0f;
           pair.c = -1.0f;
           pair.front = true;
-          if (prover && umbra_possible(light.shape, occluder, corners, inner_disc)) {
+          UmbraBand* band = nullptr;
+          if (prover) {
+            // The light's bands for this block, one per candidate, found on first use.
+            if (scratch.umbra_band_block[l] != scratch.block_serial) {
+              scratch.umbra_band_block[l] = scratch.block_serial;
+              scratch.umbra_bands[l].assign(candidates.size(), UmbraBand{});
+            }
+            band = &scratch.umbra_bands[l][candidate];
+            if (band->state < 0) umbra_band(light.shape, occluder, inner_disc, *band);
+          }
+          if (band && umbra_possible(*band, corners)) {
             ++scratch.umbra_tests;
-            if (rect_in_umbra(light.shape, occluder, corners, light_tangents)) {
+            if (!light_directions) light_directions = scratch.light_grid.of(l, scratch.block_serial);
+            if (rect_in_umbra(light.shape, occluder, corners, grid, light_directions,
+                              scratch.occluder_grid.of(k, scratch.block_serial))) {
               ++scratch.umbra_hits;
               shadowed = true;
               break;
@@ -841,10 +917,13 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     // A ranged light is kept whole: the window needs the distance to the whole shape.
     const bool ranged = model && light.terms.has_range();
     kl.shape =
-        kernel_shape(light.shape, frame, corners, general || ranged, work, scratch.clipped, scratch.hull_points);
+        kernel_shape(light.shape, frame, corners, general || ranged, work, scratch, &scratch.light_block_pairs[l]);
     // Over a tile wholly before the clip line that sees no light point past it, the clipped
     // light's arc is the whole light's (and the pair was dropped as behind): skip the clip.
-    if (clip && culling && light_before_line(light.shape, clip->line, corners, light_tangent_points)) clip.reset();
+    if (clip && culling &&
+        light_before_line(light.shape, clip->line, corners,
+                          light_tangent_points ? *light_tangent_points : light_tangent_points.emplace()))
+      clip.reset();
     if (clip) {
       kl.shape.clipped = true;
       kl.shape.clip_nx = static_cast<float>(clip->line.normal.x);
@@ -941,7 +1020,7 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
   }
   for (std::size_t u = 0; u < scratch.used.size(); ++u) {
     work.occluders.push_back(kernel_shape(scene.occluders[scratch.used[u]], frame, corners, scratch.used_whole[u] != 0,
-                                          work, scratch.clipped, scratch.hull_points));
+                                          work, scratch, &scratch.occluder_block_pairs[scratch.used[u]]));
     if (model) work.occluder_terms.push_back(kernel_occluder_terms(scene.occluder_terms[scratch.used[u]]));
   }
 }

@@ -2,6 +2,8 @@
 // depth order, and their float geometry relative to the tile origin.
 #pragma once
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -27,6 +29,60 @@ struct TileSetupScratch {
   std::vector<std::uint32_t> pair_occluders;
   std::vector<std::uint32_t> directional;  // a directional light's candidate occluders
   OcclusionProofScratch occlusion;
+  // Per shape, its tile tangent pair over the whole current block (see kernel_shape in
+  // tile_setup.cpp), found on the shape's first use in the block: a pair that holds over the
+  // block holds over each of its tiles, which then skip the test. cw < 0: none over the block.
+  struct BlockTangentPair {
+    std::uint64_t block = 0;  // block_serial when found; older entries are stale
+    std::int32_t cw = -1, ccw = -1;
+  };
+  std::vector<BlockTangentPair> light_block_pairs, occluder_block_pairs;
+  std::uint64_t block_serial = 0;  // counts gather_block_candidates calls
+  Vec2 block_corners[4];
+  int block_x0 = 0, block_y0 = 0;  // the current block's first pixel column and row
+  double frame_scale = 1.0;  // the scene's kernel-unit scale and far flag (TileFrame in tile_setup.cpp)
+  bool frame_far = true;
+  // A shape's tangent directions seen from the tile corners of the current block (the
+  // (kBlockTiles + 1)^2 points of its tile grid, shared by up to four tiles each), for the
+  // umbra tests, on first use. Slots are dealt per block to the shapes that need them.
+  static constexpr int kGridPoints = (kBlockTiles + 1) * (kBlockTiles + 1);
+  struct CornerDirections {
+    Vec2 cw, ccw;
+    signed char outside = -1;  // -1: not computed yet
+  };
+  struct GridTangents {
+    std::vector<std::uint64_t> block;  // per shape: block_serial when given its slot
+    std::vector<std::uint32_t> slot;   // per shape
+    std::vector<CornerDirections> directions;  // kGridPoints per slot
+    std::uint32_t slots = 0;           // slots dealt in the current block
+    // The shape's kGridPoints entries (valid until the next call).
+    CornerDirections* of(std::size_t shape, std::uint64_t serial) {
+      if (block[shape] != serial) {
+        block[shape] = serial;
+        slot[shape] = slots++;
+        const std::size_t end = static_cast<std::size_t>(slots) * kGridPoints;
+        if (directions.size() < end) directions.resize(end);
+        std::fill(directions.begin() + static_cast<std::ptrdiff_t>(end - kGridPoints),
+                  directions.begin() + static_cast<std::ptrdiff_t>(end), CornerDirections{});
+      }
+      return directions.data() + static_cast<std::size_t>(slot[shape]) * kGridPoints;
+    }
+    void start_block(std::size_t shapes) {
+      block.resize(shapes, 0);
+      slot.resize(shapes, 0);
+      slots = 0;
+    }
+  };
+  GridTangents light_grid, occluder_grid;
+  // Per light and block candidate: the band outside which no point lies in the occluder's
+  // umbra (umbra_possible in tile_setup.cpp), on first use in the block.
+  struct UmbraBand {
+    signed char state = -1;  // -1: not computed yet, 0: no band (every point may), 1: band below
+    Vec2 center, u;
+    double big_r = 0, dist = 0, sin_b = 0, cos_b = 0;
+  };
+  std::vector<std::vector<UmbraBand>> umbra_bands;
+  std::vector<std::uint64_t> umbra_band_block;  // per light: block_serial its bands belong to
   // Counts for FrameStats, accumulated until the owner resets them.
   std::uint64_t umbra_tests = 0, umbra_hits = 0;
 };

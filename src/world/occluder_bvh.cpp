@@ -139,14 +139,37 @@ ConvexQuery::ConvexQuery(const Vec2* hull, int count) noexcept : hull_(hull), co
   orientation_ = hull_orientation(hull, count);
   const int cached = std::min(edges_, kMaxCachedAxes);
   for (int i = 0; i < cached; ++i) {
-    if (edge_axis(hull, count, i, orientation_, axes_[axis_count_])) ++axis_count_;
+    Axis axis;
+    if (!edge_axis(hull, count, i, orientation_, axis)) continue;
+    // axis_separates' two sides, each with the corner it picks made an index: the same sums
+    // and comparisons without a branch per coordinate (may_touch runs for every node and item).
+    // hi < lo_of_hull, hi from the box's maximising corner:
+    if (axis.lo != -kInf)
+      add_half_test({axis.nx, axis.ny, axis.lo, axis.nx >= 0.0 ? 2 : 0, axis.ny >= 0.0 ? 3 : 1});
+    // lo > hi_of_hull, lo from the minimising corner, negated:
+    if (axis.hi != kInf)
+      add_half_test({-axis.nx, -axis.ny, -axis.hi, axis.nx >= 0.0 ? 0 : 2, axis.ny >= 0.0 ? 1 : 3});
   }
+}
+
+void ConvexQuery::add_half_test(const HalfTest& t) noexcept {
+  // An axis-aligned test (an edge along the hull's bounding box, as most edges of a block's
+  // hull with a box are) reduces exactly to a comparison with one box coordinate (0 * x is
+  // 0, +-1 * y is +-y); where its bound does not pass the hull's bounds, any box it
+  // separates already fails the bounds test in may_touch: not kept.
+  if (t.nx == 0.0 && t.ny == 1.0 && t.bound <= bounds_.min_y) return;    // max_y < bound
+  if (t.nx == 0.0 && t.ny == -1.0 && t.bound <= -bounds_.max_y) return;  // -min_y < bound
+  if (t.ny == 0.0 && t.nx == 1.0 && t.bound <= bounds_.min_x) return;    // max_x < bound
+  if (t.ny == 0.0 && t.nx == -1.0 && t.bound <= -bounds_.max_x) return;  // -min_x < bound
+  half_tests_[half_test_count_++] = t;
 }
 
 bool ConvexQuery::may_touch(const Aabb& b) const noexcept {
   if (!boxes_overlap(b, bounds_)) return false;
-  for (int i = 0; i < axis_count_; ++i) {
-    if (axis_separates(axes_[i], b)) return false;
+  const double corner[4] = {b.min_x, b.min_y, b.max_x, b.max_y};
+  for (int i = 0; i < half_test_count_; ++i) {
+    const HalfTest& t = half_tests_[i];
+    if (t.nx * corner[t.x_index] + t.ny * corner[t.y_index] < t.bound) return false;
   }
   return true;
 }

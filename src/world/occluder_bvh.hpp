@@ -43,6 +43,14 @@ class ConvexQuery {
   struct Axis {
     double nx, ny, lo, hi;
   };
+  // One side of an axis test in a branch-free form: the box lies beyond the hull where
+  // nx * corner_x + ny * corner_y < bound, for the box corner (x_index, y_index into
+  // {min_x, min_y, max_x, max_y}) that maximises that sum. The side `lo > hi_of_hull` is
+  // stored negated ((-n).p < -hi, the same comparison: negation rounds symmetrically).
+  struct HalfTest {
+    double nx, ny, bound;
+    int x_index, y_index;
+  };
 
   ConvexQuery(const Vec2* hull, int count) noexcept;
   const Aabb& bounds() const noexcept { return bounds_; }
@@ -52,13 +60,17 @@ class ConvexQuery {
   bool touches(const Aabb& b) const noexcept;
 
  private:
+  void add_half_test(const HalfTest& t) noexcept;
+
   const Vec2* hull_;
   int count_;
   int edges_ = 0;
   int orientation_ = 0;  // +1 counterclockwise, -1 clockwise, 0 unknown (see edge_axis)
-  int axis_count_ = 0;
+  int half_test_count_ = 0;
   Aabb bounds_;
-  Axis axes_[kMaxCachedAxes];
+  // Two per axis at most; one where the hull's orientation is known (the other side is
+  // unbounded, so it never separates).
+  HalfTest half_tests_[2 * kMaxCachedAxes];
 };
 
 // The convex hull of two axis-aligned boxes (a tile and a light's box: every ray from the
