@@ -107,8 +107,8 @@ struct FrameStats {
   std::uint64_t tile_proofs_succeeded = 0;
   std::uint64_t umbra_tests = 0;          // "is the tile in this one occluder's umbra" tests
   std::uint64_t umbra_hits = 0;
-  std::uint64_t light_samples = 0;        // light arcs the kernel evaluates: sum over tiles of lights x samples
-  std::uint64_t pair_samples = 0;         // occluder arcs likewise: sum over tiles of pairs x samples
+  std::uint64_t light_samples = 0;        // light arcs the kernel evaluates: sum over tiles (or their cells) of lights x samples
+  std::uint64_t pair_samples = 0;         // pairs likewise: sum over tiles (or their cells) of pairs x samples
   std::uint64_t scalar_tiles = 0;         // tiles computed by the scalar reference (only with Isa::scalar)
   // What pixels really need, by the exact double geometry at one pixel per tile (the tile's
   // middle pixel), for comparison with the kernel's work above: lights visible there (some

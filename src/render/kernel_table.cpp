@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "culling/light_reach.hpp"
+#include "render/cell_lists.hpp"
 #include "render/tile_setup.hpp"
 #include "render/tiling.hpp"
 #include "render/scalar_tiles.hpp"
@@ -42,6 +43,7 @@ void sample_needs(const PreparedScene& scene, const TileRect& part, const TileSe
 struct FrameEngine::ThreadState {
   TileWork work;
   TileSetupScratch setup;
+  CellListScratch cells;
   ScalarScratch scalar;
   std::unique_ptr<float[]> scratch;  // 64-byte aligned view into it via `aligned`
   std::size_t scratch_floats = 0;
@@ -108,14 +110,24 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
         render_tile_scalar(scene, settings.spp, part, tile.x0, tile.y0, state.scalar, state.result, settings.shaded);
       } else {
         build_tile_work(scene, tile, settings.spp, cull, state.work, state.setup, settings.shaded);
+        build_cell_lists(scene, tile, kernels->lanes, state.setup, state.work, state.cells);
         const TileWork& work = state.work;
         const std::uint64_t samples = static_cast<std::uint64_t>(work.spp) * kTilePixels;
         counts.samples += samples;
         counts.tile_lights += work.lights.size();
         counts.tile_pairs += work.pairs.size();
         for (const KernelPair& pair : work.pairs) counts.tile_general_pairs += pair.general ? 1u : 0u;
-        counts.light_samples += work.lights.size() * samples;
-        counts.pair_samples += work.pairs.size() * samples;
+        if (work.cells.empty()) {
+          counts.light_samples += work.lights.size() * samples;
+          counts.pair_samples += work.pairs.size() * samples;
+        } else {  // each packet evaluates its cell's lists
+          const std::uint64_t cell_samples = samples / work.cells.size();
+          for (const KernelCell& cell : work.cells) {
+            counts.light_samples += cell.light_count * cell_samples;
+            for (std::uint32_t i = cell.first_light; i < cell.first_light + cell.light_count; ++i)
+              counts.pair_samples += work.cell_lights[i].pair_count * cell_samples;
+          }
+        }
         if (settings.sample_needs) sample_needs(scene, part, state.setup, state.scalar, counts);
         float* scratch = state.kernel_scratch(kernel_scratch_floats(work, kernels->lanes));
         kernels->render_tile(work, scratch, state.result);

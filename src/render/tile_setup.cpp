@@ -731,6 +731,8 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
   const bool model = scene.model;
   work.model = model;
   culling = culling && culling_trusted(scene);
+  scratch.tile_culled = culling;
+  scratch.tile_lights.clear();
   const Vec2 origin = sample_position(scene, tile.x0, tile.y0, 0.0, 0.0);
   // The frame's scale depends on the scene only: found once per block.
   const TileFrame frame{origin, scratch.frame_scale, scratch.frame_far};
@@ -935,6 +937,7 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     for (int c = 0; c < 3; ++c) kl.emission[c] = static_cast<float>(light.emission[c] / kTwoPi);
     work.max_intervals_per_light = std::max(work.max_intervals_per_light, kl.interval_count);
     work.lights.push_back(kl);
+    scratch.tile_lights.push_back(static_cast<std::uint32_t>(l));
     if (model) {
       if (ranged) terms.inv_range = static_cast<float>(1.0 / (light.terms.range * frame.scale));
       terms.cone = light.terms.has_cone;

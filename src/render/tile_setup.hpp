@@ -83,6 +83,10 @@ struct TileSetupScratch {
   };
   std::vector<std::vector<UmbraBand>> umbra_bands;
   std::vector<std::uint64_t> umbra_band_block;  // per light: block_serial its bands belong to
+  // The last tile built: the scene index of each TileWork::lights entry (plain scenes), and
+  // whether its lists were culled (cell_lists.hpp refines only culled tiles).
+  std::vector<std::uint32_t> tile_lights;
+  bool tile_culled = false;
   // Counts for FrameStats, accumulated until the owner resets them.
   std::uint64_t umbra_tests = 0, umbra_hits = 0;
 };

@@ -49,9 +49,11 @@ struct Arc {
 #if defined(__GNUC__)
 #define PAR2D_KERNEL_INLINE inline __attribute__((always_inline))
 #define PAR2D_KERNEL_NOINLINE __attribute__((noinline))
+#define PAR2D_KERNEL_LAMBDA_INLINE __attribute__((always_inline))
 #else
 #define PAR2D_KERNEL_INLINE inline
 #define PAR2D_KERNEL_NOINLINE
+#define PAR2D_KERNEL_LAMBDA_INLINE
 #endif
 
 // The arc between the clockwise tangent direction lo and the counter-clockwise one hi.
@@ -513,10 +515,12 @@ inline void general_pair_intervals(const TileWork& work, const KernelLight& ligh
   }
 }
 
-// Irradiance (times 1/(2*pi), folded into the emissions) of one packet at (px, py).
-template <class A>
-PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const xsimd::batch<float, A>& px,
-                              const xsimd::batch<float, A>& py, float* scratch, xsimd::batch<float, A> (&e)[3]) noexcept {
+// Irradiance (times 1/(2*pi), folded into the emissions) of one packet at (px, py), from the
+// tile's lists, or (kCells) from its cell's (`cell`, see KernelCell).
+template <class A, bool kCells>
+PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::KernelCell* cell,
+                                           const xsimd::batch<float, A>& px, const xsimd::batch<float, A>& py,
+                                           float* scratch, xsimd::batch<float, A> (&e)[3]) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   const std::size_t occluder_count = work.occluders.size();
@@ -527,8 +531,13 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const xsimd::ba
   float* hi = lo + slots * W;
   float* events = hi + slots * W;
 
+  // Arcs are stored at the occluder's tile index; a cell computes only those its pairs read
+  // (and those whose inside test it needs, see cell_lists.cpp).
   auto in_occluder = B(0.0f) > B(0.0f);
-  for (std::size_t k = 0; k < occluder_count; ++k) {
+  const std::size_t arcs = kCells ? cell->occluder_count : occluder_count;
+  const std::uint32_t* cell_occluders = kCells ? work.cell_occluders.data() + cell->first_occluder : nullptr;
+  for (std::size_t i = 0; i < arcs; ++i) {
+    const std::size_t k = kCells ? cell_occluders[i] : i;
     const Arc<A> arc = shape_arc<A>(work, work.occluders[k], px, py);
     in_occluder = in_occluder | arc.inside;
     arc.start.store_aligned(occ_start_all + k * W);
@@ -536,21 +545,22 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const xsimd::ba
   }
   for (int c = 0; c < 3; ++c) e[c] = B(0.0f);
   // Every lane inside an occluder: 0 whatever the lights (the select at the end).
-  if (occluder_count != 0 && xsimd::all(in_occluder)) return;
-  for (const KernelLight& light : work.lights) {
-    if (light.pair_count == 0) {  // nothing in front of this light anywhere in the tile
+  if (arcs != 0 && xsimd::all(in_occluder)) return;
+  // One light's share, inlined into both loops below.
+  auto add_light = [&](const KernelLight& light, const KernelPair* pairs,
+                       std::size_t pair_count) PAR2D_KERNEL_LAMBDA_INLINE {
+    if (pair_count == 0) {  // nothing in front of this light anywhere in the tile (or cell)
       const Arc<A> arc = shape_arc<A, false>(work, light.shape, px, py);
       const B visible = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
       for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]), visible, e[c]);
-      continue;
+      return;
     }
     const Arc<A> arc = shape_arc<A>(work, light.shape, px, py);
     const B width = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
     B reach0(0.0f);
     std::size_t n = 0;  // intervals written
-    bool hidden = false;  // the light is covered in every lane outside the occluders
-    for (std::size_t p = 0; p < light.pair_count; ++p) {
-      const KernelPair& pair = work.pairs[light.first_pair + p];
+    for (std::size_t p = 0; p < pair_count; ++p) {
+      const KernelPair& pair = pairs[p];
       const B occ_start = B::load_aligned(occ_start_all + pair.occluder * W);
       const B occ_w = B::load_aligned(occ_width + pair.occluder * W);
       if (pair.general) {
@@ -574,10 +584,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const xsimd::ba
       // One occluder's arc holding the light's in every lane (it starts before the light's
       // arc and ends past it) hides the light there: the union is the whole arc whatever
       // the other intervals, and the light adds exactly 0, so the rest of its work is skipped.
-      if (xsimd::all((reach0 >= width) | in_occluder)) {
-        hidden = true;
-        break;
-      }
+      if (xsimd::all((reach0 >= width) | in_occluder)) return;
       // An interval empty in every lane (not in front, or starting past the light's arc)
       // adds nothing to the union (it sorts after every interval it could overlap): not
       // kept, so the sort and sweep run over the intervals this packet really sees.
@@ -588,7 +595,6 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const xsimd::ba
       hi_p.store_aligned(hi + n * W);
       ++n;
     }
-    if (hidden) continue;
     B visible = width;
     const B reach = xsimd::max(reach0, B(0.0f));
     if (n == 0) {
@@ -611,6 +617,14 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const xsimd::ba
       visible = xsimd::max(width - sorted_union_measure<A>(lo, hi, n, reach), B(0.0f));
     }
     for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]), visible, e[c]);
+  };
+  if constexpr (kCells) {
+    const detail::KernelCellLight* cell_lights = work.cell_lights.data() + cell->first_light;
+    for (std::size_t i = 0; i < cell->light_count; ++i)
+      add_light(work.lights[cell_lights[i].light], work.cell_pairs.data() + cell_lights[i].first_pair,
+                cell_lights[i].pair_count);
+  } else {
+    for (const KernelLight& light : work.lights) add_light(light, work.pairs.data() + light.first_pair, light.pair_count);
   }
   for (int c = 0; c < 3; ++c) e[c] = xsimd::select(in_occluder, B(0.0f), e[c]);
 }
@@ -1154,6 +1168,44 @@ void render_tile_model(const TileWork& work, float* scratch, TileResult& out) no
   }
 }
 
+// The plain kernel over the tile's packets, each from its cell's lists with kCells.
+template <class A, bool kCells>
+PAR2D_KERNEL_INLINE void render_plain_tile(const TileWork& work, float* scratch, TileResult& out) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  // A cell is whole packets wide.
+  auto cell_of = [&](std::size_t first) -> const detail::KernelCell* {
+    if constexpr (!kCells) return nullptr;
+    const std::size_t row = first / detail::kTileSize, column = first % detail::kTileSize;
+    return &work.cells[static_cast<std::size_t>(row / static_cast<std::size_t>(work.cell_height) *
+                                                (detail::kTileSize / static_cast<std::size_t>(work.cell_width)) +
+                                                column / static_cast<std::size_t>(work.cell_width))];
+  };
+  if (work.spp == 1) {  // the pixel centers: no sum, no division
+    for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
+      const B px = B::load_unaligned(work.sample_x.data() + first % detail::kTileSize);
+      const B py(work.sample_y[first / detail::kTileSize]);
+      B e[3];
+      packet_irradiance<A, kCells>(work, cell_of(first), px, py, scratch, e);
+      for (int c = 0; c < 3; ++c) e[c].store_aligned(out.rgb[c] + first);
+    }
+    return;
+  }
+  const B inv_spp(1.0f / static_cast<float>(work.spp));
+  for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
+    const detail::KernelCell* cell = cell_of(first);
+    B sum[3] = {B(0.0f), B(0.0f), B(0.0f)};
+    for (int s = 0; s < work.spp; ++s) {
+      const B px = B::load_unaligned(work.sample_x.data() + s * detail::kTileSize + first % detail::kTileSize);
+      const B py(work.sample_y[s * detail::kTileSize + first / detail::kTileSize]);
+      B e[3];
+      packet_irradiance<A, kCells>(work, cell, px, py, scratch, e);
+      for (int c = 0; c < 3; ++c) sum[c] += e[c];
+    }
+    for (int c = 0; c < 3; ++c) (sum[c] * inv_spp).store_aligned(out.rgb[c] + first);
+  }
+}
+
 // Fills `out` with the mean irradiance over the work's samples for all the tile's pixels.
 template <class A>
 void render_tile(const TileWork& work, float* scratch, TileResult& out) noexcept {
@@ -1164,28 +1216,8 @@ void render_tile(const TileWork& work, float* scratch, TileResult& out) noexcept
     if (work.shaded) return render_tile_model<A, true>(work, scratch, out);
     return render_tile_model<A, false>(work, scratch, out);
   }
-  if (work.spp == 1) {  // the pixel centers: no sum, no division
-    for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
-      const B px = B::load_unaligned(work.sample_x.data() + first % detail::kTileSize);
-      const B py(work.sample_y[first / detail::kTileSize]);
-      B e[3];
-      packet_irradiance<A>(work, px, py, scratch, e);
-      for (int c = 0; c < 3; ++c) e[c].store_aligned(out.rgb[c] + first);
-    }
-    return;
-  }
-  const B inv_spp(1.0f / static_cast<float>(work.spp));
-  for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
-    B sum[3] = {B(0.0f), B(0.0f), B(0.0f)};
-    for (int s = 0; s < work.spp; ++s) {
-      const B px = B::load_unaligned(work.sample_x.data() + s * detail::kTileSize + first % detail::kTileSize);
-      const B py(work.sample_y[s * detail::kTileSize + first / detail::kTileSize]);
-      B e[3];
-      packet_irradiance<A>(work, px, py, scratch, e);
-      for (int c = 0; c < 3; ++c) sum[c] += e[c];
-    }
-    for (int c = 0; c < 3; ++c) (sum[c] * inv_spp).store_aligned(out.rgb[c] + first);
-  }
+  if (work.cells.empty()) return render_plain_tile<A, false>(work, scratch, out);
+  return render_plain_tile<A, true>(work, scratch, out);
 }
 
 }  // namespace par2d::simd

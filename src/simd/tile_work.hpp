@@ -97,6 +97,22 @@ struct KernelOccluderTerms {
   bool lit_interior = false;
 };
 
+// A cell: a rectangle of the tile's packets (TileWork::cell_width x cell_height pixels) with
+// its own light list, where a tile sees far more than each of its pixels (rubble: a tile's
+// pairs cast shadows on parts of it). Cell lights index TileWork::lights and keep only the
+// pairs whose occluder can stand between the cell and the light (cell_lists.cpp); a light
+// no occluder can block over the cell keeps no pairs.
+struct KernelCellLight {
+  std::uint32_t light = 0;       // index into TileWork::lights
+  std::uint32_t first_pair = 0;  // pairs [first_pair, first_pair + pair_count) of TileWork::cell_pairs
+  std::uint32_t pair_count = 0;
+};
+
+struct KernelCell {
+  std::uint32_t first_light = 0, light_count = 0;        // TileWork::cell_lights
+  std::uint32_t first_occluder = 0, occluder_count = 0;  // TileWork::cell_occluders: the arcs the cell needs
+};
+
 struct TileWork {
   int spp = 1;
   // The game lighting model: `model` selects the model kernel (plain scenes never set it).
@@ -123,6 +139,13 @@ struct TileWork {
   std::vector<float> point_x, point_y;  // boundary meeting points of general pairs
   std::uint32_t max_intervals_per_light = 0;
   std::uint32_t max_points_per_pair = 0;
+  // Cells, row-major over the tile (none: every packet uses the tile's lists). Only the plain
+  // kernel reads them.
+  int cell_width = 0, cell_height = 0;
+  std::vector<KernelCell> cells;
+  std::vector<KernelCellLight> cell_lights;
+  std::vector<KernelPair> cell_pairs;
+  std::vector<std::uint32_t> cell_occluders;  // indices into occluders
 
   void clear() noexcept {
     occluders.clear();
@@ -137,6 +160,11 @@ struct TileWork {
     point_y.clear();
     max_intervals_per_light = 0;
     max_points_per_pair = 0;
+    cell_width = cell_height = 0;
+    cells.clear();
+    cell_lights.clear();
+    cell_pairs.clear();
+    cell_occluders.clear();
   }
 };
 

@@ -1,0 +1,36 @@
+// Light lists per cell of a tile (a rectangle of its SIMD packets): each light keeps only the
+// pairs whose occluder can stand between the cell and the light.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "render/tile_setup.hpp"
+#include "render/tiling.hpp"
+#include "simd/tile_work.hpp"
+#include "world/occluder_bvh.hpp"
+#include "world/prepared_scene.hpp"
+
+namespace par2d::detail {
+
+// Per-thread buffers reused from tile to tile.
+struct CellListScratch {
+  struct Disc {
+    Vec2 center;
+    double radius = 0.0;
+  };
+  std::vector<Aabb> cell_boxes;
+  std::vector<Vec2> cell_centers;
+  std::vector<Disc> occluder_discs;       // per tile occluder
+  std::vector<unsigned> occluder_cells;   // per tile occluder: bit c, cell c needs its arc
+  std::vector<unsigned> pair_cells;       // per pair of the current light: bit c, cell c keeps it
+};
+
+// Fills work's cells (TileWork::cells) for `tile`, the tile that build_tile_work last built
+// into `work` with `setup`, for a kernel of `lanes` lanes. Only plain scenes' culled tiles get
+// cells; others keep the tile's lists. The image is the same either way: a pair an occluder
+// cannot form over the cell blocks nothing there.
+void build_cell_lists(const PreparedScene& scene, const TileRect& tile, int lanes, const TileSetupScratch& setup,
+                      TileWork& work, CellListScratch& scratch);
+
+}  // namespace par2d::detail

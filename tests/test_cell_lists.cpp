@@ -1,0 +1,130 @@
+// Per-cell light lists (render/cell_lists.cpp): a cell keeps only the pairs whose occluder can
+// stand between it and the light, and the image stays the unculled path's and the scalar
+// reference's.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <string>
+
+#include "par2d/render.hpp"
+#include "render/cell_lists.hpp"
+#include "render/tile_setup.hpp"
+#include "render/tiling.hpp"
+#include "support/random_scenes.hpp"
+#include "support/render_checks.hpp"
+#include "world/prepared_scene.hpp"
+
+using namespace par2d;
+using namespace par2d::test;
+
+namespace {
+
+// Culled SIMD (cells) against unculled SIMD (no cells) and the scalar reference, every ISA,
+// at pixels 0.05 px or more from every boundary (docs/contract.md section 5).
+void check_cells_against_unculled(const Scene& scene, int spp, const std::string& what) {
+  RenderOptions scalar = options_for(Backend::scalar);
+  scalar.spp = spp;
+  const RenderedImage ref = render_or_fail(scene, scalar);
+  const double bound = 1e-4 * emission_max_sum(scene);
+  const double margin = 0.05 * pixel_width(scene);
+  for (Isa isa : simd_isas_here()) {
+    INFO(what, " isa ", std::string(isa_name(isa)), " spp ", spp);
+    RenderOptions culled = options_for(Backend::simd, isa, true);
+    culled.spp = spp;
+    RenderOptions unculled = options_for(Backend::simd, isa, false);
+    unculled.spp = spp;
+    const RenderedImage with_cells = render_or_fail(scene, culled);
+    const RenderedImage without = render_or_fail(scene, unculled);
+    const Comparison vs_unculled = compare_renders(scene, without, with_cells, bound, margin);
+    CHECK_MESSAGE(vs_unculled.over == 0, vs_unculled.first_failure);
+    CHECK(vs_unculled.checked > scene.width * scene.height / 2);
+    const Comparison vs_scalar = compare_renders(scene, ref, with_cells, bound, margin);
+    CHECK_MESSAGE(vs_scalar.over == 0, vs_scalar.first_failure);
+  }
+}
+
+Scene rubble_scene(std::uint32_t seed, std::optional<View> view) {
+  RandomSceneOptions opt;
+  opt.width = 96;
+  opt.height = 80;
+  opt.view = view;
+  opt.min_lights = 6;
+  opt.max_lights = 8;
+  opt.min_occluders = 160;
+  opt.max_occluders = 160;
+  opt.min_size = 0.75 / 80.0;  // bounding radius in view sizes: 1.5 px across ...
+  opt.max_size = 2.5 / 80.0;   // ... to 5 px across
+  opt.gap = 2.0 / 80.0;
+  opt.occluders_may_overlap = seed % 2 == 0;
+  return random_scene(seed, opt);
+}
+
+}  // namespace
+
+TEST_CASE("cell lists: a pair reaches only the cells inside its shadow cone") {
+  // A 2 px light at (8, 16) and a 1.5 px disc 12 px to its right cast a shadow cone along
+  // y = 16 that widens by about 0.31 px per px. Over the tile x 32..48, y 0..16 it covers the
+  // cells of the bottom row and the top right one (x 40..48, down to y = 5.9 at x = 48), not
+  // the top left one (x 32..40, y 0..8; the cone starts at y = 8.3 at x = 40). Fifteen 0.5 px
+  // discs further along the axis (x 23..30) cast narrower cones that stay below y = 10.8 over
+  // the tile: in the bottom cells only (and the tile has enough pairs for cells).
+  Scene scene;
+  scene.width = 64;
+  scene.height = 32;
+  scene.view = View{0.0, 0.0, 64.0, 32.0};
+  Light light;
+  light.shape = Circle{{8.0, 16.0}, 2.0};
+  scene.lights.push_back(light);
+  scene.occluders.push_back(Occluder{Circle{{20.0, 16.0}, 1.5}});
+  for (int j = 0; j < 15; ++j) scene.occluders.push_back(Occluder{Circle{{23.0 + 0.5 * j, 16.0}, 0.5}});
+  const detail::PreparedScene prepared = detail::prepare_scene(scene);
+  detail::TileSetupScratch setup;
+  detail::CellListScratch cells;
+  detail::TileWork work;
+  const detail::TileRect tile{32, 0, 48, 16};
+  detail::gather_block_candidates(prepared, tile, nullptr, setup);
+  detail::build_tile_work(prepared, tile, 1, true, work, setup);
+  REQUIRE(work.lights.size() == 1);
+  REQUIRE(work.pairs.size() == 16);
+  detail::build_cell_lists(prepared, tile, 8, setup, work, cells);
+  REQUIRE(work.cell_width == 8);
+  REQUIRE(work.cell_height == 8);
+  REQUIRE(work.cells.size() == 4);
+  auto pairs_in = [&](int cell) {
+    const detail::KernelCell& c = work.cells[static_cast<std::size_t>(cell)];
+    REQUIRE(c.light_count == 1);  // the light stays: only its pairs are culled
+    return work.cell_lights[c.first_light].pair_count;
+  };
+  auto arcs_in = [&](int cell) { return work.cells[static_cast<std::size_t>(cell)].occluder_count; };
+  CHECK(pairs_in(0) == 0);
+  CHECK(pairs_in(1) == 1);
+  CHECK(pairs_in(2) == 16);
+  CHECK(pairs_in(3) == 16);
+  CHECK(arcs_in(0) == 0);
+  CHECK(arcs_in(1) == 1);
+  CHECK(arcs_in(3) == 16);
+  // The unculled path keeps the tile's lists.
+  detail::build_tile_work(prepared, tile, 1, false, work, setup);
+  detail::build_cell_lists(prepared, tile, 8, setup, work, cells);
+  CHECK(work.cells.empty());
+  // 16 lanes: cells are tile rows of 16 x 4 pixels; the big disc's cone misses the top one
+  // (y 0..4) and reaches the next, the small discs' reach the bottom one only among the top three.
+  detail::build_tile_work(prepared, tile, 1, true, work, setup);
+  detail::build_cell_lists(prepared, tile, 16, setup, work, cells);
+  REQUIRE(work.cells.size() == 4);
+  CHECK(work.cell_width == 16);
+  CHECK(pairs_in(0) == 0);
+  CHECK(pairs_in(1) == 1);
+  CHECK(pairs_in(3) == 16);
+}
+
+TEST_CASE("cell lists: small occluders and lights (1.5-5 px), mirrored and far views, 1 and 4 spp, match unculled and scalar") {
+  for (std::uint32_t seed = 2701; seed <= 2703; ++seed) {
+    const Scene plain = rubble_scene(seed, std::nullopt);
+    REQUIRE(plain.occluders.size() > 100);
+    check_cells_against_unculled(plain, 1, "seed " + std::to_string(seed));
+  }
+  check_cells_against_unculled(rubble_scene(2704, View{96.0, 80.0, 0.0, 0.0}), 1, "mirrored");
+  check_cells_against_unculled(rubble_scene(2705, View{1e5, 1e5, 1e5 + 96.0, 1e5 + 80.0}), 1, "far");
+  check_cells_against_unculled(rubble_scene(2706, std::nullopt), 4, "4 spp");
+}
