@@ -357,7 +357,9 @@ void print_info() {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+
+int run_cli(int argc, char** argv) {
   CLI::App app{"par2d: exact 2D soft shadows (Probabilistic Angular Radiance), no noise.", "par2d"};
   app.require_subcommand(0, 1);
   app.footer(
@@ -432,4 +434,16 @@ int main(int argc, char** argv) {
   }
   return fail("no command given: use render, bench or info (run 'par2d --help' for usage)",
               kExitUsage);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Setting up the options allocates too: out of memory there (a tight ulimit -v) is the same
+  // one-line failure as anywhere else, not an abort.
+  try {
+    return run_cli(argc, argv);
+  } catch (const std::bad_alloc&) {
+    return fail("out of memory");
+  }
 }
