@@ -7,12 +7,6 @@
 namespace par2d::detail {
 namespace {
 
-Aabb bounds_of(const ConvexShape& s) noexcept { return {s.bounds_min.x, s.bounds_min.y, s.bounds_max.x, s.bounds_max.y}; }
-
-bool boxes_meet(const Aabb& a, const Aabb& b) noexcept {
-  return a.min_x <= b.max_x && b.min_x <= a.max_x && a.min_y <= b.max_y && b.min_y <= a.max_y;
-}
-
 // Cells of 64 pixels, whole packets wide (a 16-lane packet is a tile row): 8 x 8 for 4 and 8
 // lanes, 16 x 4 for 16.
 constexpr int kCellPixels = 64;

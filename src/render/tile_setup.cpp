@@ -21,15 +21,9 @@ std::array<Vec2, 4> tile_corners(const PreparedScene& scene, const TileRect& til
   return {Vec2{a.x, a.y}, Vec2{b.x, a.y}, Vec2{b.x, b.y}, Vec2{a.x, b.y}};
 }
 
-Aabb bounds_of(const ConvexShape& s) noexcept { return {s.bounds_min.x, s.bounds_min.y, s.bounds_max.x, s.bounds_max.y}; }
-
 Aabb bounds_of(const std::array<Vec2, 4>& rect) noexcept {
   return {std::min(rect[0].x, rect[2].x), std::min(rect[0].y, rect[2].y), std::max(rect[0].x, rect[2].x),
           std::max(rect[0].y, rect[2].y)};
-}
-
-bool boxes_meet(const Aabb& a, const Aabb& b) noexcept {
-  return a.min_x <= b.max_x && b.min_x <= a.max_x && a.min_y <= b.max_y && b.min_y <= a.max_y;
 }
 
 // For a polygon wholly outside the tile: when the same two vertices are the tangent

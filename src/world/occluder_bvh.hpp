@@ -15,6 +15,15 @@ struct Aabb {
   double min_x, min_y, max_x, max_y;
 };
 
+inline Aabb bounds_of(const ConvexShape& s) noexcept {
+  return {s.bounds_min.x, s.bounds_min.y, s.bounds_max.x, s.bounds_max.y};
+}
+
+// Whether two closed boxes share a point.
+inline bool boxes_meet(const Aabb& a, const Aabb& b) noexcept {
+  return a.min_x <= b.max_x && b.min_x <= a.max_x && a.min_y <= b.max_y && b.min_y <= a.max_y;
+}
+
 // Convex hull by Andrew's monotone chain. Counter-clockwise in the math sense: the cross
 // product of consecutive edges is positive (with the contract's y-down axes that looks clockwise on
 // screen). Starts at the lowest (x, then y) point. Duplicate and collinear points are dropped,
