@@ -76,7 +76,7 @@ bool outside_cone(const ShadowCone& cone, Vec2 center, Vec2 half) noexcept {
 
 void build_cell_lists(const PreparedScene& scene, const TileRect& tile, int lanes, const TileSetupScratch& setup,
                       TileWork& work, CellListScratch& scratch) {
-  if (!setup.tile_culled || work.model || work.pairs.size() < kCellMinPairs) return;
+  if (!setup.tile_culled || work.pairs.size() < kCellMinPairs) return;
   work.cell_width = cell_width_for(lanes);
   work.cell_height = kCellPixels / work.cell_width;
   const int columns = kTileSize / work.cell_width, rows = kTileSize / work.cell_height;
@@ -106,13 +106,17 @@ void build_cell_lists(const PreparedScene& scene, const TileRect& tile, int lane
   for (const Aabb& box : scratch.cell_boxes)
     scratch.cell_centers.push_back(Vec2{0.5 * (box.min_x + box.max_x), 0.5 * (box.min_y + box.max_y)});
 
-  // Per tile occluder: its disc, and the cells that need its arc: those whose box it meets
-  // (it may hold a pixel there: the inside test) and, below, those where one of its pairs stays.
+  // Per tile occluder: its disc, and the cells that need its arc: those where one of its
+  // pairs stays (below) and, for the plain kernel, those whose box it meets (it may hold a
+  // pixel there: the plain kernel's inside test covers every arc it computes; the model
+  // kernel reads an occluder's arc and inside flag only through the light's pairs, and a
+  // pixel inside an occluder lies in each of its pairs' cones).
   scratch.occluder_discs.clear();
   scratch.occluder_cells.assign(tile_occluders, 0u);
   for (std::uint32_t k = 0; k < tile_occluders; ++k) {
     const ConvexShape& shape = scene.occluders[setup.used[k]];
     scratch.occluder_discs.push_back(bounding_disc(shape));
+    if (work.model) continue;
     const Aabb bounds = bounds_of(shape);
     for (std::size_t c = 0; c < cell_count; ++c)
       if (boxes_meet(scratch.cell_boxes[c], bounds)) scratch.occluder_cells[k] |= 1u << c;
@@ -124,12 +128,16 @@ void build_cell_lists(const PreparedScene& scene, const TileRect& tile, int lane
     const KernelLight& light = work.lights[i];
     scratch.pair_cells.resize(light.pair_count);
     if (light.pair_count != 0) {
-      const CellListScratch::Disc light_disc = bounding_disc(scene.lights[setup.tile_lights[i]].shape);
+      // A directional light is at infinity (its shape unused): its pairs keep every cell.
+      const bool directional = work.model && work.light_terms[i].directional;
+      const CellListScratch::Disc light_disc =
+          directional ? CellListScratch::Disc{} : bounding_disc(scene.lights[setup.tile_lights[i]].shape);
       for (std::uint32_t p = 0; p < light.pair_count; ++p) {
         const KernelPair& pair = work.pairs[light.first_pair + p];
         unsigned cells = live;
-        const ShadowCone cone =
-            pair.general ? ShadowCone{} : shadow_cone(light_disc, scratch.occluder_discs[pair.occluder]);
+        const ShadowCone cone = pair.general || directional
+                                    ? ShadowCone{}
+                                    : shadow_cone(light_disc, scratch.occluder_discs[pair.occluder]);
         if (cone.bounded) {
           for (std::size_t c = 0; c < cell_count; ++c)
             if (outside_cone(cone, scratch.cell_centers[c], half)) cells &= ~(1u << c);

@@ -905,10 +905,12 @@ PAR2D_KERNEL_INLINE void shaded_unblocked_light(const TileWork& work, const Kern
 // inside them; a dark one containing the lane covers the whole arc), then the weight of the
 // visible set: the union measure when every occluder is opaque and the profile is flat, else
 // the profile's integral over the gaps, or over every elementary piece times its transmittances.
-template <class A, bool kShaded>
-PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsimd::batch<float, A>& px,
-                                                 const xsimd::batch<float, A>& py, std::size_t pixel,
-                                                 float* scratch, xsimd::batch<float, A> (&e)[3]) noexcept {
+// The lights and pairs are the tile's, or (kCells) those of the packet's cell (`cell`).
+template <class A, bool kShaded, bool kCells>
+PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const detail::KernelCell* cell,
+                                                 const xsimd::batch<float, A>& px, const xsimd::batch<float, A>& py,
+                                                 std::size_t pixel, float* scratch,
+                                                 xsimd::batch<float, A> (&e)[3]) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   const std::size_t occluder_count = work.occluders.size();
@@ -929,10 +931,15 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
   const KernelLight* lights = work.lights.data();
   const std::size_t light_count = work.lights.size();
   const KernelLightTerms* light_terms = work.light_terms.data();
-  const KernelPair* pairs = work.pairs.data();
+  const KernelPair* pairs = kCells ? work.cell_pairs.data() : work.pairs.data();
   const KernelOccluderTerms* occluder_terms = work.occluder_terms.data();
+  const detail::KernelCellLight* cell_lights = kCells ? work.cell_lights.data() + cell->first_light : nullptr;
+  const std::uint32_t* cell_occluders = kCells ? work.cell_occluders.data() + cell->first_occluder : nullptr;
 
-  for (std::size_t k = 0; k < occluder_count; ++k) {
+  // Arcs are stored at the occluder's tile index; a cell computes only those its pairs read.
+  const std::size_t arcs = kCells ? cell->occluder_count : occluder_count;
+  for (std::size_t i = 0; i < arcs; ++i) {
+    const std::size_t k = kCells ? cell_occluders[i] : i;
     const Arc<A> arc = shape_arc<A>(work, occluders[k], px, py);
     arc.start.store_aligned(occ_start_all + k * W);
     arc.width.store_aligned(occ_width + k * W);
@@ -955,15 +962,19 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
   KernelProfile<A> profile;  // set per light (constructing one per light costs as much as using it)
   B lobe_total;
   double lobe_sin = 2.0, lobe_cos = 2.0;
-  for (std::size_t l = 0; l < light_count; ++l) {
+  const std::size_t loop_lights = kCells ? cell->light_count : light_count;
+  for (std::size_t i = 0; i < loop_lights; ++i) {
+    const std::size_t l = kCells ? cell_lights[i].light : i;
     const KernelLight& light = lights[l];
     const KernelLightTerms& terms = light_terms[l];
+    const std::size_t first_pair = kCells ? cell_lights[i].first_pair : light.first_pair;
+    const std::size_t pair_count = kCells ? cell_lights[i].pair_count : light.pair_count;
     B window(1.0f);
     if (terms.inv_range > 0.0f) {
       window = detail::range_window(shape_distance<A>(work, light.shape, px, py), B(terms.inv_range));
       if (!xsimd::any(window > B(0.0f))) continue;
     }
-    if (!kShaded && !terms.cone && light.pair_count == 0 && !terms.directional) {
+    if (!kShaded && !terms.cone && pair_count == 0 && !terms.directional) {
       // Nothing in front anywhere in the tile and a flat profile: the width alone.
       const Arc<A> arc = shape_arc<A, false>(work, light.shape, px, py);
       const B visible = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
@@ -971,7 +982,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
       continue;
     }
     if constexpr (kShaded) {
-      if (!terms.cone && light.pair_count == 0 && !terms.directional && !light.shape.clipped) {
+      if (!terms.cone && pair_count == 0 && !terms.directional && !light.shape.clipped) {
         const B c_term = B(static_cast<float>(terms.sin_elevation)) * normal_z;
         const B cos_el(static_cast<float>(terms.cos_elevation));
         if (xsimd::all(c_term >= cos_el * normal_xy)) {
@@ -997,8 +1008,8 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
     auto dark_inside = none;  // in an opaque dark occluder acting on the light: it contributes 0
     std::size_t n = 0;
     bool hidden = false;  // covered in every lane by one opaque arc (or a dark interior)
-    for (std::size_t p = 0; p < light.pair_count; ++p) {
-      const KernelPair& pair = pairs[light.first_pair + p];
+    for (std::size_t p = 0; p < pair_count; ++p) {
+      const KernelPair& pair = pairs[first_pair + p];
       const KernelOccluderTerms& occ_terms = occluder_terms[pair.occluder];
       const B occ_start = B::load_aligned(occ_start_all + pair.occluder * W);
       const B occ_w = B::load_aligned(occ_width + pair.occluder * W);
@@ -1147,18 +1158,28 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const xsi
   }
 }
 
-template <class A, bool kShaded>
+// The cell of the packet whose first pixel is tile pixel `first` (a cell is whole packets wide).
+inline const detail::KernelCell* packet_cell(const TileWork& work, std::size_t first) noexcept {
+  const std::size_t row = first / detail::kTileSize, column = first % detail::kTileSize;
+  const std::size_t width = static_cast<std::size_t>(work.cell_width);
+  const std::size_t height = static_cast<std::size_t>(work.cell_height);
+  return &work.cells[row / height * (detail::kTileSize / width) + column / width];
+}
+
+// The model kernel over the tile's packets, each from its cell's lists with kCells.
+template <class A, bool kShaded, bool kCells>
 void render_tile_model(const TileWork& work, float* scratch, TileResult& out) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   const B inv_spp(1.0f / static_cast<float>(work.spp));
   for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
+    const detail::KernelCell* cell = kCells ? packet_cell(work, first) : nullptr;
     B sum[3] = {B(0.0f), B(0.0f), B(0.0f)};
     for (int s = 0; s < work.spp; ++s) {
       const B px = B::load_unaligned(work.sample_x.data() + s * detail::kTileSize + first % detail::kTileSize);
       const B py(work.sample_y[s * detail::kTileSize + first / detail::kTileSize]);
       B e[3];
-      packet_irradiance_model<A, kShaded>(work, px, py, first, scratch, e);
+      packet_irradiance_model<A, kShaded, kCells>(work, cell, px, py, first, scratch, e);
       for (int c = 0; c < 3; ++c) sum[c] += e[c];
     }
     for (int c = 0; c < 3; ++c) {
@@ -1173,14 +1194,7 @@ template <class A, bool kCells>
 PAR2D_KERNEL_INLINE void render_plain_tile(const TileWork& work, float* scratch, TileResult& out) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
-  // A cell is whole packets wide.
-  auto cell_of = [&](std::size_t first) -> const detail::KernelCell* {
-    if constexpr (!kCells) return nullptr;
-    const std::size_t row = first / detail::kTileSize, column = first % detail::kTileSize;
-    return &work.cells[static_cast<std::size_t>(row / static_cast<std::size_t>(work.cell_height) *
-                                                (detail::kTileSize / static_cast<std::size_t>(work.cell_width)) +
-                                                column / static_cast<std::size_t>(work.cell_width))];
-  };
+  auto cell_of = [&](std::size_t first) { return kCells ? packet_cell(work, first) : nullptr; };
   if (work.spp == 1) {  // the pixel centers: no sum, no division
     for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
       const B px = B::load_unaligned(work.sample_x.data() + first % detail::kTileSize);
@@ -1213,8 +1227,12 @@ void render_tile(const TileWork& work, float* scratch, TileResult& out) noexcept
   constexpr std::size_t W = B::size;
   static_assert(detail::kTileSize % W == 0, "a packet must not straddle a tile row");
   if (work.model) {
-    if (work.shaded) return render_tile_model<A, true>(work, scratch, out);
-    return render_tile_model<A, false>(work, scratch, out);
+    if (work.cells.empty()) {
+      if (work.shaded) return render_tile_model<A, true, false>(work, scratch, out);
+      return render_tile_model<A, false, false>(work, scratch, out);
+    }
+    if (work.shaded) return render_tile_model<A, true, true>(work, scratch, out);
+    return render_tile_model<A, false, true>(work, scratch, out);
   }
   if (work.cells.empty()) return render_plain_tile<A, false>(work, scratch, out);
   return render_plain_tile<A, true>(work, scratch, out);
