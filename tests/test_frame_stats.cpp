@@ -107,6 +107,7 @@ TEST_CASE("FrameStats follow the frame's blocks and tiles, and the kernel's work
     CHECK(t.tile_pairs == s.tile_pairs);
     CHECK(t.block_proofs_tried == s.block_proofs_tried);
     CHECK(t.tile_proofs_tried == s.tile_proofs_tried);
+    CHECK(t.tile_proofs_skipped == s.tile_proofs_skipped);
     CHECK(t.umbra_tests == s.umbra_tests);
     one.spp = 4;
     const FrameStats u = stats_of(scene, one);
@@ -154,6 +155,7 @@ TEST_CASE("FrameStats: culling removes a walled-in light from the blocks outside
   CHECK(unculled.block_lights_out_of_reach == 0u);
   CHECK(unculled.block_proofs_tried == 0u);
   CHECK(unculled.tile_proofs_tried == 0u);
+  CHECK(unculled.tile_proofs_skipped == 0u);
   CHECK(unculled.umbra_tests == 0u);
   CHECK(unculled.tile_pairs == unculled.tiles * 2u * 4u);  // every light with every wall
 }

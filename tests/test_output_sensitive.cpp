@@ -1,7 +1,8 @@
 // Work the plain kernel and the culling skip, held to the scalar reference and to the unculled
 // path on scenes that reach each skip: packets whose light one occluder covers in every lane,
 // packets inside occluders, intervals empty in every lane (tile_kernel.hpp); the one-segment
-// check before an occlusion proof and the O(1) umbra precheck (culling/, render/tile_setup.cpp).
+// check before an occlusion proof, the O(1) umbra precheck and the adaptive rule that skips
+// tile proofs where they keep failing (culling/, render/tile_setup.cpp).
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 
 #include "culling/occlusion_proof.hpp"
 #include "par2d/render.hpp"
+#include "scattered_scene.hpp"
 #include "support/random_scenes.hpp"
 #include "support/render_checks.hpp"
 #include "world/prepared_scene.hpp"
@@ -55,6 +57,14 @@ void check_against_scalar_and_unculled(const Scene& scene, const std::string& wh
 }
 
 Polygon box(double x0, double y0, double x1, double y1) { return Polygon{{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}}; }
+
+FrameStats stats_of(const Scene& scene, const RenderOptions& options) {
+  std::vector<float> pixels(static_cast<std::size_t>(scene.width) * static_cast<std::size_t>(scene.height) * 3);
+  const ImageView image{pixels.data(), scene.width, scene.height, 3 * static_cast<std::ptrdiff_t>(scene.width)};
+  FrameStats stats;
+  REQUIRE(render(scene, options, image, stats).ok());
+  return stats;
+}
 
 }  // namespace
 
@@ -147,4 +157,37 @@ TEST_CASE("segment_passes agrees with dense sampling of the segment, and never p
   CHECK(detail::segment_passes({-1.0, 2.001}, {3.0, 2.001}, shapes, &square, 1));
   CHECK(!detail::segment_passes({8.0, 1.0}, {12.0, 1.0}, shapes, &circle, 1));
   CHECK(detail::segment_passes({8.0, 1.001}, {12.0, 1.001}, shapes, &circle, 1));
+}
+
+TEST_CASE("rubble (1.5-4 px occluders, 3-5 px lights): the adaptive rule skips failing tile proofs, same image") {
+  // The many-lights "rubble" level's density (par2d_make_field --occluder-size 1.5 4
+  // --light-size 3 5), scaled down: ~85 % of its tile proofs fail, so after a light's first
+  // failures in a block the rule stops trying; the image must stay the unculled and scalar one.
+  const bench::ScatteredSizes rubble{1.5, 4.0, 3.0, 5.0};
+  const Scene scene = bench::scattered_scene(8, 120, 77, 320, 192, rubble);
+  REQUIRE(validate_scene(scene).ok());
+  check_against_scalar_and_unculled(scene, "rubble");
+  for (Isa isa : simd_isas_here()) {
+    INFO("isa ", std::string(isa_name(isa)));
+    RenderOptions options = simd_options(isa, true);
+    options.threads = 1;
+    const FrameStats one = stats_of(scene, options);
+    CHECK(one.tile_proofs_skipped > one.tile_proofs_tried);
+    // Decided per block from its own tiles: the same counts whatever the threads.
+    options.threads = 3;
+    const FrameStats three = stats_of(scene, options);
+    CHECK(three.tile_proofs_skipped == one.tile_proofs_skipped);
+    CHECK(three.tile_proofs_tried == one.tile_proofs_tried);
+    CHECK(three.tile_lights == one.tile_lights);
+  }
+}
+
+TEST_CASE("the benchmark's level (4-12 px occluders), where most tile proofs hide the light: the rule keeps them") {
+  // Tile proofs pay here (~15 % of frame time on the 256-light level): a block whose tile
+  // proofs succeed at least 1 in 3 times keeps trying them for every light.
+  const Scene scene = bench::scattered_scene(24, 388, 20240611, 512, 384);
+  RenderOptions options = simd_options(simd_isas_here().back(), true);
+  const FrameStats stats = stats_of(scene, options);
+  CHECK(stats.tile_proofs_succeeded * 2 > stats.tile_proofs_tried);
+  CHECK(stats.tile_proofs_skipped * 20 < stats.tile_proofs_tried);
 }

@@ -243,6 +243,7 @@ std::string stats_json(const par2d::FrameStats& s) {
       {"tile_general_pairs", s.tile_general_pairs},
       {"tile_proofs_tried", s.tile_proofs_tried},
       {"tile_proofs_succeeded", s.tile_proofs_succeeded},
+      {"tile_proofs_skipped", s.tile_proofs_skipped},
       {"umbra_tests", s.umbra_tests},
       {"umbra_hits", s.umbra_hits},
       {"light_samples", s.light_samples},
@@ -278,11 +279,11 @@ void print_stats(const par2d::FrameStats& s) {
       static_cast<unsigned long long>(s.block_proofs_tried), static_cast<unsigned long long>(s.block_proofs_succeeded),
       100.0 * ratio(s.block_proofs_succeeded, s.block_proofs_tried));
   std::printf(
-      "  per tile: %.2f lights, %.2f pairs (%.3f overlapping or touching); proofs %llu tried, %llu hid the light; "
-      "umbra tests %llu, %llu hit\n",
+      "  per tile: %.2f lights, %.2f pairs (%.3f overlapping or touching); proofs %llu tried, %llu hid the light, "
+      "%llu skipped by the adaptive rule; umbra tests %llu, %llu hit\n",
       ratio(s.tile_lights, s.tiles), ratio(s.tile_pairs, s.tiles), ratio(s.tile_general_pairs, s.tiles),
       static_cast<unsigned long long>(s.tile_proofs_tried), static_cast<unsigned long long>(s.tile_proofs_succeeded),
-      static_cast<unsigned long long>(s.umbra_tests), static_cast<unsigned long long>(s.umbra_hits));
+      static_cast<unsigned long long>(s.tile_proofs_skipped), static_cast<unsigned long long>(s.umbra_tests), static_cast<unsigned long long>(s.umbra_hits));
   std::printf("  per sample (kernel): %.2f light arcs, %.2f pairs; %.2f samples per pixel (tile padding included)\n",
               ratio(s.light_samples, s.samples), ratio(s.pair_samples, s.samples), ratio(s.samples, s.pixels));
   std::printf("  per pixel (exact, at %llu sampled pixels): %.2f lights visible, %.2f occluders cutting into their arcs\n",

@@ -105,6 +105,7 @@ struct FrameStats {
   std::uint64_t tile_general_pairs = 0;   // of those, overlapping or touching pairs (a depth test per piece)
   std::uint64_t tile_proofs_tried = 0;    // occlusion proofs over a tile and one of its lights
   std::uint64_t tile_proofs_succeeded = 0;
+  std::uint64_t tile_proofs_skipped = 0;  // proofs not tried: the light's earlier tile proofs in the block mostly failed
   std::uint64_t umbra_tests = 0;          // "is the tile in this one occluder's umbra" tests
   std::uint64_t umbra_hits = 0;
   std::uint64_t light_samples = 0;        // light arcs the kernel evaluates: sum over tiles (or their cells) of lights x samples

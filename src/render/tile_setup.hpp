@@ -83,12 +83,21 @@ struct TileSetupScratch {
   };
   std::vector<std::vector<UmbraBand>> umbra_bands;
   std::vector<std::uint64_t> umbra_band_block;  // per light: block_serial its bands belong to
+  // Tile proofs tried and succeeded so far in the current block, per light and over all lights
+  // (reset per block), for the adaptive rule (tile_setup.cpp). A block's tiles are built by
+  // one thread in a fixed order, so the rule decides the same way whatever the scheduling.
+  struct TileProofRecord {
+    std::uint32_t tried = 0, succeeded = 0;
+  };
+  std::vector<TileProofRecord> tile_proof_records;
+  TileProofRecord block_proof_record;
   // The last tile built: the scene index of each TileWork::lights entry (plain scenes), and
   // whether its lists were culled (cell_lists.hpp refines only culled tiles).
   std::vector<std::uint32_t> tile_lights;
   bool tile_culled = false;
   // Counts for FrameStats, accumulated until the owner resets them.
   std::uint64_t umbra_tests = 0, umbra_hits = 0;
+  std::uint64_t tile_proofs_skipped = 0;  // tile proofs the adaptive rule did not try
 };
 
 // Fills scratch.block_candidates for the pixel rectangle `block`, skipping the lights that
