@@ -58,8 +58,8 @@ Scene rubble_scene(std::uint32_t seed, std::optional<View> view, RandomSceneOpti
   return random_scene(seed, opt);
 }
 
-// Tiles of `scene` (each its own block, culled as in production) that get cells for a kernel
-// of `lanes` lanes.
+// Tiles of `scene` (each its own block, culled as in production) that get cells of their own
+// (more than the one whole-tile cell of a game-model tile) for a kernel of `lanes` lanes.
 int tiles_with_cells(const Scene& scene, int lanes) {
   const detail::PreparedScene prepared = detail::prepare_scene(scene);
   detail::TileSetupScratch setup;
@@ -72,7 +72,7 @@ int tiles_with_cells(const Scene& scene, int lanes) {
       detail::gather_block_candidates(prepared, tile, nullptr, setup);
       detail::build_tile_work(prepared, tile, 1, true, work, setup, true);
       detail::build_cell_lists(prepared, tile, lanes, setup, work, cells);
-      count += work.cells.empty() ? 0 : 1;
+      count += work.cells.size() > 1 ? 1 : 0;
     }
   }
   return count;

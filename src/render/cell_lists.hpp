@@ -28,7 +28,8 @@ struct CellListScratch {
 
 // Fills work's cells (TileWork::cells) for `tile`, the tile that build_tile_work last built
 // into `work` with `setup`, for a kernel of `lanes` lanes. Culled tiles with many pairs get
-// cells (plain and game-model scenes alike); others keep the tile's lists. The image is the same either way: a pair an occluder
+// cells (plain and game-model scenes alike); other plain tiles keep the tile's lists, other
+// game-model tiles get them as one cell over the whole tile (the model kernel reads only cells). The image is the same either way: a pair an occluder
 // cannot form over the cell blocks nothing there.
 void build_cell_lists(const PreparedScene& scene, const TileRect& tile, int lanes, const TileSetupScratch& setup,
                       TileWork& work, CellListScratch& scratch);

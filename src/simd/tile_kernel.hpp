@@ -905,8 +905,9 @@ PAR2D_KERNEL_INLINE void shaded_unblocked_light(const TileWork& work, const Kern
 // inside them; a dark one containing the lane covers the whole arc), then the weight of the
 // visible set: the union measure when every occluder is opaque and the profile is flat, else
 // the profile's integral over the gaps, or over every elementary piece times its transmittances.
-// The lights and pairs are the tile's, or (kCells) those of the packet's cell (`cell`).
-template <class A, bool kShaded, bool kCells>
+// The lights and pairs are those of the packet's cell (`cell`): every game-model tile has
+// cells, one over the whole tile where it keeps the tile's lists (cell_lists.cpp).
+template <class A, bool kShaded>
 PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const detail::KernelCell* cell,
                                                  const xsimd::batch<float, A>& px, const xsimd::batch<float, A>& py,
                                                  std::size_t pixel, float* scratch,
@@ -929,17 +930,15 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
   // intrinsics' types do), so `work.pairs[i]` would reload the vector's start after each.
   const KernelShape* occluders = work.occluders.data();
   const KernelLight* lights = work.lights.data();
-  const std::size_t light_count = work.lights.size();
   const KernelLightTerms* light_terms = work.light_terms.data();
-  const KernelPair* pairs = kCells ? work.cell_pairs.data() : work.pairs.data();
+  const KernelPair* pairs = work.cell_pairs.data();
   const KernelOccluderTerms* occluder_terms = work.occluder_terms.data();
-  const detail::KernelCellLight* cell_lights = kCells ? work.cell_lights.data() + cell->first_light : nullptr;
-  const std::uint32_t* cell_occluders = kCells ? work.cell_occluders.data() + cell->first_occluder : nullptr;
+  const detail::KernelCellLight* cell_lights = work.cell_lights.data() + cell->first_light;
+  const std::uint32_t* cell_occluders = work.cell_occluders.data() + cell->first_occluder;
 
   // Arcs are stored at the occluder's tile index; a cell computes only those its pairs read.
-  const std::size_t arcs = kCells ? cell->occluder_count : occluder_count;
-  for (std::size_t i = 0; i < arcs; ++i) {
-    const std::size_t k = kCells ? cell_occluders[i] : i;
+  for (std::size_t i = 0; i < cell->occluder_count; ++i) {
+    const std::size_t k = cell_occluders[i];
     const Arc<A> arc = shape_arc<A>(work, occluders[k], px, py);
     arc.start.store_aligned(occ_start_all + k * W);
     arc.width.store_aligned(occ_width + k * W);
@@ -962,13 +961,12 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
   KernelProfile<A> profile;  // set per light (constructing one per light costs as much as using it)
   B lobe_total;
   double lobe_sin = 2.0, lobe_cos = 2.0;
-  const std::size_t loop_lights = kCells ? cell->light_count : light_count;
-  for (std::size_t i = 0; i < loop_lights; ++i) {
-    const std::size_t l = kCells ? cell_lights[i].light : i;
+  for (std::size_t i = 0; i < cell->light_count; ++i) {
+    const std::size_t l = cell_lights[i].light;
     const KernelLight& light = lights[l];
     const KernelLightTerms& terms = light_terms[l];
-    const std::size_t first_pair = kCells ? cell_lights[i].first_pair : light.first_pair;
-    const std::size_t pair_count = kCells ? cell_lights[i].pair_count : light.pair_count;
+    const std::size_t first_pair = cell_lights[i].first_pair;
+    const std::size_t pair_count = cell_lights[i].pair_count;
     B window(1.0f);
     if (terms.inv_range > 0.0f) {
       window = detail::range_window(shape_distance<A>(work, light.shape, px, py), B(terms.inv_range));
@@ -1166,20 +1164,20 @@ inline const detail::KernelCell* packet_cell(const TileWork& work, std::size_t f
   return &work.cells[row / height * (detail::kTileSize / width) + column / width];
 }
 
-// The model kernel over the tile's packets, each from its cell's lists with kCells.
-template <class A, bool kShaded, bool kCells>
+// The model kernel over the tile's packets, each from its cell's lists.
+template <class A, bool kShaded>
 void render_tile_model(const TileWork& work, float* scratch, TileResult& out) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   const B inv_spp(1.0f / static_cast<float>(work.spp));
   for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
-    const detail::KernelCell* cell = kCells ? packet_cell(work, first) : nullptr;
+    const detail::KernelCell* cell = packet_cell(work, first);
     B sum[3] = {B(0.0f), B(0.0f), B(0.0f)};
     for (int s = 0; s < work.spp; ++s) {
       const B px = B::load_unaligned(work.sample_x.data() + s * detail::kTileSize + first % detail::kTileSize);
       const B py(work.sample_y[s * detail::kTileSize + first / detail::kTileSize]);
       B e[3];
-      packet_irradiance_model<A, kShaded, kCells>(work, cell, px, py, first, scratch, e);
+      packet_irradiance_model<A, kShaded>(work, cell, px, py, first, scratch, e);
       for (int c = 0; c < 3; ++c) sum[c] += e[c];
     }
     for (int c = 0; c < 3; ++c) {
@@ -1227,12 +1225,8 @@ void render_tile(const TileWork& work, float* scratch, TileResult& out) noexcept
   constexpr std::size_t W = B::size;
   static_assert(detail::kTileSize % W == 0, "a packet must not straddle a tile row");
   if (work.model) {
-    if (work.cells.empty()) {
-      if (work.shaded) return render_tile_model<A, true, false>(work, scratch, out);
-      return render_tile_model<A, false, false>(work, scratch, out);
-    }
-    if (work.shaded) return render_tile_model<A, true, true>(work, scratch, out);
-    return render_tile_model<A, false, true>(work, scratch, out);
+    if (work.shaded) return render_tile_model<A, true>(work, scratch, out);
+    return render_tile_model<A, false>(work, scratch, out);
   }
   if (work.cells.empty()) return render_plain_tile<A, false>(work, scratch, out);
   return render_plain_tile<A, true>(work, scratch, out);

@@ -139,7 +139,8 @@ struct TileWork {
   std::vector<float> point_x, point_y;  // boundary meeting points of general pairs
   std::uint32_t max_intervals_per_light = 0;
   std::uint32_t max_points_per_pair = 0;
-  // Cells, row-major over the tile (none: every packet uses the tile's lists).
+  // Cells, row-major over the tile (none: every packet of a plain tile uses the tile's lists;
+  // game-model tiles always have cells, see cell_lists.hpp).
   int cell_width = 0, cell_height = 0;
   std::vector<KernelCell> cells;
   std::vector<KernelCellLight> cell_lights;
