@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -116,6 +117,32 @@ TEST_CASE("world normals: a zero or non-finite normal anywhere converts to nothi
       const par2d::Status set = renderer.set_normal_map(scene.normal_map.value());
       CHECK(set.code() == par2d::StatusCode::invalid_scene);
       CHECK(set.message() == "set_normal_map: " + expected.substr(std::string("scene: ").size()));
+    }
+  }
+}
+
+TEST_CASE("world normals: rows aligned and padded with (0, 0, 1) to whole 64-pixel blocks, read in place by the kernels") {
+  // 70 x 3: two rows of 64-pixel blocks across, one block down; every image normal (1, 0, 0)
+  // after conversion, so the padding's (0, 0, 1) cannot be mistaken for image pixels.
+  const int width = 70, height = 3;
+  std::vector<float> normals(3 * width * height, 0.0f);
+  for (std::size_t p = 0; p < normals.size(); p += 3) normals[p] = 2.0f;
+  const auto converted = par2d::detail::world_normals(map_of(width, height, normals), par2d::View{0, 0, 70, 3});
+  const bool converts = converted != nullptr;
+  REQUIRE(converts);
+  CHECK(converted->stride() == 128);
+  for (int c = 0; c < 3; ++c) {
+    CHECK(reinterpret_cast<std::uintptr_t>(converted->plane(c)) % 64 == 0);
+    for (int j = 0; j < par2d::detail::kNormalPadding; ++j) {
+      const float* row = converted->row(c, j);
+      for (std::size_t i = 0; i < converted->stride(); ++i) {
+        const bool image = j < height && i < static_cast<std::size_t>(width);
+        const float expected = image ? (c == 0 ? 1.0f : 0.0f) : (c == 2 ? 1.0f : 0.0f);
+        CAPTURE(c);
+        CAPTURE(j);
+        CAPTURE(i);
+        CHECK(row[i] == expected);
+      }
     }
   }
 }

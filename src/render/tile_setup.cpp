@@ -1019,35 +1019,21 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     for (int c = 0; c < 3; ++c) work.ambient[c] = static_cast<float>(scene.ambient[static_cast<std::size_t>(c)]);
     work.shaded = shading_active(scene, shaded);
     if (work.shaded) {
-      // A map's rows are copied as they are stored (component planes, what normal_at widens
-      // to double); pixels past the image take (0, 0, 1).
-      const WorldNormals* map = scene.normal_source == NormalSource::map ? scene.normal_map.get() : nullptr;
-      const Vec3 constant = scene.normal;
-      const int columns = std::max(0, std::min(kTileSize, scene.width - tile.x0));
-      for (int r = 0; r < kTileSize; ++r) {
-        const int j = tile.y0 + r;
-        const int inside = j < scene.height ? columns : 0;
-        float* out_x = work.normal_x + r * kTileSize;
-        float* out_y = work.normal_y + r * kTileSize;
-        float* out_z = work.normal_z + r * kTileSize;
-        int c = 0;
-        if (map && inside > 0) {
-          std::copy_n(map->row(0, j) + tile.x0, inside, out_x);
-          std::copy_n(map->row(1, j) + tile.x0, inside, out_y);
-          std::copy_n(map->row(2, j) + tile.x0, inside, out_z);
-          c = inside;
-        } else if (!map) {
-          for (; c < inside; ++c) {
-            out_x[c] = static_cast<float>(constant.x);
-            out_y[c] = static_cast<float>(constant.y);
-            out_z[c] = static_cast<float>(constant.z);
-          }
+      if (scene.normal_source == NormalSource::map) {
+        // In place: the map's planes are padded with (0, 0, 1) to whole 64-pixel blocks.
+        static_assert(kNormalPadding % kTileSize == 0, "a tile must not straddle the normal map's padding");
+        const WorldNormals& map = *scene.normal_map;
+        for (int c = 0; c < 3; ++c) work.normal_plane[c] = map.row(c, tile.y0) + tile.x0;
+        work.normal_stride = map.stride();
+      } else {
+        // Every pixel the same (pixels past the image too: their values are dropped).
+        const float constant[3] = {static_cast<float>(scene.normal.x), static_cast<float>(scene.normal.y),
+                                   static_cast<float>(scene.normal.z)};
+        for (int c = 0; c < 3; ++c) {
+          std::fill_n(work.constant_normal[c], kTileSize, constant[c]);
+          work.normal_plane[c] = work.constant_normal[c];
         }
-        for (; c < kTileSize; ++c) {
-          out_x[c] = 0.0f;
-          out_y[c] = 0.0f;
-          out_z[c] = 1.0f;
-        }
+        work.normal_stride = 0;
       }
     }
   }

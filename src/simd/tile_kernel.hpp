@@ -947,12 +947,13 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
   for (int c = 0; c < 3; ++c) e[c] = B(work.ambient[c]);
   B beta, normal_xy, normal_z, nx_raw, ny_raw;
   if constexpr (kShaded) {
-    const B nx = B::load_aligned(work.normal_x + pixel), ny = B::load_aligned(work.normal_y + pixel);
+    const std::size_t at = pixel / detail::kTileSize * work.normal_stride + pixel % detail::kTileSize;
+    const B nx = B::load_unaligned(work.normal_plane[0] + at), ny = B::load_unaligned(work.normal_plane[1] + at);
     nx_raw = nx;
     ny_raw = ny;
     beta = fast_atan2(ny, nx);
     normal_xy = xsimd::sqrt(xsimd::fma(nx, nx, ny * ny));
-    normal_z = B::load_aligned(work.normal_z + pixel);
+    normal_z = B::load_unaligned(work.normal_plane[2] + at);
   }
   const auto none = B(0.0f) > B(0.0f);
   // The lobe of the pixel's normal for the last elevation seen (lights mostly share one):
@@ -1125,7 +1126,12 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
     B visible;
     const B reach = xsimd::max(reach0, B(0.0f));
     if (!profile.flat()) {
-      if (n > 0) {
+      if (kShaded && !terms.cone && n == 1) {
+        // The commonest shaded cases inline: a call spills every live register of the kernel.
+        visible = profiled_gaps_in_registers<A, kProfileLobe, 1>(profile, lo, hi, n, width, reach);
+      } else if (kShaded && !terms.cone && n == 2) {
+        visible = profiled_gaps_in_registers<A, kProfileLobe, 2>(profile, lo, hi, n, width, reach);
+      } else if (n > 0) {
         visible = profiled_gaps<A>(profile, lo, hi, n, width, reach);
       } else if (kShaded && !terms.cone) {
         visible = profile.template cumulative<kProfileLobe>(width) - profile.template cumulative<kProfileLobe>(B(0.0f));

@@ -121,10 +121,13 @@ struct TileWork {
   float ambient[3] = {0, 0, 0};
   std::vector<KernelLightTerms> light_terms;
   std::vector<KernelOccluderTerms> occluder_terms;
-  // Per tile pixel (row-major), shading only: the unit normal in world axes (z toward the viewer).
-  alignas(64) float normal_x[kTilePixels];
-  alignas(64) float normal_y[kTilePixels];
-  alignas(64) float normal_z[kTilePixels];
+  // Shading only: the unit normal in world axes (z toward the viewer) of tile pixel (row r,
+  // column c), component k, is normal_plane[k][r * normal_stride + c]. A normal map's planes
+  // are read in place (padded past the image, see world_normals.hpp); a constant normal is
+  // one row of constant_normal with stride 0.
+  const float* normal_plane[3] = {nullptr, nullptr, nullptr};
+  std::size_t normal_stride = 0;
+  alignas(64) float constant_normal[3][kTileSize];
   // Sample positions relative to the tile origin: sample s of the pixel in tile column c
   // is at x = sample_x[s * kTileSize + c], and in tile row r at y = sample_y[s * kTileSize + r].
   // Each is the scalar path's double position (docs/contract.md section 2) minus the origin, so
