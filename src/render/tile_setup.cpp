@@ -628,10 +628,11 @@ bool tile_proof_worth_trying(const TileSetupScratch::TileProofRecord& light,
 // kBlockProofPayRatio succeeded, it tries no more: its tiles meet those lights with their own
 // adaptive tile proofs. A skipped proof only hands the tiles a light that may be hidden: the
 // same image. Decided per block from its own tries, so the same whatever the threads.
-// Callgrind, AVX2, 1 thread, 960x540, 64 lights, 1024 occluders: rubble skips 81 % of its
-// block proofs (68 of 124 successes lost); the benchmark's level (4-12 px) skips 2 % (45 of
-// 2883 successes), the dungeon none (57 % succeed), paper none (4 lights per block).
-constexpr std::uint32_t kBlockProofWarmup = 8;
+// 960x540, 64 lights, 1024 occluders: rubble skips 60 % of its block proofs (56 of 124
+// successes lost), the benchmark's level (4-12 px) none, the dungeon none (57 % succeed),
+// paper none (4 lights per block). A warm-up of 8 skipped 81 % on rubble but also 143 of the
+// benchmark level's proofs, which then succeeded 31 % of the time: +0.4 % instructions there.
+constexpr std::uint32_t kBlockProofWarmup = 24;
 constexpr std::uint32_t kBlockProofPayRatio = 16;
 
 bool block_proof_worth_trying(const TileSetupScratch::TileProofRecord& block) noexcept {
