@@ -182,6 +182,35 @@ TEST_CASE("rubble (1.5-4 px occluders, 3-5 px lights): the adaptive rule skips f
   }
 }
 
+TEST_CASE("rubble with many lights per block: the adaptive rule skips failing block proofs, same image") {
+  // A block tries its first 24 block proofs (lights in scene order), then only while at least
+  // 1 in 16 succeeded: on rubble almost none do. The skipped lights go to the tiles, whose
+  // images must stay the unculled and scalar ones.
+  const bench::ScatteredSizes rubble{1.5, 4.0, 3.0, 5.0};
+  const Scene scene = bench::scattered_scene(40, 360, 77, 256, 192, rubble);
+  REQUIRE(validate_scene(scene).ok());
+  check_against_scalar_and_unculled(scene, "rubble, 40 lights");
+  for (Isa isa : simd_isas_here()) {
+    INFO("isa ", std::string(isa_name(isa)));
+    RenderOptions options = simd_options(isa, true);
+    options.threads = 1;
+    const FrameStats one = stats_of(scene, options);
+    INFO("block proofs tried ", one.block_proofs_tried, ", succeeded ", one.block_proofs_succeeded, ", skipped ",
+         one.block_proofs_skipped);
+    CHECK(one.block_proofs_skipped > 0u);
+    CHECK(one.block_proofs_tried + one.block_proofs_skipped + one.block_lights_out_of_reach <= one.block_lights);
+    // Decided per block from its own tries: the same counts whatever the threads.
+    options.threads = 3;
+    const FrameStats three = stats_of(scene, options);
+    CHECK(three.block_proofs_skipped == one.block_proofs_skipped);
+    CHECK(three.block_proofs_tried == one.block_proofs_tried);
+    CHECK(three.tile_lights == one.tile_lights);
+    // Without culling no proof is tried or skipped.
+    const FrameStats unculled = stats_of(scene, simd_options(isa, false));
+    CHECK(unculled.block_proofs_skipped == 0u);
+  }
+}
+
 TEST_CASE("the benchmark's level (4-12 px occluders), where most tile proofs hide the light: the rule keeps them") {
   // Tile proofs pay here (~15 % of frame time on the 256-light level): a block whose tile
   // proofs succeed at least 1 in 3 times keeps trying them for every light.
@@ -190,4 +219,10 @@ TEST_CASE("the benchmark's level (4-12 px occluders), where most tile proofs hid
   const FrameStats stats = stats_of(scene, options);
   CHECK(stats.tile_proofs_succeeded * 2 > stats.tile_proofs_tried);
   CHECK(stats.tile_proofs_skipped * 20 < stats.tile_proofs_tried);
+  // Its block proofs pay too (about 1 in 5 succeed, above the rule's 1 in 16): the block rule
+  // skips only in the few blocks where they keep failing.
+  INFO("block proofs tried ", stats.block_proofs_tried, ", succeeded ", stats.block_proofs_succeeded, ", skipped ",
+       stats.block_proofs_skipped);
+  CHECK(stats.block_proofs_succeeded * 6 > stats.block_proofs_tried);
+  CHECK(stats.block_proofs_skipped * 5 < stats.block_proofs_tried + stats.block_proofs_skipped);
 }

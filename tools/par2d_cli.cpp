@@ -237,6 +237,7 @@ std::string stats_json(const par2d::FrameStats& s) {
       {"block_candidates", s.block_candidates},
       {"block_proofs_tried", s.block_proofs_tried},
       {"block_proofs_succeeded", s.block_proofs_succeeded},
+      {"block_proofs_skipped", s.block_proofs_skipped},
       {"tiles", s.tiles},
       {"tile_lights", s.tile_lights},
       {"tile_pairs", s.tile_pairs},
@@ -273,11 +274,12 @@ void print_stats(const par2d::FrameStats& s) {
               static_cast<unsigned long long>(s.blocks));
   std::printf(
       "  blocks x lights: %llu, %.1f %% out of reach; %.1f occluders per (block, light) from the index; "
-      "proofs %llu tried, %llu hid the light (%.1f %%)\n",
+      "proofs %llu tried, %llu hid the light (%.1f %%), %llu skipped by the adaptive rule\n",
       static_cast<unsigned long long>(s.block_lights), 100.0 * ratio(s.block_lights_out_of_reach, s.block_lights),
       ratio(s.block_candidates, s.block_lights - s.block_lights_out_of_reach),
       static_cast<unsigned long long>(s.block_proofs_tried), static_cast<unsigned long long>(s.block_proofs_succeeded),
-      100.0 * ratio(s.block_proofs_succeeded, s.block_proofs_tried));
+      100.0 * ratio(s.block_proofs_succeeded, s.block_proofs_tried),
+      static_cast<unsigned long long>(s.block_proofs_skipped));
   std::printf(
       "  per tile: %.2f lights, %.2f pairs (%.3f overlapping or touching); proofs %llu tried, %llu hid the light, "
       "%llu skipped by the adaptive rule; umbra tests %llu, %llu hit\n",

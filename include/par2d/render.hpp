@@ -99,6 +99,7 @@ struct FrameStats {
   std::uint64_t block_candidates = 0;           // occluders the index queries returned, over (block, light)
   std::uint64_t block_proofs_tried = 0;         // occlusion proofs over a whole block and light
   std::uint64_t block_proofs_succeeded = 0;     // ... that proved the light hidden from the block
+  std::uint64_t block_proofs_skipped = 0;       // proofs not tried: the block's earlier proofs mostly failed
   std::uint64_t tiles = 0;
   std::uint64_t tile_lights = 0;          // lights handed to the kernel, summed over tiles
   std::uint64_t tile_pairs = 0;           // (light, occluder) pairs handed to the kernel, summed over tiles

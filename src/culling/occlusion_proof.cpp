@@ -275,15 +275,21 @@ bool segments_blocked(const Vec2* viewer, int viewer_count, Vec2 axis, const Con
     } else {
       for (const Vec2 p : s.vertices) add(frame.u(p), frame.v(p));
     }
-    scratch.half_u.clear();
-    scratch.half_v.clear();
-    clip(scratch.clip_u.data(), scratch.clip_v.data(), scratch.clip_u.size(), 0.0, 1.0, scratch.half_u,
-         scratch.half_v);
-    scratch.clip_u.clear();
-    scratch.clip_v.clear();
-    clip(scratch.half_u.data(), scratch.half_v.data(), scratch.half_u.size(), cut, -1.0, scratch.clip_u,
-         scratch.clip_v);
-    if (scratch.clip_u.empty()) continue;
+    // Most occluders lie wholly inside the slab: both clips would return their points as
+    // they are (every point kept, no crossing), so they are skipped.
+    bool inside = !scratch.clip_u.empty();
+    for (const double u : scratch.clip_u) inside &= u >= 0.0 && u <= cut;
+    if (!inside) {
+      scratch.half_u.clear();
+      scratch.half_v.clear();
+      clip(scratch.clip_u.data(), scratch.clip_v.data(), scratch.clip_u.size(), 0.0, 1.0, scratch.half_u,
+           scratch.half_v);
+      scratch.clip_u.clear();
+      scratch.clip_v.clear();
+      clip(scratch.half_u.data(), scratch.half_v.data(), scratch.half_u.size(), cut, -1.0, scratch.clip_u,
+           scratch.clip_v);
+      if (scratch.clip_u.empty()) continue;
+    }
     for (std::size_t i = 0; i < scratch.clip_u.size(); ++i) {
       // The line from (gap, q) through (u, v) meets u = 0 at (gap * v - q * u) / (gap - u).
       const double u = scratch.clip_u[i], inv = 1.0 / (gap - u);

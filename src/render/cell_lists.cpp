@@ -63,13 +63,36 @@ ShadowCone shadow_cone(const CellListScratch::Disc& light, const CellListScratch
   return cone;
 }
 
-// Whether the box (center, half extents) lies wholly outside the cone.
-bool outside_cone(const ShadowCone& cone, Vec2 center, Vec2 half) noexcept {
+// The cells wholly outside the cone (bit c: cell c, of `columns` x `rows` in row order). A
+// cell's box, centre x and half extents `half` (the same for every cell), lies outside the
+// half-plane of inward normal n when n.(x - apex) + |n.x| half.x + |n.y| half.y < -margin.
+// The centres are the first cell's plus whole steps (a few pixels) along x and y, so the
+// test is one dot product per normal and an addition per cell: the steps' rounding stays
+// far below the margin, as does that of x - apex itself.
+struct CellGrid {
+  Vec2 first_center, step, half;  // step: from a cell's centre to the next column's (x), row's (y)
+  int columns = 1, rows = 1;
+};
+
+unsigned cells_outside_cone(const ShadowCone& cone, const CellGrid& grid) noexcept {
+  unsigned outside = 0;
   for (const Vec2 n : cone.normal) {
-    const double highest = dot(n, center - cone.apex) + std::abs(n.x) * half.x + std::abs(n.y) * half.y;
-    if (highest < -cone.margin) return true;
+    const double first = dot(n, grid.first_center - cone.apex) + std::abs(n.x) * grid.half.x +
+                         std::abs(n.y) * grid.half.y + cone.margin;
+    const double along_x = n.x * grid.step.x, along_y = n.y * grid.step.y;
+    if (grid.columns == 2 && grid.rows == 2) {  // 4 and 8 lanes
+      outside |= static_cast<unsigned>(first < 0.0) | static_cast<unsigned>(first + along_x < 0.0) << 1 |
+                 static_cast<unsigned>(first + along_y < 0.0) << 2 |
+                 static_cast<unsigned>(first + along_x + along_y < 0.0) << 3;
+      continue;
+    }
+    int c = 0;
+    for (int y = 0; y < grid.rows; ++y) {
+      const double row = first + y * along_y;
+      for (int x = 0; x < grid.columns; ++x, ++c) outside |= static_cast<unsigned>(row + x * along_x < 0.0) << c;
+    }
   }
-  return false;
+  return outside;
 }
 
 // The tile's own lists as one cell over the whole tile: the model kernel always reads cells
@@ -125,6 +148,13 @@ void build_cell_lists(const PreparedScene& scene, const TileRect& tile, int lane
   scratch.cell_centers.clear();
   for (const Aabb& box : scratch.cell_boxes)
     scratch.cell_centers.push_back(Vec2{0.5 * (box.min_x + box.max_x), 0.5 * (box.min_y + box.max_y)});
+  CellGrid grid;
+  grid.first_center = scratch.cell_centers[0];
+  grid.half = half;
+  grid.columns = columns;
+  grid.rows = rows;
+  if (columns > 1) grid.step.x = scratch.cell_centers[1].x - grid.first_center.x;
+  if (rows > 1) grid.step.y = scratch.cell_centers[static_cast<std::size_t>(columns)].y - grid.first_center.y;
 
   // Per tile occluder: its disc, and the cells that need its arc: those where one of its
   // pairs stays (below) and, for the plain kernel, those whose box it meets (it may hold a
@@ -158,10 +188,7 @@ void build_cell_lists(const PreparedScene& scene, const TileRect& tile, int lane
         const ShadowCone cone = pair.general || directional
                                     ? ShadowCone{}
                                     : shadow_cone(light_disc, scratch.occluder_discs[pair.occluder]);
-        if (cone.bounded) {
-          for (std::size_t c = 0; c < cell_count; ++c)
-            if (outside_cone(cone, scratch.cell_centers[c], half)) cells &= ~(1u << c);
-        }
+        if (cone.bounded) cells &= ~cells_outside_cone(cone, grid);
         scratch.pair_cells[p] = cells;
         scratch.occluder_cells[pair.occluder] |= cells;
       }
