@@ -517,32 +517,59 @@ inline void general_pair_intervals(const TileWork& work, const KernelLight& ligh
 
 // Irradiance (times 1/(2*pi), folded into the emissions) of one packet at (px, py), from the
 // tile's lists, or (kCells) from its cell's (`cell`, see KernelCell).
-template <class A, bool kCells>
+// kTileArcs: the occluder arcs were computed for the whole tile beforehand (TileArcs, see
+// render_plain_tile); `tile_arcs` is the packet's view of them. Else the packet computes
+// them here, into `scratch`.
+template <class A>
+struct TileArcs {
+  const float* start = nullptr;  // occluder k's start angles at start[k * stride]
+  const float* width = nullptr;
+  const float* inside = nullptr;  // 1 where a lane is inside some occluder, else 0
+  std::size_t stride = 0;
+};
+
+template <class A, bool kCells, bool kTileArcs = false>
 PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::KernelCell* cell,
                                            const xsimd::batch<float, A>& px, const xsimd::batch<float, A>& py,
-                                           float* scratch, xsimd::batch<float, A> (&e)[3]) noexcept {
+                                           float* scratch, xsimd::batch<float, A> (&e)[3],
+                                           const TileArcs<A>& tile_arcs = {}) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   const std::size_t occluder_count = work.occluders.size();
-  float* occ_start_all = scratch;
-  float* occ_width = occ_start_all + occluder_count * W;
-  float* lo = occ_width + occluder_count * W;
+  const float* occ_start_all;
+  const float* occ_width;
+  std::size_t occ_stride;
+  float* lo;
+  auto in_occluder = B(0.0f) > B(0.0f);
+  std::size_t arcs = occluder_count;
+  if constexpr (kTileArcs) {
+    occ_start_all = tile_arcs.start;
+    occ_width = tile_arcs.width;
+    occ_stride = tile_arcs.stride;
+    in_occluder = B::load_aligned(tile_arcs.inside) != B(0.0f);
+    lo = scratch;
+  } else {
+    float* start_out = scratch;
+    float* width_out = start_out + occluder_count * W;
+    occ_start_all = start_out;
+    occ_width = width_out;
+    occ_stride = W;
+    lo = width_out + occluder_count * W;
+    // Arcs are stored at the occluder's tile index; a cell computes only those its pairs read
+    // (and those whose inside test it needs, see cell_lists.cpp).
+    if constexpr (kCells) arcs = cell->occluder_count;
+    const std::uint32_t* cell_occluders = kCells ? work.cell_occluders.data() + cell->first_occluder : nullptr;
+    for (std::size_t i = 0; i < arcs; ++i) {
+      const std::size_t k = kCells ? cell_occluders[i] : i;
+      const Arc<A> arc = shape_arc<A>(work, work.occluders[k], px, py);
+      in_occluder = in_occluder | arc.inside;
+      arc.start.store_aligned(start_out + k * W);
+      arc.width.store_aligned(width_out + k * W);
+    }
+  }
   const std::size_t slots = sort_slots<A>(work.max_intervals_per_light);
   float* hi = lo + slots * W;
   float* events = hi + slots * W;
-
-  // Arcs are stored at the occluder's tile index; a cell computes only those its pairs read
-  // (and those whose inside test it needs, see cell_lists.cpp).
-  auto in_occluder = B(0.0f) > B(0.0f);
-  const std::size_t arcs = kCells ? cell->occluder_count : occluder_count;
-  const std::uint32_t* cell_occluders = kCells ? work.cell_occluders.data() + cell->first_occluder : nullptr;
-  for (std::size_t i = 0; i < arcs; ++i) {
-    const std::size_t k = kCells ? cell_occluders[i] : i;
-    const Arc<A> arc = shape_arc<A>(work, work.occluders[k], px, py);
-    in_occluder = in_occluder | arc.inside;
-    arc.start.store_aligned(occ_start_all + k * W);
-    arc.width.store_aligned(occ_width + k * W);
-  }
   for (int c = 0; c < 3; ++c) e[c] = B(0.0f);
   // Every lane inside an occluder: 0 whatever the lights (the select at the end).
   if (arcs != 0 && xsimd::all(in_occluder)) return;
@@ -561,8 +588,8 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
     std::size_t n = 0;  // intervals written
     for (std::size_t p = 0; p < pair_count; ++p) {
       const KernelPair& pair = pairs[p];
-      const B occ_start = B::load_aligned(occ_start_all + pair.occluder * W);
-      const B occ_w = B::load_aligned(occ_width + pair.occluder * W);
+      const B occ_start = B::load_aligned(occ_start_all + pair.occluder * occ_stride);
+      const B occ_w = B::load_aligned(occ_width + pair.occluder * occ_stride);
       if (pair.general) {
         general_pair_intervals<A>(work, light, pair, arc, width, occ_start, occ_w, px, py, events, lo + n * W,
                                   hi + n * W);
@@ -1193,12 +1220,93 @@ void render_tile_model(const TileWork& work, float* scratch, TileResult& out) no
   }
 }
 
+// Every occluder's arc over every pixel center of the tile, one occluder at a time: the
+// shape's kind, vertex range and flags are read and branched on once per tile instead of
+// once per packet, and its loop over the packets is straight code. Arcs go to
+// scratch[k * kTilePixels + pixel] (start, then width), inside flags to one plane after them.
+template <class A>
+PAR2D_KERNEL_NOINLINE void tile_occluder_arcs(const TileWork& work, float* start, float* width,
+                                              float* inside) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  for (std::size_t first = 0; first < detail::kTilePixels; first += W) B(0.0f).store_aligned(inside + first);
+  const std::size_t count = work.occluders.size();
+  for (std::size_t k = 0; k < count; ++k) {
+    const KernelShape& s = work.occluders[k];
+    float* start_k = start + k * detail::kTilePixels;
+    float* width_k = width + k * detail::kTilePixels;
+    auto sweep = [&](auto arc_of) PAR2D_KERNEL_LAMBDA_INLINE {
+      for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
+        const B px = B::load_unaligned(work.sample_x.data() + first % detail::kTileSize);
+        const B py(work.sample_y[first / detail::kTileSize]);
+        const Arc<A> arc = arc_of(px, py);
+        arc.start.store_aligned(start_k + first);
+        arc.width.store_aligned(width_k + first);
+        const B was = B::load_aligned(inside + first);
+        xsimd::select(arc.inside, B(1.0f), was).store_aligned(inside + first);
+      }
+    };
+    // Each kind's arc with its tile-constant branches taken here (shape_arc's own tests then
+    // fold away in each instantiation).
+    auto sweep_as = [&](ShapeKind kind, bool ordered, bool may_contain) PAR2D_KERNEL_LAMBDA_INLINE {
+      KernelShape known = s;
+      known.kind = kind;
+      known.ordered = ordered;
+      known.may_contain = may_contain;
+      known.clipped = false;
+      sweep([&](const B& px, const B& py) PAR2D_KERNEL_LAMBDA_INLINE { return shape_arc<A>(work, known, px, py); });
+    };
+    if (s.clipped) {  // lights only; kept for completeness
+      sweep([&](const B& px, const B& py) PAR2D_KERNEL_LAMBDA_INLINE { return shape_arc<A>(work, s, px, py); });
+    } else if (s.kind == ShapeKind::circle) {
+      sweep_as(ShapeKind::circle, false, true);
+    } else if (s.kind == ShapeKind::segment) {
+      if (s.ordered) sweep_as(ShapeKind::segment, true, false);
+      else sweep_as(ShapeKind::segment, false, false);
+    } else if (s.may_contain) {
+      sweep_as(ShapeKind::polygon, false, true);
+    } else {
+      sweep_as(ShapeKind::polygon, false, false);
+    }
+  }
+}
+
+// The plain kernel at one sample per pixel without cells: occluder arcs shape-major for the
+// whole tile (tile_occluder_arcs), then the lights packet by packet.
+template <class A>
+PAR2D_KERNEL_NOINLINE void render_plain_tile_shape_major(const TileWork& work, float* scratch,
+                                                         TileResult& out) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  const std::size_t plane = work.occluders.size() * detail::kTilePixels;
+  float* start = scratch;
+  float* width = start + plane;
+  float* inside = width + plane;
+  float* packet_scratch = inside + detail::kTilePixels;
+  tile_occluder_arcs<A>(work, start, width, inside);
+  TileArcs<A> arcs;
+  arcs.stride = detail::kTilePixels;
+  for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
+    const B px = B::load_unaligned(work.sample_x.data() + first % detail::kTileSize);
+    const B py(work.sample_y[first / detail::kTileSize]);
+    arcs.start = start + first;
+    arcs.width = width + first;
+    arcs.inside = inside + first;
+    B e[3];
+    packet_irradiance<A, false, true>(work, nullptr, px, py, packet_scratch, e, arcs);
+    for (int c = 0; c < 3; ++c) e[c].store_aligned(out.rgb[c] + first);
+  }
+}
+
 // The plain kernel over the tile's packets, each from its cell's lists with kCells.
 template <class A, bool kCells>
 PAR2D_KERNEL_INLINE void render_plain_tile(const TileWork& work, float* scratch, TileResult& out) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   auto cell_of = [&](std::size_t first) { return kCells ? packet_cell(work, first) : nullptr; };
+  if constexpr (!kCells) {
+    if (work.spp == 1 && !work.occluders.empty()) return render_plain_tile_shape_major<A>(work, scratch, out);
+  }
   if (work.spp == 1) {  // the pixel centers: no sum, no division
     for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
       const B px = B::load_unaligned(work.sample_x.data() + first % detail::kTileSize);

@@ -193,8 +193,11 @@ inline std::size_t kernel_scratch_floats(const TileWork& work, int lanes) noexce
     while (key_slots < 2 * static_cast<std::size_t>(work.max_intervals_per_light) + 2) key_slots *= 2;
     model_floats = work.occluders.size() + 2 * key_slots + sort_slots / 1 + 1;
   }
-  return static_cast<std::size_t>(lanes) *
-         (2 * work.occluders.size() + 2 * sort_slots + event_slots + 2 + model_floats);
+  // The plain kernel without cells keeps every occluder's arc over the whole tile (start
+  // and width planes) and an inside plane, ahead of the per-packet scratch.
+  const std::size_t tile_arcs = work.model || !work.cells.empty() ? 0 : (2 * work.occluders.size() + 1) * kTilePixels;
+  return tile_arcs + static_cast<std::size_t>(lanes) *
+                         (2 * work.occluders.size() + 2 * sort_slots + event_slots + 2 + model_floats);
 }
 
 }  // namespace par2d::detail
