@@ -526,6 +526,8 @@ struct TileArcs {
   const float* width = nullptr;
   const float* inside = nullptr;  // 1 where a lane is inside some occluder, else 0
   std::size_t stride = 0;
+  // The irradiance of the lights without pairs (summed beforehand; the packet skips them).
+  const float* unblocked[3] = {nullptr, nullptr, nullptr};
 };
 
 template <class A, bool kCells, bool kTileArcs = false>
@@ -573,10 +575,13 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
   for (int c = 0; c < 3; ++c) e[c] = B(0.0f);
   // Every lane inside an occluder: 0 whatever the lights (the select at the end).
   if (arcs != 0 && xsimd::all(in_occluder)) return;
+  if constexpr (kTileArcs)
+    for (int c = 0; c < 3; ++c) e[c] = B::load_aligned(tile_arcs.unblocked[c]);
   // One light's share, inlined into both loops below.
   auto add_light = [&](const KernelLight& light, const KernelPair* pairs,
                        std::size_t pair_count) PAR2D_KERNEL_LAMBDA_INLINE {
     if (pair_count == 0) {  // nothing in front of this light anywhere in the tile (or cell)
+      if constexpr (kTileArcs) return;  // in tile_arcs.unblocked
       const Arc<A> arc = shape_arc<A, false>(work, light.shape, px, py);
       const B visible = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
       for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]), visible, e[c]);
@@ -1220,6 +1225,32 @@ void render_tile_model(const TileWork& work, float* scratch, TileResult& out) no
   }
 }
 
+// Calls f(known), `known` a copy of `s` whose kind and flags are set from constants in each
+// branch, so that a shape loop inlined into f folds shape_arc's tests on them away.
+template <class F>
+PAR2D_KERNEL_INLINE void with_known_kind(const KernelShape& s, F&& f) {
+  auto as = [&](ShapeKind kind, bool ordered, bool may_contain) PAR2D_KERNEL_LAMBDA_INLINE {
+    KernelShape known = s;
+    known.kind = kind;
+    known.ordered = ordered;
+    known.may_contain = may_contain;
+    known.clipped = false;
+    f(known);
+  };
+  if (s.clipped) {  // a light overlapping a wall: out of line anyway
+    f(s);
+  } else if (s.kind == ShapeKind::circle) {
+    as(ShapeKind::circle, false, true);
+  } else if (s.kind == ShapeKind::segment) {
+    if (s.ordered) as(ShapeKind::segment, true, false);
+    else as(ShapeKind::segment, false, false);
+  } else if (s.may_contain) {
+    as(ShapeKind::polygon, false, true);
+  } else {
+    as(ShapeKind::polygon, false, false);
+  }
+}
+
 // Every occluder's arc over every pixel center of the tile, one occluder at a time: the
 // shape's kind, vertex range and flags are read and branched on once per tile instead of
 // once per packet, and its loop over the packets is straight code. Arcs go to
@@ -1248,26 +1279,33 @@ PAR2D_KERNEL_NOINLINE void tile_occluder_arcs(const TileWork& work, float* start
     };
     // Each kind's arc with its tile-constant branches taken here (shape_arc's own tests then
     // fold away in each instantiation).
-    auto sweep_as = [&](ShapeKind kind, bool ordered, bool may_contain) PAR2D_KERNEL_LAMBDA_INLINE {
-      KernelShape known = s;
-      known.kind = kind;
-      known.ordered = ordered;
-      known.may_contain = may_contain;
-      known.clipped = false;
+    with_known_kind(s, [&](const KernelShape& known) PAR2D_KERNEL_LAMBDA_INLINE {
       sweep([&](const B& px, const B& py) PAR2D_KERNEL_LAMBDA_INLINE { return shape_arc<A>(work, known, px, py); });
-    };
-    if (s.clipped) {  // lights only; kept for completeness
-      sweep([&](const B& px, const B& py) PAR2D_KERNEL_LAMBDA_INLINE { return shape_arc<A>(work, s, px, py); });
-    } else if (s.kind == ShapeKind::circle) {
-      sweep_as(ShapeKind::circle, false, true);
-    } else if (s.kind == ShapeKind::segment) {
-      if (s.ordered) sweep_as(ShapeKind::segment, true, false);
-      else sweep_as(ShapeKind::segment, false, false);
-    } else if (s.may_contain) {
-      sweep_as(ShapeKind::polygon, false, true);
-    } else {
-      sweep_as(ShapeKind::polygon, false, false);
-    }
+    });
+  }
+}
+
+// The tile's lights without pairs (nothing can stand in front of them anywhere in the tile),
+// summed shape-major into `sum`.
+template <class A>
+PAR2D_KERNEL_NOINLINE void tile_unblocked_lights(const TileWork& work, TileResult& sum) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  for (int c = 0; c < 3; ++c)
+    for (std::size_t first = 0; first < detail::kTilePixels; first += W) B(0.0f).store_aligned(sum.rgb[c] + first);
+  for (const KernelLight& light : work.lights) {
+    if (light.pair_count != 0) continue;
+    const B emission[3] = {B(light.emission[0]), B(light.emission[1]), B(light.emission[2])};
+    with_known_kind(light.shape, [&](const KernelShape& known) PAR2D_KERNEL_LAMBDA_INLINE {
+      for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
+        const B px = B::load_unaligned(work.sample_x.data() + first % detail::kTileSize);
+        const B py(work.sample_y[first / detail::kTileSize]);
+        const Arc<A> arc = shape_arc<A, false>(work, known, px, py);
+        const B visible = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
+        for (int c = 0; c < 3; ++c)
+          xsimd::fma(emission[c], visible, B::load_aligned(sum.rgb[c] + first)).store_aligned(sum.rgb[c] + first);
+      }
+    });
   }
 }
 
@@ -1284,6 +1322,9 @@ PAR2D_KERNEL_NOINLINE void render_plain_tile_shape_major(const TileWork& work, f
   float* inside = width + plane;
   float* packet_scratch = inside + detail::kTilePixels;
   tile_occluder_arcs<A>(work, start, width, inside);
+  // The unblocked lights' sums go straight into the result's planes; each packet reads its
+  // part before it overwrites it.
+  tile_unblocked_lights<A>(work, out);
   TileArcs<A> arcs;
   arcs.stride = detail::kTilePixels;
   for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
@@ -1292,6 +1333,7 @@ PAR2D_KERNEL_NOINLINE void render_plain_tile_shape_major(const TileWork& work, f
     arcs.start = start + first;
     arcs.width = width + first;
     arcs.inside = inside + first;
+    for (int c = 0; c < 3; ++c) arcs.unblocked[c] = out.rgb[c] + first;
     B e[3];
     packet_irradiance<A, false, true>(work, nullptr, px, py, packet_scratch, e, arcs);
     for (int c = 0; c < 3; ++c) e[c].store_aligned(out.rgb[c] + first);
@@ -1305,7 +1347,7 @@ PAR2D_KERNEL_INLINE void render_plain_tile(const TileWork& work, float* scratch,
   constexpr std::size_t W = B::size;
   auto cell_of = [&](std::size_t first) { return kCells ? packet_cell(work, first) : nullptr; };
   if constexpr (!kCells) {
-    if (work.spp == 1 && !work.occluders.empty()) return render_plain_tile_shape_major<A>(work, scratch, out);
+    if (work.spp == 1) return render_plain_tile_shape_major<A>(work, scratch, out);
   }
   if (work.spp == 1) {  // the pixel centers: no sum, no division
     for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
