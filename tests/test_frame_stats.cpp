@@ -82,6 +82,8 @@ TEST_CASE("FrameStats follow the frame's blocks and tiles, and the kernel's work
   CHECK(s.block_proofs_succeeded <= s.block_proofs_tried);
   CHECK(s.tile_proofs_succeeded <= s.tile_proofs_tried);
   CHECK(s.umbra_hits <= s.umbra_tests);
+  // Scattered occluders: some lie in front of a light but off every line from the tile to it.
+  CHECK(s.tile_pairs_outside_hull > 0u);
   CHECK(s.tile_general_pairs == 0u);  // the generator keeps lights clear of occluders
   CHECK(s.scalar_tiles == 0u);
 
@@ -109,6 +111,7 @@ TEST_CASE("FrameStats follow the frame's blocks and tiles, and the kernel's work
     CHECK(t.tile_proofs_tried == s.tile_proofs_tried);
     CHECK(t.tile_proofs_skipped == s.tile_proofs_skipped);
     CHECK(t.umbra_tests == s.umbra_tests);
+    CHECK(t.tile_pairs_outside_hull == s.tile_pairs_outside_hull);
     one.spp = 4;
     const FrameStats u = stats_of(scene, one);
     CHECK(u.samples == 4u * s.samples);
@@ -157,6 +160,7 @@ TEST_CASE("FrameStats: culling removes a walled-in light from the blocks outside
   CHECK(unculled.tile_proofs_tried == 0u);
   CHECK(unculled.tile_proofs_skipped == 0u);
   CHECK(unculled.umbra_tests == 0u);
+  CHECK(unculled.tile_pairs_outside_hull == 0u);
   CHECK(unculled.tile_pairs == unculled.tiles * 2u * 4u);  // every light with every wall
 }
 

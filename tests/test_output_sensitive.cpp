@@ -58,6 +58,23 @@ void check_against_scalar_and_unculled(const Scene& scene, const std::string& wh
 
 Polygon box(double x0, double y0, double x1, double y1) { return Polygon{{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}}; }
 
+// Scattered shapes of every kind on a width x height image, sizes in pixels across (bounding
+// radius as a fraction of the 96 px view height), kept 2 px from the lights.
+RandomSceneOptions scattered_options(int width, int lights_min, int lights_max, int occluders_min, int occluders_max,
+                                     double min_px, double max_px) {
+  RandomSceneOptions opt;
+  opt.width = width;
+  opt.height = 96;
+  opt.min_lights = lights_min;
+  opt.max_lights = lights_max;
+  opt.min_occluders = occluders_min;
+  opt.max_occluders = occluders_max;
+  opt.min_size = 0.5 * min_px / 96.0;
+  opt.max_size = 0.5 * max_px / 96.0;
+  opt.gap = 2.0 / 96.0;
+  return opt;
+}
+
 FrameStats stats_of(const Scene& scene, const RenderOptions& options) {
   std::vector<float> pixels(static_cast<std::size_t>(scene.width) * static_cast<std::size_t>(scene.height) * 3);
   const ImageView image{pixels.data(), scene.width, scene.height, 3 * static_cast<std::ptrdiff_t>(scene.width)};
@@ -99,16 +116,7 @@ TEST_CASE("small occluders and small lights (1.5-4 px, 3-5 px): culled SIMD matc
   // packets (one occluder or several), fail most occlusion proofs by a visible segment and
   // offer many umbra tests that cannot succeed.
   for (std::uint32_t seed = 1501; seed <= 1504; ++seed) {
-    RandomSceneOptions opt;
-    opt.width = 128;
-    opt.height = 96;
-    opt.min_lights = 5;
-    opt.max_lights = 7;
-    opt.min_occluders = 220;
-    opt.max_occluders = 220;
-    opt.min_size = 0.75 / 96.0;  // bounding radius in view sizes: 1.5 px across ...
-    opt.max_size = 2.5 / 96.0;   // ... to 5 px across
-    opt.gap = 2.0 / 96.0;
+    RandomSceneOptions opt = scattered_options(128, 5, 7, 220, 220, 1.5, 5.0);
     opt.occluders_may_overlap = seed % 2 == 0;
     const Scene scene = random_scene(seed, opt);
     REQUIRE(scene.occluders.size() > 150);
@@ -225,4 +233,18 @@ TEST_CASE("the benchmark's level (4-12 px occluders), where most tile proofs hid
        stats.block_proofs_skipped);
   CHECK(stats.block_proofs_succeeded * 6 > stats.block_proofs_tried);
   CHECK(stats.block_proofs_skipped * 5 < stats.block_proofs_tried + stats.block_proofs_skipped);
+}
+
+TEST_CASE("pairs whose occluder misses the hull of the tile and the light are dropped: culled SIMD matches scalar and unculled") {
+  // Mid-sized scattered shapes of every kind: many occluders stand between a light and a
+  // tile's direction to it (their pair survives the separating-line test) yet off every
+  // segment from the tile to the light, so the tile drops them before the kernel.
+  for (std::uint32_t seed = 2101; seed <= 2103; ++seed) {
+    const RandomSceneOptions opt = scattered_options(160, 3, 5, 40, 60, 3.0, 10.0);
+    const Scene scene = random_scene(seed, opt);
+    RenderOptions options = simd_options(detect_isa(), true);
+    const FrameStats stats = stats_of(scene, options);
+    CHECK(stats.tile_pairs_outside_hull > 0u);
+    check_against_scalar_and_unculled(scene, "seed " + std::to_string(seed));
+  }
 }

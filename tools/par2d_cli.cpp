@@ -247,6 +247,7 @@ std::string stats_json(const par2d::FrameStats& s) {
       {"tile_proofs_skipped", s.tile_proofs_skipped},
       {"umbra_tests", s.umbra_tests},
       {"umbra_hits", s.umbra_hits},
+      {"tile_pairs_outside_hull", s.tile_pairs_outside_hull},
       {"light_samples", s.light_samples},
       {"pair_samples", s.pair_samples},
       {"scalar_tiles", s.scalar_tiles},
@@ -282,10 +283,11 @@ void print_stats(const par2d::FrameStats& s) {
       static_cast<unsigned long long>(s.block_proofs_skipped));
   std::printf(
       "  per tile: %.2f lights, %.2f pairs (%.3f overlapping or touching); proofs %llu tried, %llu hid the light, "
-      "%llu skipped by the adaptive rule; umbra tests %llu, %llu hit\n",
+      "%llu skipped by the adaptive rule; umbra tests %llu, %llu hit; %.2f pairs dropped outside the tile-light hull\n",
       ratio(s.tile_lights, s.tiles), ratio(s.tile_pairs, s.tiles), ratio(s.tile_general_pairs, s.tiles),
       static_cast<unsigned long long>(s.tile_proofs_tried), static_cast<unsigned long long>(s.tile_proofs_succeeded),
-      static_cast<unsigned long long>(s.tile_proofs_skipped), static_cast<unsigned long long>(s.umbra_tests), static_cast<unsigned long long>(s.umbra_hits));
+      static_cast<unsigned long long>(s.tile_proofs_skipped), static_cast<unsigned long long>(s.umbra_tests), static_cast<unsigned long long>(s.umbra_hits),
+      ratio(s.tile_pairs_outside_hull, s.tiles));
   std::printf("  per sample (kernel): %.2f light arcs, %.2f pairs; %.2f samples per pixel (tile padding included)\n",
               ratio(s.light_samples, s.samples), ratio(s.pair_samples, s.samples), ratio(s.samples, s.pixels));
   std::printf("  per pixel (exact, at %llu sampled pixels): %.2f lights visible, %.2f occluders cutting into their arcs\n",

@@ -109,6 +109,7 @@ struct FrameStats {
   std::uint64_t tile_proofs_skipped = 0;  // proofs not tried: the light's earlier tile proofs in the block mostly failed
   std::uint64_t umbra_tests = 0;          // "is the tile in this one occluder's umbra" tests
   std::uint64_t umbra_hits = 0;
+  std::uint64_t tile_pairs_outside_hull = 0;  // pairs dropped before the kernel: the occluder misses the hull of the tile and the light
   std::uint64_t light_samples = 0;        // light arcs the kernel evaluates: sum over tiles (or their cells) of lights x samples
   std::uint64_t pair_samples = 0;         // pairs likewise: sum over tiles (or their cells) of pairs x samples
   std::uint64_t scalar_tiles = 0;         // tiles computed by the scalar reference (only with Isa::scalar)

@@ -12,13 +12,6 @@ namespace {
 constexpr int kCellPixels = 64;
 int cell_width_for(int lanes) noexcept { return std::min(kTileSize, std::max(lanes, 8)); }
 
-// Tiles with fewer pairs keep their lists: cells cost setup per pair and cell, and save
-// kernel work only where many pairs' shadows miss parts of the tile (small occluders). With
-// cells on every tile, examples/paper.json's pairs fell from 2.4 per tile to 2.2 per sample
-// and its frames cost 10 % more instructions (callgrind, AVX2, 1 thread, with an earlier
-// form of the kernel loop); from 16 pairs, paper and the dungeon stay within 0.6 % and
-// rubble's tiles (hundreds of pairs each) all get cells.
-constexpr std::size_t kCellMinPairs = 16;
 
 // A disc holding the shape: "the hull of `vertices` grown by `radius`" (ConvexShape) lies
 // within the vertices' farthest distance from the centroid, plus the radius.

@@ -150,6 +150,7 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
     state.setup.umbra_tests = state.setup.umbra_hits = 0;
     state.setup.tile_proofs_skipped = 0;
     state.setup.block_proofs_skipped = 0;
+    state.setup.hull_pairs_dropped = 0;
     for (int b = lane; b < blocks; b += lanes) render_block(b, state);
   });
   if (stats) *stats = sum_counts(lanes);
@@ -179,6 +180,7 @@ FrameStats FrameEngine::sum_counts(int lanes) const noexcept {
     sum.umbra_hits += state.setup.umbra_hits;
     sum.tile_proofs_skipped += state.setup.tile_proofs_skipped;
     sum.block_proofs_skipped += state.setup.block_proofs_skipped;
+    sum.tile_pairs_outside_hull += state.setup.hull_pairs_dropped;
   }
   return sum;
 }

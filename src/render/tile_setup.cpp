@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "geometry/box_clip.hpp"
+#include "render/cell_lists.hpp"
 #include "par2d/render.hpp"
 
 
@@ -370,6 +371,53 @@ bool rect_in_umbra(const ConvexShape& light, const ConvexShape& occluder, const 
     if (o.outside != 0 && !arc_contains(o.cw, o.ccw, l.cw, l.ccw)) return false;
   }
   return true;
+}
+
+// The two bridge edges of the hull of the tile and the light, as half-planes holding both:
+// every segment from a point of the tile to a point of the light stays in each, so an
+// occluder wholly outside one blocks nothing anywhere in the tile (exactly: such a pair's
+// intervals are empty at every pixel). A bridge runs from a corner along its clockwise
+// (resp. counter-clockwise) tangent direction to the light, which has the light on its
+// inner side, and is a bridge when the other corners are there too. Tangent directions
+// come from the block's grid cache (shared with the umbra tests).
+struct HullSide {
+  // Inside: dot(normal, y - point) >= -slack. The normal is not unit length (no square root):
+  // slack is the tolerance times its L1 norm, which is at least its length.
+  Vec2 point, normal;
+  double slack;
+};
+
+int tile_light_bridges(const ConvexShape& light, const std::array<Vec2, 4>& corners, const int (&grid)[4],
+                       CornerDirections* light_directions, double tolerance, HullSide (&out)[2]) noexcept {
+  int count = 0;
+  for (int side = 0; side < 2; ++side) {
+    for (int i = 0; i < 4; ++i) {
+      CornerDirections& d = light_directions[grid[i]];
+      if (d.outside < 0) d.outside = tangent_directions(light, corners[i], d.cw, d.ccw);
+      if (d.outside == 0) return 0;  // a corner in the light: the light may be seen any way
+      const Vec2 along = side == 0 ? d.cw : d.ccw;
+      // The light is left of the clockwise tangent (cross >= 0) and right of the other.
+      const Vec2 normal = side == 0 ? Vec2{-along.y, along.x} : Vec2{along.y, -along.x};
+      const double slack = tolerance * (std::abs(normal.x) + std::abs(normal.y));
+      if (!(slack > 0.0)) return 0;
+      bool holds_tile = true;
+      for (int j = 0; j < 4 && holds_tile; ++j) holds_tile = dot(normal, corners[j] - corners[i]) >= -slack;
+      if (holds_tile) {
+        out[count++] = HullSide{corners[i], normal, slack};
+        break;
+      }
+    }
+  }
+  return count;
+}
+
+// Whether the shape lies wholly outside the half-plane, by more than three times its slack
+// (the bridge may hold the tile only to within one slack).
+bool outside_hull_side(const ConvexShape& s, const HullSide& side) noexcept {
+  double farthest = s.radius > 0.0 ? s.radius * std::sqrt(dot(side.normal, side.normal)) : 0.0;
+  double vertex = -std::numeric_limits<double>::infinity();
+  for (const Vec2 v : s.vertices) vertex = std::max(vertex, dot(side.normal, v - side.point));
+  return farthest + vertex < -3.0 * side.slack;
 }
 
 // A disc inside a light (center and radius), for umbra_possible; radius < 0: not computed yet.
@@ -923,6 +971,38 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
         }
       }
       work.pairs.push_back(pair);
+    }
+    // Pairs whose occluder lies outside the hull of the tile and the light block nothing
+    // here: dropped (the light goes unblocked when none is left, and an occluder no pair
+    // keeps gets no arc). Not once the tile has enough pairs for per-cell lists, whose
+    // shadow cones already keep such pairs from every cell: on rubble (hundreds of pairs a
+    // tile) the test there cost 3 % more instructions than it saved.
+    if (!shadowed && culling && work.pairs.size() > kl.first_pair && work.pairs.size() < kCellMinPairs) {
+      if (!light_directions) light_directions = scratch.light_grid.of(l, scratch.block_serial);
+      // Rounding in the tangent directions and the dot products is ~1e-16 of these lengths.
+      const Vec2 reach = light.shape.centroid - tile_center;
+      const double tolerance = 1e-9 * (std::abs(reach.x) + std::abs(reach.y) + (box.max_x - box.min_x) +
+                                       (box.max_y - box.min_y) + std::abs(tile_center.x) + std::abs(tile_center.y));
+      HullSide sides[2];
+      const int side_count = tile_light_bridges(light.shape, corners, grid, light_directions, tolerance, sides);
+      if (side_count != 0) {
+        std::size_t kept = kl.first_pair;
+        for (std::size_t p = kl.first_pair; p < work.pairs.size(); ++p) {
+          const KernelPair& pair = work.pairs[p];
+          bool outside = false;
+          if (!pair.general) {
+            const ConvexShape& occluder = scene.occluders[pair.occluder];
+            for (int i = 0; i < side_count && !outside; ++i)
+              outside = outside_hull_side(occluder, sides[i]);
+          }
+          if (outside) {
+            ++scratch.hull_pairs_dropped;
+            continue;
+          }
+          work.pairs[kept++] = pair;
+        }
+        work.pairs.resize(kept);
+      }
     }
     // The proof holds whatever the pairs' overlaps: every segment from the tile to a light
     // point meets an occluder before it, so every ray meets one before its first light point.

@@ -99,6 +99,7 @@ struct TileSetupScratch {
   std::uint64_t umbra_tests = 0, umbra_hits = 0;
   std::uint64_t tile_proofs_skipped = 0;  // tile proofs the adaptive rule did not try
   std::uint64_t block_proofs_skipped = 0;  // block proofs the adaptive rule did not try
+  std::uint64_t hull_pairs_dropped = 0;  // pairs whose occluder misses the tile-light hull
 };
 
 // Fills scratch.block_candidates for the pixel rectangle `block`, skipping the lights that
