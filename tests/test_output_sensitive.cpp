@@ -248,3 +248,31 @@ TEST_CASE("pairs whose occluder misses the hull of the tile and the light are dr
     check_against_scalar_and_unculled(scene, "seed " + std::to_string(seed));
   }
 }
+
+TEST_CASE("one tile: a small disc 0.1 px outside the exact hull of the tile and a disc light is dropped, 0.1 px inside it is kept") {
+  // The tile is the view [0, 16] x [16, 32]; the light's disc at (26, 2), r 2. The hull's
+  // lower bridge runs from the corner (16, 32) along its tangent to the light; the occluder
+  // (r 0.5) sits beside that bridge, 0.1 px outside or inside it, and well inside the box
+  // hull of the tile and the light's bounding box (which keeps it as a candidate either way).
+  for (const bool outside : {true, false}) {
+    INFO("outside ", outside);
+    Scene scene;
+    scene.width = 16;
+    scene.height = 16;
+    scene.view = View{0.0, 16.0, 16.0, 32.0};
+    Light light;
+    light.shape = Circle{{26.0, 2.0}, 2.0};
+    light.color = {1.0, 0.9, 0.7};
+    light.intensity = 2.0;
+    scene.lights.push_back(light);
+    const Vec2 center = outside ? Vec2{25.5703, 9.9825} : Vec2{25.3850, 9.9074};
+    scene.occluders.push_back(Occluder{Circle{center, 0.5}});
+    REQUIRE(validate_scene(scene).ok());
+    const FrameStats stats = stats_of(scene, simd_options(detect_isa(), true));
+    CHECK(stats.tiles == 1u);
+    CHECK(stats.tile_lights == 1u);
+    CHECK(stats.tile_pairs_outside_hull == (outside ? 1u : 0u));
+    CHECK(stats.tile_pairs == (outside ? 0u : 1u));
+    check_against_scalar_and_unculled(scene, outside ? "outside" : "inside");
+  }
+}

@@ -12,7 +12,6 @@ namespace {
 constexpr int kCellPixels = 64;
 int cell_width_for(int lanes) noexcept { return std::min(kTileSize, std::max(lanes, 8)); }
 
-
 // A disc holding the shape: "the hull of `vertices` grown by `radius`" (ConvexShape) lies
 // within the vertices' farthest distance from the centroid, plus the radius.
 CellListScratch::Disc bounding_disc(const ConvexShape& s) noexcept {
