@@ -276,3 +276,37 @@ TEST_CASE("one tile: a small disc 0.1 px outside the exact hull of the tile and 
     check_against_scalar_and_unculled(scene, outside ? "outside" : "inside");
   }
 }
+
+TEST_CASE("a light with one occluder in front: each way the occluder's arc can cut the light's matches scalar and unculled") {
+  // A light of radius 6 and a smaller occluder 16 px to its right: beside the occluder its
+  // arc cuts one end of the light's (either end, on either side of the axis), in the umbra
+  // it holds the whole light, and past the umbra's tip (x = 44 for the discs) it lies inside
+  // the light's arc, leaving a visible part on both sides of it; off the penumbra it cuts
+  // nothing, and left of the separating line it is not in front. The kernel computes these
+  // single-pair lights shape-major from the shapes' tangent directions
+  // (tile_single_pair_lights); every kind of light and occluder takes that path here.
+  const std::vector<Shape> lights{Circle{{20.0, 48.3}, 6.0},
+                                  Polygon{{{14.1, 42.2}, {26.0, 42.6}, {25.7, 54.1}, {14.4, 53.8}}}};
+  const std::vector<Shape> occluders{Circle{{36.2, 47.9}, 2.0},
+                                     Polygon{{{34.3, 46.1}, {38.0, 46.4}, {37.9, 49.7}, {34.1, 50.2}}},
+                                     Segment{{35.8, 45.6}, {36.4, 50.3}}};
+  for (std::size_t l = 0; l < lights.size(); ++l) {
+    for (std::size_t o = 0; o < occluders.size(); ++o) {
+      Scene scene;
+      scene.width = 96;
+      scene.height = 96;
+      scene.view = View{0.0, 0.0, 96.0, 96.0};
+      Light light;
+      light.shape = lights[l];
+      light.color = {1.0, 0.85, 0.7};
+      light.intensity = 2.5;
+      scene.lights.push_back(light);
+      scene.occluders.push_back(Occluder{occluders[o]});
+      REQUIRE(validate_scene(scene).ok());
+      const FrameStats stats = stats_of(scene, simd_options(detect_isa(), true));
+      CHECK(stats.tile_pairs > 0u);
+      CHECK(stats.tile_pairs <= stats.tile_lights);  // one pair at most per light and tile
+      check_against_scalar_and_unculled(scene, "light " + std::to_string(l) + " occluder " + std::to_string(o));
+    }
+  }
+}

@@ -14,6 +14,7 @@
 
 #include <xsimd/xsimd.hpp>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -156,6 +157,23 @@ PAR2D_KERNEL_INLINE void vertex_tangents(const TileWork& work, const KernelShape
   for (std::uint32_t i = 1; i < s.count; ++i)
     outside_by = xsimd::max(outside_by, B(nc[i]) - xsimd::fma(B(nx[i]), px, B(ny[i]) * py));
   inside = outside_by <= B(0.0f);
+}
+
+// Tangent directions (lo clockwise, hi counter-clockwise) of a whole, unclipped shape from
+// (px, py), and whether the point is inside: a circle's from its tangent length.
+template <class A>
+PAR2D_KERNEL_INLINE void shape_tangents(const TileWork& work, const KernelShape& s, const xsimd::batch<float, A>& px,
+                                        const xsimd::batch<float, A>& py, xsimd::batch<float, A>& lox,
+                                        xsimd::batch<float, A>& loy, xsimd::batch<float, A>& hix,
+                                        xsimd::batch<float, A>& hiy, xsimd::batch_bool<float, A>& inside) noexcept {
+  using B = xsimd::batch<float, A>;
+  if (s.kind == ShapeKind::circle) {
+    const B excess = circle_excess<A>(s, px, py);
+    inside = excess <= B(0.0f);
+    circle_tangents<A>(s, px, py, xsimd::sqrt(xsimd::max(excess, B(0.0f))), lox, loy, hix, hiy);
+    return;
+  }
+  vertex_tangents<A>(work, s, px, py, lox, loy, hix, hiy, inside);
 }
 
 // Arc of a light clipped to one side of a line (KernelShape::clipped): the kept part's arc
@@ -515,6 +533,12 @@ inline void general_pair_intervals(const TileWork& work, const KernelLight& ligh
   }
 }
 
+// A light whose only pair in the tile is a disjoint occluder: its share is computed
+// shape-major by tile_single_pair_lights, not per packet.
+inline bool single_pair_light(const KernelLight& light, const KernelPair* pairs, std::size_t pair_count) noexcept {
+  return pair_count == 1 && !pairs[0].general && !light.shape.clipped;
+}
+
 // Irradiance (times 1/(2*pi), folded into the emissions) of one packet at (px, py), from the
 // tile's lists, or (kCells) from its cell's (`cell`, see KernelCell).
 // kTileArcs: the occluder arcs were computed for the whole tile beforehand (TileArcs, see
@@ -580,6 +604,9 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
   // One light's share, inlined into both loops below.
   auto add_light = [&](const KernelLight& light, const KernelPair* pairs,
                        std::size_t pair_count) PAR2D_KERNEL_LAMBDA_INLINE {
+    if constexpr (kTileArcs) {
+      if (single_pair_light(light, pairs, pair_count)) return;  // in tile_arcs.unblocked too
+    }
     if (pair_count == 0) {  // nothing in front of this light anywhere in the tile (or cell)
       if constexpr (kTileArcs) return;  // in tile_arcs.unblocked
       const Arc<A> arc = shape_arc<A, false>(work, light.shape, px, py);
@@ -1255,14 +1282,19 @@ PAR2D_KERNEL_INLINE void with_known_kind(const KernelShape& s, F&& f) {
 // shape's kind, vertex range and flags are read and branched on once per tile instead of
 // once per packet, and its loop over the packets is straight code. Arcs go to
 // scratch[k * kTilePixels + pixel] (start, then width), inside flags to one plane after them.
+// Occluders whose only pairs belong to single-pair lights (arc_users[k] == kSinglePairUse)
+// are skipped: tile_single_pair_lights needs no arc and sets their inside flags itself.
+inline constexpr unsigned char kSinglePairUse = 1, kPacketUse = 2;
+
 template <class A>
-PAR2D_KERNEL_NOINLINE void tile_occluder_arcs(const TileWork& work, float* start, float* width,
-                                              float* inside) noexcept {
+PAR2D_KERNEL_NOINLINE void tile_occluder_arcs(const TileWork& work, const unsigned char* arc_users, float* start,
+                                              float* width, float* inside) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   for (std::size_t first = 0; first < detail::kTilePixels; first += W) B(0.0f).store_aligned(inside + first);
   const std::size_t count = work.occluders.size();
   for (std::size_t k = 0; k < count; ++k) {
+    if (arc_users[k] == kSinglePairUse) continue;
     const KernelShape& s = work.occluders[k];
     float* start_k = start + k * detail::kTilePixels;
     float* width_k = width + k * detail::kTilePixels;
@@ -1309,8 +1341,81 @@ PAR2D_KERNEL_NOINLINE void tile_unblocked_lights(const TileWork& work, TileResul
   }
 }
 
+// The visible measure of a light's arc (clockwise tangent direction l, counter-clockwise h)
+// past one occluder's (o, p), per lane, where `blocks` says the occluder is in front. Outside
+// both shapes both arcs are narrower than pi, so a direction d lies in an arc [a, b] exactly
+// when cross(a, d) >= 0 and cross(d, b) >= 0, and what stays visible is one arc between two of
+// the four directions: [l, h] (no cut), [l, o] (the occluder covers the light's
+// counter-clockwise end), [p, h] (its clockwise end), nothing (all of it), or both [l, o] and
+// [p, h] (the occluder's arc inside the light's; the second atan2 only then). Each arc's
+// measure is the angle between its ends, atan2 of their cross and dot products: no absolute
+// angles, no intervals to sort. At the cases' borders the formulas meet (o = h, p = l, ...),
+// so a sign flipped by rounding there moves the result by the rounding only.
+template <class A>
+PAR2D_KERNEL_INLINE xsimd::batch<float, A> visible_past_one_occluder(
+    const xsimd::batch<float, A>& lx, const xsimd::batch<float, A>& ly, const xsimd::batch<float, A>& hx,
+    const xsimd::batch<float, A>& hy, const xsimd::batch<float, A>& ox, const xsimd::batch<float, A>& oy,
+    const xsimd::batch<float, A>& qx, const xsimd::batch<float, A>& qy,
+    const xsimd::batch_bool<float, A>& blocks) noexcept {
+  using B = xsimd::batch<float, A>;
+  const B z(0.0f);
+  const B l_o = lx * oy - ly * ox;  // cross(l, o)
+  const B o_h = ox * hy - oy * hx;
+  const B l_q = lx * qy - ly * qx;  // q: the occluder's counter-clockwise direction
+  const B q_h = qx * hy - qy * hx;
+  const auto o_in = (l_o >= z) & (o_h > z);  // the occluder's clockwise end inside the light's arc
+  const auto q_in = (l_q > z) & (q_h >= z);
+  const auto cut_ccw_end = blocks & o_in;                    // visible from l to o
+  const auto cut_cw_end = blocks & q_in & ~o_in;             // visible from q to h
+  const auto covered = blocks & ~(o_in | q_in) & (l_o <= z) & (l_q > z);  // l inside the occluder's arc
+  const B ax = xsimd::select(cut_cw_end, qx, lx), ay = xsimd::select(cut_cw_end, qy, ly);
+  const B bx = xsimd::select(cut_ccw_end, ox, hx), by = xsimd::select(cut_ccw_end, oy, hy);
+  B visible = xsimd::select(covered, z, fast_atan2(xsimd::abs(ax * by - ay * bx), xsimd::fma(ax, bx, ay * by)));
+  const auto inner = cut_ccw_end & q_in;  // the occluder's arc inside the light's: [q, h] as well
+  if (xsimd::any(inner))
+    visible += xsimd::select(inner, fast_atan2(xsimd::abs(q_h), xsimd::fma(qx, hx, qy * hy)), z);
+  return visible;
+}
+
+// The tile's single-pair lights (single_pair_light), summed shape-major into `sum` like the
+// unblocked ones: each packet gets both shapes' tangent directions (no atan2) and one
+// visible_past_one_occluder. Their occluders' inside flags are added to `inside`.
+template <class A>
+PAR2D_KERNEL_NOINLINE void tile_single_pair_lights(const TileWork& work, TileResult& sum, float* inside) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  for (const KernelLight& light : work.lights) {
+    const KernelPair* pair = work.pairs.data() + light.first_pair;
+    if (!single_pair_light(light, pair, light.pair_count)) continue;
+    const B emission[3] = {B(light.emission[0]), B(light.emission[1]), B(light.emission[2])};
+    // In front in a lane: everywhere (front), or on the occluder's side of the separating line.
+    const B nx(pair->front ? 0.0f : pair->nx), ny(pair->front ? 0.0f : pair->ny);
+    const B line_c(pair->front ? -std::numeric_limits<float>::infinity() : pair->c);
+    with_known_kind(light.shape, [&](const KernelShape& known_light) PAR2D_KERNEL_LAMBDA_INLINE {
+      with_known_kind(work.occluders[pair->occluder], [&](const KernelShape& known_occluder) PAR2D_KERNEL_LAMBDA_INLINE {
+        for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
+          const B px = B::load_unaligned(work.sample_x.data() + first % detail::kTileSize);
+          const B py(work.sample_y[first / detail::kTileSize]);
+          B lx, ly, hx, hy, ox, oy, qx, qy;
+          xsimd::batch_bool<float, A> in_light, in_occluder;
+          shape_tangents<A>(work, known_light, px, py, lx, ly, hx, hy, in_light);
+          shape_tangents<A>(work, known_occluder, px, py, ox, oy, qx, qy, in_occluder);
+          const auto blocks = (xsimd::fma(nx, px, ny * py) >= line_c) & ~in_light;
+          const B visible = xsimd::select(in_light, B(kTwoPiF),
+                                          visible_past_one_occluder<A>(lx, ly, hx, hy, ox, oy, qx, qy, blocks));
+          for (int c = 0; c < 3; ++c)
+            xsimd::fma(emission[c], visible, B::load_aligned(sum.rgb[c] + first)).store_aligned(sum.rgb[c] + first);
+          const B was = B::load_aligned(inside + first);
+          xsimd::select(in_occluder, B(1.0f), was).store_aligned(inside + first);
+        }
+      });
+    });
+  }
+}
+
 // The plain kernel at one sample per pixel without cells: occluder arcs shape-major for the
-// whole tile (tile_occluder_arcs), then the lights packet by packet.
+// whole tile (tile_occluder_arcs), the lights without pairs and with a single pair too,
+// then the other lights packet by packet.
 template <class A>
 PAR2D_KERNEL_NOINLINE void render_plain_tile_shape_major(const TileWork& work, float* scratch,
                                                          TileResult& out) noexcept {
@@ -1321,10 +1426,21 @@ PAR2D_KERNEL_NOINLINE void render_plain_tile_shape_major(const TileWork& work, f
   float* width = start + plane;
   float* inside = width + plane;
   float* packet_scratch = inside + detail::kTilePixels;
-  tile_occluder_arcs<A>(work, start, width, inside);
-  // The unblocked lights' sums go straight into the result's planes; each packet reads its
-  // part before it overwrites it.
+  // Which lights use each occluder (kernel_scratch_floats keeps room for a byte each past
+  // the packets' scratch); an occluder in no pair keeps its arc, for its inside flags.
+  unsigned char* arc_users = reinterpret_cast<unsigned char*>(
+      packet_scratch + detail::kernel_packet_scratch_floats(work, static_cast<int>(W)));
+  std::fill(arc_users, arc_users + work.occluders.size(), static_cast<unsigned char>(0));
+  for (const KernelLight& light : work.lights) {
+    const KernelPair* pairs = work.pairs.data() + light.first_pair;
+    const unsigned char use = single_pair_light(light, pairs, light.pair_count) ? kSinglePairUse : kPacketUse;
+    for (std::uint32_t p = 0; p < light.pair_count; ++p) arc_users[pairs[p].occluder] |= use;
+  }
+  tile_occluder_arcs<A>(work, arc_users, start, width, inside);
+  // The unblocked and single-pair lights' sums go straight into the result's planes; each
+  // packet reads its part before it overwrites it.
   tile_unblocked_lights<A>(work, out);
+  tile_single_pair_lights<A>(work, out, inside);
   TileArcs<A> arcs;
   arcs.stride = detail::kTilePixels;
   for (std::size_t first = 0; first < detail::kTilePixels; first += W) {

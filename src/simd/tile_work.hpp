@@ -178,9 +178,8 @@ struct TileResult {
   alignas(64) float rgb[3][kTilePixels];
 };
 
-// Floats of scratch a kernel of `lanes` lanes needs for this work (caller-provided, 64-byte
-// aligned, so the kernel never allocates).
-inline std::size_t kernel_scratch_floats(const TileWork& work, int lanes) noexcept {
+// Floats of per-packet scratch a kernel of `lanes` lanes needs for this work.
+inline std::size_t kernel_packet_scratch_floats(const TileWork& work, int lanes) noexcept {
   std::size_t sort_slots = 1;
   while (sort_slots < work.max_intervals_per_light) sort_slots *= 2;
   std::size_t event_slots = 1;
@@ -193,11 +192,19 @@ inline std::size_t kernel_scratch_floats(const TileWork& work, int lanes) noexce
     while (key_slots < 2 * static_cast<std::size_t>(work.max_intervals_per_light) + 2) key_slots *= 2;
     model_floats = work.occluders.size() + 2 * key_slots + sort_slots / 1 + 1;
   }
+  return static_cast<std::size_t>(lanes) * (2 * work.occluders.size() + 2 * sort_slots + event_slots + 2 + model_floats);
+}
+
+// Floats of scratch a kernel of `lanes` lanes needs for this work (caller-provided, 64-byte
+// aligned, so the kernel never allocates).
+inline std::size_t kernel_scratch_floats(const TileWork& work, int lanes) noexcept {
   // The plain kernel without cells keeps every occluder's arc over the whole tile (start
-  // and width planes) and an inside plane, ahead of the per-packet scratch.
-  const std::size_t tile_arcs = work.model || !work.cells.empty() ? 0 : (2 * work.occluders.size() + 1) * kTilePixels;
-  return tile_arcs + static_cast<std::size_t>(lanes) *
-                         (2 * work.occluders.size() + 2 * sort_slots + event_slots + 2 + model_floats);
+  // and width planes) and an inside plane ahead of the per-packet scratch, and a byte per
+  // occluder after it (which lights use it, see render_plain_tile_shape_major).
+  const std::size_t tile_arcs = work.model || !work.cells.empty()
+                                    ? 0
+                                    : (2 * work.occluders.size() + 1) * kTilePixels + (work.occluders.size() + 3) / 4;
+  return tile_arcs + kernel_packet_scratch_floats(work, lanes);
 }
 
 }  // namespace par2d::detail
