@@ -311,6 +311,10 @@ KernelShape kernel_shape(const ConvexShape& shape, const TileFrame& frame, const
     k.first = grow_vertices(work, 2);
     frame.point(s.vertices[static_cast<std::size_t>(cw)], work.vx[k.first], work.vy[k.first]);
     frame.point(s.vertices[static_cast<std::size_t>(ccw)], work.vx[k.first + 1], work.vy[k.first + 1]);
+    for (int e = 0; e < 2; ++e) {
+      k.end_x[e] = work.vx[k.first + static_cast<std::uint32_t>(e)];
+      k.end_y[e] = work.vy[k.first + static_cast<std::uint32_t>(e)];
+    }
     return k;
   }
   if (s.kind == ShapeKind::circle) {

@@ -117,13 +117,18 @@ PAR2D_KERNEL_INLINE void vertex_tangents(const TileWork& work, const KernelShape
                                          xsimd::batch<float, A>& loy, xsimd::batch<float, A>& hix,
                                          xsimd::batch<float, A>& hiy, xsimd::batch_bool<float, A>& inside) noexcept {
   using B = xsimd::batch<float, A>;
+  if (s.ordered) {  // from the shape's own copy of its ends (KernelShape::end_x)
+    inside = B(0.0f) > B(0.0f);  // a segment has no interior
+    lox = B(s.end_x[0]) - px, loy = B(s.end_y[0]) - py;
+    hix = B(s.end_x[1]) - px, hiy = B(s.end_y[1]) - py;
+    return;
+  }
   const float* vx = work.vx.data() + s.first;
   const float* vy = work.vy.data() + s.first;
   lox = B(vx[0]) - px, loy = B(vy[0]) - py;
   if (s.kind == ShapeKind::segment) {
     inside = B(0.0f) > B(0.0f);  // a segment has no interior
     hix = B(vx[1]) - px, hiy = B(vy[1]) - py;
-    if (s.ordered) return;
     // The side of the segment's line (edge slot 0, see kernel_shape in render/tile_setup.cpp)
     // orders the ends: cross(a - x, b - x) = |b - a| (n.x - c). From the line's offset, not the
     // ends' cross product, which loses its sign for a point near a segment whose ends are far.
@@ -1278,6 +1283,12 @@ PAR2D_KERNEL_INLINE void with_known_kind(const KernelShape& s, F&& f) {
   }
 }
 
+// Whether a kernel shape may hold some of the tile's pixels (segments and polygons whose box
+// misses the tile hold none): known per instantiation inside with_known_kind.
+PAR2D_KERNEL_INLINE bool may_hold_pixels(const KernelShape& s) noexcept {
+  return s.kind == ShapeKind::circle || (s.kind == ShapeKind::polygon && s.may_contain);
+}
+
 // Every occluder's arc over every pixel center of the tile, one occluder at a time: the
 // shape's kind, vertex range and flags are read and branched on once per tile instead of
 // once per packet, and its loop over the packets is straight code. Arcs go to
@@ -1291,6 +1302,9 @@ PAR2D_KERNEL_NOINLINE void tile_occluder_arcs(const TileWork& work, const unsign
                                               float* width, float* inside) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
+  // Read once: a vector store may alias any float, so members read in the loop are reloaded.
+  const float* sample_x = work.sample_x.data();
+  const float* sample_y = work.sample_y.data();
   for (std::size_t first = 0; first < detail::kTilePixels; first += W) B(0.0f).store_aligned(inside + first);
   const std::size_t count = work.occluders.size();
   for (std::size_t k = 0; k < count; ++k) {
@@ -1298,21 +1312,24 @@ PAR2D_KERNEL_NOINLINE void tile_occluder_arcs(const TileWork& work, const unsign
     const KernelShape& s = work.occluders[k];
     float* start_k = start + k * detail::kTilePixels;
     float* width_k = width + k * detail::kTilePixels;
-    auto sweep = [&](auto arc_of) PAR2D_KERNEL_LAMBDA_INLINE {
+    auto sweep = [&](auto arc_of, bool may_hold_pixels) PAR2D_KERNEL_LAMBDA_INLINE {
       for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
-        const B px = B::load_unaligned(work.sample_x.data() + first % detail::kTileSize);
-        const B py(work.sample_y[first / detail::kTileSize]);
+        const B px = B::load_unaligned(sample_x + first % detail::kTileSize);
+        const B py(sample_y[first / detail::kTileSize]);
         const Arc<A> arc = arc_of(px, py);
         arc.start.store_aligned(start_k + first);
         arc.width.store_aligned(width_k + first);
-        const B was = B::load_aligned(inside + first);
-        xsimd::select(arc.inside, B(1.0f), was).store_aligned(inside + first);
+        if (may_hold_pixels) {
+          const B was = B::load_aligned(inside + first);
+          xsimd::select(arc.inside, B(1.0f), was).store_aligned(inside + first);
+        }
       }
     };
     // Each kind's arc with its tile-constant branches taken here (shape_arc's own tests then
-    // fold away in each instantiation).
+    // fold away in each instantiation, and so does the inside flag of a shape that holds no pixel).
     with_known_kind(s, [&](const KernelShape& known) PAR2D_KERNEL_LAMBDA_INLINE {
-      sweep([&](const B& px, const B& py) PAR2D_KERNEL_LAMBDA_INLINE { return shape_arc<A>(work, known, px, py); });
+      sweep([&](const B& px, const B& py) PAR2D_KERNEL_LAMBDA_INLINE { return shape_arc<A>(work, known, px, py); },
+            may_hold_pixels(known));
     });
   }
 }
@@ -1323,6 +1340,9 @@ template <class A>
 PAR2D_KERNEL_NOINLINE void tile_unblocked_lights(const TileWork& work, TileResult& sum) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
+  // Read once: a vector store may alias any float, so members read in the loop are reloaded.
+  const float* sample_x = work.sample_x.data();
+  const float* sample_y = work.sample_y.data();
   for (int c = 0; c < 3; ++c)
     for (std::size_t first = 0; first < detail::kTilePixels; first += W) B(0.0f).store_aligned(sum.rgb[c] + first);
   for (const KernelLight& light : work.lights) {
@@ -1330,8 +1350,8 @@ PAR2D_KERNEL_NOINLINE void tile_unblocked_lights(const TileWork& work, TileResul
     const B emission[3] = {B(light.emission[0]), B(light.emission[1]), B(light.emission[2])};
     with_known_kind(light.shape, [&](const KernelShape& known) PAR2D_KERNEL_LAMBDA_INLINE {
       for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
-        const B px = B::load_unaligned(work.sample_x.data() + first % detail::kTileSize);
-        const B py(work.sample_y[first / detail::kTileSize]);
+        const B px = B::load_unaligned(sample_x + first % detail::kTileSize);
+        const B py(sample_y[first / detail::kTileSize]);
         const Arc<A> arc = shape_arc<A, false>(work, known, px, py);
         const B visible = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
         for (int c = 0; c < 3; ++c)
@@ -1384,6 +1404,9 @@ template <class A>
 PAR2D_KERNEL_NOINLINE void tile_single_pair_lights(const TileWork& work, TileResult& sum, float* inside) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
+  // Read once: a vector store may alias any float, so members read in the loop are reloaded.
+  const float* sample_x = work.sample_x.data();
+  const float* sample_y = work.sample_y.data();
   for (const KernelLight& light : work.lights) {
     const KernelPair* pair = work.pairs.data() + light.first_pair;
     if (!single_pair_light(light, pair, light.pair_count)) continue;
@@ -1393,9 +1416,10 @@ PAR2D_KERNEL_NOINLINE void tile_single_pair_lights(const TileWork& work, TileRes
     const B line_c(pair->front ? -std::numeric_limits<float>::infinity() : pair->c);
     with_known_kind(light.shape, [&](const KernelShape& known_light) PAR2D_KERNEL_LAMBDA_INLINE {
       with_known_kind(work.occluders[pair->occluder], [&](const KernelShape& known_occluder) PAR2D_KERNEL_LAMBDA_INLINE {
+        const bool occluder_may_hold_pixels = may_hold_pixels(known_occluder);
         for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
-          const B px = B::load_unaligned(work.sample_x.data() + first % detail::kTileSize);
-          const B py(work.sample_y[first / detail::kTileSize]);
+          const B px = B::load_unaligned(sample_x + first % detail::kTileSize);
+          const B py(sample_y[first / detail::kTileSize]);
           B lx, ly, hx, hy, ox, oy, qx, qy;
           xsimd::batch_bool<float, A> in_light, in_occluder;
           shape_tangents<A>(work, known_light, px, py, lx, ly, hx, hy, in_light);
@@ -1405,8 +1429,10 @@ PAR2D_KERNEL_NOINLINE void tile_single_pair_lights(const TileWork& work, TileRes
                                           visible_past_one_occluder<A>(lx, ly, hx, hy, ox, oy, qx, qy, blocks));
           for (int c = 0; c < 3; ++c)
             xsimd::fma(emission[c], visible, B::load_aligned(sum.rgb[c] + first)).store_aligned(sum.rgb[c] + first);
-          const B was = B::load_aligned(inside + first);
-          xsimd::select(in_occluder, B(1.0f), was).store_aligned(inside + first);
+          if (occluder_may_hold_pixels) {
+            const B was = B::load_aligned(inside + first);
+            xsimd::select(in_occluder, B(1.0f), was).store_aligned(inside + first);
+          }
         }
       });
     });
@@ -1443,9 +1469,12 @@ PAR2D_KERNEL_NOINLINE void render_plain_tile_shape_major(const TileWork& work, f
   tile_single_pair_lights<A>(work, out, inside);
   TileArcs<A> arcs;
   arcs.stride = detail::kTilePixels;
+  // Read once: a vector store may alias any float, so members read in the loop are reloaded.
+  const float* sample_x = work.sample_x.data();
+  const float* sample_y = work.sample_y.data();
   for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
-    const B px = B::load_unaligned(work.sample_x.data() + first % detail::kTileSize);
-    const B py(work.sample_y[first / detail::kTileSize]);
+    const B px = B::load_unaligned(sample_x + first % detail::kTileSize);
+    const B py(sample_y[first / detail::kTileSize]);
     arcs.start = start + first;
     arcs.width = width + first;
     arcs.inside = inside + first;

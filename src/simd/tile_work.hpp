@@ -37,6 +37,10 @@ struct KernelShape {
   std::uint32_t count = 0;
   bool may_contain = true;  // polygons: whether the tile meets the bounding box (else skip the inside test)
   bool ordered = false;     // segments: vertex first is the clockwise tangent over the whole tile (a tile tangent pair)
+  // Ordered segments: their two ends again (as in vx/vy), read by the kernel from here: a
+  // shape-major loop then keeps them in registers, where it must reload vx/vy after each
+  // vector store (a vector store may alias any float).
+  float end_x[2] = {0, 0}, end_y[2] = {0, 0};
   float cx = 0, cy = 0, r = 0;
   float px = 0, py = 0, ux = 0, uy = 0;
   // Lights only: the part with clip_nx*x + clip_ny*y <= clip_c (an occluder overlapping the
