@@ -1414,9 +1414,8 @@ PAR2D_KERNEL_NOINLINE void tile_single_pair_lights(const TileWork& work, TileRes
     // In front in a lane: everywhere (front), or on the occluder's side of the separating line.
     const B nx(pair->front ? 0.0f : pair->nx), ny(pair->front ? 0.0f : pair->ny);
     const B line_c(pair->front ? -std::numeric_limits<float>::infinity() : pair->c);
-    // Two instantiations only (every pair of known kinds, 25 of them, took the sanitizer
-    // builds of a kernel file past 20 minutes): both shapes tile tangent pairs, the common
-    // case, with their kinds known; any other kinds branched on per packet.
+    // One instantiation, the kinds branched on per packet: every pair of known kinds (25
+    // inlined loops) took the AddressSanitizer build of a kernel file past 20 minutes.
     auto sweep = [&](const KernelShape& known_light, const KernelShape& known_occluder) PAR2D_KERNEL_LAMBDA_INLINE {
         const bool occluder_may_hold_pixels = may_hold_pixels(known_occluder);
         for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
@@ -1437,19 +1436,7 @@ PAR2D_KERNEL_NOINLINE void tile_single_pair_lights(const TileWork& work, TileRes
           }
         }
     };
-    const KernelShape& occluder = work.occluders[pair->occluder];
-    if (light.shape.ordered && occluder.ordered) {
-      KernelShape known_light = light.shape, known_occluder = occluder;
-      for (KernelShape* known : {&known_light, &known_occluder}) {
-        known->kind = ShapeKind::segment;
-        known->ordered = true;
-        known->may_contain = false;
-        known->clipped = false;
-      }
-      sweep(known_light, known_occluder);
-    } else {
-      sweep(light.shape, occluder);
-    }
+    sweep(light.shape, work.occluders[pair->occluder]);
   }
 }
 
