@@ -18,6 +18,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <new>
 #include <utility>
 
 #include "lighting/angular_profile.hpp"
@@ -555,8 +556,11 @@ struct TileArcs {
   const float* width = nullptr;
   const float* inside = nullptr;  // 1 where a lane is inside some occluder, else 0
   std::size_t stride = 0;
-  // The irradiance of the lights without pairs (summed beforehand; the packet skips them).
+  // The irradiance of the lights without pairs and of the single-pair lights (summed
+  // beforehand); the packet computes only the lights listed in `lights` (work.lights indices).
   const float* unblocked[3] = {nullptr, nullptr, nullptr};
+  const std::uint32_t* lights = nullptr;
+  std::size_t light_count = 0;
 };
 
 template <class A, bool kCells, bool kTileArcs = false>
@@ -609,11 +613,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
   // One light's share, inlined into both loops below.
   auto add_light = [&](const KernelLight& light, const KernelPair* pairs,
                        std::size_t pair_count) PAR2D_KERNEL_LAMBDA_INLINE {
-    if constexpr (kTileArcs) {
-      if (single_pair_light(light, pairs, pair_count)) return;  // in tile_arcs.unblocked too
-    }
-    if (pair_count == 0) {  // nothing in front of this light anywhere in the tile (or cell)
-      if constexpr (kTileArcs) return;  // in tile_arcs.unblocked
+    if (!kTileArcs && pair_count == 0) {  // nothing in front of this light anywhere in the tile (or cell)
       const Arc<A> arc = shape_arc<A, false>(work, light.shape, px, py);
       const B visible = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
       for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]), visible, e[c]);
@@ -687,6 +687,11 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
     for (std::size_t i = 0; i < cell->light_count; ++i)
       add_light(work.lights[cell_lights[i].light], work.cell_pairs.data() + cell_lights[i].first_pair,
                 cell_lights[i].pair_count);
+  } else if constexpr (kTileArcs) {
+    for (std::size_t i = 0; i < tile_arcs.light_count; ++i) {
+      const KernelLight& light = work.lights[tile_arcs.lights[i]];
+      add_light(light, work.pairs.data() + light.first_pair, light.pair_count);
+    }
   } else {
     for (const KernelLight& light : work.lights) add_light(light, work.pairs.data() + light.first_pair, light.pair_count);
   }
@@ -1414,29 +1419,43 @@ PAR2D_KERNEL_NOINLINE void tile_single_pair_lights(const TileWork& work, TileRes
     // In front in a lane: everywhere (front), or on the occluder's side of the separating line.
     const B nx(pair->front ? 0.0f : pair->nx), ny(pair->front ? 0.0f : pair->ny);
     const B line_c(pair->front ? -std::numeric_limits<float>::infinity() : pair->c);
-    // One instantiation, the kinds branched on per packet: every pair of known kinds (25
+    // Two instantiations: both shapes tile tangent pairs (the common case) with their kinds
+    // known, and any other kinds branched on per packet. Every pair of known kinds (25
     // inlined loops) took the AddressSanitizer build of a kernel file past 20 minutes.
-    auto sweep = [&](const KernelShape& known_light, const KernelShape& known_occluder) PAR2D_KERNEL_LAMBDA_INLINE {
-        const bool occluder_may_hold_pixels = may_hold_pixels(known_occluder);
-        for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
-          const B px = B::load_unaligned(sample_x + first % detail::kTileSize);
-          const B py(sample_y[first / detail::kTileSize]);
-          B lx, ly, hx, hy, ox, oy, qx, qy;
-          xsimd::batch_bool<float, A> in_light, in_occluder;
-          shape_tangents<A>(work, known_light, px, py, lx, ly, hx, hy, in_light);
-          shape_tangents<A>(work, known_occluder, px, py, ox, oy, qx, qy, in_occluder);
-          const auto blocks = (xsimd::fma(nx, px, ny * py) >= line_c) & ~in_light;
-          const B visible = xsimd::select(in_light, B(kTwoPiF),
-                                          visible_past_one_occluder<A>(lx, ly, hx, hy, ox, oy, qx, qy, blocks));
-          for (int c = 0; c < 3; ++c)
-            xsimd::fma(emission[c], visible, B::load_aligned(sum.rgb[c] + first)).store_aligned(sum.rgb[c] + first);
-          if (occluder_may_hold_pixels) {
-            const B was = B::load_aligned(inside + first);
-            xsimd::select(in_occluder, B(1.0f), was).store_aligned(inside + first);
-          }
+    auto sweep = [&](const KernelShape& light_shape, const KernelShape& occluder) PAR2D_KERNEL_LAMBDA_INLINE {
+      const bool occluder_may_hold_pixels = may_hold_pixels(occluder);
+      for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
+        const B px = B::load_unaligned(sample_x + first % detail::kTileSize);
+        const B py(sample_y[first / detail::kTileSize]);
+        B lx, ly, hx, hy, ox, oy, qx, qy;
+        xsimd::batch_bool<float, A> in_light, in_occluder;
+        shape_tangents<A>(work, light_shape, px, py, lx, ly, hx, hy, in_light);
+        shape_tangents<A>(work, occluder, px, py, ox, oy, qx, qy, in_occluder);
+        const auto blocks = (xsimd::fma(nx, px, ny * py) >= line_c) & ~in_light;
+        const B visible = xsimd::select(in_light, B(kTwoPiF),
+                                        visible_past_one_occluder<A>(lx, ly, hx, hy, ox, oy, qx, qy, blocks));
+        for (int c = 0; c < 3; ++c)
+          xsimd::fma(emission[c], visible, B::load_aligned(sum.rgb[c] + first)).store_aligned(sum.rgb[c] + first);
+        if (occluder_may_hold_pixels) {
+          const B was = B::load_aligned(inside + first);
+          xsimd::select(in_occluder, B(1.0f), was).store_aligned(inside + first);
         }
+      }
     };
-    sweep(light.shape, work.occluders[pair->occluder]);
+    const KernelShape& occluder = work.occluders[pair->occluder];
+    if (light.shape.ordered && occluder.ordered) {
+      // Copies whose flags the compiler sees: shape_tangents' kind tests fold away.
+      KernelShape known_light = light.shape, known_occluder = occluder;
+      for (KernelShape* known : {&known_light, &known_occluder}) {
+        known->kind = ShapeKind::segment;
+        known->ordered = true;
+        known->may_contain = false;
+        known->clipped = false;
+      }
+      sweep(known_light, known_occluder);
+    } else {
+      sweep(light.shape, occluder);
+    }
   }
 }
 
@@ -1453,14 +1472,22 @@ PAR2D_KERNEL_NOINLINE void render_plain_tile_shape_major(const TileWork& work, f
   float* width = start + plane;
   float* inside = width + plane;
   float* packet_scratch = inside + detail::kTilePixels;
-  // Which lights use each occluder (kernel_scratch_floats keeps room for a byte each past
-  // the packets' scratch); an occluder in no pair keeps its arc, for its inside flags.
-  unsigned char* arc_users = reinterpret_cast<unsigned char*>(
+  // Past the packets' scratch (kernel_scratch_floats keeps room): the lights the packets
+  // compute, and which lights use each occluder (a byte each; an occluder in no pair keeps
+  // its arc, for its inside flags).
+  std::uint32_t* packet_lights = reinterpret_cast<std::uint32_t*>(
       packet_scratch + detail::kernel_packet_scratch_floats(work, static_cast<int>(W)));
+  unsigned char* arc_users = reinterpret_cast<unsigned char*>(packet_lights + work.lights.size());
   std::fill(arc_users, arc_users + work.occluders.size(), static_cast<unsigned char>(0));
-  for (const KernelLight& light : work.lights) {
+  std::size_t packet_light_count = 0;
+  for (std::size_t l = 0; l < work.lights.size(); ++l) {
+    const KernelLight& light = work.lights[l];
     const KernelPair* pairs = work.pairs.data() + light.first_pair;
-    const unsigned char use = single_pair_light(light, pairs, light.pair_count) ? kSinglePairUse : kPacketUse;
+    if (light.pair_count == 0) continue;  // tile_unblocked_lights
+    const bool single = single_pair_light(light, pairs, light.pair_count);
+    // Placement new: the scratch holds floats, and its storage is reused for indices.
+    if (!single) ::new (static_cast<void*>(packet_lights + packet_light_count++)) std::uint32_t(static_cast<std::uint32_t>(l));
+    const unsigned char use = single ? kSinglePairUse : kPacketUse;
     for (std::uint32_t p = 0; p < light.pair_count; ++p) arc_users[pairs[p].occluder] |= use;
   }
   tile_occluder_arcs<A>(work, arc_users, start, width, inside);
@@ -1468,8 +1495,23 @@ PAR2D_KERNEL_NOINLINE void render_plain_tile_shape_major(const TileWork& work, f
   // packet reads its part before it overwrites it.
   tile_unblocked_lights<A>(work, out);
   tile_single_pair_lights<A>(work, out, inside);
+  if (packet_light_count == 0) {
+    // Only the lanes inside an occluder are left to set (to 0), and only shapes that may
+    // hold pixels set inside flags.
+    bool any_inside = false;
+    for (const KernelShape& occluder : work.occluders) any_inside = any_inside || may_hold_pixels(occluder);
+    if (!any_inside) return;
+    for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
+      const auto in_occluder = B::load_aligned(inside + first) != B(0.0f);
+      for (int c = 0; c < 3; ++c)
+        xsimd::select(in_occluder, B(0.0f), B::load_aligned(out.rgb[c] + first)).store_aligned(out.rgb[c] + first);
+    }
+    return;
+  }
   TileArcs<A> arcs;
   arcs.stride = detail::kTilePixels;
+  arcs.lights = packet_lights;
+  arcs.light_count = packet_light_count;
   // Read once: a vector store may alias any float, so members read in the loop are reloaded.
   const float* sample_x = work.sample_x.data();
   const float* sample_y = work.sample_y.data();

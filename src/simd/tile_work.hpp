@@ -203,11 +203,13 @@ inline std::size_t kernel_packet_scratch_floats(const TileWork& work, int lanes)
 // aligned, so the kernel never allocates).
 inline std::size_t kernel_scratch_floats(const TileWork& work, int lanes) noexcept {
   // The plain kernel without cells keeps every occluder's arc over the whole tile (start
-  // and width planes) and an inside plane ahead of the per-packet scratch, and a byte per
-  // occluder after it (which lights use it, see render_plain_tile_shape_major).
+  // and width planes) and an inside plane ahead of the per-packet scratch, and after it a
+  // light index per light and a byte per occluder (the lights its packets compute, and which
+  // lights use each occluder, see render_plain_tile_shape_major).
   const std::size_t tile_arcs = work.model || !work.cells.empty()
                                     ? 0
-                                    : (2 * work.occluders.size() + 1) * kTilePixels + (work.occluders.size() + 3) / 4;
+                                    : (2 * work.occluders.size() + 1) * kTilePixels + work.lights.size() +
+                                          (work.occluders.size() + 3) / 4;
   return tile_arcs + kernel_packet_scratch_floats(work, lanes);
 }
 
