@@ -7,11 +7,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "culling/light_reach.hpp"
 #include "culling/occlusion_proof.hpp"
 #include "par2d/render.hpp"
+#include "render/cell_lists.hpp"
+#include "render/kernel_table.hpp"
+#include "render/tile_setup.hpp"
+#include "render/tiling.hpp"
 #include "scattered_scene.hpp"
 #include "support/random_scenes.hpp"
 #include "support/render_checks.hpp"
@@ -307,6 +314,73 @@ TEST_CASE("a light with one occluder in front: each way the occluder's arc can c
       CHECK(stats.tile_pairs > 0u);
       CHECK(stats.tile_pairs <= stats.tile_lights);  // one pair at most per light and tile
       check_against_scalar_and_unculled(scene, "light " + std::to_string(l) + " occluder " + std::to_string(o));
+    }
+  }
+}
+
+TEST_CASE("every tile's kernel writes only inside the kernel_scratch_floats it is given, on every ISA") {
+  // The kernels lay out their scratch themselves (arc planes, packet scratch, light indices,
+  // occluder bytes); the frame driver only sizes it. A layout that outgrows the size would
+  // write past the buffer: here the buffer is exactly that size, followed by guard bytes
+  // that must come back untouched. Plain scenes (tiles with and without per-cell lists, the
+  // shape-major passes with and without packet lights) and lighting-model scenes.
+  const std::vector<std::pair<std::string, Scene>> scenes = {
+      {"scattered", random_scene(2201, scattered_options(160, 3, 5, 40, 60, 3.0, 10.0))},
+      {"rubble", random_scene(2202, scattered_options(128, 5, 7, 220, 220, 1.5, 5.0))},
+      {"random", random_scene(2203)},
+      {"model", random_scene(2204, with_every_model_term({}))},
+  };
+  static constexpr std::size_t kGuardBytes = 256;
+  static constexpr unsigned char kGuard = 0xA5;
+  for (const auto& entry : scenes) {
+    // Named references, not a structured binding: C++17 lambdas cannot capture those.
+    const std::string& name = entry.first;
+    const Scene& scene = entry.second;
+    const detail::PreparedScene prepared = detail::prepare_scene(scene);
+    std::vector<detail::LightReach> reach;
+    detail::LightReachScratch reach_scratch;
+    for (std::size_t l = 0; l < prepared.lights.size(); ++l)
+      reach.push_back(detail::compute_light_reach(prepared, l, reach_scratch));
+    for (Isa isa : simd_isas_here()) {
+      const detail::KernelSet* kernels = detail::kernels_for(isa);
+      REQUIRE(kernels != nullptr);
+      detail::TileSetupScratch setup;
+      detail::CellListScratch cells;
+      detail::TileWork work;
+      detail::TileResult result;
+      std::size_t tiles = 0, packet_lights = 0, cell_tiles = 0, overruns = 0;
+      std::pair<int, int> first_overrun{-1, -1};
+      for (int by = 0; by < scene.height; by += detail::kBlockSize) {
+        for (int bx = 0; bx < scene.width; bx += detail::kBlockSize) {
+          const detail::TileRect block{bx, by, std::min(bx + detail::kBlockSize, scene.width),
+                                       std::min(by + detail::kBlockSize, scene.height)};
+          detail::gather_block_candidates(prepared, block, &reach, setup);
+          detail::for_each_cell(block, detail::kTileSize, [&](const detail::TileRect& tile) {
+            detail::build_tile_work(prepared, tile, 1, true, work, setup, true);
+            detail::build_cell_lists(prepared, tile, kernels->lanes, setup, work, cells);
+            for (const detail::KernelLight& light : work.lights) packet_lights += light.pair_count > 1 ? 1 : 0;
+            cell_tiles += work.cells.empty() ? 0 : 1;
+            const std::size_t floats = detail::kernel_scratch_floats(work, kernels->lanes);
+            // 64-byte aligned start, `floats` floats, then the guard.
+            std::vector<unsigned char> buffer(64 + floats * sizeof(float) + kGuardBytes, kGuard);
+            const auto address = reinterpret_cast<std::uintptr_t>(buffer.data());
+            unsigned char* start = buffer.data() + (64 - address % 64) % 64;
+            kernels->render_tile(work, reinterpret_cast<float*>(start), result);
+            const unsigned char* guard = start + floats * sizeof(float);
+            const bool untouched =
+                std::all_of(guard, guard + kGuardBytes, [](unsigned char b) { return b == kGuard; });
+            if (!untouched && overruns++ == 0) first_overrun = {tile.x0, tile.y0};
+            ++tiles;
+          });
+        }
+      }
+      INFO(name, " ", std::string(isa_name(isa)));
+      CHECK_MESSAGE(overruns == 0u, "tiles whose kernel wrote past its scratch: ", overruns, ", the first at (",
+                    first_overrun.first, ", ", first_overrun.second, ")");
+      CHECK(tiles > 0u);
+      CHECK(packet_lights > 0u);  // lights with two or more pairs: the packet path ran
+      // Tiles with per-cell lists and tiles on the shape-major path in one scene.
+      if (name == "scattered") CHECK((cell_tiles > 0u && cell_tiles < tiles));
     }
   }
 }
