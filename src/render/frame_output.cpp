@@ -145,8 +145,20 @@ unsigned char encode_srgb8_search(double linear) noexcept {
                                     kSrgb.thresholds.begin());
 }
 
-void store_tile(const TileResult& result, int tile_x0, int tile_y0, const TileRect& part,
-                const FrameTarget& target) noexcept {
+void store_tile(const TileResult& result, int tile_x0, int tile_y0, const TileRect& part, const FrameTarget& target,
+                const FloatTileStores& vector_stores) noexcept {
+  const FloatRowsStore vector_store = target.format == PixelFormat::rgb_f32    ? vector_stores.rgb_f32
+                                     : target.format == PixelFormat::rgba_f32 ? vector_stores.rgba_f32
+                                                                               : nullptr;
+  if (vector_store) {
+    const int channels = target.format == PixelFormat::rgb_f32 ? 3 : 4;
+    unsigned char* host = target.data + static_cast<std::ptrdiff_t>(part.y0 - target.region.y0) * target.row_stride +
+                          static_cast<std::ptrdiff_t>(part.x0 - target.region.x0) * channels *
+                              static_cast<std::ptrdiff_t>(sizeof(float));
+    vector_store(result, part.x0 - tile_x0, part.y0 - tile_y0, part.y1 - part.y0, part.x1 - part.x0, host,
+                 target.row_stride);
+    return;
+  }
   switch (target.format) {
     case PixelFormat::rgb_f32:
       store_float_rows<3>(result, tile_x0, tile_y0, part, target);

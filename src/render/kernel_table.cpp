@@ -132,7 +132,7 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
         float* scratch = state.kernel_scratch(kernel_scratch_floats(work, kernels->lanes));
         kernels->render_tile(work, scratch, state.result);
       }
-      store_tile(state.result, tile.x0, tile.y0, part, target);
+      store_tile(state.result, tile.x0, tile.y0, part, target, kernels ? kernels->float_stores : FloatTileStores{});
     });
   };
 

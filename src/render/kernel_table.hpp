@@ -25,6 +25,9 @@ struct KernelSet {
   void (*union_measure)(float* lo, float* hi, std::size_t count, const float* width, const float* reach0,
                         float* out) noexcept;
   void (*atan2)(const float* y, const float* x, float* out) noexcept;
+  // Tile stores into the float formats (null: the generic store of frame_output.cpp, where
+  // the ISA's vector store is not the cheaper one).
+  FloatTileStores float_stores;
 };
 
 // The kernels compiled for the target architecture, least capable first (none on

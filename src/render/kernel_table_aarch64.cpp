@@ -8,7 +8,8 @@ namespace par2d::detail {
 namespace {
 
 constexpr KernelSet kKernels[] = {
-    {Isa::neon64, 4, simd::render_tile_neon64, simd::union_measure_neon64, simd::atan2_neon64},
+    {Isa::neon64, 4, simd::render_tile_neon64, simd::union_measure_neon64, simd::atan2_neon64,
+     {simd::store_rgb_f32_neon64, simd::store_rgba_f32_neon64}},
 };
 
 }  // namespace

@@ -1,6 +1,7 @@
 // Bodies of the per-ISA entry points: each tile_kernel_<isa>.cpp includes this with
 // PAR2D_KERNEL_ARCH and PAR2D_KERNEL_SUFFIX defined, so the three files differ only in flags.
 #include "simd/tile_kernel.hpp"
+#include "simd/tile_store.hpp"
 
 #define PAR2D_CONCAT_INNER(a, b) a##b
 #define PAR2D_CONCAT(a, b) PAR2D_CONCAT_INNER(a, b)
@@ -28,6 +29,16 @@ void PAR2D_CONCAT(union_measure_, PAR2D_KERNEL_SUFFIX)(float* lo, float* hi, std
 void PAR2D_CONCAT(atan2_, PAR2D_KERNEL_SUFFIX)(const float* y, const float* x, float* out) noexcept {
   using B = xsimd::batch<float, PAR2D_KERNEL_ARCH>;
   fast_atan2<PAR2D_KERNEL_ARCH>(B::load_unaligned(y), B::load_unaligned(x)).store_unaligned(out);
+}
+
+void PAR2D_CONCAT(store_rgb_f32_, PAR2D_KERNEL_SUFFIX)(const TileResult& tile, int first_column, int first_row, int rows,
+                                                       int count, unsigned char* host, std::ptrdiff_t row_stride) noexcept {
+  store_float_tile<PAR2D_KERNEL_ARCH, 3>(tile, first_column, first_row, rows, count, host, row_stride);
+}
+
+void PAR2D_CONCAT(store_rgba_f32_, PAR2D_KERNEL_SUFFIX)(const TileResult& tile, int first_column, int first_row, int rows,
+                                                        int count, unsigned char* host, std::ptrdiff_t row_stride) noexcept {
+  store_float_tile<PAR2D_KERNEL_ARCH, 4>(tile, first_column, first_row, rows, count, host, row_stride);
 }
 
 }  // namespace par2d::simd
