@@ -1,7 +1,9 @@
 // Runs the game loop of bench_game_loop.cpp for a fixed number of frames, for profiling with
 // callgrind (instruction counts do not depend on machine load):
 //   valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*timed_frames*'
-//       par2d_game_loop_frames persistent|one_shot FRAMES WIDTH HEIGHT
+//       par2d_game_loop_frames persistent|persistent_rgba8|one_shot FRAMES WIDTH HEIGHT
+// persistent_rgba8 stores the 8-bit sRGB texture a game uploads (exposure 1.5), the others
+// float RGB.
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -38,7 +40,7 @@ __attribute__((noinline)) bool timed_frames_one_shot(par2d::Scene& scene, const 
 
 int main(int argc, char** argv) {
   if (argc != 5) {
-    std::fprintf(stderr, "usage: %s persistent|one_shot FRAMES WIDTH HEIGHT\n", argv[0]);
+    std::fprintf(stderr, "usage: %s persistent|persistent_rgba8|one_shot FRAMES WIDTH HEIGHT\n", argv[0]);
     return 2;
   }
   const int frames = std::atoi(argv[2]), width = std::atoi(argv[3]), height = std::atoi(argv[4]);
@@ -46,13 +48,17 @@ int main(int argc, char** argv) {
   std::vector<float> pixels(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3);
   const par2d::ImageView image{pixels.data(), width, height, static_cast<std::ptrdiff_t>(width) * 3};
   bool ok = false;
-  if (std::strcmp(argv[1], "persistent") == 0) {
+  const bool rgba8 = std::strcmp(argv[1], "persistent_rgba8") == 0;
+  if (rgba8 || std::strcmp(argv[1], "persistent") == 0) {
     par2d::Renderer r;
     par2d::RenderOptions options;
     options.threads = 1;
     std::vector<par2d::LightHandle> torches;
     ok = r.set_options(options).ok() && r.set_scene(scene, &torches).ok() && r.render(image).ok();
-    const par2d::FrameBuffer buffer{pixels.data(), par2d::PixelFormat::rgb_f32, static_cast<std::ptrdiff_t>(width) * 12, 1.0};
+    // The float image's storage holds the 4-byte pixels too.
+    const par2d::FrameBuffer buffer =
+        rgba8 ? par2d::FrameBuffer{pixels.data(), par2d::PixelFormat::rgba8_srgb, static_cast<std::ptrdiff_t>(width) * 4, 1.5}
+              : par2d::FrameBuffer{pixels.data(), par2d::PixelFormat::rgb_f32, static_cast<std::ptrdiff_t>(width) * 12, 1.0};
     ok = ok && timed_frames_persistent(r, torches, buffer, frames);
   } else {
     par2d::RenderOptions options;

@@ -2,7 +2,9 @@
 // tile, through the generic store and through each ISA's vector stores of the float formats.
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <random>
 #include <vector>
@@ -38,14 +40,19 @@ void reference_pixel(const TileResult& result, int i, int j, PixelFormat format,
 TEST_CASE("tile store: every format, every part of a tile, at odd offsets and strides, equals the pixel-by-pixel reference") {
   // The generic store, then each ISA's vector stores of the float formats (the ones the
   // frame driver uses with that ISA's kernel).
-  std::vector<std::pair<std::string, detail::FloatTileStores>> stores{{"generic", {}}};
+  detail::SrgbBuckets buckets;
+  detail::build_srgb_buckets(0.8, buckets);  // the exposure of every target below
+  REQUIRE(buckets.valid);
+  std::vector<std::pair<std::string, detail::VectorTileStores>> stores{{"generic", {}}};
   for (Isa isa : simd_isas_here()) {
     const detail::KernelSet* kernels = detail::kernels_for(isa);
     REQUIRE(kernels != nullptr);
-    const bool has_float_stores =
-        kernels->float_stores.rgb_f32 != nullptr && kernels->float_stores.rgba_f32 != nullptr;
-    REQUIRE(has_float_stores);
-    stores.emplace_back(std::string(isa_name(isa)), kernels->float_stores);
+    const bool has_stores = kernels->stores.rgb_f32 != nullptr && kernels->stores.rgba_f32 != nullptr &&
+                            kernels->stores.rgba8_srgb != nullptr;
+    REQUIRE(has_stores);
+    detail::VectorTileStores with_buckets = kernels->stores;
+    with_buckets.srgb = &buckets;
+    stores.emplace_back(std::string(isa_name(isa)), with_buckets);
   }
   for (const auto& [store_name, store] : stores) {
     INFO("store ", store_name);
@@ -104,5 +111,73 @@ TEST_CASE("tile store: every format, every part of a tile, at odd offsets and st
       CHECK(mismatches == 0);
       CHECK(padding_changed == 0);
     }
+  }
+}
+
+TEST_CASE("8-bit sRGB vector store: every code's first value and the float before it, specials, many exposures, "
+          "each ISA equals the scalar encoder") {
+  const auto isas = simd_isas_here();
+  REQUIRE(!isas.empty());
+  for (double exposure : {1.0, 0.8, 1.5, 3.7, 1e-3, 700.0, 0x1p-20, 0x1p20, 0.1 + 0.2}) {
+    INFO("exposure ", exposure);
+    detail::SrgbBuckets buckets;
+    detail::build_srgb_buckets(exposure, buckets);
+    REQUIRE(buckets.valid);
+    // Values: for each code k, the least float whose product with the exposure reaches the
+    // code's start and its float neighbours (found here by the scalar encoder itself), then
+    // specials and random values; tile after tile of them.
+    std::vector<float> values = {0.0f, -0.0f, -1.0f, std::numeric_limits<float>::quiet_NaN(),
+                                 std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+                                 std::numeric_limits<float>::denorm_min(), std::numeric_limits<float>::max(),
+                                 std::numeric_limits<float>::min()};
+    float v = 0.0f;
+    for (int k = 1; k <= 255; ++k) {
+      // The first float at or above the last one whose code is k (a doubling walk, then bisection).
+      float lo = v, hi = v > 0.0f ? v : std::numeric_limits<float>::min();
+      while (detail::encode_srgb8(exposure * static_cast<double>(hi)) < k) hi *= 2.0f;
+      while (std::nextafter(lo, hi) < hi) {
+        const float mid = 0.5f * (lo + hi);
+        const float probe = mid > lo && mid < hi ? mid : std::nextafter(lo, hi);
+        if (detail::encode_srgb8(exposure * static_cast<double>(probe)) >= k) hi = probe;
+        else lo = probe;
+      }
+      v = hi;
+      values.insert(values.end(), {std::nextafter(v, 0.0f), v, std::nextafter(v, 2.0f * v + 1.0f)});
+    }
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> linear(-0.1f, 1.2f / static_cast<float>(exposure));
+    while (values.size() % detail::kTilePixels != 0) values.push_back(linear(rng));
+    for (Isa isa : isas) {
+      INFO("isa ", std::string(isa_name(isa)));
+      const detail::KernelSet* kernels = detail::kernels_for(isa);
+      REQUIRE(kernels != nullptr);
+      int mismatches = 0;
+      for (std::size_t first = 0; first < values.size(); first += detail::kTilePixels) {
+        auto result = std::make_unique<TileResult>();
+        for (int c = 0; c < 3; ++c)  // each channel sees every value, at a different pixel
+          for (std::size_t p = 0; p < detail::kTilePixels; ++p)
+            result->rgb[c][p] = values[first + (p + 37 * static_cast<std::size_t>(c)) % detail::kTilePixels];
+        std::vector<unsigned char> out(static_cast<std::size_t>(detail::kTilePixels) * 4);
+        // Whole rows, then a part whose rows end in the scalar tail.
+        for (int width : {kTileSize, kTileSize - 3}) {
+          kernels->stores.rgba8_srgb(*result, 0, 0, kTileSize, width, out.data(), kTileSize * 4, buckets);
+          for (int j = 0; j < kTileSize; ++j)
+            for (int i = 0; i < width; ++i) {
+              const int p = j * kTileSize + i;
+              for (int c = 0; c < 3; ++c)
+                mismatches += out[static_cast<std::size_t>(p) * 4 + static_cast<std::size_t>(c)] !=
+                              detail::encode_srgb8(exposure * static_cast<double>(result->rgb[c][p]));
+              mismatches += out[static_cast<std::size_t>(p) * 4 + 3] != 255;
+            }
+        }
+      }
+      CHECK(mismatches == 0);
+    }
+  }
+  // Exposures the buckets do not cover: not valid, so frames keep the scalar encoder.
+  for (double exposure : {0.0, -1.0, 0x1p-21, 0x1p21, std::numeric_limits<double>::infinity()}) {
+    detail::SrgbBuckets buckets;
+    detail::build_srgb_buckets(exposure, buckets);
+    CHECK_FALSE(buckets.valid);
   }
 }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 
@@ -145,18 +146,69 @@ unsigned char encode_srgb8_search(double linear) noexcept {
                                     kSrgb.thresholds.begin());
 }
 
+void build_srgb_buckets(double exposure, SrgbBuckets& out) {
+  out.exposure = exposure;
+  out.valid = false;
+  if (!(exposure >= 0x1p-20 && exposure <= 0x1p20)) return;
+  // threshold[k]: the least non-negative float r with exposure * r (in double) >= the k-th
+  // code's start, by bisection over the float bit patterns (ordered like the values for
+  // r >= 0); the product is monotone in r, so r >= threshold[k] exactly when the scalar
+  // encoder's value reaches that start.
+  std::array<float, 255> threshold{};
+  for (std::size_t k = 0; k < threshold.size(); ++k) {
+    std::uint32_t lo = 0, hi = 0x7f800000u;  // +inf reaches every start
+    while (lo < hi) {
+      const std::uint32_t mid = lo + (hi - lo) / 2;
+      float r;
+      std::memcpy(&r, &mid, sizeof r);
+      if (exposure * static_cast<double>(r) >= kSrgb.thresholds[k]) hi = mid;
+      else lo = mid + 1;
+    }
+    std::memcpy(&threshold[k], &lo, sizeof lo);
+    if (!std::isfinite(threshold[k])) return;
+  }
+  double closest = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 1; k < threshold.size(); ++k)
+    closest = std::min(closest, static_cast<double>(threshold[k]) - static_cast<double>(threshold[k - 1]));
+  if (!(closest > 0.0)) return;
+  // The widest power-of-two bucket no wider than the closest pair: one threshold at most each.
+  double scale = std::exp2(std::ceil(-std::log2(closest)));
+  while (1.0 / scale > closest) scale *= 2.0;
+  while (2.0 / scale <= closest) scale *= 0.5;
+  const double last = std::floor(static_cast<double>(threshold.back()) * scale);  // exact: scale is a power of two
+  if (!(last < 65536.0)) return;
+  out.scale = static_cast<float>(scale);
+  out.last = static_cast<int>(last);
+  const std::size_t buckets = static_cast<std::size_t>(out.last) + 1;
+  out.below.assign(buckets, 0.0f);
+  out.inside.assign(buckets, std::numeric_limits<float>::infinity());
+  std::size_t k = 0;
+  for (std::size_t b = 0; b < buckets; ++b) {
+    while (k < threshold.size() && static_cast<double>(threshold[k]) * scale < static_cast<double>(b)) ++k;
+    out.below[b] = static_cast<float>(k);  // thresholds below the bucket's start
+    if (k < threshold.size() && std::floor(static_cast<double>(threshold[k]) * scale) == static_cast<double>(b))
+      out.inside[b] = threshold[k];
+  }
+  out.valid = true;
+}
+
 void store_tile(const TileResult& result, int tile_x0, int tile_y0, const TileRect& part, const FrameTarget& target,
-                const FloatTileStores& vector_stores) noexcept {
-  const FloatRowsStore vector_store = target.format == PixelFormat::rgb_f32    ? vector_stores.rgb_f32
+                const VectorTileStores& vector_stores) noexcept {
+  const int count = part.x1 - part.x0, rows = part.y1 - part.y0;
+  const int first_column = part.x0 - tile_x0, first_row = part.y0 - tile_y0;
+  unsigned char* host = target.data + static_cast<std::ptrdiff_t>(part.y0 - target.region.y0) * target.row_stride +
+                        static_cast<std::ptrdiff_t>(part.x0 - target.region.x0) * bytes_per_pixel(target.format);
+  const FloatRowsStore float_store = target.format == PixelFormat::rgb_f32    ? vector_stores.rgb_f32
                                      : target.format == PixelFormat::rgba_f32 ? vector_stores.rgba_f32
                                                                                : nullptr;
-  if (vector_store) {
-    const int channels = target.format == PixelFormat::rgb_f32 ? 3 : 4;
-    unsigned char* host = target.data + static_cast<std::ptrdiff_t>(part.y0 - target.region.y0) * target.row_stride +
-                          static_cast<std::ptrdiff_t>(part.x0 - target.region.x0) * channels *
-                              static_cast<std::ptrdiff_t>(sizeof(float));
-    vector_store(result, part.x0 - tile_x0, part.y0 - tile_y0, part.y1 - part.y0, part.x1 - part.x0, host,
-                 target.row_stride);
+  if (float_store) {
+    float_store(result, first_column, first_row, rows, count, host, target.row_stride);
+    return;
+  }
+  if (target.format == PixelFormat::rgba8_srgb && vector_stores.rgba8_srgb && vector_stores.srgb &&
+      vector_stores.srgb->valid && vector_stores.srgb->exposure == target.exposure) {
+    vector_stores.rgba8_srgb(result, first_column, first_row, rows, count, host, target.row_stride,
+                             *vector_stores.srgb);
     return;
   }
   switch (target.format) {

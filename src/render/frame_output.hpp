@@ -21,20 +21,29 @@ struct FrameTarget {
 
 // Rows first_row .. + rows - 1, columns first_column .. + count - 1 of a tile's result
 // interleaved into host rows `row_stride` bytes apart starting at `host`: one ISA's vector
-// store for the float formats (simd/tile_store.hpp).
+// stores (simd/tile_store.hpp).
 using FloatRowsStore = void (*)(const TileResult& result, int first_column, int first_row, int rows, int count,
                                 unsigned char* host, std::ptrdiff_t row_stride) noexcept;
-struct FloatTileStores {
+using Srgb8RowsStore = void (*)(const TileResult& result, int first_column, int first_row, int rows, int count,
+                                unsigned char* host, std::ptrdiff_t row_stride, const SrgbBuckets& buckets) noexcept;
+struct VectorTileStores {
   FloatRowsStore rgb_f32 = nullptr;
   FloatRowsStore rgba_f32 = nullptr;
+  Srgb8RowsStore rgba8_srgb = nullptr;
+  const SrgbBuckets* srgb = nullptr;  // the target's exposure's buckets (rgba8_srgb needs valid ones)
 };
 
 // Stores pixels `part` (inside the target's region) of the tile whose top-left pixel is
-// (tile_x0, tile_y0), from its kernel result. `vector_stores`: the kernel ISA's float
-// stores; a null one (and the scalar path) takes the 4-pixel SSE2 transpose here (a
-// pixel-by-pixel copy where SSE2 is missing). Every store writes the same bytes.
+// (tile_x0, tile_y0), from its kernel result. `vector_stores`: the kernel ISA's stores; a
+// missing one (and the scalar path) takes the generic store here: a 4-pixel SSE2 transpose
+// for the float formats (a pixel-by-pixel copy where SSE2 is missing), the scalar encoder
+// for 8-bit sRGB. Every store writes the same bytes.
 void store_tile(const TileResult& result, int tile_x0, int tile_y0, const TileRect& part, const FrameTarget& target,
-                const FloatTileStores& vector_stores = {}) noexcept;
+                const VectorTileStores& vector_stores = {}) noexcept;
+
+// The buckets of the vector 8-bit sRGB store for `exposure` (SrgbBuckets); valid is false
+// (and the scalar encoder is used) for an exposure outside [2^-20, 2^20].
+void build_srgb_buckets(double exposure, SrgbBuckets& out);
 
 // round(255 * srgb(clamp(v, 0, 1))), NaN and negatives to 0, from a table (no pow per channel).
 unsigned char encode_srgb8(double linear) noexcept;

@@ -78,6 +78,14 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
   const int columns = bx1 - bx0;
   const int blocks = columns * (by1 - by0);
   const bool cull = settings.culling && reach != nullptr;
+  VectorTileStores stores;
+  if (kernels) {
+    stores = kernels->stores;
+    if (target.format == PixelFormat::rgba8_srgb) {
+      if (srgb_.exposure != target.exposure || srgb_.below.empty()) build_srgb_buckets(target.exposure, srgb_);
+      stores.srgb = &srgb_;
+    }
+  }
 
   // Counting costs a few additions per block and tile, so it is always on; `stats` only
   // decides whether the lanes' counts are summed.
@@ -132,7 +140,7 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
         float* scratch = state.kernel_scratch(kernel_scratch_floats(work, kernels->lanes));
         kernels->render_tile(work, scratch, state.result);
       }
-      store_tile(state.result, tile.x0, tile.y0, part, target, kernels ? kernels->float_stores : FloatTileStores{});
+      store_tile(state.result, tile.x0, tile.y0, part, target, stores);
     });
   };
 

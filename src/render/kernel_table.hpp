@@ -25,9 +25,9 @@ struct KernelSet {
   void (*union_measure)(float* lo, float* hi, std::size_t count, const float* width, const float* reach0,
                         float* out) noexcept;
   void (*atan2)(const float* y, const float* x, float* out) noexcept;
-  // Tile stores into the float formats (null: the generic store of frame_output.cpp, where
-  // the ISA's vector store is not the cheaper one).
-  FloatTileStores float_stores;
+  // Vector tile stores into the host's pixel formats (the buckets of 8-bit sRGB come with
+  // each frame's exposure).
+  VectorTileStores stores;
 };
 
 // The kernels compiled for the target architecture, least capable first (none on
@@ -73,6 +73,7 @@ class FrameEngine {
   struct ThreadState;
   FrameStats sum_counts(int lanes) const noexcept;
   std::vector<ThreadState> states_;
+  SrgbBuckets srgb_;  // the last 8-bit sRGB target's exposure's, rebuilt when it changes
 };
 
 }  // namespace par2d::detail

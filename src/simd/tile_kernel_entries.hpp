@@ -13,4 +13,6 @@
   void atan2_##suffix(const float*, const float*, float*) noexcept;                                        \
   void store_rgb_f32_##suffix(const detail::TileResult&, int, int, int, int, unsigned char*, std::ptrdiff_t) noexcept;  \
   void store_rgba_f32_##suffix(const detail::TileResult&, int, int, int, int, unsigned char*, std::ptrdiff_t) noexcept; \
+  void store_rgba8_srgb_##suffix(const detail::TileResult&, int, int, int, int, unsigned char*, std::ptrdiff_t,         \
+                                 const detail::SrgbBuckets&) noexcept;                                                   \
   }

@@ -182,6 +182,23 @@ struct TileResult {
   alignas(64) float rgb[3][kTilePixels];
 };
 
+// The 8-bit sRGB code of exposure * v for one exposure, looked up on the kernel's float v:
+// code(v) = number of k with v >= threshold[k], where threshold[k] is the least float whose
+// product with the exposure (in double, as the scalar encoder computes it) reaches the
+// linear value at which code k begins. Buckets of width 1 / scale (a power of two, no wider
+// than the closest two thresholds, so each holds at most one) answer in two look-ups:
+// code = below[b] + (v >= inside[b]) with b = min(floor(v * scale), last). Built per
+// exposure by frame_output.cpp (build_srgb_buckets); the codes are stored as floats so
+// that both look-ups are float gathers.
+struct SrgbBuckets {
+  double exposure = 0.0;
+  bool valid = false;  // false: exposure outside [2^-20, 2^20], the scalar encoder is used
+  float scale = 0.0f;
+  int last = 0;
+  std::vector<float> below;
+  std::vector<float> inside;
+};
+
 // Floats of per-packet scratch a kernel of `lanes` lanes needs for this work.
 inline std::size_t kernel_packet_scratch_floats(const TileWork& work, int lanes) noexcept {
   std::size_t sort_slots = 1;
