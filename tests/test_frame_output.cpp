@@ -54,7 +54,10 @@ TEST_CASE("tile store: every format, every part of a tile, at odd offsets and st
     with_buckets.srgb = &buckets;
     stores.emplace_back(std::string(isa_name(isa)), with_buckets);
   }
-  for (const auto& [store_name, store] : stores) {
+  for (const auto& named_store : stores) {
+    // Not a structured binding: clang cannot capture one in INFO's lambda (C++17).
+    const std::string& store_name = named_store.first;
+    const detail::VectorTileStores& store = named_store.second;
     INFO("store ", store_name);
     auto result = std::make_unique<TileResult>();
     std::mt19937 rng(7);
