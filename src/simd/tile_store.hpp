@@ -64,6 +64,18 @@ inline xsimd::batch<float, A> interleaved_register(const xsimd::batch<float, A>&
   return xsimd::select(xsimd::make_batch_bool_constant<B, LaneHoldsChannel<kChannels, kOut, 0>>(), permuted(r), out);
 }
 
+// Row j of a part of the tile (from first_row, first_column): its three channel rows.
+struct TileRowPlanes {
+  const float* r;
+  const float* g;
+  const float* b;
+};
+inline TileRowPlanes tile_row_planes(const detail::TileResult& tile, int first_column, int first_row, int j) noexcept {
+  const std::size_t base =
+      static_cast<std::size_t>(first_row + j) * detail::kTileSize + static_cast<std::size_t>(first_column);
+  return {tile.rgb[0] + base, tile.rgb[1] + base, tile.rgb[2] + base};
+}
+
 template <class A, std::size_t kChannels, std::size_t... kOut>
 inline void store_interleaved(const float* r, const float* g, const float* b, float* row,
                               std::index_sequence<kOut...>) noexcept {
@@ -85,11 +97,7 @@ void store_float_tile(const detail::TileResult& tile, int first_column, int firs
   constexpr int W = static_cast<int>(xsimd::batch<float, A>::size);
   static_assert(detail::kTileSize % W == 0, "whole tile rows are whole registers");
   for (int j = 0; j < rows; ++j) {
-    const std::size_t base =
-        static_cast<std::size_t>(first_row + j) * detail::kTileSize + static_cast<std::size_t>(first_column);
-    const float* r = tile.rgb[0] + base;
-    const float* g = tile.rgb[1] + base;
-    const float* b = tile.rgb[2] + base;
+    const auto [r, g, b] = tile_store_detail::tile_row_planes(tile, first_column, first_row, j);
     float* row = reinterpret_cast<float*>(host + j * row_stride);
     int i = 0;
     if (count == detail::kTileSize) {  // whole rows (most tiles): a constant trip count, unrolled
@@ -160,11 +168,7 @@ void store_srgb8_tile(const detail::TileResult& tile, int first_column, int firs
   };
   const I alpha(-0x1000000);  // 0xFF000000: byte 3 of each pixel
   for (int j = 0; j < rows; ++j) {
-    const std::size_t base =
-        static_cast<std::size_t>(first_row + j) * detail::kTileSize + static_cast<std::size_t>(first_column);
-    const float* r = tile.rgb[0] + base;
-    const float* g = tile.rgb[1] + base;
-    const float* b = tile.rgb[2] + base;
+    const auto [r, g, b] = tile_store_detail::tile_row_planes(tile, first_column, first_row, j);
     unsigned char* row = host + j * row_stride;
     int i = 0;
     for (; i + W <= count; i += W) {
