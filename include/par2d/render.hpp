@@ -66,7 +66,9 @@ int resolved_threads(const RenderOptions& options) noexcept;
 
 // A float RGB image owned by the caller. Pixel (i, j) channel c lives at
 // data[j * row_stride + 3 * i + c]; row 0 is the top row. `row_stride` counts
-// floats and must be at least 3 * width.
+// floats and must be at least 3 * width. Any alignment works; an image of 16 MiB or more
+// whose data starts on a 64-byte boundary (with a row stride in floats divisible by 16) is
+// written with non-temporal stores, which bypass the cache.
 struct ImageView {
   float* data = nullptr;
   int width = 0;

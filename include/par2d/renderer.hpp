@@ -40,7 +40,9 @@ struct PixelRect {
 };
 
 // The host's buffer for a frame or a region of it: the region's top-left pixel is at `data`,
-// row r of the region starts `r * row_stride` bytes after it.
+// row r of the region starts `r * row_stride` bytes after it. Any alignment works; float
+// regions of 16 MiB or more are written with non-temporal stores (bypassing the cache) on
+// the rows that start on a 64-byte boundary (16 bytes for SSE4.2 kernels, 32 for AVX2).
 struct FrameBuffer {
   void* data = nullptr;
   PixelFormat format = PixelFormat::rgb_f32;

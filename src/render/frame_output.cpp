@@ -202,7 +202,11 @@ void store_tile(const TileResult& result, int tile_x0, int tile_y0, const TileRe
                                      : target.format == PixelFormat::rgba_f32 ? vector_stores.rgba_f32
                                                                                : nullptr;
   if (float_store) {
-    float_store(result, first_column, first_row, rows, count, host, target.row_stride);
+    const std::size_t frame_bytes = static_cast<std::size_t>(target.region.x1 - target.region.x0) *
+                                    static_cast<std::size_t>(target.region.y1 - target.region.y0) *
+                                    static_cast<std::size_t>(bytes_per_pixel(target.format));
+    float_store(result, first_column, first_row, rows, count, host, target.row_stride,
+                frame_bytes >= kStreamingFrameBytes);
     return;
   }
   if (target.format == PixelFormat::rgba8_srgb && vector_stores.rgba8_srgb && vector_stores.srgb &&

@@ -22,8 +22,9 @@ struct FrameTarget {
 // Rows first_row .. + rows - 1, columns first_column .. + count - 1 of a tile's result
 // interleaved into host rows `row_stride` bytes apart starting at `host`: one ISA's vector
 // stores (simd/tile_store.hpp).
+// `stream`: write whole, aligned rows with non-temporal stores (kStreamingFrameBytes).
 using FloatRowsStore = void (*)(const TileResult& result, int first_column, int first_row, int rows, int count,
-                                unsigned char* host, std::ptrdiff_t row_stride) noexcept;
+                                unsigned char* host, std::ptrdiff_t row_stride, bool stream) noexcept;
 using Srgb8RowsStore = void (*)(const TileResult& result, int first_column, int first_row, int rows, int count,
                                 unsigned char* host, std::ptrdiff_t row_stride, const SrgbBuckets& buckets) noexcept;
 struct VectorTileStores {
@@ -32,6 +33,15 @@ struct VectorTileStores {
   Srgb8RowsStore rgba8_srgb = nullptr;
   const SrgbBuckets* srgb = nullptr;  // the target's exposure's buckets (rgba8_srgb needs valid ones)
 };
+
+// Float frames of at least this many bytes (over the target's region) are written with
+// non-temporal stores wherever a tile row starts on a vector-register boundary: such a
+// frame (1920x1080 float RGB is 25 MB) does not stay in a last-level cache from one frame
+// to the next, so reading each line into the cache before filling it is wasted memory
+// traffic. Smaller frames keep ordinary stores: their lines may still be cached, and
+// whoever reads the frame next wants them there. 8-bit frames (a quarter of the bytes)
+// always use ordinary stores.
+inline constexpr std::size_t kStreamingFrameBytes = std::size_t{16} << 20;
 
 // Stores pixels `part` (inside the target's region) of the tile whose top-left pixel is
 // (tile_x0, tile_y0), from its kernel result. `vector_stores`: the kernel ISA's stores; a

@@ -32,13 +32,15 @@ void PAR2D_CONCAT(atan2_, PAR2D_KERNEL_SUFFIX)(const float* y, const float* x, f
 }
 
 void PAR2D_CONCAT(store_rgb_f32_, PAR2D_KERNEL_SUFFIX)(const TileResult& tile, int first_column, int first_row, int rows,
-                                                       int count, unsigned char* host, std::ptrdiff_t row_stride) noexcept {
-  store_float_tile<PAR2D_KERNEL_ARCH, 3>(tile, first_column, first_row, rows, count, host, row_stride);
+                                                       int count, unsigned char* host, std::ptrdiff_t row_stride,
+                                                       bool stream) noexcept {
+  store_float_tile<PAR2D_KERNEL_ARCH, 3>(tile, first_column, first_row, rows, count, host, row_stride, stream);
 }
 
 void PAR2D_CONCAT(store_rgba_f32_, PAR2D_KERNEL_SUFFIX)(const TileResult& tile, int first_column, int first_row, int rows,
-                                                        int count, unsigned char* host, std::ptrdiff_t row_stride) noexcept {
-  store_float_tile<PAR2D_KERNEL_ARCH, 4>(tile, first_column, first_row, rows, count, host, row_stride);
+                                                        int count, unsigned char* host, std::ptrdiff_t row_stride,
+                                                       bool stream) noexcept {
+  store_float_tile<PAR2D_KERNEL_ARCH, 4>(tile, first_column, first_row, rows, count, host, row_stride, stream);
 }
 
 void PAR2D_CONCAT(store_rgba8_srgb_, PAR2D_KERNEL_SUFFIX)(const TileResult& tile, int first_column, int first_row,
