@@ -486,6 +486,7 @@ bool umbra_possible(const UmbraBand& band, const std::array<Vec2, 4>& corners) n
 struct CornerTangentPoints {
   Vec2 point[4][2];
   signed char state[4] = {-1, -1, -1, -1};  // -1: not computed yet, 0: corner inside the light, 1: known
+  void forget() noexcept { std::fill(state, state + 4, static_cast<signed char>(-1)); }
 };
 
 bool tangent_points(const ConvexShape& light, Vec2 x, Vec2 (&out)[2]) noexcept {
@@ -861,18 +862,26 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
   const int grid_corner = grid_y * grid_row + grid_x;
   const int grid[4] = {grid_corner, grid_corner + 1, grid_corner + grid_row + 1, grid_corner + grid_row};
 
+  // Per light below, plain values with flags rather than std::optional, and the tangent
+  // points made once: GCC 12's std::optional zero-fills its whole storage when
+  // default-constructed, and so does a Vec2 array. That was two 144-byte `rep stos` per tile
+  // and light, slow to start on lengths this short: about a tenth of this function's time
+  // with AVX-512 on paper (perf).
+  CornerTangentPoints light_tangent_points;
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
     if (scratch.block_shadowed[l]) continue;
     const PreparedLight& light = scene.lights[l];
     if (model && beyond_range(box, light.shape, light.terms)) continue;
     const std::vector<std::uint32_t>& candidates = scratch.block_candidates[l];
-    std::optional<BoxPairHull> tile_hull;
+    const bool hull_test = culling && !candidates.empty();
+    BoxPairHull tile_hull;
     CornerDirections* light_directions = nullptr;  // the light's grid cache, on first umbra test
     InnerDisc inner_disc;
-    // Only general pairs and clipped lights use it: built on first use, not per light.
-    std::optional<CornerTangentPoints> light_tangent_points;
-    std::optional<LightClip> clip;
-    if (culling && !candidates.empty()) tile_hull.emplace(box, bounds_of(light.shape));
+    // Only general pairs and clipped lights use the tangent points: computed on first use.
+    light_tangent_points.forget();
+    LightClip clip;
+    bool clipped = false;
+    if (hull_test) tile_hull = BoxPairHull(box, bounds_of(light.shape));
     const Vec2 tile_center = 0.5 * (corners[0] + corners[2]);
     const bool light_far = !candidates.empty() && reaches_far(light.shape, frame, tile_center);
     const ConvexShape* light_near = nullptr;
@@ -884,7 +893,7 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     for (std::size_t candidate = 0; candidate < candidates.size(); ++candidate) {
       const std::uint32_t k = candidates[candidate];
       const ConvexShape& occluder = scene.occluders[k];
-      if (tile_hull && !tile_hull->touches(bounds_of(occluder))) continue;
+      if (hull_test && !tile_hull.touches(bounds_of(occluder))) continue;
       KernelPair pair;
       pair.occluder = k;
       const auto overlap =
@@ -913,10 +922,11 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
         line = scene.separators.get(l, k, light.shape, occluder);
       }
       // Clipping drops the cap inside the occluder: only where the occluder hides it.
-      if (!line && overlapping && !clip && prover) {
+      if (!line && overlapping && !clipped && prover) {
         LightClip c;
         if (clip_light_by_occluder(light.shape, occluder, c)) {
           clip = c;
+          clipped = true;
           line = c.line;  // separates the light's near part from the occluder
         }
       }
@@ -925,7 +935,7 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
         // line, where the depth test alone is exact): the kernel's general pair, unless
         // the occluder lies wholly behind the light over this tile.
         if (culling && general_pair_behind(light.shape, occluder, corners,
-                                           light_tangent_points ? *light_tangent_points : light_tangent_points.emplace()))
+                                           light_tangent_points))
           continue;
         pair.general = true;
         general = true;
@@ -1060,17 +1070,15 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
         kernel_shape(light.shape, frame, corners, general || ranged, work, scratch, &scratch.light_block_pairs[l]);
     // Over a tile wholly before the clip line that sees no light point past it, the clipped
     // light's arc is the whole light's (and the pair was dropped as behind): skip the clip.
-    if (clip && culling &&
-        light_before_line(light.shape, clip->line, corners,
-                          light_tangent_points ? *light_tangent_points : light_tangent_points.emplace()))
-      clip.reset();
-    if (clip) {
+    if (clipped && culling && light_before_line(light.shape, clip.line, corners, light_tangent_points))
+      clipped = false;
+    if (clipped) {
       kl.shape.clipped = true;
-      kl.shape.clip_nx = static_cast<float>(clip->line.normal.x);
-      kl.shape.clip_ny = static_cast<float>(clip->line.normal.y);
-      kl.shape.clip_c = frame.line_offset(clip->line.normal, clip->line.point);
-      frame.point(clip->chord[0], kl.shape.chord_x[0], kl.shape.chord_y[0]);
-      frame.point(clip->chord[1], kl.shape.chord_x[1], kl.shape.chord_y[1]);
+      kl.shape.clip_nx = static_cast<float>(clip.line.normal.x);
+      kl.shape.clip_ny = static_cast<float>(clip.line.normal.y);
+      kl.shape.clip_c = frame.line_offset(clip.line.normal, clip.line.point);
+      frame.point(clip.chord[0], kl.shape.chord_x[0], kl.shape.chord_y[0]);
+      frame.point(clip.chord[1], kl.shape.chord_x[1], kl.shape.chord_y[1]);
     }
     for (int c = 0; c < 3; ++c) kl.emission[c] = static_cast<float>(light.emission[c] / kTwoPi);
     work.max_intervals_per_light = std::max(work.max_intervals_per_light, kl.interval_count);

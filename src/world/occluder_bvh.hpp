@@ -89,6 +89,7 @@ class ConvexQuery {
 // both of its extremes).
 class BoxPairHull {
  public:
+  BoxPairHull() noexcept = default;  // holds nothing until assigned a pair's hull
   BoxPairHull(const Aabb& a, const Aabb& b) noexcept;
   // Exact separating-axis test (the union box's axes and the cut edges' normals);
   // touching counts as intersecting.
