@@ -834,15 +834,18 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
   work.spp = spp;
   work.sample_x.resize(static_cast<std::size_t>(spp) * kTileSize);
   work.sample_y.resize(static_cast<std::size_t>(spp) * kTileSize);
+  // A sample's offset from the origin (sample_position's difference, without rounding each
+  // position first): (c + s) pixels. One division per axis here, not two per sample: the
+  // divisions were a tenth of this function's time (perf, AVX-512, paper).
+  const double pixel_w = (scene.view.x1 - scene.view.x0) / scene.width;
+  const double pixel_h = (scene.view.y1 - scene.view.y0) / scene.height;
   for (int k = 0; k < spp; ++k) {
     double sx, sy;
     sample_offset(k, spp, sx, sy);
     // Columns and rows past the image edge (padding) get positions too; they are dropped.
     for (int c = 0; c < kTileSize; ++c) {
-      work.sample_x[static_cast<std::size_t>(k * kTileSize + c)] =
-          frame.length(sample_position(scene, tile.x0 + c, tile.y0, sx, sy).x - origin.x);
-      work.sample_y[static_cast<std::size_t>(k * kTileSize + c)] =
-          frame.length(sample_position(scene, tile.x0, tile.y0 + c, sx, sy).y - origin.y);
+      work.sample_x[static_cast<std::size_t>(k * kTileSize + c)] = frame.length((c + sx) * pixel_w);
+      work.sample_y[static_cast<std::size_t>(k * kTileSize + c)] = frame.length((c + sy) * pixel_h);
     }
   }
   const std::array<Vec2, 4> corners = tile_corners(scene, tile);
