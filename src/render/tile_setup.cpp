@@ -832,20 +832,25 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
   // The frame's scale depends on the scene only: found once per block.
   const TileFrame frame{origin, scratch.frame_scale, scratch.frame_far};
   work.spp = spp;
-  work.sample_x.resize(static_cast<std::size_t>(spp) * kTileSize);
-  work.sample_y.resize(static_cast<std::size_t>(spp) * kTileSize);
-  // A sample's offset from the origin (sample_position's difference, without rounding each
-  // position first): (c + s) pixels. One division per axis here, not two per sample: the
-  // divisions were a tenth of this function's time (perf, AVX-512, paper).
+  // A sample's offset from the origin: (c + s) pixel sizes, the same in every tile. Made
+  // again only when the sampling, the pixel size or the frame's scale changes (NaN never
+  // compares equal, so it would be remade): computing two positions per sample and their
+  // difference here, per tile, was a fifth of this function's time (perf, AVX-512, paper).
   const double pixel_w = (scene.view.x1 - scene.view.x0) / scene.width;
   const double pixel_h = (scene.view.y1 - scene.view.y0) / scene.height;
-  for (int k = 0; k < spp; ++k) {
-    double sx, sy;
-    sample_offset(k, spp, sx, sy);
-    // Columns and rows past the image edge (padding) get positions too; they are dropped.
-    for (int c = 0; c < kTileSize; ++c) {
-      work.sample_x[static_cast<std::size_t>(k * kTileSize + c)] = frame.length((c + sx) * pixel_w);
-      work.sample_y[static_cast<std::size_t>(k * kTileSize + c)] = frame.length((c + sy) * pixel_h);
+  TileWork::SampleGrid& samples = work.sample_grid;
+  if (samples.spp != spp || samples.pixel_w != pixel_w || samples.pixel_h != pixel_h || samples.scale != frame.scale) {
+    samples = {spp, pixel_w, pixel_h, frame.scale};
+    work.sample_x.resize(static_cast<std::size_t>(spp) * kTileSize);
+    work.sample_y.resize(static_cast<std::size_t>(spp) * kTileSize);
+    for (int k = 0; k < spp; ++k) {
+      double sx, sy;
+      sample_offset(k, spp, sx, sy);
+      // Columns and rows past the image edge (padding) get positions too; they are dropped.
+      for (int c = 0; c < kTileSize; ++c) {
+        work.sample_x[static_cast<std::size_t>(k * kTileSize + c)] = frame.length((c + sx) * pixel_w);
+        work.sample_y[static_cast<std::size_t>(k * kTileSize + c)] = frame.length((c + sy) * pixel_h);
+      }
     }
   }
   const std::array<Vec2, 4> corners = tile_corners(scene, tile);

@@ -134,9 +134,15 @@ struct TileWork {
   alignas(64) float constant_normal[3][kTileSize];
   // Sample positions relative to the tile origin: sample s of the pixel in tile column c
   // is at x = sample_x[s * kTileSize + c], and in tile row r at y = sample_y[s * kTileSize + r].
-  // Each is the scalar path's double position (docs/contract.md section 2) minus the origin, so
-  // both paths sample the very same points even where doubles round them.
+  // Each is the exact offset of the scalar path's sample (docs/contract.md section 2) from the
+  // origin, (c + s) pixel sizes, rounded once to float; the scalar path rounds the same point
+  // to double. The offsets are the same for every tile of a frame: build_tile_work makes them
+  // again only when what they are made from (sample_grid) changes.
   std::vector<float> sample_x, sample_y;
+  struct SampleGrid {
+    int spp = 0;
+    double pixel_w = 0, pixel_h = 0, scale = 0;
+  } sample_grid;
   std::vector<KernelShape> occluders;
   std::vector<KernelLight> lights;
   std::vector<KernelPair> pairs;
