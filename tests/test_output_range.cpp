@@ -166,3 +166,46 @@ TEST_CASE("property: random scenes at the extremes that validation accepts rende
   }
   CHECK(rendered >= 16);
 }
+
+// Callers may hand render() uninitialized memory (the CLI does): every pixel of the view must
+// be written. Images pre-filled with NaN, at sizes that are not multiples of the tile or the
+// vector width, through every path (scalar, each ISA, culling off, several samples, the game
+// model with a normal map), must hold no NaN afterwards.
+TEST_CASE("render writes every pixel of its view: NaN-filled images come back all finite") {
+  int checked = 0;
+  for (std::uint32_t trial = 0; trial < 6; ++trial) {
+    test::RandomSceneOptions scene_options;
+    if (trial % 3 == 2) scene_options = test::with_every_model_term(scene_options);  // a normal map too
+    scene_options.width = 17 + 13 * static_cast<int>(trial);
+    scene_options.height = 9 + 7 * static_cast<int>(trial);
+    const Scene scene = test::random_scene(4200 + trial, scene_options);
+    std::vector<RenderOptions> paths{test::options_for(Backend::scalar)};
+    for (Isa isa : test::simd_isas_here()) {
+      paths.push_back(test::options_for(Backend::simd, isa));
+      paths.push_back(test::options_for(Backend::simd, isa, false));
+      RenderOptions samples = test::options_for(Backend::simd, isa);
+      samples.spp = 3;
+      paths.push_back(samples);
+    }
+    for (const RenderOptions& options : paths) {
+      const int stride = scene.width * 3 + 2;  // padded rows: the padding must stay as it was
+      std::vector<float> pixels(static_cast<std::size_t>(stride) * scene.height,
+                                std::numeric_limits<float>::quiet_NaN());
+      const ImageView view{pixels.data(), scene.width, scene.height, stride};
+      INFO("trial ", trial, " isa ", std::string(options.isa ? isa_name(*options.isa) : "scalar"), " culling ", options.culling, " spp ",
+           options.spp);
+      REQUIRE(render(scene, options, view).ok());
+      int nan_pixels = 0, padding_written = 0;
+      for (int j = 0; j < scene.height; ++j)
+        for (int i = 0; i < stride; ++i) {
+          const bool nan = std::isnan(pixels[static_cast<std::size_t>(j) * stride + i]);
+          if (i < scene.width * 3) nan_pixels += nan;
+          else padding_written += !nan;
+        }
+      CHECK(nan_pixels == 0);
+      CHECK(padding_written == 0);
+      ++checked;
+    }
+  }
+  CHECK(checked >= 6);
+}
