@@ -196,9 +196,11 @@ BoxPairHull::BoxPairHull(const Aabb& a, const Aabb& b) noexcept {
       const Vec2 pb{sx < 0 ? b.min_x : b.max_x, sy < 0 ? b.min_y : b.max_y};
       const Vec2 corner{sx < 0 ? bounds_.min_x : bounds_.max_x, sy < 0 ? bounds_.min_y : bounds_.max_y};
       const Vec2 edge = pb - pa;
-      const double len = length(edge);
-      if (!(len > 0.0) || !std::isfinite(len)) continue;
-      Vec2 n{-edge.y / len, edge.x / len};
+      if ((edge.x == 0.0 && edge.y == 0.0) || !std::isfinite(edge.x) || !std::isfinite(edge.y)) continue;
+      // The edge's normal unnormalized: the test compares two products with the same normal,
+      // so its length does not matter, and no square root or division rounds it (they were a
+      // third of the hull's cost, built per tile and light).
+      Vec2 n{-edge.y, edge.x};
       if (dot(n, corner - pa) < 0.0) n = Vec2{-n.x, -n.y};  // outward: toward the cut corner
       cuts_[cut_count_++] = {n.x, n.y, std::max(dot(n, pa), dot(n, pb))};
     }
