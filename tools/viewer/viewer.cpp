@@ -7,8 +7,6 @@
 // (tests/viewer/) can follow what happened.
 #include "viewer.hpp"
 
-#include <SDL.h>
-#include <SDL_ttf.h>
 #include <stb_image_write.h>
 #include <sys/stat.h>
 
@@ -26,6 +24,7 @@
 
 #include "par2d/par2d.hpp"
 #include "scene_edit.hpp"
+#include "sdl_library.hpp"
 
 namespace par2d::viewer {
 namespace {
@@ -107,6 +106,9 @@ std::string window_capture_path(const std::string& screenshot_path) {
   return base + ".window.png";
 }
 
+// SDL2 and SDL2_ttf, loaded by open_window (see sdl_library.hpp).
+SdlLibrary sdl_api;
+
 struct Sdl {
   SDL_Window* window = nullptr;
   SDL_Renderer* renderer = nullptr;
@@ -114,12 +116,12 @@ struct Sdl {
   TTF_Font* font = nullptr;
   bool sdl = false, ttf = false;
   ~Sdl() {
-    if (font) TTF_CloseFont(font);
-    if (texture) SDL_DestroyTexture(texture);
-    if (renderer) SDL_DestroyRenderer(renderer);
-    if (window) SDL_DestroyWindow(window);
-    if (ttf) TTF_Quit();
-    if (sdl) SDL_Quit();
+    if (font) sdl_api.TTF_CloseFont(font);
+    if (texture) sdl_api.SDL_DestroyTexture(texture);
+    if (renderer) sdl_api.SDL_DestroyRenderer(renderer);
+    if (window) sdl_api.SDL_DestroyWindow(window);
+    if (ttf) sdl_api.TTF_Quit();
+    if (sdl) sdl_api.SDL_Quit();
   }
 };
 
@@ -143,9 +145,9 @@ class Viewer {
     while (running_) {
       SDL_Event event;
       // Idle: wait for input (and wake for the file watch); after an edit, redraw at once.
-      if (SDL_WaitEventTimeout(&event, dirty_ ? 1 : 100)) {
+      if (sdl_api.SDL_WaitEventTimeout(&event, dirty_ ? 1 : 100)) {
         handle(event);
-        while (SDL_PollEvent(&event)) handle(event);
+        while (sdl_api.SDL_PollEvent(&event)) handle(event);
       }
       if (Clock::now() - last_watch >= kWatchInterval) {
         last_watch = Clock::now();
@@ -169,32 +171,33 @@ class Viewer {
     if (!driver_chosen && !std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
       return fail("cannot open a window: no display (DISPLAY and WAYLAND_DISPLAY are unset; "
                   "SDL_VIDEODRIVER picks another video driver)");
-    if (SDL_Init(SDL_INIT_VIDEO) != 0) return fail(std::string("cannot open a window: ") + SDL_GetError());
+    if (std::string error; !load_sdl_library(sdl_api, error)) return fail("cannot open a window: " + error);
+    if (sdl_api.SDL_Init(SDL_INIT_VIDEO) != 0) return fail(std::string("cannot open a window: ") + sdl_api.SDL_GetError());
     sdl_.sdl = true;
-    const std::string driver = SDL_GetCurrentVideoDriver();
+    const std::string driver = sdl_api.SDL_GetCurrentVideoDriver();
     if (!driver_chosen && (driver == "offscreen" || driver == "dummy"))
       return fail("cannot open a window: no display (SDL found only its " + driver + " video driver)");
-    if (TTF_Init() != 0) return fail(std::string("cannot start SDL_ttf: ") + TTF_GetError());
+    if (sdl_api.TTF_Init() != 0) return fail(std::string("cannot start SDL_ttf: ") + sdl_api.SDL_GetError());
     sdl_.ttf = true;
-    sdl_.font = TTF_OpenFont(PAR2D_VIEWER_FONT, kFontSize);
-    if (!sdl_.font) return fail(std::string(PAR2D_VIEWER_FONT) + ": " + TTF_GetError());
+    sdl_.font = sdl_api.TTF_OpenFont(PAR2D_VIEWER_FONT, kFontSize);
+    if (!sdl_.font) return fail(std::string(PAR2D_VIEWER_FONT) + ": " + sdl_api.SDL_GetError());
 
     // The window shows the scene's view at its own size, scaled down to fit the screen.
     SDL_Rect bounds{0, 0, scene_.width, scene_.height};
-    SDL_GetDisplayUsableBounds(0, &bounds);
+    sdl_api.SDL_GetDisplayUsableBounds(0, &bounds);
     const double fit = std::min({1.0, 0.95 * bounds.w / scene_.width, 0.95 * bounds.h / scene_.height});
     win_w_ = std::max(1, static_cast<int>(std::lround(scene_.width * fit)));
     win_h_ = std::max(1, static_cast<int>(std::lround(scene_.height * fit)));
-    sdl_.window = SDL_CreateWindow(("par2d view: " + args_.scene_path).c_str(), SDL_WINDOWPOS_CENTERED,
+    sdl_.window = sdl_api.SDL_CreateWindow(("par2d view: " + args_.scene_path).c_str(), SDL_WINDOWPOS_CENTERED,
                                    SDL_WINDOWPOS_CENTERED, win_w_, win_h_, 0);
-    if (!sdl_.window) return fail(std::string("cannot open a window: ") + SDL_GetError());
-    sdl_.renderer = SDL_CreateRenderer(sdl_.window, -1, 0);
-    if (!sdl_.renderer) return fail(std::string("cannot draw in the window: ") + SDL_GetError());
-    SDL_SetRenderDrawBlendMode(sdl_.renderer, SDL_BLENDMODE_BLEND);
+    if (!sdl_.window) return fail(std::string("cannot open a window: ") + sdl_api.SDL_GetError());
+    sdl_.renderer = sdl_api.SDL_CreateRenderer(sdl_.window, -1, 0);
+    if (!sdl_.renderer) return fail(std::string("cannot draw in the window: ") + sdl_api.SDL_GetError());
+    sdl_api.SDL_SetRenderDrawBlendMode(sdl_.renderer, SDL_BLENDMODE_BLEND);
     // RGBA32: bytes R, G, B, A in memory, the layout of PixelFormat::rgba8_srgb.
-    sdl_.texture = SDL_CreateTexture(sdl_.renderer, SDL_PIXELFORMAT_RGBA32, SDL_TEXTUREACCESS_STREAMING, win_w_, win_h_);
-    if (!sdl_.texture) return fail(std::string("cannot draw in the window: ") + SDL_GetError());
-    SDL_SetTextureBlendMode(sdl_.texture, SDL_BLENDMODE_NONE);
+    sdl_.texture = sdl_api.SDL_CreateTexture(sdl_.renderer, SDL_PIXELFORMAT_RGBA32, SDL_TEXTUREACCESS_STREAMING, win_w_, win_h_);
+    if (!sdl_.texture) return fail(std::string("cannot draw in the window: ") + sdl_api.SDL_GetError());
+    sdl_api.SDL_SetTextureBlendMode(sdl_.texture, SDL_BLENDMODE_NONE);
     if (Status s = renderer_.set_options(options_); !s) return fail(s.message());
     if (Status s = load_world(); !s) return fail(s.message());
     return 0;
@@ -421,8 +424,8 @@ class Viewer {
     dirty_ = false;
     void* texels = nullptr;
     int pitch = 0;
-    if (SDL_LockTexture(sdl_.texture, nullptr, &texels, &pitch) != 0) {
-      message(std::string("cannot draw in the window: ") + SDL_GetError(), true);
+    if (sdl_api.SDL_LockTexture(sdl_.texture, nullptr, &texels, &pitch) != 0) {
+      message(std::string("cannot draw in the window: ") + sdl_api.SDL_GetError(), true);
       return;
     }
     FrameBuffer buffer;
@@ -433,7 +436,7 @@ class Viewer {
     const auto start = Clock::now();
     const Status status = renderer_.render(buffer);
     const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-    SDL_UnlockTexture(sdl_.texture);
+    sdl_api.SDL_UnlockTexture(sdl_.texture);
     if (!status) {
       message(status.message(), true);
       return;
@@ -444,17 +447,17 @@ class Viewer {
 
   // One line of heads-up text at (x, y); returns its height.
   int text(const std::string& line, int x, int y, SDL_Color color) {
-    SDL_Surface* surface = TTF_RenderUTF8_Blended(sdl_.font, line.c_str(), color);
+    SDL_Surface* surface = sdl_api.TTF_RenderUTF8_Blended(sdl_.font, line.c_str(), color);
     if (!surface) return kFontSize + 4;
-    SDL_Texture* t = SDL_CreateTextureFromSurface(sdl_.renderer, surface);
+    SDL_Texture* t = sdl_api.SDL_CreateTextureFromSurface(sdl_.renderer, surface);
     const SDL_Rect box{x - 4, y - 1, surface->w + 8, surface->h + 2};
-    SDL_SetRenderDrawColor(sdl_.renderer, 0, 0, 0, 170);
-    SDL_RenderFillRect(sdl_.renderer, &box);
+    sdl_api.SDL_SetRenderDrawColor(sdl_.renderer, 0, 0, 0, 170);
+    sdl_api.SDL_RenderFillRect(sdl_.renderer, &box);
     const SDL_Rect dst{x, y, surface->w, surface->h};
-    if (t) SDL_RenderCopy(sdl_.renderer, t, nullptr, &dst);
+    if (t) sdl_api.SDL_RenderCopy(sdl_.renderer, t, nullptr, &dst);
     const int h = surface->h + 2;
-    if (t) SDL_DestroyTexture(t);
-    SDL_FreeSurface(surface);
+    if (t) sdl_api.SDL_DestroyTexture(t);
+    sdl_api.SDL_FreeSurface(surface);
     return h;
   }
 
@@ -469,12 +472,12 @@ class Viewer {
       const Vec2 w = mapping().to_window(p);
       points.push_back({static_cast<float>(w.x), static_cast<float>(w.y)});
     }
-    SDL_SetRenderDrawColor(sdl_.renderer, 255, 190, 0, 255);
-    SDL_RenderDrawLinesF(sdl_.renderer, points.data(), static_cast<int>(points.size()));
+    sdl_api.SDL_SetRenderDrawColor(sdl_.renderer, 255, 190, 0, 255);
+    sdl_api.SDL_RenderDrawLinesF(sdl_.renderer, points.data(), static_cast<int>(points.size()));
   }
 
   void draw() {
-    SDL_RenderCopy(sdl_.renderer, sdl_.texture, nullptr, nullptr);
+    sdl_api.SDL_RenderCopy(sdl_.renderer, sdl_.texture, nullptr, nullptr);
     draw_selection();
     const SDL_Color white{255, 255, 255, 255}, grey{190, 190, 190, 255}, red{255, 90, 80, 255};
     int y = 6;
@@ -504,14 +507,14 @@ class Viewer {
       capture_window_ = false;
       write_window_capture();
     }
-    SDL_RenderPresent(sdl_.renderer);
+    sdl_api.SDL_RenderPresent(sdl_.renderer);
   }
 
   void write_window_capture() {
     std::vector<std::uint8_t> rgb(static_cast<std::size_t>(win_w_) * win_h_ * 3);
     const std::string path = window_capture_path(screenshot_path_);
     const std::string temp = path + ".tmp.png";
-    if (SDL_RenderReadPixels(sdl_.renderer, nullptr, SDL_PIXELFORMAT_RGB24, rgb.data(), win_w_ * 3) != 0 ||
+    if (sdl_api.SDL_RenderReadPixels(sdl_.renderer, nullptr, SDL_PIXELFORMAT_RGB24, rgb.data(), win_w_ * 3) != 0 ||
         !stbi_write_png(temp.c_str(), win_w_, win_h_, 3, rgb.data(), win_w_ * 3) ||
         std::rename(temp.c_str(), path.c_str()) != 0) {
       std::remove(temp.c_str());
