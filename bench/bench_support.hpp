@@ -3,6 +3,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <cstddef>
 #include <cstdint>
 
 #include "par2d/render.hpp"
@@ -10,6 +11,22 @@
 #include "scattered_scene.hpp"
 
 namespace par2d::bench {
+
+// A zero-filled float buffer starting on a 64-byte boundary, as the README recommends for
+// frames large enough to take non-temporal stores (a std::vector's large blocks start 16
+// bytes past a page, so none of their rows would).
+class AlignedFloats {
+ public:
+  explicit AlignedFloats(std::size_t count);
+  ~AlignedFloats();
+  AlignedFloats(const AlignedFloats&) = delete;
+  AlignedFloats& operator=(const AlignedFloats&) = delete;
+  float* data() const noexcept { return data_; }
+
+ private:
+  float* data_;
+  std::size_t count_;
+};
 
 // Renders `scene` once per iteration into a buffer allocated outside the timed loop and
 // reports "Mpixel/s" and "frames/s" (1920 x 1080 frame equivalents) counters.
