@@ -121,21 +121,24 @@ TEST_CASE("tile store: every format, every part of a tile, at odd offsets and st
 
 TEST_CASE("tile store: frames over kStreamingFrameBytes (non-temporal stores on aligned rows) write the same bytes") {
   // Frames this large take each ISA's non-temporal stores for whole tile rows that start on
-  // a register boundary. A 64-byte-aligned frame with a stride of 64 bytes times an odd
-  // number plus 32 has aligned and unaligned rows in every tile at every register width;
-  // the region's width puts whole tiles and one part tile in each row of tiles.
+  // a register boundary. Two strides of a 64-byte-aligned frame: a multiple of 64 bytes
+  // (every row aligned: whole tiles take the path without a test per row at every register
+  // width), and 64 bytes times an odd number plus 32 (with 64-byte registers aligned and
+  // unaligned rows alternate). The region's width puts whole tiles and one part tile in
+  // each row of tiles.
   auto result = std::make_unique<TileResult>();
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> value(-0.25f, 1.5f);
   for (auto& plane : result->rgb)
     for (float& v : plane) v = value(rng);
+  for (const bool every_row_aligned : {true, false})
   for (PixelFormat format : {PixelFormat::rgb_f32, PixelFormat::rgba_f32}) {
     const int bpp = bytes_per_pixel(format);
     FrameTarget target;
     target.format = format;
     const int width = 1360 + 8;  // 85 whole tiles and 8 columns of an 86th
     target.row_stride = static_cast<std::ptrdiff_t>(width) * bpp;
-    target.row_stride += (64 - target.row_stride % 64) % 64 + 64 * 3 + 32;
+    target.row_stride += (64 - target.row_stride % 64) % 64 + 64 * 3 + (every_row_aligned ? 0 : 32);
     const int height = static_cast<int>(detail::kStreamingFrameBytes / (static_cast<std::size_t>(width) * bpp)) + 1;
     target.region = {0, 0, width, height};
     REQUIRE(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * static_cast<std::size_t>(bpp) >=
@@ -153,7 +156,8 @@ TEST_CASE("tile store: frames over kStreamingFrameBytes (non-temporal stores on 
     const int last_row = (height - 1) / kTileSize * kTileSize;
     tiles.push_back({0, last_row, kTileSize, height});
     for (Isa isa : simd_isas_here()) {
-      INFO("ISA ", std::string(isa_name(isa)), " format ", static_cast<int>(format));
+      INFO("ISA ", std::string(isa_name(isa)), " format ", static_cast<int>(format), " every row aligned ",
+           every_row_aligned);
       const detail::KernelSet* kernels = detail::kernels_for(isa);
       REQUIRE(kernels != nullptr);
       std::fill(storage.begin(), storage.end(), static_cast<unsigned char>(0xAB));
