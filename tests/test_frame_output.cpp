@@ -119,6 +119,25 @@ TEST_CASE("tile store: every format, every part of a tile, at odd offsets and st
   }
 }
 
+TEST_CASE("float frames stream from kStreamingFrameBytes on, never below it, and 8-bit frames never") {
+  // The threshold is hit exactly by a region of 1024 x 1024 RGBA floats (16 MiB).
+  FrameTarget target;
+  target.format = PixelFormat::rgba_f32;
+  target.region = {0, 0, 1024, 1024};
+  CHECK(detail::streams_float_frame(target));
+  target.region = {0, 0, 1024, 1023};  // one row under the threshold
+  CHECK_FALSE(detail::streams_float_frame(target));
+  target.region = {10, 20, 10 + 1024, 20 + 1024};  // the region's size counts, not its place
+  CHECK(detail::streams_float_frame(target));
+  target.format = PixelFormat::rgb_f32;  // 12 MiB: under
+  CHECK_FALSE(detail::streams_float_frame(target));
+  target.region = {0, 0, 1920, 1080};  // 1080p float RGB, 25 MB
+  CHECK(detail::streams_float_frame(target));
+  target.format = PixelFormat::rgba8_srgb;
+  target.region = {0, 0, 4096, 4096};  // 64 MiB of 8-bit pixels: ordinary stores still
+  CHECK_FALSE(detail::streams_float_frame(target));
+}
+
 TEST_CASE("tile store: frames over kStreamingFrameBytes (non-temporal stores on aligned rows) write the same bytes") {
   // Frames this large take each ISA's non-temporal stores for whole tile rows that start on
   // a register boundary. Two strides of a 64-byte-aligned frame: a multiple of 64 bytes

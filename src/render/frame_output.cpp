@@ -192,6 +192,14 @@ void build_srgb_buckets(double exposure, SrgbBuckets& out) {
   out.valid = true;
 }
 
+bool streams_float_frame(const FrameTarget& target) noexcept {
+  if (target.format == PixelFormat::rgba8_srgb) return false;
+  const std::size_t frame_bytes = static_cast<std::size_t>(target.region.x1 - target.region.x0) *
+                                  static_cast<std::size_t>(target.region.y1 - target.region.y0) *
+                                  static_cast<std::size_t>(bytes_per_pixel(target.format));
+  return frame_bytes >= kStreamingFrameBytes;
+}
+
 void store_tile(const TileResult& result, int tile_x0, int tile_y0, const TileRect& part, const FrameTarget& target,
                 const VectorTileStores& vector_stores) noexcept {
   const int count = part.x1 - part.x0, rows = part.y1 - part.y0;
@@ -202,11 +210,7 @@ void store_tile(const TileResult& result, int tile_x0, int tile_y0, const TileRe
                                      : target.format == PixelFormat::rgba_f32 ? vector_stores.rgba_f32
                                                                                : nullptr;
   if (float_store) {
-    const std::size_t frame_bytes = static_cast<std::size_t>(target.region.x1 - target.region.x0) *
-                                    static_cast<std::size_t>(target.region.y1 - target.region.y0) *
-                                    static_cast<std::size_t>(bytes_per_pixel(target.format));
-    float_store(result, first_column, first_row, rows, count, host, target.row_stride,
-                frame_bytes >= kStreamingFrameBytes);
+    float_store(result, first_column, first_row, rows, count, host, target.row_stride, streams_float_frame(target));
     return;
   }
   if (target.format == PixelFormat::rgba8_srgb && vector_stores.rgba8_srgb && vector_stores.srgb &&

@@ -43,6 +43,9 @@ struct VectorTileStores {
 // always use ordinary stores.
 inline constexpr std::size_t kStreamingFrameBytes = std::size_t{16} << 20;
 
+// Whether `target`'s float stores stream (kStreamingFrameBytes over its region).
+bool streams_float_frame(const FrameTarget& target) noexcept;
+
 // Stores pixels `part` (inside the target's region) of the tile whose top-left pixel is
 // (tile_x0, tile_y0), from its kernel result. `vector_stores`: the kernel ISA's stores; a
 // missing one (and the scalar path) takes the generic store here: a 4-pixel SSE2 transpose
