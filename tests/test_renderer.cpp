@@ -483,3 +483,37 @@ TEST_CASE("a segment light cut from an occluder's edge stays hidden when the occ
 }
 
 }  // namespace par2d::test
+
+namespace par2d::test {
+
+// The tile-relative sample offsets are kept between tiles and frames while the sampling,
+// the pixel size and the scale stay (TileWork::sample_grid): one Renderer taken through
+// changes of each must still equal a one-shot render of every frame, bit for bit.
+TEST_CASE("Renderer through spp, view and size changes equals one-shot renders bit for bit") {
+  for (Isa isa : isas_here()) {
+    RandomSceneOptions opt;
+    opt.width = 53;
+    opt.height = 37;
+    Scene scene = random_scene(77, opt);
+    Renderer r;
+    RenderOptions options = options_for(isa);
+    REQUIRE(r.set_options(options).ok());
+    REQUIRE(r.set_scene(scene).ok());
+    for (int step = 0; step < 5; ++step) {
+      if (step == 1) options.spp = 3;                                  // sampling
+      if (step == 2) scene.view = {scene.view.x0, scene.view.y0, scene.view.x1 * 1.5, scene.view.y1 * 1.5};  // pixel size
+      if (step == 3) scene.width = 71;                                 // pixel width only
+      if (step == 4) options.spp = 1;
+      REQUIRE(r.set_options(options).ok());
+      REQUIRE(r.set_scene(scene).ok());
+      std::vector<float> persistent(static_cast<std::size_t>(scene.width) * scene.height * 3, -1.0f);
+      std::vector<float> one_shot(persistent.size(), -2.0f);
+      REQUIRE(r.render(ImageView{persistent.data(), scene.width, scene.height, scene.width * 3}).ok());
+      REQUIRE(render(scene, options, ImageView{one_shot.data(), scene.width, scene.height, scene.width * 3}).ok());
+      INFO("isa ", isa_name(isa), " step ", step);
+      CHECK(std::memcmp(persistent.data(), one_shot.data(), persistent.size() * sizeof(float)) == 0);
+    }
+  }
+}
+
+}  // namespace par2d::test
