@@ -1,7 +1,9 @@
 // Light reach where it bites: closed rings and rooms just inside and just outside each radius of the reach ladder.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -145,4 +147,110 @@ TEST_CASE("culled renders equal unculled ones and the scalar reference inside ri
     INFO(scenes[static_cast<std::size_t>(k)].first, ": culled SIMD vs scalar worst ", worst);
     CHECK(worst <= 1e-4);
   }
+}
+
+TEST_CASE("LightReach::hides: the sectors a box spans, against its boundary's directions sampled one by one") {
+  // Random reaches (finite or not per sector) and boxes around the center. The expected answer
+  // takes the box's directions from points along its whole boundary, each by atan2 relative
+  // to the box's middle direction (the span is narrower than pi), and asks every sector those
+  // directions fall in. Boxes whose span ends within 1e-7 of a sector edge are left out: the
+  // function widens the span by 1e-9 there, for atan2's rounding.
+  test::PortableRandom rng(20261204);
+  constexpr int kSectors = detail::LightReach::kSectors;
+  const double sector_width = 2 * kPi / kSectors;
+  const double inf = std::numeric_limits<double>::infinity();
+  int hidden = 0, seen = 0, spanning_several = 0;
+  for (int trial = 0; trial < 6000; ++trial) {
+    detail::LightReach reach;
+    reach.center = {rng.uniform(-50, 50), rng.uniform(-50, 50)};
+    reach.radius = rng.uniform(0.5, 4);
+    const double open_share = rng.uniform(0.0, 0.4);
+    for (double& r : reach.reach) r = rng.chance(open_share) ? inf : rng.uniform(5, 70);
+    reach.nearest = *std::min_element(reach.reach.begin(), reach.reach.end());
+    reach.farthest = *std::max_element(reach.reach.begin(), reach.reach.end());
+    const double x0 = reach.center.x + rng.uniform(-90, 80), y0 = reach.center.y + rng.uniform(-90, 80);
+    const detail::Aabb box{x0, y0, x0 + rng.uniform(0.5, 40), y0 + rng.uniform(0.5, 40)};
+    const double dx = std::max({box.min_x - reach.center.x, 0.0, reach.center.x - box.max_x});
+    const double dy = std::max({box.min_y - reach.center.y, 0.0, reach.center.y - box.max_y});
+    const double distance = std::hypot(dx, dy);
+    if (!(distance > reach.radius)) {
+      CHECK_FALSE(reach.hides(box));
+      continue;
+    }
+    const Vec2 middle{0.5 * (box.min_x + box.max_x) - reach.center.x, 0.5 * (box.min_y + box.max_y) - reach.center.y};
+    const double toward = std::atan2(middle.y, middle.x);
+    double lo = inf, hi = -inf;
+    constexpr int kSteps = 64;
+    for (int side = 0; side < 4; ++side)
+      for (int s = 0; s <= kSteps; ++s) {
+        const double t = double(s) / kSteps;
+        const double x = side == 0 ? box.min_x + t * (box.max_x - box.min_x) : side == 1 ? box.max_x
+                         : side == 2 ? box.max_x - t * (box.max_x - box.min_x) : box.min_x;
+        const double y = side == 0 ? box.min_y : side == 1 ? box.min_y + t * (box.max_y - box.min_y)
+                         : side == 2 ? box.max_y : box.max_y - t * (box.max_y - box.min_y);
+        double a = std::atan2(y - reach.center.y, x - reach.center.x) - toward;
+        if (a > kPi) a -= 2 * kPi;
+        if (a < -kPi) a += 2 * kPi;
+        lo = std::min(lo, a);
+        hi = std::max(hi, a);
+      }
+    auto near_edge = [&](double a) {
+      const double u = (toward + a + kPi) / sector_width;
+      return std::abs(u - std::round(u)) < 1e-7 / sector_width;
+    };
+    if (near_edge(lo) || near_edge(hi)) continue;
+    const int first = static_cast<int>(std::floor((toward + lo + kPi) / sector_width));
+    const int last = static_cast<int>(std::floor((toward + hi + kPi) / sector_width));
+    bool expected = true;
+    for (int k = first; k <= last; ++k)
+      expected = expected && reach.reach[static_cast<std::size_t>(((k % kSectors) + kSectors) % kSectors)] <= distance;
+    INFO("trial ", trial, ": center (", reach.center.x, ", ", reach.center.y, "), box (", box.min_x, ", ", box.min_y,
+         ") - (", box.max_x, ", ", box.max_y, "), sectors ", first, "..", last, ", distance ", distance);
+    CHECK(reach.hides(box) == expected);
+    (expected ? hidden : seen) += 1;
+    spanning_several += last > first;
+  }
+  // Both answers, and spans over several sectors (those that pick the two end corners), occur often.
+  CHECK(hidden >= 300);
+  CHECK(seen >= 300);
+  CHECK(spanning_several >= 1000);
+}
+
+TEST_CASE("light reach of a room with a doorway: open only toward the doorway, and culled renders equal unculled ones") {
+  // The square room of half-width 20 with a 6-unit gap in its right wall (y in [61, 67]).
+  const double half = 20.0;
+  std::vector<Occluder> walls = room(half);
+  walls.pop_back();  // the right wall, replaced by two pieces around the doorway
+  auto rect = [](double x0, double y0, double x1, double y1) {
+    return Occluder{Polygon{{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}}};
+  };
+  walls.push_back(rect(kCenter.x + half, kCenter.y - half, kCenter.x + half + 1, kCenter.y - 3));
+  walls.push_back(rect(kCenter.x + half, kCenter.y + 3, kCenter.x + half + 1, kCenter.y + half));
+  const Scene scene = lit_enclosure(walls);
+  const auto prepared = detail::prepare_scene(scene);
+  detail::LightReachScratch scratch;
+  const detail::LightReach reach = detail::compute_light_reach(prepared, 0, scratch);
+  constexpr int kSectors = detail::LightReach::kSectors;
+  int open = 0;
+  for (int k = 0; k < kSectors; ++k) {
+    const double mid = -kPi + (k + 0.5) * 2 * kPi / kSectors;
+    const double r = reach.reach[static_cast<std::size_t>(k)];
+    INFO("sector ", k, " (middle direction ", mid, "): reach ", r);
+    // Directions within 30 degrees of +x see through the doorway (at distance 20 it spans
+    // +-8.5 degrees, widened by the light's 2 units), all others meet a wall.
+    if (std::abs(mid) < kPi / 6) {
+      open += std::isinf(r);
+    } else if (std::abs(mid) > kPi / 3) {
+      CHECK(std::isfinite(r));
+    }
+  }
+  CHECK(open >= 2);  // the two sectors either side of +x
+  RenderOptions culled;
+  culled.backend = Backend::simd;
+  RenderOptions unculled = culled;
+  unculled.culling = false;
+  int over = 0;
+  const double worst = worst_difference(scene, culled, unculled, over);
+  INFO("culled vs unculled worst ", worst, ", pixels over 1e-4: ", over);
+  CHECK(worst <= 1e-4);
 }

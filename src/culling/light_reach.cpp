@@ -16,7 +16,8 @@ constexpr int kMaxRadii = 24;
 // Strips one sector proof may use: proofs that need more are rare and not worth their cost.
 constexpr int kStripBudget = 32;
 
-// Whether everything at distance >= r from the center within sector k is hidden from the light.
+// Whether everything at distance >= r from the center within the sector of directions
+// [mid - width / 2, mid + width / 2] is hidden from the light.
 //
 // A segment from such a point x to a light point y passes within `radius` of the center, so
 // it crosses the circle of radius r at an angle within asin(radius / r) of x's: inside the
@@ -24,12 +25,11 @@ constexpr int kStripBudget = 32;
 // arc's ends first (y lies on the center's side of the chord, the arc on the other). So
 // when every segment from the chord to the light is blocked strictly between the two, so
 // is every segment from x.
-bool sector_hidden(const PreparedScene& scene, std::size_t light_index, const LightReach& reach, int k, double r,
-                   LightReachScratch& scratch) {
+bool sector_hidden(const PreparedScene& scene, std::size_t light_index, const LightReach& reach, double mid,
+                   double width, double r, LightReachScratch& scratch) {
   const ConvexShape& light = scene.lights[light_index].shape;
-  const double half = 0.5 * kSectorWidth + std::asin(std::min(1.0, reach.radius / r)) + 1e-9;
+  const double half = 0.5 * width + std::asin(std::min(1.0, reach.radius / r)) + 1e-9;
   if (!(half < 0.5 * kPi) || !(r * std::cos(half) > reach.radius)) return false;
-  const double mid = -kPi + (k + 0.5) * kSectorWidth;
   const Vec2 c = reach.center;
   const Vec2 chord[2] = {c + r * Vec2{std::cos(mid - half), std::sin(mid - half)},
                          c + r * Vec2{std::cos(mid + half), std::sin(mid + half)}};
@@ -64,21 +64,53 @@ bool LightReach::hides(const Aabb& box) const noexcept {
   const double dy = std::max({box.min_y - center.y, 0.0, center.y - box.max_y});
   const double distance = std::hypot(dx, dy);
   if (!(distance > radius)) return false;
+  // Beyond every sector's reach, or short of every sector's: the answer does not depend on
+  // which sectors the box spans.
+  if (farthest <= distance) return true;
+  if (distance < nearest) return false;
   // The box's directions from the center: an arc narrower than pi (the center is outside),
-  // bounded by corner directions.
-  const double toward = std::atan2(0.5 * (box.min_y + box.max_y) - center.y, 0.5 * (box.min_x + box.max_x) - center.x);
-  double lo = kInf, hi = -kInf;
-  for (const Vec2 p : {Vec2{box.min_x, box.min_y}, Vec2{box.max_x, box.min_y}, Vec2{box.max_x, box.max_y},
-                       Vec2{box.min_x, box.max_y}}) {
-    double a = std::atan2(p.y - center.y, p.x - center.x) - toward;
-    if (a > kPi) a -= kTwoPi;
-    if (a < -kPi) a += kTwoPi;
-    lo = std::min(lo, a);
-    hi = std::max(hi, a);
+  // from the corner every other corner lies counter-clockwise of (or along) to the corner
+  // every other lies clockwise of. Two atan2 for those two corners, where measuring all four
+  // against the box's middle direction took five (these were most of this function's cost).
+  const Vec2 v[4] = {Vec2{box.min_x, box.min_y} - center, Vec2{box.max_x, box.min_y} - center,
+                     Vec2{box.max_x, box.max_y} - center, Vec2{box.min_x, box.max_y} - center};
+  int clockwise_end = -1, counter_clockwise_end = -1;
+  for (int i = 0; i < 4; ++i) {
+    bool first = true, last = true;
+    for (int j = 0; j < 4; ++j) {
+      const double c = cross(v[i], v[j]);
+      first = first && c >= 0.0;
+      last = last && c <= 0.0;
+    }
+    if (first && clockwise_end < 0) clockwise_end = i;
+    if (last && counter_clockwise_end < 0) counter_clockwise_end = i;
   }
+  // Rounding can leave no corner first among corners on nearly one ray; there (or for a box
+  // too large for its cross products) the other ordering does not matter: measure every corner.
+  double lo, hi;
+  if (clockwise_end >= 0 && counter_clockwise_end >= 0) {
+    lo = std::atan2(v[clockwise_end].y, v[clockwise_end].x);
+    hi = std::atan2(v[counter_clockwise_end].y, v[counter_clockwise_end].x);
+    if (hi < lo) hi += kTwoPi;
+  } else {
+    const double toward =
+        std::atan2(0.5 * (box.min_y + box.max_y) - center.y, 0.5 * (box.min_x + box.max_x) - center.x);
+    lo = kInf;
+    hi = -kInf;
+    for (const Vec2 p : v) {
+      double a = std::atan2(p.y, p.x) - toward;
+      if (a > kPi) a -= kTwoPi;
+      if (a < -kPi) a += kTwoPi;
+      lo = std::min(lo, a);
+      hi = std::max(hi, a);
+    }
+    lo += toward;
+    hi += toward;
+  }
+  if (!(hi - lo < kPi)) return false;  // not an arc narrower than pi: NaN or overflowed corners
   const double margin = 1e-9;  // atan2's rounding at sector edges
-  const int first = static_cast<int>(std::floor((toward + lo - margin + kPi) / kSectorWidth));
-  const int last = static_cast<int>(std::floor((toward + hi + margin + kPi) / kSectorWidth));
+  const int first = static_cast<int>(std::floor((lo - margin + kPi) / kSectorWidth));
+  const int last = static_cast<int>(std::floor((hi + margin + kPi) / kSectorWidth));
   for (int k = first; k <= last; ++k) {
     const int sector = ((k % kSectors) + kSectors) % kSectors;
     if (!(reach[static_cast<std::size_t>(sector)] <= distance)) return false;
@@ -114,18 +146,33 @@ LightReach compute_light_reach(const PreparedScene& scene, std::size_t light_ind
   int count = 0;
   for (double step = kFirstStepPixels * pixel; count < kMaxRadii && reach.radius + step <= farthest; step *= 2.0)
     radii[count++] = reach.radius + step;
+  // Each sector's smallest radius that its proof holds for. Next to a sector open to the
+  // view (every sector of a lamp in the open) the largest radius is tried first: where it
+  // fails no smaller one can hold, and one proof settles the sector instead of a bisection's
+  // four or five. Elsewhere (walls all around) that extra proof, the costliest, would not pay.
+  bool previous_open = true;
   for (int k = 0; k < LightReach::kSectors; ++k) {
-    int lo = 0, hi = count - 1;
+    const double mid = -kPi + (k + 0.5) * kSectorWidth;
+    auto hidden_at = [&](int at) { return sector_hidden(scene, light_index, reach, mid, kSectorWidth, radii[at], scratch); };
+    int lo = 0, hi = count - 1, found = count;
+    if (previous_open && count != 0) {
+      if (!hidden_at(count - 1)) continue;  // still open
+      found = hi--;
+    }
     while (lo <= hi) {
-      const int mid = (lo + hi) / 2;
-      if (sector_hidden(scene, light_index, reach, k, radii[mid], scratch)) {
-        reach.reach[static_cast<std::size_t>(k)] = radii[mid];
-        hi = mid - 1;
+      const int at = (lo + hi) / 2;
+      if (hidden_at(at)) {
+        found = at;
+        hi = at - 1;
       } else {
-        lo = mid + 1;
+        lo = at + 1;
       }
     }
+    previous_open = found == count;
+    if (!previous_open) reach.reach[static_cast<std::size_t>(k)] = radii[found];
   }
+  reach.nearest = *std::min_element(reach.reach.begin(), reach.reach.end());
+  reach.farthest = *std::max_element(reach.reach.begin(), reach.reach.end());
   return reach;
 }
 
