@@ -889,7 +889,7 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     light_tangent_points.forget();
     LightClip clip;
     bool clipped = false;
-    if (hull_test) tile_hull = BoxPairHull(box, bounds_of(light.shape));
+    if (hull_test) tile_hull.assign(box, bounds_of(light.shape));
     const Vec2 tile_center = 0.5 * (corners[0] + corners[2]);
     const bool light_far = !candidates.empty() && reaches_far(light.shape, frame, tile_center);
     const ConvexShape* light_near = nullptr;

@@ -183,40 +183,6 @@ bool ConvexQuery::touches(const Aabb& b) const noexcept {
   return true;
 }
 
-BoxPairHull::BoxPairHull(const Aabb& a, const Aabb& b) noexcept {
-  bounds_ = a;
-  grow(bounds_, b);
-  for (int sx = -1; sx <= 1; sx += 2) {
-    for (int sy = -1; sy <= 1; sy += 2) {
-      // Does box x reach the union's extreme in x (resp. y) on this side?
-      auto reaches_x = [&](const Aabb& x) { return sx < 0 ? x.min_x <= bounds_.min_x : x.max_x >= bounds_.max_x; };
-      auto reaches_y = [&](const Aabb& x) { return sy < 0 ? x.min_y <= bounds_.min_y : x.max_y >= bounds_.max_y; };
-      if ((reaches_x(a) && reaches_y(a)) || (reaches_x(b) && reaches_y(b))) continue;
-      const Vec2 pa{sx < 0 ? a.min_x : a.max_x, sy < 0 ? a.min_y : a.max_y};
-      const Vec2 pb{sx < 0 ? b.min_x : b.max_x, sy < 0 ? b.min_y : b.max_y};
-      const Vec2 corner{sx < 0 ? bounds_.min_x : bounds_.max_x, sy < 0 ? bounds_.min_y : bounds_.max_y};
-      const Vec2 edge = pb - pa;
-      if ((edge.x == 0.0 && edge.y == 0.0) || !std::isfinite(edge.x) || !std::isfinite(edge.y)) continue;
-      // The edge's normal unnormalized: the test compares two products with the same normal,
-      // so its length does not matter, and no square root or division rounds it (they were a
-      // third of the hull's cost, built per tile and light).
-      Vec2 n{-edge.y, edge.x};
-      if (dot(n, corner - pa) < 0.0) n = Vec2{-n.x, -n.y};  // outward: toward the cut corner
-      cuts_[cut_count_++] = {n.x, n.y, std::max(dot(n, pa), dot(n, pb))};
-    }
-  }
-}
-
-bool BoxPairHull::touches(const Aabb& box) const noexcept {
-  if (!boxes_overlap(box, bounds_)) return false;
-  for (int i = 0; i < cut_count_; ++i) {
-    const Cut& c = cuts_[i];
-    const double nearest = c.nx * (c.nx >= 0.0 ? box.min_x : box.max_x) + c.ny * (c.ny >= 0.0 ? box.min_y : box.max_y);
-    if (nearest > c.offset) return false;
-  }
-  return true;
-}
-
 int convex_hull(Vec2* points, int count, Vec2* out) noexcept {
   auto less = [](Vec2 a, Vec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); };
   std::sort(points, points + count, less);

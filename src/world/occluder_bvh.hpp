@@ -1,6 +1,8 @@
 // Bounding volume hierarchy over occluder boxes: finds the occluders a tile-to-light hull can touch.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -90,7 +92,11 @@ class ConvexQuery {
 class BoxPairHull {
  public:
   BoxPairHull() noexcept = default;  // holds nothing until assigned a pair's hull
-  BoxPairHull(const Aabb& a, const Aabb& b) noexcept;
+  BoxPairHull(const Aabb& a, const Aabb& b) noexcept { assign(a, b); }
+  // Made the hull of a and b in place. The tile setup reuses one object per tile and light
+  // rather than copying a fresh hull into it: the copy read the 8-byte fields just stored
+  // back as 16-byte loads, which stores cannot forward (perf's samples piled up at that load).
+  void assign(const Aabb& a, const Aabb& b) noexcept;
   // Exact separating-axis test (the union box's axes and the cut edges' normals);
   // touching counts as intersecting.
   bool touches(const Aabb& box) const noexcept;
@@ -103,6 +109,42 @@ class BoxPairHull {
   Cut cuts_[4];
   int cut_count_ = 0;
 };
+
+// Inline: built per tile and light and tested per occluder in the tile setup's inner loop.
+inline void BoxPairHull::assign(const Aabb& a, const Aabb& b) noexcept {
+  cut_count_ = 0;
+  bounds_ = {std::min(a.min_x, b.min_x), std::min(a.min_y, b.min_y), std::max(a.max_x, b.max_x),
+             std::max(a.max_y, b.max_y)};
+  for (int sx = -1; sx <= 1; sx += 2) {
+    for (int sy = -1; sy <= 1; sy += 2) {
+      // Does box x reach the union's extreme in x (resp. y) on this side?
+      auto reaches_x = [&](const Aabb& x) { return sx < 0 ? x.min_x <= bounds_.min_x : x.max_x >= bounds_.max_x; };
+      auto reaches_y = [&](const Aabb& x) { return sy < 0 ? x.min_y <= bounds_.min_y : x.max_y >= bounds_.max_y; };
+      if ((reaches_x(a) && reaches_y(a)) || (reaches_x(b) && reaches_y(b))) continue;
+      const Vec2 pa{sx < 0 ? a.min_x : a.max_x, sy < 0 ? a.min_y : a.max_y};
+      const Vec2 pb{sx < 0 ? b.min_x : b.max_x, sy < 0 ? b.min_y : b.max_y};
+      const Vec2 corner{sx < 0 ? bounds_.min_x : bounds_.max_x, sy < 0 ? bounds_.min_y : bounds_.max_y};
+      const Vec2 edge = pb - pa;
+      if ((edge.x == 0.0 && edge.y == 0.0) || !std::isfinite(edge.x) || !std::isfinite(edge.y)) continue;
+      // The edge's normal unnormalized: the test compares two products with the same normal,
+      // so its length does not matter, and no square root or division rounds it (they were a
+      // third of the hull's cost, built per tile and light).
+      Vec2 n{-edge.y, edge.x};
+      if (dot(n, corner - pa) < 0.0) n = Vec2{-n.x, -n.y};  // outward: toward the cut corner
+      cuts_[cut_count_++] = {n.x, n.y, std::max(dot(n, pa), dot(n, pb))};
+    }
+  }
+}
+
+inline bool BoxPairHull::touches(const Aabb& box) const noexcept {
+  if (!boxes_meet(box, bounds_)) return false;
+  for (int i = 0; i < cut_count_; ++i) {
+    const Cut& c = cuts_[i];
+    const double nearest = c.nx * (c.nx >= 0.0 ? box.min_x : box.max_x) + c.ny * (c.ny >= 0.0 ? box.min_y : box.max_y);
+    if (nearest > c.offset) return false;
+  }
+  return true;
+}
 
 // A binned-SAH BVH over boxes (build is linear per level, O(n log n) total, and reuses its
 // buffers across builds), updated in place when occluders move, appear or disappear (a
