@@ -25,8 +25,10 @@ constexpr Vec2 kCenter{64, 64};
 double ladder(int j) { return kLightRadius + 8.0 * std::ldexp(1.0, j); }
 
 // How close the chord that a sector proof at radius r tests comes to the center: r·cos(half),
-// half = half a sector (pi/16) widened by asin(light radius / r).
-double chord_distance(double r) { return r * std::cos(kPi / 16 + std::asin(kLightRadius / r)); }
+// half = half a sector (pi / kSectors) widened by asin(light radius / r).
+double chord_distance(double r) {
+  return r * std::cos(kPi / detail::LightReach::kSectors + std::asin(kLightRadius / r));
+}
 
 // A closed ring of 64 overlapping wall pieces between radii r_in and r_out around `center`.
 std::vector<Occluder> ring(double r_in, double r_out, Vec2 center = kCenter) {
@@ -120,7 +122,7 @@ TEST_CASE("culled renders equal unculled ones and the scalar reference inside ri
   }
   // The reach is tested per 64-pixel block, so a block must straddle the lit band: the light
   // 62.8 from the edge x = 64 of the block [64, 128] x [0, 64], the ring from 63.7 to 64.1
-  // (the proof at ladder radius 66 reaches in to 64.3): pixel column 64.5 is lit within ~7
+  // (the proof at ladder radius 66 reaches in to 65.5): pixel column 64.5 is lit within ~7
   // rows of y = 32, and a reach of 0.95·66 = 62.7 would skip the light in the whole block.
   const Vec2 near_block{64.0 - 62.8, 32.0};
   scenes.emplace_back("ring across a block edge", lit_enclosure(ring(63.7, 64.1, near_block), near_block));
