@@ -82,6 +82,15 @@ double worst_difference(const Scene& scene, const RenderOptions& a, const Render
   return worst;
 }
 
+// The SIMD render with culling against the one without, away from boundaries.
+double culled_vs_unculled(const Scene& scene, int& count_over) {
+  RenderOptions culled;
+  culled.backend = Backend::simd;
+  RenderOptions unculled = culled;
+  unculled.culling = false;
+  return worst_difference(scene, culled, unculled, count_over);
+}
+
 }  // namespace
 
 TEST_CASE("light reach of a closed ring is the first ladder radius whose sector chords clear the ring") {
@@ -128,13 +137,8 @@ TEST_CASE("culled renders equal unculled ones and the scalar reference inside ri
   scenes.emplace_back("ring across a block edge", lit_enclosure(ring(63.7, 64.1, near_block), near_block));
   for (const auto& named : scenes) {
     const auto& name = named.first;  // not a structured binding: clang's INFO cannot capture those
-    const auto& scene = named.second;
-    RenderOptions culled;
-    culled.backend = Backend::simd;
-    RenderOptions unculled = culled;
-    unculled.culling = false;
     int over = 0;
-    const double worst = worst_difference(scene, culled, unculled, over);
+    const double worst = culled_vs_unculled(named.second, over);
     INFO(name, ": culled vs unculled worst ", worst, ", pixels over 1e-4: ", over);
     CHECK(worst <= 1e-4);
   }
@@ -247,12 +251,8 @@ TEST_CASE("light reach of a room with a doorway: open only toward the doorway, a
     }
   }
   CHECK(open >= 2);  // the two sectors either side of +x
-  RenderOptions culled;
-  culled.backend = Backend::simd;
-  RenderOptions unculled = culled;
-  unculled.culling = false;
   int over = 0;
-  const double worst = worst_difference(scene, culled, unculled, over);
+  const double worst = culled_vs_unculled(scene, over);
   INFO("culled vs unculled worst ", worst, ", pixels over 1e-4: ", over);
   CHECK(worst <= 1e-4);
 }
