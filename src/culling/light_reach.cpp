@@ -85,28 +85,12 @@ bool LightReach::hides(const Aabb& box) const noexcept {
     if (first && clockwise_end < 0) clockwise_end = i;
     if (last && counter_clockwise_end < 0) counter_clockwise_end = i;
   }
-  // Rounding can leave no corner first among corners on nearly one ray; there (or for a box
-  // too large for its cross products) the other ordering does not matter: measure every corner.
-  double lo, hi;
-  if (clockwise_end >= 0 && counter_clockwise_end >= 0) {
-    lo = std::atan2(v[clockwise_end].y, v[clockwise_end].x);
-    hi = std::atan2(v[counter_clockwise_end].y, v[counter_clockwise_end].x);
-    if (hi < lo) hi += kTwoPi;
-  } else {
-    const double toward =
-        std::atan2(0.5 * (box.min_y + box.max_y) - center.y, 0.5 * (box.min_x + box.max_x) - center.x);
-    lo = kInf;
-    hi = -kInf;
-    for (const Vec2 p : v) {
-      double a = std::atan2(p.y, p.x) - toward;
-      if (a > kPi) a -= kTwoPi;
-      if (a < -kPi) a += kTwoPi;
-      lo = std::min(lo, a);
-      hi = std::max(hi, a);
-    }
-    lo += toward;
-    hi += toward;
-  }
+  // Rounding can leave no corner first among corners on nearly one ray (or overflowed cross
+  // products none at all): not proven hidden then, which only leaves the light to the tile setup.
+  if (clockwise_end < 0 || counter_clockwise_end < 0) return false;
+  const double lo = std::atan2(v[clockwise_end].y, v[clockwise_end].x);
+  double hi = std::atan2(v[counter_clockwise_end].y, v[counter_clockwise_end].x);
+  if (hi < lo) hi += kTwoPi;
   if (!(hi - lo < kPi)) return false;  // not an arc narrower than pi: NaN or overflowed corners
   const double margin = 1e-9;  // atan2's rounding at sector edges
   const int first = static_cast<int>(std::floor((lo - margin + kPi) / kSectorWidth));
