@@ -355,6 +355,46 @@ KernelShape kernel_shape(const ConvexShape& shape, const TileFrame& frame, const
   return k;
 }
 
+// Gives an occluder's kernel shape its arc window (KernelShape::windowed) where one of the
+// eight directions k * 45 degrees holds, with margin, every direction from the tile's samples
+// to the points whose angles the kernel takes: the box of those points minus the samples' box
+// is a box of directions, and a cone (convex) holds a box when it holds its four corners. The
+// margin (0.875 instead of 1) keeps the kernel's float ratios inside the polynomial's range.
+void assign_arc_window(KernelShape& k, const TileWork& work) noexcept {
+  float x0, x1, y0, y1;
+  if (k.kind == ShapeKind::circle) {
+    x0 = x1 = k.cx, y0 = y1 = k.cy;
+  } else if (k.ordered) {
+    x0 = std::min(k.end_x[0], k.end_x[1]), x1 = std::max(k.end_x[0], k.end_x[1]);
+    y0 = std::min(k.end_y[0], k.end_y[1]), y1 = std::max(k.end_y[0], k.end_y[1]);
+  } else {
+    x0 = x1 = work.vx[k.first], y0 = y1 = work.vy[k.first];
+    for (std::uint32_t i = 1; i < k.count; ++i) {
+      x0 = std::min(x0, work.vx[k.first + i]), x1 = std::max(x1, work.vx[k.first + i]);
+      y0 = std::min(y0, work.vy[k.first + i]), y1 = std::max(y1, work.vy[k.first + i]);
+    }
+  }
+  // In float: a rounding here moves a corner by an ulp, far inside the margin.
+  const float dx0 = x0 - work.sample_max_x, dx1 = x1 - work.sample_min_x;
+  const float dy0 = y0 - work.sample_max_y, dy1 = y1 - work.sample_min_y;
+  // The nearest of the eight directions to the box's middle (tan(22.5 degrees) = 0.41421).
+  const float mx = dx0 + dx1, my = dy0 + dy1;
+  int ux = mx < 0.0f ? -1 : 1, uy = my < 0.0f ? -1 : 1;
+  if (std::abs(my) <= 0.41421356f * std::abs(mx)) uy = 0;
+  else if (std::abs(mx) <= 0.41421356f * std::abs(my)) ux = 0;
+  const float fx = static_cast<float>(ux), fy = static_cast<float>(uy);
+  auto holds = [&](float x, float y) { return std::abs(fx * y - fy * x) <= 0.875f * (fx * x + fy * y); };
+  // `holds` is false for NaN too.
+  if (!(holds(dx0, dy0) && holds(dx0, dy1) && holds(dx1, dy0) && holds(dx1, dy1))) return;
+  // The angles of the directions (ux, uy), indexed by (uy + 1) * 3 + ux + 1.
+  static constexpr float kWindowAngle[9] = {-2.35619449f, -1.57079633f, -0.785398163f, 3.14159265f, 0.0f,
+                                            0.0f,         2.35619449f,  1.57079633f,   0.785398163f};
+  k.windowed = true;
+  k.may_contain = false;  // the vertices' box misses every sample
+  k.window_x = fx;
+  k.window_y = fy;
+  k.window_angle = kWindowAngle[(uy + 1) * 3 + ux + 1];
+}
 
 using CornerDirections = TileSetupScratch::CornerDirections;
 
@@ -852,6 +892,10 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
         work.sample_y[static_cast<std::size_t>(k * kTileSize + c)] = frame.length((c + sy) * pixel_h);
       }
     }
+    const auto [min_x, max_x] = std::minmax_element(work.sample_x.begin(), work.sample_x.end());
+    const auto [min_y, max_y] = std::minmax_element(work.sample_y.begin(), work.sample_y.end());
+    work.sample_min_x = *min_x, work.sample_max_x = *max_x;
+    work.sample_min_y = *min_y, work.sample_max_y = *max_y;
   }
   const std::array<Vec2, 4> corners = tile_corners(scene, tile);
   const Aabb box = bounds_of(corners);
@@ -1161,9 +1205,23 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       }
     }
   }
+  // Arc windows only where the shape-major arcs will read them: a plain one-sample tile
+  // without cells (build_cell_lists gives a culled tile cells from kCellMinPairs pairs on),
+  // for the occluders of lights that the packets compute (not single-pair lights).
+  const bool windows = !model && spp == 1 && (!culling || work.pairs.size() < kCellMinPairs);
+  if (windows) {
+    scratch.arc_needed.assign(scratch.used.size(), 0);
+    for (KernelLight& kl : work.lights) {
+      const KernelPair* pairs = work.pairs.data() + kl.first_pair;
+      if (kl.pair_count == 0 || single_pair_light(kl, pairs, kl.pair_count)) continue;
+      for (std::uint32_t p = 0; p < kl.pair_count; ++p) scratch.arc_needed[pairs[p].occluder] = 1;
+      if (!kl.shape.clipped) assign_arc_window(kl.shape, work);  // the packets take its arc too
+    }
+  }
   for (std::size_t u = 0; u < scratch.used.size(); ++u) {
     work.occluders.push_back(kernel_shape(scene.occluders[scratch.used[u]], frame, corners, scratch.used_whole[u] != 0,
                                           work, scratch, &scratch.occluder_block_pairs[scratch.used[u]]));
+    if (windows && scratch.arc_needed[u]) assign_arc_window(work.occluders.back(), work);
     if (model) work.occluder_terms.push_back(kernel_occluder_terms(scene.occluder_terms[scratch.used[u]]));
   }
 }

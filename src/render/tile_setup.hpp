@@ -24,6 +24,7 @@ struct TileSetupScratch {
   std::vector<std::int32_t> local_index;  // occluder -> index in TileWork::occluders, or -1
   std::vector<std::uint32_t> used;
   std::vector<unsigned char> used_whole;  // per entry of `used`: in a general pair (kernel shape kept whole)
+  std::vector<unsigned char> arc_needed;  // per entry of `used`: some light's packets take its arc
   std::vector<Vec2> hull_points, hull;
   ConvexShape clipped, clipped_light;  // shapes reaching far from the tile, clipped to a box around it
   std::vector<std::uint32_t> pair_occluders;

@@ -15,14 +15,13 @@
 
 namespace par2d::simd {
 
+// atan(t) for |t| <= 1: the polynomial alone. It is odd, so a negative t needs no sign
+// handling; fast_atan2 reduces every direction to t in [0, 1] first, and a caller that knows
+// its directions lie within 45 degrees of a fixed one (the kernel's arc windows, see
+// KernelShape::windowed) measures them from it with one division and this.
 template <class A>
-inline xsimd::batch<float, A> fast_atan2(const xsimd::batch<float, A>& y, const xsimd::batch<float, A>& x) noexcept {
+inline xsimd::batch<float, A> atan_unit(const xsimd::batch<float, A>& t) noexcept {
   using B = xsimd::batch<float, A>;
-  const B ax = xsimd::abs(x), ay = xsimd::abs(y);
-  const B hi = xsimd::max(ax, ay), lo = xsimd::min(ax, ay);
-  // atan2(0, 0) = 0: the denominator is kept off 0 (it is below float's smallest normal only
-  // within ~1e-38 of the origin, where the direction is noise anyway).
-  const B t = lo / xsimd::max(hi, B(1.17549435e-38f));
   const B z = t * t;
   B q = xsimd::fma(B(2.622245972e-3f), z, B(-1.513254197e-2f));
   q = xsimd::fma(q, z, B(4.112186931e-2f));
@@ -31,7 +30,18 @@ inline xsimd::batch<float, A> fast_atan2(const xsimd::batch<float, A>& y, const 
   q = xsimd::fma(q, z, B(-1.418597540e-1f));
   q = xsimd::fma(q, z, B(1.999039664e-1f));
   q = xsimd::fma(q, z, B(-3.333298706e-1f));
-  const B p = xsimd::fma(q * z, t, t);  // t + t^3 Q: the small term's rounding stays small
+  return xsimd::fma(q * z, t, t);  // t + t^3 Q: the small term's rounding stays small
+}
+
+template <class A>
+inline xsimd::batch<float, A> fast_atan2(const xsimd::batch<float, A>& y, const xsimd::batch<float, A>& x) noexcept {
+  using B = xsimd::batch<float, A>;
+  const B ax = xsimd::abs(x), ay = xsimd::abs(y);
+  const B hi = xsimd::max(ax, ay), lo = xsimd::min(ax, ay);
+  // atan2(0, 0) = 0: the denominator is kept off 0 (it is below float's smallest normal only
+  // within ~1e-38 of the origin, where the direction is noise anyway).
+  const B t = lo / xsimd::max(hi, B(1.17549435e-38f));
+  const B p = atan_unit(t);
   B r = xsimd::select(ay > ax, B(1.57079632679f) - p, p);
   r = xsimd::select(x < B(0.0f), B(3.14159265359f) - r, r);
   // The sign of y (a sign flip, no compare).

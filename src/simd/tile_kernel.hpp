@@ -220,6 +220,42 @@ PAR2D_KERNEL_NOINLINE Arc<A> clipped_shape_arc(const TileWork& work, const Kerne
   return arc;
 }
 
+// The angle of direction (dx, dy) from the shape's arc window direction (KernelShape::
+// windowed), which lies within 45 degrees of it: the ratio of the direction's components
+// across and along the window is in [-1, 1], where the atan polynomial holds as it is.
+template <class A>
+PAR2D_KERNEL_INLINE xsimd::batch<float, A> angle_in_window(const KernelShape& s, const xsimd::batch<float, A>& dx,
+                                                           const xsimd::batch<float, A>& dy) noexcept {
+  using B = xsimd::batch<float, A>;
+  const B wx(s.window_x), wy(s.window_y);
+  return atan_unit(xsimd::fms(wx, dy, wy * dx) / xsimd::fma(wx, dx, wy * dy));
+}
+
+// shape_arc for a windowed occluder: each end's angle is the window's plus one
+// angle_in_window; the width is the difference of the ends' (no wrap: both lie in the
+// window). A circle's start comes from its center's direction, its half-width as in shape_arc.
+template <class A>
+PAR2D_KERNEL_INLINE Arc<A> windowed_shape_arc(const TileWork& work, const KernelShape& s,
+                                              const xsimd::batch<float, A>& px,
+                                              const xsimd::batch<float, A>& py) noexcept {
+  using B = xsimd::batch<float, A>;
+  Arc<A> arc;
+  if (s.kind == ShapeKind::circle) {
+    const B excess = circle_excess<A>(s, px, py);
+    arc.inside = excess <= B(0.0f);
+    const B half = fast_atan2(B(s.r), xsimd::sqrt(xsimd::max(excess, B(0.0f))));
+    arc.width = half + half;
+    arc.start = (B(s.window_angle) - half) + angle_in_window<A>(s, B(s.cx) - px, B(s.cy) - py);
+    return arc;
+  }
+  B lox, loy, hix, hiy;
+  vertex_tangents<A>(work, s, px, py, lox, loy, hix, hiy, arc.inside);
+  const B lo = angle_in_window<A>(s, lox, loy);
+  arc.start = B(s.window_angle) + lo;
+  arc.width = xsimd::max(angle_in_window<A>(s, hix, hiy) - lo, B(0.0f));
+  return arc;
+}
+
 // Arc of directions in which `shape` is seen from (px, py), per lane. Tangent
 // directions come from pseudo-cross products (compare + select per vertex); only the
 // two tangents go through atan2 (a circle's through one, its center direction, and asin as
@@ -231,6 +267,9 @@ PAR2D_KERNEL_INLINE Arc<A> shape_arc(const TileWork& work, const KernelShape& s,
                                      const xsimd::batch<float, A>& py) noexcept {
   using B = xsimd::batch<float, A>;
   if (s.clipped) return clipped_shape_arc<A, kWithStart>(work, s, px, py);
+  if constexpr (kWithStart) {
+    if (s.windowed) return windowed_shape_arc<A>(work, s, px, py);
+  }
   Arc<A> arc;
   if (s.kind == ShapeKind::circle) {
     const B excess = circle_excess<A>(s, px, py);
@@ -539,11 +578,7 @@ inline void general_pair_intervals(const TileWork& work, const KernelLight& ligh
   }
 }
 
-// A light whose only pair in the tile is a disjoint occluder: its share is computed
-// shape-major by tile_single_pair_lights, not per packet.
-inline bool single_pair_light(const KernelLight& light, const KernelPair* pairs, std::size_t pair_count) noexcept {
-  return pair_count == 1 && !pairs[0].general && !light.shape.clipped;
-}
+using detail::single_pair_light;
 
 // Irradiance (times 1/(2*pi), folded into the emissions) of one packet at (px, py), from the
 // tile's lists, or (kCells) from its cell's (`cell`, see KernelCell).
@@ -1332,6 +1367,14 @@ PAR2D_KERNEL_NOINLINE void tile_occluder_arcs(const TileWork& work, const unsign
     };
     // Each kind's arc with its tile-constant branches taken here (shape_arc's own tests then
     // fold away in each instantiation, and so does the inside flag of a shape that holds no pixel).
+    if (s.windowed) {
+      with_known_kind(s, [&](const KernelShape& known) PAR2D_KERNEL_LAMBDA_INLINE {
+        sweep([&](const B& px, const B& py)
+                  PAR2D_KERNEL_LAMBDA_INLINE { return windowed_shape_arc<A>(work, known, px, py); },
+              may_hold_pixels(known));
+      });
+      continue;
+    }
     with_known_kind(s, [&](const KernelShape& known) PAR2D_KERNEL_LAMBDA_INLINE {
       sweep([&](const B& px, const B& py) PAR2D_KERNEL_LAMBDA_INLINE { return shape_arc<A>(work, known, px, py); },
             may_hold_pixels(known));

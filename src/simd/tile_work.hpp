@@ -50,6 +50,15 @@ struct KernelShape {
   bool clipped = false;
   float clip_nx = 0, clip_ny = 0, clip_c = 0;
   float chord_x[2] = {0, 0}, chord_y[2] = {0, 0};
+  // Occluders of a plain one-sample tile (assign_arc_window in tile_setup.cpp): every
+  // direction from a tile sample to a point whose angle the kernel takes (a polygon's or
+  // segment's vertices, a circle's center) lies within atan(0.875), 41 degrees, of
+  // (window_x, window_y): one of the eight directions k * 45 degrees, components 0 or +-1
+  // (unnormalized), at angle window_angle. The shape-major arcs then take each end's angle
+  // from that direction by one division and the atan polynomial, without atan2's octant
+  // selects; a polygon or segment so placed holds no sample (its vertices' box misses them).
+  bool windowed = false;
+  float window_x = 0, window_y = 0, window_angle = 0;
 };
 
 // An occluder in front of a light for some pixels of the tile: in front where
@@ -79,6 +88,13 @@ struct KernelLight {
   // point_count + 1 per general pair.
   std::uint32_t interval_count = 0;
 };
+
+// A light whose only pair in the tile is a disjoint occluder: a plain one-sample tile
+// without cells computes its share shape-major (tile_single_pair_lights in the kernel), and
+// the occluder's arc is not needed for it.
+inline bool single_pair_light(const KernelLight& light, const KernelPair* pairs, std::size_t pair_count) noexcept {
+  return pair_count == 1 && !pairs[0].general && !light.shape.clipped;
+}
 
 // A light's game-model terms (docs/contract.md section 6) for the model kernel, parallel to
 // TileWork::lights. Angles are ray directions in radians.
@@ -143,6 +159,8 @@ struct TileWork {
     int spp = 0;
     double pixel_w = 0, pixel_h = 0, scale = 0;
   } sample_grid;
+  // The box of the samples above (relative to the tile origin, like them).
+  float sample_min_x = 0, sample_max_x = 0, sample_min_y = 0, sample_max_y = 0;
   std::vector<KernelShape> occluders;
   std::vector<KernelLight> lights;
   std::vector<KernelPair> pairs;
