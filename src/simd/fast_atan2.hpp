@@ -48,4 +48,27 @@ inline xsimd::batch<float, A> fast_atan2(const xsimd::batch<float, A>& y, const 
   return xsimd::bitwise_xor(r, xsimd::bitwise_and(y, B(-0.0f)));
 }
 
+// fast_atan2 for y >= 0 (an angle in [0, pi]: the angle between two directions from the
+// absolute value of their cross product and their dot product): the same value, without
+// y's absolute value and sign.
+template <class A>
+inline xsimd::batch<float, A> fast_atan2_upper(const xsimd::batch<float, A>& y, const xsimd::batch<float, A>& x) noexcept {
+  using B = xsimd::batch<float, A>;
+  const B ax = xsimd::abs(x);
+  const B hi = xsimd::max(ax, y), lo = xsimd::min(ax, y);
+  const B p = atan_unit(lo / xsimd::max(hi, B(1.17549435e-38f)));
+  const B r = xsimd::select(y > ax, B(1.57079632679f) - p, p);
+  return xsimd::select(x < B(0.0f), B(3.14159265359f) - r, r);
+}
+
+// fast_atan2 for x >= 0 and y >= 0 (an angle in [0, pi/2]).
+template <class A>
+inline xsimd::batch<float, A> fast_atan2_first_quadrant(const xsimd::batch<float, A>& y,
+                                                        const xsimd::batch<float, A>& x) noexcept {
+  using B = xsimd::batch<float, A>;
+  const B hi = xsimd::max(x, y), lo = xsimd::min(x, y);
+  const B p = atan_unit(lo / xsimd::max(hi, B(1.17549435e-38f)));
+  return xsimd::select(y > x, B(1.57079632679f) - p, p);
+}
+
 }  // namespace par2d::simd

@@ -66,7 +66,12 @@ PAR2D_KERNEL_INLINE void arc_from_tangents(const xsimd::batch<float, A>& lox, co
                                            const xsimd::batch<float, A>& hix, const xsimd::batch<float, A>& hiy,
                                            Arc<A>& arc) noexcept {
   using B = xsimd::batch<float, A>;
-  if constexpr (kWithStart) {
+  if constexpr (kWithStart && kWhole) {
+    // The width as the angle between the tangents (no wrap to fix): cheaper than a second
+    // absolute angle.
+    arc.start = fast_atan2(loy, lox);
+    arc.width = fast_atan2_upper(xsimd::abs(lox * hiy - loy * hix), xsimd::fma(lox, hix, loy * hiy));
+  } else if constexpr (kWithStart) {
     arc.start = fast_atan2(loy, lox);
     B width = fast_atan2(hiy, hix) - arc.start;
     width = xsimd::select(width < B(0.0f), width + B(kTwoPiF), width);
@@ -77,7 +82,7 @@ PAR2D_KERNEL_INLINE void arc_from_tangents(const xsimd::batch<float, A>& lox, co
     // shape a negative cross product is rounding, near 0 or (a far-reaching shape close by)
     // near pi; for a clipped light it may be a real reversal, an empty arc.
     if constexpr (kWhole) {
-      arc.width = fast_atan2(xsimd::abs(lox * hiy - loy * hix), xsimd::fma(lox, hix, loy * hiy));
+      arc.width = fast_atan2_upper(xsimd::abs(lox * hiy - loy * hix), xsimd::fma(lox, hix, loy * hiy));
     } else {
       arc.width = xsimd::max(fast_atan2(lox * hiy - loy * hix, xsimd::fma(lox, hix, loy * hiy)), B(0.0f));
     }
@@ -243,7 +248,7 @@ PAR2D_KERNEL_INLINE Arc<A> windowed_shape_arc(const TileWork& work, const Kernel
   if (s.kind == ShapeKind::circle) {
     const B excess = circle_excess<A>(s, px, py);
     arc.inside = excess <= B(0.0f);
-    const B half = fast_atan2(B(s.r), xsimd::sqrt(xsimd::max(excess, B(0.0f))));
+    const B half = fast_atan2_first_quadrant(B(s.r), xsimd::sqrt(xsimd::max(excess, B(0.0f))));
     arc.width = half + half;
     arc.start = (B(s.window_angle) - half) + angle_in_window<A>(s, B(s.cx) - px, B(s.cy) - py);
     return arc;
@@ -274,7 +279,7 @@ PAR2D_KERNEL_INLINE Arc<A> shape_arc(const TileWork& work, const KernelShape& s,
   if (s.kind == ShapeKind::circle) {
     const B excess = circle_excess<A>(s, px, py);
     arc.inside = excess <= B(0.0f);
-    const B half = fast_atan2(B(s.r), xsimd::sqrt(xsimd::max(excess, B(0.0f))));
+    const B half = fast_atan2_first_quadrant(B(s.r), xsimd::sqrt(xsimd::max(excess, B(0.0f))));
     arc.width = half + half;
     if constexpr (kWithStart) {
       const B dx = B(s.cx) - px, dy = B(s.cy) - py;
@@ -983,7 +988,7 @@ PAR2D_KERNEL_INLINE void shaded_unblocked_light(const TileWork& work, const Kern
     inside = excess <= B(0.0f);
     const B room = xsimd::max(excess, B(0.0f));
     const B r(s.r);
-    const B half = fast_atan2(r, xsimd::sqrt(room));
+    const B half = fast_atan2_first_quadrant(r, xsimd::sqrt(room));
     width = half + half;
     const B dx = B(s.cx) - px, dy = B(s.cy) - py;
     lobe = cos_el * B(2.0f * s.r) * xsimd::fma(dx, nx, dy * ny) / xsimd::max(xsimd::fma(r, r, room), B(kTinyF));
@@ -1438,10 +1443,10 @@ PAR2D_KERNEL_INLINE xsimd::batch<float, A> visible_past_one_occluder(
   const auto covered = blocks & ~(o_in | q_in) & (l_o <= z) & (l_q > z);  // l inside the occluder's arc
   const B ax = xsimd::select(cut_cw_end, qx, lx), ay = xsimd::select(cut_cw_end, qy, ly);
   const B bx = xsimd::select(cut_ccw_end, ox, hx), by = xsimd::select(cut_ccw_end, oy, hy);
-  B visible = xsimd::select(covered, z, fast_atan2(xsimd::abs(ax * by - ay * bx), xsimd::fma(ax, bx, ay * by)));
+  B visible = xsimd::select(covered, z, fast_atan2_upper(xsimd::abs(ax * by - ay * bx), xsimd::fma(ax, bx, ay * by)));
   const auto inner = cut_ccw_end & q_in;  // the occluder's arc inside the light's: [q, h] as well
   if (xsimd::any(inner))
-    visible += xsimd::select(inner, fast_atan2(xsimd::abs(q_h), xsimd::fma(qx, hx, qy * hy)), z);
+    visible += xsimd::select(inner, fast_atan2_upper(xsimd::abs(q_h), xsimd::fma(qx, hx, qy * hy)), z);
   return visible;
 }
 

@@ -26,9 +26,13 @@ void PAR2D_CONCAT(union_measure_, PAR2D_KERNEL_SUFFIX)(float* lo, float* hi, std
   sorted_union_measure<PAR2D_KERNEL_ARCH>(lo, hi, count, B::load_unaligned(reach0)).store_unaligned(out);
 }
 
-void PAR2D_CONCAT(atan2_, PAR2D_KERNEL_SUFFIX)(const float* y, const float* x, float* out) noexcept {
+void PAR2D_CONCAT(atan2_, PAR2D_KERNEL_SUFFIX)(const float* y, const float* x, float* out, int domain) noexcept {
   using B = xsimd::batch<float, PAR2D_KERNEL_ARCH>;
-  fast_atan2<PAR2D_KERNEL_ARCH>(B::load_unaligned(y), B::load_unaligned(x)).store_unaligned(out);
+  const B yb = B::load_unaligned(y), xb = B::load_unaligned(x);
+  const B r = domain == 2   ? fast_atan2_first_quadrant<PAR2D_KERNEL_ARCH>(yb, xb)
+              : domain == 1 ? fast_atan2_upper<PAR2D_KERNEL_ARCH>(yb, xb)
+                            : fast_atan2<PAR2D_KERNEL_ARCH>(yb, xb);
+  r.store_unaligned(out);
 }
 
 void PAR2D_CONCAT(store_rgb_f32_, PAR2D_KERNEL_SUFFIX)(const TileResult& tile, int first_column, int first_row, int rows,
