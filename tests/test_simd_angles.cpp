@@ -125,7 +125,7 @@ namespace {
 
 // Lights with several occluders in front, seen from every direction: a ring of small
 // occluders of every kind around two lights, so that tiles see occluders and lights in each
-// of the eight arc windows (KernelShape::windowed) and near the windows' edges, and near
+// of the eight arc windows (KernelShape::window) and near the windows' edges, and near
 // shapes that get no window.
 Scene window_ring_scene() {
   Scene scene;
@@ -178,11 +178,10 @@ TEST_CASE("arc windows: every windowed shape's measured directions lie within 41
   int windowed_occluders = 0, windowed_lights = 0, plain_occluders = 0, checked = 0;
   double worst_ratio = 0.0;
   auto check_shape = [&](const detail::KernelShape& s) {
-    REQUIRE(s.windowed);
-    CHECK(std::fabs(s.window_x) + std::fabs(s.window_y) > 0.0f);
-    CHECK((s.window_x == 0.0f || std::fabs(s.window_x) == 1.0f));
-    CHECK((s.window_y == 0.0f || std::fabs(s.window_y) == 1.0f));
-    CHECK(std::fabs(s.window_angle - std::atan2(double(s.window_y), double(s.window_x))) < 1e-6);
+    REQUIRE(s.window >= 0);
+    REQUIRE(s.window < 8);
+    const double wx = detail::kWindowX[s.window], wy = detail::kWindowY[s.window];
+    CHECK(std::fabs(std::remainder(detail::kWindowAngle[s.window] - std::atan2(wy, wx), 2.0 * kPi)) < 1e-6);
     std::vector<Vec2> points;
     if (s.kind == detail::ShapeKind::circle) {
       points.push_back({s.cx, s.cy});
@@ -196,7 +195,7 @@ TEST_CASE("arc windows: every windowed shape's measured directions lie within 41
       for (int c = 0; c < detail::kTileSize; ++c)
         for (const Vec2 q : points) {
           const double dx = q.x - work.sample_x[c], dy = q.y - work.sample_y[r];
-          const double along = s.window_x * dx + s.window_y * dy, across = s.window_x * dy - s.window_y * dx;
+          const double along = wx * dx + wy * dy, across = wx * dy - wy * dx;
           REQUIRE(along > 0.0);
           worst_ratio = std::max(worst_ratio, std::fabs(across) / along);
           ++checked;
@@ -208,7 +207,7 @@ TEST_CASE("arc windows: every windowed shape's measured directions lie within 41
       detail::gather_block_candidates(prepared, tile, nullptr, setup);
       detail::build_tile_work(prepared, tile, 1, true, work, setup);
       for (const detail::KernelShape& s : work.occluders) {
-        if (!s.windowed) {
+        if (s.window < 0) {
           ++plain_occluders;
           continue;
         }
@@ -216,7 +215,7 @@ TEST_CASE("arc windows: every windowed shape's measured directions lie within 41
         check_shape(s);
       }
       for (const detail::KernelLight& l : work.lights) {
-        if (!l.shape.windowed) continue;
+        if (l.shape.window < 0) continue;
         ++windowed_lights;
         check_shape(l.shape);
       }

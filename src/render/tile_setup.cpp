@@ -355,7 +355,7 @@ KernelShape kernel_shape(const ConvexShape& shape, const TileFrame& frame, const
   return k;
 }
 
-// Gives an occluder's kernel shape its arc window (KernelShape::windowed) where one of the
+// Gives an occluder's kernel shape its arc window (KernelShape::window) where one of the
 // eight directions k * 45 degrees holds, with margin, every direction from the tile's samples
 // to the points whose angles the kernel takes: the box of those points minus the samples' box
 // is a box of directions, and a cone (convex) holds a box when it holds its four corners. The
@@ -386,14 +386,10 @@ void assign_arc_window(KernelShape& k, const TileWork& work) noexcept {
   auto holds = [&](float x, float y) { return std::abs(fx * y - fy * x) <= 0.875f * (fx * x + fy * y); };
   // `holds` is false for NaN too.
   if (!(holds(dx0, dy0) && holds(dx0, dy1) && holds(dx1, dy0) && holds(dx1, dy1))) return;
-  // The angles of the directions (ux, uy), indexed by (uy + 1) * 3 + ux + 1.
-  static constexpr float kWindowAngle[9] = {-2.35619449f, -1.57079633f, -0.785398163f, 3.14159265f, 0.0f,
-                                            0.0f,         2.35619449f,  1.57079633f,   0.785398163f};
-  k.windowed = true;
+  // The window index k of direction (ux, uy) (kWindowX/Y), at (uy + 1) * 3 + ux + 1.
+  static constexpr std::int8_t kWindowOf[9] = {5, 6, 7, 4, -1, 0, 3, 2, 1};
+  k.window = kWindowOf[(uy + 1) * 3 + ux + 1];
   k.may_contain = false;  // the vertices' box misses every sample
-  k.window_x = fx;
-  k.window_y = fy;
-  k.window_angle = kWindowAngle[(uy + 1) * 3 + ux + 1];
 }
 
 using CornerDirections = TileSetupScratch::CornerDirections;

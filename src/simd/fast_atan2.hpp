@@ -18,7 +18,7 @@ namespace par2d::simd {
 // atan(t) for |t| <= 1: the polynomial alone. It is odd, so a negative t needs no sign
 // handling; fast_atan2 reduces every direction to t in [0, 1] first, and a caller that knows
 // its directions lie within 45 degrees of a fixed one (the kernel's arc windows, see
-// KernelShape::windowed) measures them from it with one division and this.
+// KernelShape::window) measures them from it with one division and this.
 template <class A>
 inline xsimd::batch<float, A> atan_unit(const xsimd::batch<float, A>& t) noexcept {
   using B = xsimd::batch<float, A>;

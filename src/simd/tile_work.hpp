@@ -37,6 +37,15 @@ struct KernelShape {
   std::uint32_t count = 0;
   bool may_contain = true;  // polygons: whether the tile meets the bounding box (else skip the inside test)
   bool ordered = false;     // segments: vertex first is the clockwise tangent over the whole tile (a tile tangent pair)
+  // Occluders and packet lights of a plain one-sample tile (assign_arc_window in
+  // tile_setup.cpp): every direction from a tile sample to a point whose angle the kernel
+  // takes (a polygon's or segment's vertices, a circle's center) lies within atan(0.875),
+  // 41 degrees, of direction `window` * 45 degrees (kWindowX/Y below; -1: none). The kernel
+  // then takes each arc end's angle from that direction by one division and the atan
+  // polynomial, without atan2's octant selects; a polygon or segment so placed holds no
+  // sample (its vertices' box misses them). One byte, in what was padding: a bigger shape
+  // measured slower with AVX-512.
+  std::int8_t window = -1;
   // Ordered segments: their two ends again (as in vx/vy), read by the kernel from here: a
   // shape-major loop then keeps them in registers, where it must reload vx/vy after each
   // vector store (a vector store may alias any float).
@@ -50,16 +59,13 @@ struct KernelShape {
   bool clipped = false;
   float clip_nx = 0, clip_ny = 0, clip_c = 0;
   float chord_x[2] = {0, 0}, chord_y[2] = {0, 0};
-  // Occluders of a plain one-sample tile (assign_arc_window in tile_setup.cpp): every
-  // direction from a tile sample to a point whose angle the kernel takes (a polygon's or
-  // segment's vertices, a circle's center) lies within atan(0.875), 41 degrees, of
-  // (window_x, window_y): one of the eight directions k * 45 degrees, components 0 or +-1
-  // (unnormalized), at angle window_angle. The shape-major arcs then take each end's angle
-  // from that direction by one division and the atan polynomial, without atan2's octant
-  // selects; a polygon or segment so placed holds no sample (its vertices' box misses them).
-  bool windowed = false;
-  float window_x = 0, window_y = 0, window_angle = 0;
 };
+
+// The arc windows' directions k * 45 degrees (KernelShape::window), unnormalized, and their angles.
+inline constexpr float kWindowX[8] = {1, 1, 0, -1, -1, -1, 0, 1};
+inline constexpr float kWindowY[8] = {0, 1, 1, 1, 0, -1, -1, -1};
+inline constexpr float kWindowAngle[8] = {0.0f,        0.785398163f, 1.57079633f, 2.35619449f,
+                                          3.14159265f, 3.92699082f,  4.71238898f, 5.49778714f};
 
 // An occluder in front of a light for some pixels of the tile: in front where
 // nx*x + ny*y >= c (the occluder's side of a line separating the two shapes).
