@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "par2d/par2d.hpp"
+#include "render/cell_lists.hpp"
 #include "render/tile_setup.hpp"
 #include "support/random_scenes.hpp"
 #include "support/render_checks.hpp"
@@ -170,63 +171,83 @@ TEST_CASE("arc windows: every windowed shape's measured directions lie within 41
   // The tile setup gives a shape an arc window only if every direction from a sample of the
   // tile to a point whose angle the kernel takes lies within atan(0.875) of one of the eight
   // directions k * 45 degrees; the kernel then measures angles by one division and the atan
-  // polynomial, valid for ratios in [-1, 1]. Checked here in double over every tile.
-  const Scene scene = window_ring_scene();
-  const detail::PreparedScene prepared = detail::prepare_scene(scene);
-  detail::TileSetupScratch setup;
-  detail::TileWork work;
-  int windowed_occluders = 0, windowed_lights = 0, plain_occluders = 0, checked = 0;
-  double worst_ratio = 0.0;
-  auto check_shape = [&](const detail::KernelShape& s) {
-    REQUIRE(s.window >= 0);
-    REQUIRE(s.window < 8);
-    const double wx = detail::kWindowX[s.window], wy = detail::kWindowY[s.window];
-    CHECK(std::fabs(std::remainder(detail::kWindowAngle[s.window] - std::atan2(wy, wx), 2.0 * kPi)) < 1e-6);
-    std::vector<Vec2> points;
-    if (s.kind == detail::ShapeKind::circle) {
-      points.push_back({s.cx, s.cy});
-    } else if (s.ordered) {
-      points = {{s.end_x[0], s.end_y[0]}, {s.end_x[1], s.end_y[1]}};
-    } else {
-      CHECK_FALSE(s.may_contain);
-      for (std::uint32_t i = 0; i < s.count; ++i) points.push_back({work.vx[s.first + i], work.vy[s.first + i]});
-    }
-    for (int r = 0; r < detail::kTileSize; ++r)
-      for (int c = 0; c < detail::kTileSize; ++c)
-        for (const Vec2 q : points) {
-          const double dx = q.x - work.sample_x[c], dy = q.y - work.sample_y[r];
-          const double along = wx * dx + wy * dy, across = wx * dy - wy * dx;
-          REQUIRE(along > 0.0);
-          worst_ratio = std::max(worst_ratio, std::fabs(across) / along);
-          ++checked;
-        }
+  // polynomial, valid for ratios in [-1, 1]. Checked here in double over every tile: of the
+  // ring scene at 1 and 4 samples per pixel, and of a rubble scene whose tiles get cells.
+  test::RandomSceneOptions rubble;
+  rubble.width = 96;
+  rubble.height = 80;
+  rubble.min_lights = rubble.max_lights = 8;
+  rubble.min_occluders = rubble.max_occluders = 160;
+  rubble.min_size = 0.75 / 80.0;
+  rubble.max_size = 2.5 / 80.0;
+  rubble.gap = 2.0 / 80.0;
+  struct Case {
+    Scene scene;
+    int spp;
   };
-  for (int y = 0; y < scene.height; y += detail::kTileSize)
-    for (int x = 0; x < scene.width; x += detail::kTileSize) {
-      const detail::TileRect tile{x, y, x + detail::kTileSize, y + detail::kTileSize};
-      detail::gather_block_candidates(prepared, tile, nullptr, setup);
-      detail::build_tile_work(prepared, tile, 1, true, work, setup);
-      for (const detail::KernelShape& s : work.occluders) {
-        if (s.window < 0) {
-          ++plain_occluders;
-          continue;
+  const Case cases[] = {{window_ring_scene(), 1}, {window_ring_scene(), 4}, {test::random_scene(11, rubble), 1}};
+  for (const Case& c : cases) {
+    const Scene& scene = c.scene;
+    const detail::PreparedScene prepared = detail::prepare_scene(scene);
+    detail::TileSetupScratch setup;
+    detail::TileWork work;
+    int windowed_occluders = 0, windowed_lights = 0, plain_occluders = 0, many_pair_tiles = 0;
+    long checked = 0;
+    double worst_ratio = 0.0;
+    auto check_shape = [&](const detail::KernelShape& s) {
+      REQUIRE(s.window >= 0);
+      REQUIRE(s.window < 8);
+      const double wx = detail::kWindowX[s.window], wy = detail::kWindowY[s.window];
+      CHECK(std::fabs(std::remainder(detail::kWindowAngle[s.window] - std::atan2(wy, wx), 2.0 * kPi)) < 1e-6);
+      std::vector<Vec2> points;
+      if (s.kind == detail::ShapeKind::circle) {
+        points.push_back({s.cx, s.cy});
+      } else if (s.ordered) {
+        points = {{s.end_x[0], s.end_y[0]}, {s.end_x[1], s.end_y[1]}};
+      } else {
+        CHECK_FALSE(s.may_contain);
+        for (std::uint32_t i = 0; i < s.count; ++i) points.push_back({work.vx[s.first + i], work.vy[s.first + i]});
+      }
+      for (const float sy : work.sample_y)
+        for (const float sx : work.sample_x)
+          for (const Vec2 q : points) {
+            const double dx = q.x - sx, dy = q.y - sy;
+            const double along = wx * dx + wy * dy, across = wx * dy - wy * dx;
+            REQUIRE(along > 0.0);
+            worst_ratio = std::max(worst_ratio, std::fabs(across) / along);
+            ++checked;
+          }
+    };
+    for (int y = 0; y < scene.height; y += detail::kTileSize)
+      for (int x = 0; x < scene.width; x += detail::kTileSize) {
+        const detail::TileRect tile{x, y, x + detail::kTileSize, y + detail::kTileSize};
+        detail::gather_block_candidates(prepared, tile, nullptr, setup);
+        detail::build_tile_work(prepared, tile, c.spp, true, work, setup);
+        REQUIRE(work.sample_x.size() == static_cast<std::size_t>(c.spp * detail::kTileSize));
+        many_pair_tiles += work.pairs.size() >= detail::kCellMinPairs ? 1 : 0;
+        for (const detail::KernelShape& s : work.occluders) {
+          if (s.window < 0) {
+            ++plain_occluders;
+            continue;
+          }
+          ++windowed_occluders;
+          check_shape(s);
         }
-        ++windowed_occluders;
-        check_shape(s);
+        for (const detail::KernelLight& l : work.lights) {
+          if (l.shape.window < 0) continue;
+          ++windowed_lights;
+          check_shape(l.shape);
+        }
       }
-      for (const detail::KernelLight& l : work.lights) {
-        if (l.shape.window < 0) continue;
-        ++windowed_lights;
-        check_shape(l.shape);
-      }
-    }
-  INFO("windowed occluders ", windowed_occluders, ", lights ", windowed_lights, ", without a window ", plain_occluders,
-       ", worst ratio ", worst_ratio);
-  CHECK(windowed_occluders > 50);
-  CHECK(windowed_lights > 10);
-  CHECK(plain_occluders > 10);
-  CHECK(checked > 0);
-  CHECK(worst_ratio <= 0.8751);
+    INFO("spp ", c.spp, ": windowed occluders ", windowed_occluders, ", lights ", windowed_lights,
+         ", without a window ", plain_occluders, ", tiles with cells ", many_pair_tiles, ", worst ratio ", worst_ratio);
+    CHECK(windowed_occluders > 50);
+    CHECK(windowed_lights > 10);
+    CHECK(plain_occluders > 10);
+    CHECK(checked > 0);
+    CHECK(worst_ratio <= 0.8751);
+    if (&c == &cases[2]) CHECK(many_pair_tiles > 5);
+  }
 }
 
 TEST_CASE("arc windows: lights behind rings of occluders of every kind match the scalar path to 1e-6 e_max on every ISA") {

@@ -1201,17 +1201,20 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
       }
     }
   }
-  // Arc windows only where the shape-major arcs will read them: a plain one-sample tile
-  // without cells (build_cell_lists gives a culled tile cells from kCellMinPairs pairs on),
-  // for the occluders of lights that the packets compute (not single-pair lights).
-  const bool windows = !model && spp == 1 && (!culling || work.pairs.size() < kCellMinPairs);
+  // Arc windows (KernelShape::window) for the occluders whose arcs the kernel takes and the
+  // lights whose arcs' starts it needs (those with pairs). A plain one-sample tile without
+  // cells (build_cell_lists gives a culled tile cells from kCellMinPairs pairs on) computes
+  // single-pair lights shape-major, with no arc for them or for the occluders only they use.
+  const bool windows = !model;
+  const bool shape_major = spp == 1 && (!culling || work.pairs.size() < kCellMinPairs);
   if (windows) {
-    scratch.arc_needed.assign(scratch.used.size(), 0);
+    scratch.arc_needed.assign(scratch.used.size(), shape_major ? 0 : 1);
     for (KernelLight& kl : work.lights) {
       const KernelPair* pairs = work.pairs.data() + kl.first_pair;
-      if (kl.pair_count == 0 || single_pair_light(kl, pairs, kl.pair_count)) continue;
-      for (std::uint32_t p = 0; p < kl.pair_count; ++p) scratch.arc_needed[pairs[p].occluder] = 1;
-      if (!kl.shape.clipped) assign_arc_window(kl.shape, work);  // the packets take its arc too
+      if (kl.pair_count == 0 || (shape_major && single_pair_light(kl, pairs, kl.pair_count))) continue;
+      if (shape_major)
+        for (std::uint32_t p = 0; p < kl.pair_count; ++p) scratch.arc_needed[pairs[p].occluder] = 1;
+      if (!kl.shape.clipped) assign_arc_window(kl.shape, work);
     }
   }
   for (std::size_t u = 0; u < scratch.used.size(); ++u) {
