@@ -355,7 +355,7 @@ KernelShape kernel_shape(const ConvexShape& shape, const TileFrame& frame, const
   return k;
 }
 
-// Gives an occluder's kernel shape its arc window (KernelShape::window) where one of the
+// Gives a kernel shape its arc window (KernelShape::window) where one of the
 // eight directions k * 45 degrees holds, with margin, every direction from the tile's samples
 // to the points whose angles the kernel takes: the box of those points minus the samples' box
 // is a box of directions, and a cone (convex) holds a box when it holds its four corners. The

@@ -235,7 +235,7 @@ PAR2D_KERNEL_INLINE xsimd::batch<float, A> angle_in_window(const KernelShape& s,
   return atan_unit(xsimd::fms(wx, dy, wy * dx) / xsimd::fma(wx, dx, wy * dy));
 }
 
-// shape_arc for a windowed occluder: each end's angle is the window's plus one
+// shape_arc for a windowed shape: each end's angle is the window's plus one
 // angle_in_window; the width is the difference of the ends' (no wrap: both lie in the
 // window). A circle's start comes from its center's direction, its half-width as in shape_arc.
 template <class A>

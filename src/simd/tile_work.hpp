@@ -37,14 +37,14 @@ struct KernelShape {
   std::uint32_t count = 0;
   bool may_contain = true;  // polygons: whether the tile meets the bounding box (else skip the inside test)
   bool ordered = false;     // segments: vertex first is the clockwise tangent over the whole tile (a tile tangent pair)
-  // Occluders and packet lights of a plain one-sample tile (assign_arc_window in
-  // tile_setup.cpp): every direction from a tile sample to a point whose angle the kernel
-  // takes (a polygon's or segment's vertices, a circle's center) lies within atan(0.875),
-  // 41 degrees, of direction `window` * 45 degrees (kWindowX/Y below; -1: none). The kernel
-  // then takes each arc end's angle from that direction by one division and the atan
-  // polynomial, without atan2's octant selects; a polygon or segment so placed holds no
-  // sample (its vertices' box misses them). One byte, in what was padding: a bigger shape
-  // measured slower with AVX-512.
+  // Occluders whose arcs the kernel takes and lights with pairs, in plain (not game-model)
+  // tiles (assign_arc_window in tile_setup.cpp): every direction from a tile sample to a
+  // point whose angle the kernel takes (a polygon's or segment's vertices, a circle's
+  // center) lies within atan(0.875), 41 degrees, of direction `window` * 45 degrees
+  // (kWindowX/Y below; -1: none). The kernel then takes each arc end's angle from that
+  // direction by one division and the atan polynomial, without atan2's octant selects; a
+  // polygon or segment so placed holds no sample (its vertices' box misses them). One byte,
+  // in what was padding: a bigger shape measured slower with AVX-512.
   std::int8_t window = -1;
   // Ordered segments: their two ends again (as in vx/vy), read by the kernel from here: a
   // shape-major loop then keeps them in registers, where it must reload vx/vy after each
