@@ -224,6 +224,19 @@ PAR2D_KERNEL_NOINLINE Arc<A> clipped_shape_arc(const TileWork& work, const Kerne
   return arc;
 }
 
+// A circle's inside flag and width (twice the half-width, asin(r / distance) as an atan2 of
+// the radius and the tangent length), per lane; returns the half-width.
+template <class A>
+PAR2D_KERNEL_INLINE xsimd::batch<float, A> circle_half_width(const KernelShape& s, const xsimd::batch<float, A>& px,
+                                                             const xsimd::batch<float, A>& py, Arc<A>& arc) noexcept {
+  using B = xsimd::batch<float, A>;
+  const B excess = circle_excess<A>(s, px, py);
+  arc.inside = excess <= B(0.0f);
+  const B half = fast_atan2_first_quadrant(B(s.r), xsimd::sqrt(xsimd::max(excess, B(0.0f))));
+  arc.width = half + half;
+  return half;
+}
+
 // The angle of direction (dx, dy) from the shape's arc window direction (KernelShape::
 // window), which lies within 45 degrees of it: the ratio of the direction's components
 // across and along the window is in [-1, 1], where the atan polynomial holds as it is.
@@ -245,10 +258,7 @@ PAR2D_KERNEL_INLINE Arc<A> windowed_shape_arc(const TileWork& work, const Kernel
   using B = xsimd::batch<float, A>;
   Arc<A> arc;
   if (s.kind == ShapeKind::circle) {
-    const B excess = circle_excess<A>(s, px, py);
-    arc.inside = excess <= B(0.0f);
-    const B half = fast_atan2_first_quadrant(B(s.r), xsimd::sqrt(xsimd::max(excess, B(0.0f))));
-    arc.width = half + half;
+    const B half = circle_half_width<A>(s, px, py, arc);
     arc.start = (B(detail::kWindowAngle[s.window]) - half) + angle_in_window<A>(s, B(s.cx) - px, B(s.cy) - py);
     return arc;
   }
@@ -276,10 +286,7 @@ PAR2D_KERNEL_INLINE Arc<A> shape_arc(const TileWork& work, const KernelShape& s,
   }
   Arc<A> arc;
   if (s.kind == ShapeKind::circle) {
-    const B excess = circle_excess<A>(s, px, py);
-    arc.inside = excess <= B(0.0f);
-    const B half = fast_atan2_first_quadrant(B(s.r), xsimd::sqrt(xsimd::max(excess, B(0.0f))));
-    arc.width = half + half;
+    const B half = circle_half_width<A>(s, px, py, arc);
     if constexpr (kWithStart) {
       const B dx = B(s.cx) - px, dy = B(s.cy) - py;
       arc.start = fast_atan2(dy, dx) - half;
