@@ -784,6 +784,24 @@ KernelOccluderTerms kernel_occluder_terms(const OccluderTerms& t) noexcept {
   return k;
 }
 
+// The separating line of light l and its block candidate `candidate` (occluder k), through
+// the block's entries (TileSetupScratch::block_separators).
+std::optional<Line> block_separator(const PreparedScene& scene, std::size_t l, std::size_t candidate, std::uint32_t k,
+                                    TileSetupScratch& scratch) {
+  if (scratch.block_separator_block[l] != scratch.block_serial) {
+    scratch.block_separator_block[l] = scratch.block_serial;
+    scratch.block_separators[l].assign(scratch.block_candidates[l].size(), TileSetupScratch::BlockSeparator{});
+  }
+  TileSetupScratch::BlockSeparator& entry = scratch.block_separators[l][candidate];
+  if (entry.state < 0) {
+    const std::optional<Line> line = scene.separators.get(l, k, scene.lights[l].shape, scene.occluders[k]);
+    entry.state = line ? 1 : 0;
+    if (line) entry.line = *line;
+  }
+  if (entry.state == 0) return std::nullopt;
+  return entry.line;
+}
+
 }  // namespace
 
 void gather_block_candidates(const PreparedScene& scene, const TileRect& block, const std::vector<LightReach>* reach,
@@ -804,6 +822,8 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
   scratch.light_grid.start_block(scene.lights.size());
   scratch.umbra_bands.resize(scene.lights.size());
   scratch.umbra_band_block.resize(scene.lights.size(), 0);
+  scratch.block_separators.resize(scene.lights.size());
+  scratch.block_separator_block.resize(scene.lights.size(), 0);
   scratch.tile_proof_records.assign(scene.lights.size(), TileSetupScratch::TileProofRecord{});
   scratch.block_proof_record = TileSetupScratch::TileProofRecord{};
   scratch.occluder_grid.start_block(scene.occluders.size());
@@ -967,7 +987,7 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
                               frame.scale);
         if (line) overlapping = false;
       } else if (!overlapping) {
-        line = scene.separators.get(l, k, light.shape, occluder);
+        line = block_separator(scene, l, candidate, k, scratch);
       }
       // Clipping drops the cap inside the occluder: only where the occluder hides it.
       if (!line && overlapping && !clipped && prover) {
