@@ -228,12 +228,15 @@ TEST_CASE("rubble with many lights per block: the adaptive rule skips failing bl
 
 TEST_CASE("the benchmark's level (4-12 px occluders), where most tile proofs hide the light: the rule keeps them") {
   // Tile proofs pay here (~15 % of frame time on the 256-light level): a block whose tile
-  // proofs succeed at least 1 in 3 times keeps trying them for every light.
+  // proofs succeed at least 1 in 2 times keeps trying them for every light. Past a block's
+  // first 16 tries a light's first try must pass that gate too, which skips some where a
+  // block's proofs mostly fail (1,275 skipped against 7,493 tried here, and 0.8 % fewer
+  // instructions for the frame than with the first tries always made): most stay.
   const Scene scene = bench::scattered_scene(24, 388, 20240611, 512, 384);
   RenderOptions options = simd_options(simd_isas_here().back(), true);
   const FrameStats stats = stats_of(scene, options);
   CHECK(stats.tile_proofs_succeeded * 2 > stats.tile_proofs_tried);
-  CHECK(stats.tile_proofs_skipped * 20 < stats.tile_proofs_tried);
+  CHECK(stats.tile_proofs_skipped * 4 < stats.tile_proofs_tried);
   // Its block proofs pay too (about 1 in 5 succeed, above the rule's 1 in 16): the block rule
   // skips only in the few blocks where they keep failing.
   INFO("block proofs tried ", stats.block_proofs_tried, ", succeeded ", stats.block_proofs_succeeded, ", skipped ",
