@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <string>
-#include <vector>
 
 #include "par2d/render.hpp"
 #include "render/cell_lists.hpp"
@@ -136,73 +135,6 @@ TEST_CASE("cell lists: a pair reaches only the cells inside its shadow cone") {
   CHECK(pairs_in(0) == 0);
   CHECK(pairs_in(1) == 1);
   CHECK(pairs_in(3) == 16);
-}
-
-TEST_CASE("cell lists: a pair keeps only the pixel rows of its cell that its shadow cone meets") {
-  // The scene of the test above. The big disc's cone (apex at x = 14.857, half angle
-  // asin(3.5 / 12)) has its upper edge at y = 16 - 0.3049 (x - 14.857): 8.33 at x = 40, 5.89
-  // at x = 48. In the top right 8 x 8 cell (x 40..48, y 0..8) it meets rows 5, 6 and 7 only
-  // (row r spans y r..r+1). The small disc at x = 23 (apex 20, slope 0.169) reaches up to
-  // y = 11.27 at x = 48, and the one at x = 30 to 13.44: in the bottom right cell (y 8..16) no
-  // small disc's cone meets row 0 (y 8..9), while the big disc's meets every row.
-  Scene scene;
-  scene.width = 64;
-  scene.height = 32;
-  scene.view = View{0.0, 0.0, 64.0, 32.0};
-  Light light;
-  light.shape = Circle{{8.0, 16.0}, 2.0};
-  scene.lights.push_back(light);
-  scene.occluders.push_back(Occluder{Circle{{20.0, 16.0}, 1.5}});
-  for (int j = 0; j < 15; ++j) scene.occluders.push_back(Occluder{Circle{{23.0 + 0.5 * j, 16.0}, 0.5}});
-  const detail::PreparedScene prepared = detail::prepare_scene(scene);
-  detail::TileSetupScratch setup;
-  detail::CellListScratch cells;
-  detail::TileWork work;
-  const detail::TileRect tile{32, 0, 48, 16};
-  detail::gather_block_candidates(prepared, tile, nullptr, setup);
-  detail::build_tile_work(prepared, tile, 1, true, work, setup);
-  REQUIRE(work.pairs.size() == 16);
-  auto cell_pairs = [&](int cell) {
-    const detail::KernelCell& c = work.cells[static_cast<std::size_t>(cell)];
-    REQUIRE(c.light_count == 1);
-    const detail::KernelCellLight& l = work.cell_lights[c.first_light];
-    return std::vector<detail::KernelPair>(work.cell_pairs.begin() + l.first_pair,
-                                           work.cell_pairs.begin() + l.first_pair + l.pair_count);
-  };
-  // Each pair's rows are one run of rows (the cone is convex), and never empty in a cell that keeps it.
-  auto one_run = [](unsigned rows) {
-    const unsigned low = rows & (~rows + 1u);
-    return rows != 0 && ((rows + low) & rows) == 0;
-  };
-
-  detail::build_cell_lists(prepared, tile, 8, setup, work, cells);
-  REQUIRE(work.cells.size() == 4);
-  const std::vector<detail::KernelPair> top_right = cell_pairs(1);
-  REQUIRE(top_right.size() == 1);
-  CHECK(top_right[0].rows == 0xE0);
-  const std::vector<detail::KernelPair> bottom_right = cell_pairs(3);
-  REQUIRE(bottom_right.size() == 16);
-  unsigned all_rows = 0;
-  int missing_row_0 = 0;
-  for (const detail::KernelPair& pair : bottom_right) {
-    CHECK(one_run(pair.rows));
-    CHECK((pair.rows & ~0xFFu) == 0);
-    all_rows |= pair.rows;
-    missing_row_0 += (pair.rows & 1u) == 0 ? 1 : 0;
-  }
-  CHECK(all_rows == 0xFF);
-  CHECK(missing_row_0 == 15);
-
-  // 16 lanes: cells of 16 x 4; the big disc's cone meets rows 5..7, rows 1..3 of the second cell.
-  detail::build_cell_lists(prepared, tile, 16, setup, work, cells);
-  REQUIRE(work.cells.size() == 4);
-  const std::vector<detail::KernelPair> second = cell_pairs(1);
-  REQUIRE(second.size() == 1);
-  CHECK(second[0].rows == 0xE);
-
-  // The tile's own lists (no cells) keep every row.
-  detail::build_tile_work(prepared, tile, 1, false, work, setup);
-  for (const detail::KernelPair& pair : work.pairs) CHECK(pair.rows == 0xFFFF);
 }
 
 TEST_CASE("cell lists: small occluders and lights (1.5-5 px), mirrored and far views, 1 and 4 spp, match unculled and scalar") {

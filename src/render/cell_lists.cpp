@@ -10,7 +10,6 @@ namespace {
 // Cells of 64 pixels, whole packets wide (a 16-lane packet is a tile row): 8 x 8 for 4 and 8
 // lanes, 16 x 4 for 16.
 constexpr int kCellPixels = 64;
-constexpr int kMaxCells = kTileSize * kTileSize / kCellPixels;
 int cell_width_for(int lanes) noexcept { return std::min(kTileSize, std::max(lanes, 8)); }
 
 // A disc holding the shape: "the hull of `vertices` grown by `radius`" (ConvexShape) lies
@@ -56,74 +55,36 @@ ShadowCone shadow_cone(const CellListScratch::Disc& light, const CellListScratch
   return cone;
 }
 
-constexpr std::uint32_t kAllRows = (1u << kTileSize) - 1;
-
-// The tile's pixel rows t (bit t) from `first` on, and up to `last`: the rows on the inner
-// side of one tangent. NaN keeps every row.
-std::uint32_t rows_from(double first) noexcept {
-  if (!(first > 0.0)) return kAllRows;
-  if (first > kTileSize - 1) return 0u;
-  const int whole = static_cast<int>(first);
-  return kAllRows & ~((1u << (whole + (whole < first ? 1 : 0))) - 1);
-}
-std::uint32_t rows_to(double last) noexcept {
-  if (!(last < kTileSize - 1)) return kAllRows;
-  if (last < 0.0) return 0u;
-  return (2u << static_cast<int>(last)) - 1;
-}
-
-// The tile's pixel rows t where a + t s >= 0, with to_row = -1 / s (0 for s = 0).
-std::uint32_t rows_where(double a, double s, double to_row) noexcept {
-  if (s > 0.0) return rows_from(a * to_row);
-  if (s < 0.0) return rows_to(a * to_row);
-  return a < 0.0 ? 0u : kAllRows;
-}
-
-// The tile's pixel rows, as boxes across a column of cells: row t's centre is at y = first_y
-// + t step_y, and every row box has half extents (half_x, half_y).
-struct RowGrid {
-  double first_y = 0.0, step_y = 0.0, half_y = 0.0;
-  double column_x[kTileSize / 8] = {};  // cell columns' centres (cells are at least 8 wide)
-  double half_x = 0.0;
-  int columns = 1;
+// The cells wholly outside the cone (bit c: cell c, of `columns` x `rows` in row order). A
+// cell's box, centre x and half extents `half` (the same for every cell), lies outside the
+// half-plane of inward normal n when n.(x - apex) + |n.x| half.x + |n.y| half.y < -margin.
+// The centres are the first cell's plus whole steps (a few pixels) along x and y, so the
+// test is one dot product per normal and an addition per cell: the steps' rounding stays
+// far below the margin, as does that of x - apex itself.
+struct CellGrid {
+  Vec2 first_center, step, half;  // step: from a cell's centre to the next column's (x), row's (y)
+  int columns = 1, rows = 1;
 };
 
-// Per cell column x (bits kTileSize x + t), the tile rows t whose box in that column meets the
-// cone. A box lies outside the half-plane of inward normal n when n.(centre - apex) + |n.x|
-// half_x + |n.y| half_y < -margin: a + t s < 0, linear in t, so each half-plane keeps the rows
-// on one side of t = -a / s. Rounding moves that end by a few ulp of a / s, a shift of a few
-// ulp of a in a + t s: far below the margin added into a, so no row that meets the cone is
-// dropped.
-std::uint32_t rows_in_cone(const ShadowCone& cone, const RowGrid& grid) noexcept {
-  std::uint32_t column_rows[kTileSize / 8] = {kAllRows, kAllRows};
+unsigned cells_outside_cone(const ShadowCone& cone, const CellGrid& grid) noexcept {
+  unsigned outside = 0;
   for (const Vec2 n : cone.normal) {
-    const double s = n.y * grid.step_y;
-    const double a0 = n.y * (grid.first_y - cone.apex.y) + std::abs(n.x) * grid.half_x +
-                      std::abs(n.y) * grid.half_y + cone.margin - n.x * cone.apex.x;
-    const double to_row = s != 0.0 ? -1.0 / s : 0.0;
-    for (int x = 0; x < grid.columns; ++x) {
-      const double a = a0 + n.x * grid.column_x[x];
-      column_rows[x] &= rows_where(a, s, to_row);
+    const double first = dot(n, grid.first_center - cone.apex) + std::abs(n.x) * grid.half.x +
+                         std::abs(n.y) * grid.half.y + cone.margin;
+    const double along_x = n.x * grid.step.x, along_y = n.y * grid.step.y;
+    if (grid.columns == 2 && grid.rows == 2) {  // 4 and 8 lanes
+      outside |= static_cast<unsigned>(first < 0.0) | static_cast<unsigned>(first + along_x < 0.0) << 1 |
+                 static_cast<unsigned>(first + along_y < 0.0) << 2 |
+                 static_cast<unsigned>(first + along_x + along_y < 0.0) << 3;
+      continue;
+    }
+    int c = 0;
+    for (int y = 0; y < grid.rows; ++y) {
+      const double row = first + y * along_y;
+      for (int x = 0; x < grid.columns; ++x, ++c) outside |= static_cast<unsigned>(row + x * along_x < 0.0) << c;
     }
   }
-  return column_rows[0] | (grid.columns > 1 ? column_rows[1] << kTileSize : 0u);
-}
-
-// Per cell column, as rows_in_cone, the tile rows whose box meets `box`. Each row box is grown
-// by 1e-9 of the coordinates' size, far beyond the rounding of these few operations.
-std::uint32_t rows_meeting(const Aabb& box, const RowGrid& grid) noexcept {
-  const double grow = 1e-9 * (std::abs(grid.first_y) + std::abs(box.min_y) + std::abs(box.max_y) +
-                              std::abs(box.min_x) + std::abs(box.max_x));
-  const double s = grid.step_y, to_row = s != 0.0 ? -1.0 / s : 0.0;
-  const double reach = grid.half_y + grow;
-  // Row t's y range [y_t - reach, y_t + reach] meets [min_y, max_y], y_t = first_y + t s.
-  const std::uint32_t rows = rows_where(grid.first_y + reach - box.min_y, s, to_row) &
-                             rows_where(box.max_y + reach - grid.first_y, -s, -to_row);
-  std::uint32_t out = 0;
-  for (int x = 0; x < grid.columns; ++x)
-    if (box.min_x <= grid.column_x[x] + grid.half_x + grow && box.max_x >= grid.column_x[x] - grid.half_x - grow)
-      out |= rows << (kTileSize * x);
-  return out;
+  return outside;
 }
 
 // The tile's own lists as one cell over the whole tile: the model kernel always reads cells
@@ -139,7 +100,6 @@ void whole_tile_cell(TileWork& work) {
   work.cell_pairs.assign(work.pairs.begin(), work.pairs.end());
   work.cell_occluders.resize(work.occluders.size());
   for (std::size_t k = 0; k < work.occluders.size(); ++k) work.cell_occluders[k] = static_cast<std::uint32_t>(k);
-  work.cell_occluder_rows.assign(work.occluders.size(), std::uint16_t{0xffff});
   work.cells.assign(1, KernelCell{0, static_cast<std::uint32_t>(light_count), 0,
                                   static_cast<std::uint32_t>(work.occluders.size())});
 }
@@ -180,18 +140,13 @@ void build_cell_lists(const PreparedScene& scene, const TileRect& tile, int lane
   scratch.cell_centers.clear();
   for (const Aabb& box : scratch.cell_boxes)
     scratch.cell_centers.push_back(Vec2{0.5 * (box.min_x + box.max_x), 0.5 * (box.min_y + box.max_y)});
-  RowGrid grid;
+  CellGrid grid;
+  grid.first_center = scratch.cell_centers[0];
+  grid.half = half;
   grid.columns = columns;
-  for (int x = 0; x < columns; ++x) grid.column_x[x] = scratch.cell_centers[static_cast<std::size_t>(x)].x;
-  grid.half_x = half.x;
-  grid.first_y = sample_position(scene, tile.x0, tile.y0, 0.0, 0.5).y;
-  grid.step_y = sample_position(scene, tile.x0, tile.y0 + 1, 0.0, 0.5).y - grid.first_y;
-  grid.half_y = 0.5 * std::abs(grid.step_y);
-  // Cell c's rows in a pair's row bits (rows_in_cone) start at bit row_shift[c].
-  int row_shift[kMaxCells];
-  for (std::size_t c = 0; c < cell_count; ++c)
-    row_shift[c] = static_cast<int>(c) % columns * kTileSize + static_cast<int>(c) / columns * work.cell_height;
-  const std::uint32_t cell_rows = (1u << work.cell_height) - 1;
+  grid.rows = rows;
+  if (columns > 1) grid.step.x = scratch.cell_centers[1].x - grid.first_center.x;
+  if (rows > 1) grid.step.y = scratch.cell_centers[static_cast<std::size_t>(columns)].y - grid.first_center.y;
 
   // Per tile occluder: its disc, and the cells that need its arc: those where one of its
   // pairs stays (below) and, for the plain kernel, those whose box it meets (it may hold a
@@ -200,7 +155,6 @@ void build_cell_lists(const PreparedScene& scene, const TileRect& tile, int lane
   // pixel inside an occluder lies in each of its pairs' cones).
   scratch.occluder_discs.clear();
   scratch.occluder_cells.assign(tile_occluders, 0u);
-  scratch.occluder_rows.assign(tile_occluders, 0u);
   for (std::uint32_t k = 0; k < tile_occluders; ++k) {
     const ConvexShape& shape = scene.occluders[setup.used[k]];
     scratch.occluder_discs.push_back(bounding_disc(shape));
@@ -208,7 +162,6 @@ void build_cell_lists(const PreparedScene& scene, const TileRect& tile, int lane
     const Aabb bounds = bounds_of(shape);
     for (std::size_t c = 0; c < cell_count; ++c)
       if (boxes_meet(scratch.cell_boxes[c], bounds)) scratch.occluder_cells[k] |= 1u << c;
-    if (scratch.occluder_cells[k] != 0) scratch.occluder_rows[k] = rows_meeting(bounds, grid);
   }
 
   // Per light, each pair's cells (one shadow cone per pair), then the light's pairs cell by cell.
@@ -216,7 +169,6 @@ void build_cell_lists(const PreparedScene& scene, const TileRect& tile, int lane
   for (std::size_t i = 0; i < light_count; ++i) {
     const KernelLight& light = work.lights[i];
     scratch.pair_cells.resize(light.pair_count);
-    scratch.pair_rows.resize(light.pair_count);
     if (light.pair_count != 0) {
       // A directional light is at infinity (its shape unused): its pairs keep every cell.
       const bool directional = work.model && work.light_terms[i].directional;
@@ -225,30 +177,20 @@ void build_cell_lists(const PreparedScene& scene, const TileRect& tile, int lane
       for (std::uint32_t p = 0; p < light.pair_count; ++p) {
         const KernelPair& pair = work.pairs[light.first_pair + p];
         unsigned cells = live;
-        std::uint32_t pair_rows = ~0u;
         const ShadowCone cone = pair.general || directional
                                     ? ShadowCone{}
                                     : shadow_cone(light_disc, scratch.occluder_discs[pair.occluder]);
-        if (cone.bounded) {
-          pair_rows = rows_in_cone(cone, grid);
-          for (std::size_t c = 0; c < cell_count; ++c)
-            if (((pair_rows >> row_shift[c]) & cell_rows) == 0) cells &= ~(1u << c);
-        }
+        if (cone.bounded) cells &= ~cells_outside_cone(cone, grid);
         scratch.pair_cells[p] = cells;
-        scratch.pair_rows[p] = pair_rows;
         scratch.occluder_cells[pair.occluder] |= cells;
-        scratch.occluder_rows[pair.occluder] |= pair_rows;
       }
     }
     for (std::size_t c = 0; c < cell_count; ++c) {
       KernelCellLight& cell_light = work.cell_lights[c * light_count + i];
       cell_light.light = static_cast<std::uint32_t>(i);
       cell_light.first_pair = static_cast<std::uint32_t>(work.cell_pairs.size());
-      for (std::uint32_t p = 0; p < light.pair_count; ++p) {
-        if (!(scratch.pair_cells[p] & (1u << c))) continue;
-        work.cell_pairs.push_back(work.pairs[light.first_pair + p]);
-        work.cell_pairs.back().rows = static_cast<std::uint16_t>((scratch.pair_rows[p] >> row_shift[c]) & cell_rows);
-      }
+      for (std::uint32_t p = 0; p < light.pair_count; ++p)
+        if (scratch.pair_cells[p] & (1u << c)) work.cell_pairs.push_back(work.pairs[light.first_pair + p]);
       cell_light.pair_count = static_cast<std::uint32_t>(work.cell_pairs.size()) - cell_light.first_pair;
     }
   }
@@ -260,10 +202,7 @@ void build_cell_lists(const PreparedScene& scene, const TileRect& tile, int lane
     cell.light_count = (live & (1u << c)) ? static_cast<std::uint32_t>(light_count) : 0u;
     cell.first_occluder = static_cast<std::uint32_t>(work.cell_occluders.size());
     for (std::uint32_t k = 0; k < tile_occluders; ++k)
-      if (scratch.occluder_cells[k] & (1u << c)) {
-        work.cell_occluders.push_back(k);
-        work.cell_occluder_rows.push_back(static_cast<std::uint16_t>((scratch.occluder_rows[k] >> row_shift[c]) & cell_rows));
-      }
+      if (scratch.occluder_cells[k] & (1u << c)) work.cell_occluders.push_back(k);
     cell.occluder_count = static_cast<std::uint32_t>(work.cell_occluders.size()) - cell.first_occluder;
   }
 }

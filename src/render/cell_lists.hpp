@@ -32,9 +32,7 @@ struct CellListScratch {
   std::vector<Vec2> cell_centers;
   std::vector<Disc> occluder_discs;       // per tile occluder
   std::vector<unsigned> occluder_cells;   // per tile occluder: bit c, cell c needs its arc
-  std::vector<std::uint32_t> occluder_rows;  // per tile occluder: the rows that need it (rows_in_cone bits)
   std::vector<unsigned> pair_cells;       // per pair of the current light: bit c, cell c keeps it
-  std::vector<std::uint32_t> pair_rows;   // per pair of the current light: its rows_in_cone bits
 };
 
 // Fills work's cells (TileWork::cells) for `tile`, the tile that build_tile_work last built

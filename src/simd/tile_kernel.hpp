@@ -613,12 +613,10 @@ template <class A, bool kCells, bool kTileArcs = false>
 PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::KernelCell* cell,
                                            const xsimd::batch<float, A>& px, const xsimd::batch<float, A>& py,
                                            float* scratch, xsimd::batch<float, A> (&e)[3],
-                                           const TileArcs<A>& tile_arcs = {}, std::uint32_t cell_row = 0) noexcept {
+                                           const TileArcs<A>& tile_arcs = {}) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   const std::size_t occluder_count = work.occluders.size();
-  // kCells: the packet's row in its cell, against each pair's row bits (KernelPair::rows).
-  const std::uint32_t row_bit = 1u << cell_row;
   const float* occ_start_all;
   const float* occ_width;
   std::size_t occ_stride;
@@ -642,10 +640,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
     // (and those whose inside test it needs, see cell_lists.cpp).
     if constexpr (kCells) arcs = cell->occluder_count;
     const std::uint32_t* cell_occluders = kCells ? work.cell_occluders.data() + cell->first_occluder : nullptr;
-    const std::uint16_t* cell_occluder_rows = kCells ? work.cell_occluder_rows.data() + cell->first_occluder : nullptr;
     for (std::size_t i = 0; i < arcs; ++i) {
-      if constexpr (kCells)
-        if (!(cell_occluder_rows[i] & row_bit)) continue;  // no pair of the packet's row reads it
       const std::size_t k = kCells ? cell_occluders[i] : i;
       const Arc<A> arc = shape_arc<A>(work, work.occluders[k], px, py);
       in_occluder = in_occluder | arc.inside;
@@ -676,8 +671,6 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
     std::size_t n = 0;  // intervals written
     for (std::size_t p = 0; p < pair_count; ++p) {
       const KernelPair& pair = pairs[p];
-      if constexpr (kCells)
-        if (!(pair.rows & row_bit)) continue;  // its shadow cone misses the packet's row
       const B occ_start = B::load_aligned(occ_start_all + pair.occluder * occ_stride);
       const B occ_w = B::load_aligned(occ_width + pair.occluder * occ_stride);
       if (pair.general) {
@@ -1057,15 +1050,9 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
   const KernelOccluderTerms* occluder_terms = work.occluder_terms.data();
   const detail::KernelCellLight* cell_lights = work.cell_lights.data() + cell->first_light;
   const std::uint32_t* cell_occluders = work.cell_occluders.data() + cell->first_occluder;
-  // The packet's row in its cell (cells are whole packets wide), against the pairs' row bits.
-  const std::uint32_t row_bit = 1u << (pixel / detail::kTileSize % static_cast<std::size_t>(work.cell_height));
 
-  const std::uint16_t* cell_occluder_rows = work.cell_occluder_rows.data() + cell->first_occluder;
-
-  // Arcs are stored at the occluder's tile index; a cell computes only those its pairs read
-  // (for the packet's row).
+  // Arcs are stored at the occluder's tile index; a cell computes only those its pairs read.
   for (std::size_t i = 0; i < cell->occluder_count; ++i) {
-    if (!(cell_occluder_rows[i] & row_bit)) continue;
     const std::size_t k = cell_occluders[i];
     const Arc<A> arc = shape_arc<A>(work, occluders[k], px, py);
     arc.start.store_aligned(occ_start_all + k * W);
@@ -1137,7 +1124,6 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
     bool hidden = false;  // covered in every lane by one opaque arc (or a dark interior)
     for (std::size_t p = 0; p < pair_count; ++p) {
       const KernelPair& pair = pairs[first_pair + p];
-      if (!(pair.rows & row_bit)) continue;  // its shadow cone misses the packet's row
       const KernelOccluderTerms& occ_terms = occluder_terms[pair.occluder];
       const B occ_start = B::load_aligned(occ_start_all + pair.occluder * W);
       const B occ_w = B::load_aligned(occ_width + pair.occluder * W);
@@ -1602,10 +1588,6 @@ PAR2D_KERNEL_INLINE void render_plain_tile(const TileWork& work, float* scratch,
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   auto cell_of = [&](std::size_t first) { return kCells ? packet_cell(work, first) : nullptr; };
-  // The packet's row in its cell (cells are whole packets wide).
-  auto row_in_cell = [&](std::size_t first) {
-    return kCells ? static_cast<std::uint32_t>(first / detail::kTileSize % static_cast<std::size_t>(work.cell_height)) : 0u;
-  };
   if constexpr (!kCells) {
     if (work.spp == 1) return render_plain_tile_shape_major<A>(work, scratch, out);
   }
@@ -1614,7 +1596,7 @@ PAR2D_KERNEL_INLINE void render_plain_tile(const TileWork& work, float* scratch,
       const B px = B::load_unaligned(work.sample_x.data() + first % detail::kTileSize);
       const B py(work.sample_y[first / detail::kTileSize]);
       B e[3];
-      packet_irradiance<A, kCells>(work, cell_of(first), px, py, scratch, e, {}, row_in_cell(first));
+      packet_irradiance<A, kCells>(work, cell_of(first), px, py, scratch, e);
       for (int c = 0; c < 3; ++c) e[c].store_aligned(out.rgb[c] + first);
     }
     return;
@@ -1627,7 +1609,7 @@ PAR2D_KERNEL_INLINE void render_plain_tile(const TileWork& work, float* scratch,
       const B px = B::load_unaligned(work.sample_x.data() + s * detail::kTileSize + first % detail::kTileSize);
       const B py(work.sample_y[s * detail::kTileSize + first / detail::kTileSize]);
       B e[3];
-      packet_irradiance<A, kCells>(work, cell, px, py, scratch, e, {}, row_in_cell(first));
+      packet_irradiance<A, kCells>(work, cell, px, py, scratch, e);
       for (int c = 0; c < 3; ++c) sum[c] += e[c];
     }
     for (int c = 0; c < 3; ++c) (sum[c] * inv_spp).store_aligned(out.rgb[c] + first);

@@ -83,10 +83,6 @@ struct KernelPair {
   std::uint32_t point_count = 0;
   bool general = false;
   bool front = false;
-  // In a cell's lists (TileWork::cell_pairs): bit r set where the cell's pixel row r may see
-  // the occluder in front of the light (shadow cone, cell_lists.cpp); the plain kernel skips
-  // the pair for the other rows' packets. Every bit elsewhere.
-  std::uint16_t rows = 0xffff;
 };
 
 struct KernelLight {
@@ -187,10 +183,6 @@ struct TileWork {
   std::vector<KernelCellLight> cell_lights;
   std::vector<KernelPair> cell_pairs;
   std::vector<std::uint32_t> cell_occluders;  // indices into occluders
-  // Parallel to cell_occluders: bit r set where the cell's pixel row r needs the arc (one of
-  // the occluder's pairs there has the row, or the plain kernel's inside test may hold a
-  // pixel of the row); the kernels skip the arc for the other rows' packets.
-  std::vector<std::uint16_t> cell_occluder_rows;
 
   void clear() noexcept {
     occluders.clear();
@@ -210,7 +202,6 @@ struct TileWork {
     cell_lights.clear();
     cell_pairs.clear();
     cell_occluders.clear();
-    cell_occluder_rows.clear();
   }
 };
 
