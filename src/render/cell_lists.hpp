@@ -33,6 +33,7 @@ struct CellListScratch {
   std::vector<Disc> occluder_discs;       // per tile occluder
   std::vector<unsigned> occluder_cells;   // per tile occluder: bit c, cell c needs its arc
   std::vector<unsigned> pair_cells;       // per pair of the current light: bit c, cell c keeps it
+  std::vector<KernelPair> pair_buffer;    // the cells' pairs before they are copied into the work
 };
 
 // Fills work's cells (TileWork::cells) for `tile`, the tile that build_tile_work last built
