@@ -163,3 +163,34 @@ TEST_CASE("cell lists: game-model scenes with every term on small occluders matc
                                "every term, mirrored");
   check_cells_against_unculled(rubble_scene(2716, std::nullopt, with_every_model_term({})), 4, "every term, 4 spp");
 }
+
+TEST_CASE("cell lists: lights hidden only by several small occluders together (a staggered fence) match unculled and scalar") {
+  // Two columns of 2 px squares, one every 3 px, the second 1.5 px behind the first and
+  // offset by half a period: a ray through a gap of the first meets a square of the second
+  // unless it climbs more than 0.5 px over the 1.5 px between them. Behind the fence the
+  // lamp is hidden by two or three squares together where the rays to it are shallow and
+  // seen through the gaps where they are steeper, so the kernel's blocked prefix (extended
+  // by each interval that starts inside it, the candidates ordered by angle per block)
+  // closes the cover in some lanes and must stop at a gap in others: an error of 0.02 rad in
+  // that test moved pixels by 15 times the bound. A second lamp above the fence lights the
+  // rest; the penumbra's tiles get cells of their own.
+  Scene scene;
+  scene.width = 128;
+  scene.height = 96;
+  scene.view = View{0.0, 0.0, 128.0, 96.0};
+  scene.lights.push_back(Light{Circle{{6.0, 48.0}, 4.0}, {1.0, 0.9, 0.8}, 1.0});
+  scene.lights.push_back(Light{Polygon{{{80.0, -8.0}, {86.0, -8.0}, {86.0, -3.0}, {80.0, -3.0}}}, {0.3, 0.5, 1.0}, 0.5});
+  for (int column = 0; column < 2; ++column) {
+    const double x = 20.0 + 3.5 * column;
+    for (double y = -8.0 + 1.5 * column; y < 104.0; y += 3.0)
+      scene.occluders.push_back(Occluder{Polygon{{{x, y}, {x + 2.0, y}, {x + 2.0, y + 2.0}, {x, y + 2.0}}}});
+  }
+  REQUIRE(scene.occluders.size() > 70);
+  CHECK(tiles_with_cells(scene, 8) > 0);
+  CHECK(tiles_with_cells(scene, 16) > 0);
+  check_cells_against_unculled(scene, 1, "fence");
+  check_cells_against_unculled(scene, 4, "fence, 4 spp");
+  // The same with the view mirrored: the tiles and packets cross the fence the other way.
+  scene.view = View{128.0, 96.0, 0.0, 0.0};
+  check_cells_against_unculled(scene, 1, "fence, mirrored");
+}

@@ -811,6 +811,38 @@ std::optional<Line> block_separator(const PreparedScene& scene, std::size_t l, s
   return entry.line;
 }
 
+// A monotone stand-in for the angle of (x, y) in [0, 4), 0 along +x, increasing with the
+// angle: |x| + |y| in place of the length, no atan2.
+double diamond_angle(double x, double y) noexcept {
+  const double sum = std::abs(x) + std::abs(y);
+  if (!(sum > 0.0)) return 0.0;
+  if (y >= 0.0) return x >= 0.0 ? y / sum : 1.0 - x / sum;
+  return x < 0.0 ? 2.0 - y / sum : 3.0 + x / sum;
+}
+
+// A light's candidates in a block ordered by their direction from the block's center,
+// measured from the light's. Pairs follow the candidates' order in every tile, and the
+// kernel extends the blocked prefix of a light's arc with each interval that starts inside
+// it, stopping on the light once the prefix spans the arc: intervals that arrive in
+// angular order close a cover made of several occluders early.
+// Fewer candidates leave the lights of the block's tiles a pair or two, where the order
+// cannot pay for the sort (on the dungeon it cost 1.4 % more instructions).
+constexpr std::size_t kOrderMinCandidates = 16;
+
+void order_by_angle(const PreparedScene& scene, Vec2 light_center, Vec2 block_center, std::vector<std::uint32_t>& ids,
+                    std::vector<std::pair<double, std::uint32_t>>& keyed) {
+  const Vec2 to_light = light_center - block_center;
+  keyed.clear();
+  for (const std::uint32_t k : ids) {
+    const Vec2 to_occluder = scene.occluders[k].centroid - block_center;
+    double key = diamond_angle(dot(to_light, to_occluder), cross(to_light, to_occluder));
+    if (key >= 2.0) key -= 4.0;
+    keyed.emplace_back(key, k);
+  }
+  std::sort(keyed.begin(), keyed.end());
+  for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = keyed[i].second;
+}
+
 }  // namespace
 
 void gather_block_candidates(const PreparedScene& scene, const TileRect& block, const std::vector<LightReach>* reach,
@@ -882,6 +914,8 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
         ++block_proofs.succeeded;
       }
     }
+    if (!scene.model && candidates.size() >= kOrderMinCandidates)
+      order_by_angle(scene, light.centroid, 0.5 * (corners[0] + corners[2]), candidates, scratch.ordered_candidates);
   }
 }
 

@@ -17,8 +17,9 @@ namespace par2d::detail {
 
 // Per-thread buffers reused from tile to tile.
 struct TileSetupScratch {
-  // Per light: occluders that can block some ray from the current block to the light
-  // (sorted), from one spatial-index query per block and light.
+  // Per light: occluders that can block some ray from the current block to the light, from
+  // one spatial-index query per block and light: in index order, or by direction when there
+  // are many (order_by_angle in tile_setup.cpp).
   std::vector<std::vector<std::uint32_t>> block_candidates;
   std::vector<unsigned char> block_shadowed;  // per light: in one occluder's umbra over the whole block
   std::vector<std::int32_t> local_index;  // occluder -> index in TileWork::occluders, or -1
@@ -28,6 +29,7 @@ struct TileSetupScratch {
   std::vector<Vec2> hull_points, hull;
   ConvexShape clipped, clipped_light;  // shapes reaching far from the tile, clipped to a box around it
   std::vector<std::uint32_t> pair_occluders;
+  std::vector<std::pair<double, std::uint32_t>> ordered_candidates;  // a light's block candidates, angular keys
   std::vector<std::uint32_t> directional;  // a directional light's candidate occluders
   OcclusionProofScratch occlusion;
   // Per shape, its tile tangent pair over the whole current block (see kernel_shape in

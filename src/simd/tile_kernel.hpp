@@ -691,9 +691,17 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
       const B end = o + occ_w;
       // The part that wraps past the light's start begins at 0: a running max suffices.
       reach0 = xsimd::select(blocks, xsimd::max(reach0, xsimd::min(end - B(kTwoPiF), width)), reach0);
-      // One occluder's arc holding the light's in every lane (it starts before the light's
-      // arc and ends past it) hides the light there: the union is the whole arc whatever
-      // the other intervals, and the light adds exactly 0, so the rest of its work is skipped.
+      // With cells (tiles with many pairs): an interval starting inside the blocked prefix
+      // [0, reach0] extends it, so several occluders that together span the light's arc end
+      // its work too when they arrive in order of their starts (their candidates are
+      // ordered by angle per block, see order_by_angle in render/tile_setup.cpp). Elsewhere
+      // lights have a pair or two and this cost more than it saved (the dungeon, callgrind).
+      if constexpr (kCells)
+        reach0 = xsimd::select(blocks & (o <= reach0), xsimd::max(reach0, xsimd::min(end, width)), reach0);
+      // A blocked prefix spanning the light's arc in every lane (one occluder that starts
+      // before the light's arc and ends past it, or with cells such a chain) hides the light
+      // there: the union is the whole arc whatever the other intervals, and the light adds
+      // exactly 0, so the rest of its work is skipped.
       if (xsimd::all((reach0 >= width) | in_occluder)) return;
       // An interval empty in every lane (not in front, or starting past the light's arc)
       // adds nothing to the union (it sorts after every interval it could overlap): not
