@@ -836,7 +836,7 @@ void order_by_angle(const PreparedScene& scene, Vec2 light_center, Vec2 block_ce
   for (const std::uint32_t k : ids) {
     const Vec2 to_occluder = scene.occluders[k].centroid - block_center;
     double key = diamond_angle(dot(to_light, to_occluder), cross(to_light, to_occluder));
-    if (key >= 2.0) key -= 4.0;
+    if (key >= 2.0) key -= 4.0;  // into (-2, 2]: the light's direction in the middle, not at the seam
     keyed.emplace_back(key, k);
   }
   std::sort(keyed.begin(), keyed.end());
