@@ -3,11 +3,13 @@
 
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "geometry/convex_shape.hpp"
+#include "world/prepared_scene.hpp"
 #include "par2d/par2d.hpp"
 #include "support/random_scenes.hpp"
 
@@ -312,4 +314,65 @@ TEST_CASE("distance between many-vertex polygons (pruned search) equals the full
   }
   CHECK(disjoint >= 10);
   CHECK(meeting >= 10);
+}
+
+TEST_CASE("pair separators: a checked line for every disjoint light and occluder, across the discs' gap when far apart") {
+  // The tile setup orders a pair by any line that strictly separates it; far apart (centroids
+  // more than twice the sum of their bounding radii) it takes the line normal to the
+  // centroids' axis in the middle of the discs' gap, nearer the closest points' bisector.
+  std::mt19937 rng(1207);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  auto random_shape = [&](Vec2 c, double size) {
+    const int kind = static_cast<int>(unit(rng) * 3.0);
+    if (kind == 0) return detail::make_convex_shape(Circle{c, 0.5 * size});
+    if (kind == 1) {
+      const double a = 2 * kPi * unit(rng);
+      return detail::make_convex_shape(Segment{{c.x - 0.5 * size * std::cos(a), c.y - 0.5 * size * std::sin(a)},
+                                               {c.x + 0.5 * size * std::cos(a), c.y + 0.5 * size * std::sin(a)}});
+    }
+    Polygon p;
+    const int n = 3 + static_cast<int>(unit(rng) * 4.0);
+    const double phase = unit(rng);
+    for (int k = 0; k < n; ++k)
+      p.vertices.push_back({c.x + 0.5 * size * std::cos(phase + 2 * kPi * k / n),
+                            c.y + 0.5 * size * std::sin(phase + 2 * kPi * k / n)});
+    return detail::make_convex_shape(p);
+  };
+  constexpr int kPairs = 400;
+  detail::PairSeparators separators;
+  separators.reset(kPairs, 1);
+  int far = 0, near_disjoint = 0, meeting = 0;
+  for (int trial = 0; trial < kPairs; ++trial) {
+    const detail::ConvexShape light = random_shape({0.0, 0.0}, 1.0 + 6.0 * unit(rng));
+    const double angle = 2 * kPi * unit(rng), gap = 40.0 * unit(rng) * unit(rng);
+    const detail::ConvexShape occluder =
+        random_shape({gap * std::cos(angle), gap * std::sin(angle)}, 1.0 + 6.0 * unit(rng));
+    const std::optional<detail::Line> line = separators.get(static_cast<std::size_t>(trial), 0, light, occluder);
+    const double distance = detail::shape_distance(light, occluder);
+    INFO("trial ", trial, " distance ", distance);
+    REQUIRE(line.has_value() == (distance > 0.0));
+    if (!line) {
+      ++meeting;
+      continue;
+    }
+    for (const Vec2 v : occluder.vertices) CHECK(line->side(v) - occluder.radius > 0.0);
+    for (const Vec2 v : light.vertices) CHECK(line->side(v) + light.radius < 0.0);
+    const Vec2 axis{occluder.centroid.x - light.centroid.x, occluder.centroid.y - light.centroid.y};
+    const double centroids = std::sqrt(axis.x * axis.x + axis.y * axis.y);
+    const double across = std::abs(line->normal.x * axis.y - line->normal.y * axis.x) / centroids;
+    if (centroids > 2.0 * (detail::centroid_radius(light) + detail::centroid_radius(occluder))) {
+      ++far;
+      CHECK(across < 1e-12);
+    } else {
+      ++near_disjoint;
+    }
+    // Known from then on: the same line again.
+    const std::optional<detail::Line> again = separators.get(static_cast<std::size_t>(trial), 0, light, occluder);
+    REQUIRE(again.has_value());
+    CHECK(again->normal.x == line->normal.x);
+    CHECK(again->point.y == line->point.y);
+  }
+  CHECK(far >= 50);
+  CHECK(near_disjoint >= 50);
+  CHECK(meeting >= 20);
 }

@@ -778,6 +778,12 @@ bool occluder_first(const ConvexShape& occluder, const ConvexShape& light, Vec2 
   return false;
 }
 
+double centroid_radius(const ConvexShape& shape) noexcept {
+  double farthest = 0.0;
+  for (const Vec2 v : shape.vertices) farthest = std::max(farthest, dot(v - shape.centroid, v - shape.centroid));
+  return std::sqrt(farthest) * (1.0 + 1e-12) + shape.radius;
+}
+
 std::optional<Line> separating_line(const ConvexShape& positive, const ConvexShape& negative) noexcept {
   Vec2 pn, pp;  // closest core points on `negative` and `positive`
   const double core = core_distance(negative, positive, pn, pp);

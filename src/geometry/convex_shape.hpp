@@ -46,6 +46,10 @@ void make_convex_shape(const Shape& shape, ConvexShape& out);
 // Whether x lies in the closed shape.
 bool contains(const ConvexShape& shape, Vec2 x) noexcept;
 
+// Radius of a disc about the centroid that holds the closed shape (the hull of the vertices
+// grown by `radius`), rounded up past the rounding of its own few operations.
+double centroid_radius(const ConvexShape& shape) noexcept;
+
 // t_S(theta) of docs/contract.md section 1 along the unit direction `dir`: 0 when x is in the
 // shape, +infinity when the ray misses it.
 double ray_entry(const ConvexShape& shape, Vec2 x, Vec2 dir) noexcept;

@@ -12,13 +12,7 @@ namespace {
 constexpr int kCellPixels = 64;
 int cell_width_for(int lanes) noexcept { return std::min(kTileSize, std::max(lanes, 8)); }
 
-// A disc holding the shape: "the hull of `vertices` grown by `radius`" (ConvexShape) lies
-// within the vertices' farthest distance from the centroid, plus the radius.
-CellListScratch::Disc bounding_disc(const ConvexShape& s) noexcept {
-  double farthest = 0.0;
-  for (const Vec2 v : s.vertices) farthest = std::max(farthest, dot(v - s.centroid, v - s.centroid));
-  return {s.centroid, std::sqrt(farthest) * (1.0 + 1e-12) + s.radius};
-}
+CellListScratch::Disc bounding_disc(const ConvexShape& s) noexcept { return {s.centroid, centroid_radius(s)}; }
 
 // Where an occluder can block a light: a ray from x meets the occluder at o before it reaches
 // the light at l only if o lies on the segment [x, l], so x = o + t (o - l), t >= 0. With both

@@ -20,6 +20,22 @@ bool separates(const Line& line, const ConvexShape& positive, const ConvexShape&
   return true;
 }
 
+// A line across the gap between the shapes' bounding discs about their centroids, normal to
+// the centroids' axis, where the discs lie well apart: any line that separates the pair
+// orders it (the tile setup and the kernel need no more), and this one costs a few dozen
+// operations where the closest points' bisector (separating_line) cost over 2,000 on
+// rubble, a pair of small shapes at a time (a third of the setup's separator time there).
+// Shapes nearer than twice their radii (walls, lights beside them) keep the bisector, which
+// leaves more room on both sides of the line.
+std::optional<Line> disc_separator(const ConvexShape& positive, const ConvexShape& negative) noexcept {
+  const double r_positive = centroid_radius(positive), r_negative = centroid_radius(negative);
+  const Vec2 axis = positive.centroid - negative.centroid;
+  const double distance = length(axis);
+  if (!(distance > 2.0 * (r_positive + r_negative))) return std::nullopt;
+  const Vec2 n = (1.0 / distance) * axis;
+  return Line{n, negative.centroid + (0.5 * (distance + r_negative - r_positive)) * n};
+}
+
 }  // namespace
 
 void PairSeparators::reset(std::size_t lights, std::size_t occluders) {
@@ -84,8 +100,11 @@ std::optional<Line> PairSeparators::get(std::size_t light, std::size_t occluder,
   const std::uint8_t seen = state.load(std::memory_order_acquire);
   if (seen == kSeparated) return lines_[index];
   if (seen == kTouching) return std::nullopt;
-  std::optional<Line> line = separating_line(occluder_shape, light_shape);
-  if (line && !separates(*line, occluder_shape, light_shape)) line.reset();
+  std::optional<Line> line = disc_separator(occluder_shape, light_shape);
+  if (!line || !separates(*line, occluder_shape, light_shape)) {
+    line = separating_line(occluder_shape, light_shape);
+    if (line && !separates(*line, occluder_shape, light_shape)) line.reset();
+  }
   // Only the thread that claims the slot writes it; a thread that loses the race just
   // uses its own (identical) result.
   std::uint8_t expected = kUnknown;
