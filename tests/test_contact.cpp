@@ -370,6 +370,8 @@ TEST_CASE("pair separators: a checked line for every disjoint light and occluder
     const std::optional<detail::Line> again = separators.get(static_cast<std::size_t>(trial), 0, light, occluder);
     REQUIRE(again.has_value());
     CHECK(again->normal.x == line->normal.x);
+    CHECK(again->normal.y == line->normal.y);
+    CHECK(again->point.x == line->point.x);
     CHECK(again->point.y == line->point.y);
   }
   CHECK(far >= 50);
