@@ -593,17 +593,17 @@ using detail::single_pair_light;
 
 // Irradiance (times 1/(2*pi), folded into the emissions) of one packet at (px, py), from the
 // tile's lists, or (kCells) from its cell's (`cell`, see KernelCell).
-// kTileArcs: the occluder arcs were computed for the whole tile beforehand (TileArcs, see
-// render_plain_tile); `tile_arcs` is the packet's view of them. Else the packet computes
-// them here, into `scratch`.
+// kTileArcs: the occluder arcs were computed beforehand, for the whole tile (TileArcs, see
+// render_plain_tile_shape_major) or with kCells for the packet's cell (render_plain_cell_tile);
+// `tile_arcs` is the packet's view of them. Else the packet computes them here, into `scratch`.
 template <class A>
 struct TileArcs {
-  const float* start = nullptr;  // occluder k's start angles at start[k * stride]
+  const float* start = nullptr;  // occluder k's start angles at start[k * kTilePixels]
   const float* width = nullptr;
   const float* inside = nullptr;  // 1 where a lane is inside some occluder, else 0
-  std::size_t stride = 0;
-  // The irradiance of the lights without pairs and of the single-pair lights (summed
-  // beforehand); the packet computes only the lights listed in `lights` (work.lights indices).
+  // Without cells: the irradiance of the lights without pairs and of the single-pair lights
+  // (summed beforehand); the packet computes only the lights listed in `lights` (work.lights
+  // indices). With cells, unused: the packet computes its cell's lights.
   const float* unblocked[3] = {nullptr, nullptr, nullptr};
   const std::uint32_t* lights = nullptr;
   std::size_t light_count = 0;
@@ -619,14 +619,14 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
   const std::size_t occluder_count = work.occluders.size();
   const float* occ_start_all;
   const float* occ_width;
-  std::size_t occ_stride;
+  // Between occluders' arcs: a constant, so that a pair's arc address is a shift and an add.
+  constexpr std::size_t occ_stride = kTileArcs ? detail::kTilePixels : W;
   float* lo;
   auto in_occluder = B(0.0f) > B(0.0f);
   std::size_t arcs = occluder_count;
   if constexpr (kTileArcs) {
     occ_start_all = tile_arcs.start;
     occ_width = tile_arcs.width;
-    occ_stride = tile_arcs.stride;
     in_occluder = B::load_aligned(tile_arcs.inside) != B(0.0f);
     lo = scratch;
   } else {
@@ -634,7 +634,6 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
     float* width_out = start_out + occluder_count * W;
     occ_start_all = start_out;
     occ_width = width_out;
-    occ_stride = W;
     lo = width_out + occluder_count * W;
     // Arcs are stored at the occluder's tile index; a cell computes only those its pairs read
     // (and those whose inside test it needs, see cell_lists.cpp).
@@ -654,12 +653,12 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
   for (int c = 0; c < 3; ++c) e[c] = B(0.0f);
   // Every lane inside an occluder: 0 whatever the lights (the select at the end).
   if (arcs != 0 && xsimd::all(in_occluder)) return;
-  if constexpr (kTileArcs)
+  if constexpr (kTileArcs && !kCells)
     for (int c = 0; c < 3; ++c) e[c] = B::load_aligned(tile_arcs.unblocked[c]);
   // One light's share, inlined into both loops below.
   auto add_light = [&](const KernelLight& light, const KernelPair* pairs,
                        std::size_t pair_count) PAR2D_KERNEL_LAMBDA_INLINE {
-    if (!kTileArcs && pair_count == 0) {  // nothing in front of this light anywhere in the tile (or cell)
+    if ((kCells || !kTileArcs) && pair_count == 0) {  // nothing in front of this light anywhere in the tile (or cell)
       const Arc<A> arc = shape_arc<A, false>(work, light.shape, px, py);
       const B visible = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
       for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]), visible, e[c]);
@@ -1361,6 +1360,26 @@ PAR2D_KERNEL_INLINE bool may_hold_pixels(const KernelShape& s) noexcept {
 // are skipped: tile_single_pair_lights needs no arc and sets their inside flags itself.
 inline constexpr unsigned char kSinglePairUse = 1, kPacketUse = 2;
 
+// Calls sweep(arc_of, may_hold_pixels) with arc_of(px, py) the occluder's arc with its
+// tile-constant branches taken here (its window, kind and flags: shape_arc's own tests then
+// fold away in each instantiation, and so does the inside flag of a shape that holds no pixel).
+template <class A, class Sweep>
+PAR2D_KERNEL_INLINE void with_known_arc(const TileWork& work, const KernelShape& s, Sweep&& sweep) {
+  using B = xsimd::batch<float, A>;
+  if (s.window >= 0) {
+    with_known_kind(s, [&](const KernelShape& known) PAR2D_KERNEL_LAMBDA_INLINE {
+      sweep([&](const B& px, const B& py)
+                PAR2D_KERNEL_LAMBDA_INLINE { return windowed_shape_arc<A>(work, known, px, py); },
+            may_hold_pixels(known));
+    });
+    return;
+  }
+  with_known_kind(s, [&](const KernelShape& known) PAR2D_KERNEL_LAMBDA_INLINE {
+    sweep([&](const B& px, const B& py) PAR2D_KERNEL_LAMBDA_INLINE { return shape_arc<A>(work, known, px, py); },
+          may_hold_pixels(known));
+  });
+}
+
 template <class A>
 PAR2D_KERNEL_NOINLINE void tile_occluder_arcs(const TileWork& work, const unsigned char* arc_users, float* start,
                                               float* width, float* inside) noexcept {
@@ -1389,20 +1408,56 @@ PAR2D_KERNEL_NOINLINE void tile_occluder_arcs(const TileWork& work, const unsign
         }
       }
     };
-    // Each kind's arc with its tile-constant branches taken here (shape_arc's own tests then
-    // fold away in each instantiation, and so does the inside flag of a shape that holds no pixel).
-    if (s.window >= 0) {
-      with_known_kind(s, [&](const KernelShape& known) PAR2D_KERNEL_LAMBDA_INLINE {
-        sweep([&](const B& px, const B& py)
-                  PAR2D_KERNEL_LAMBDA_INLINE { return windowed_shape_arc<A>(work, known, px, py); },
-              may_hold_pixels(known));
-      });
-      continue;
-    }
-    with_known_kind(s, [&](const KernelShape& known) PAR2D_KERNEL_LAMBDA_INLINE {
-      sweep([&](const B& px, const B& py) PAR2D_KERNEL_LAMBDA_INLINE { return shape_arc<A>(work, known, px, py); },
-            may_hold_pixels(known));
-    });
+    with_known_arc<A>(work, s, sweep);
+  }
+}
+
+// A cell's width and height for packets of W lanes: whole packets, at least 8 pixels wide
+// (cell_lists.cpp makes the same cells).
+template <std::size_t W>
+inline constexpr std::size_t kCellWidth = W < 8 ? 8 : (W > detail::kTileSize ? detail::kTileSize : W);
+template <std::size_t W>
+inline constexpr std::size_t kCellHeight = detail::kCellPixels / kCellWidth<W>;
+
+// The arcs of one cell's occluders over the cell's pixels, occluder-major like
+// tile_occluder_arcs: each occluder's kind and flags are branched on once per cell instead of
+// once per packet (on rubble that dispatch was about 29 of the 104 instructions of an arc).
+// The cell's arcs go to scratch[k * kTilePixels + cell_offset + i] for its pixel i in
+// row-major order within the cell (start, then width), its inside flags to
+// inside[cell_offset + i]: each cell's pixels lie together, kCellPixels from cell_offset.
+template <class A>
+PAR2D_KERNEL_NOINLINE void cell_occluder_arcs(const TileWork& work, const detail::KernelCell& cell,
+                                              std::size_t x0, std::size_t y0, std::size_t cell_offset,
+                                              float* start, float* width, float* inside) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  constexpr std::size_t cell_width = kCellWidth<W>, cell_height = kCellHeight<W>;
+  // Read once: a vector store may alias any float, so members read in the loop are reloaded.
+  const float* sample_x = work.sample_x.data() + x0;
+  const float* sample_y = work.sample_y.data() + y0;
+  float* cell_inside = inside + cell_offset;
+  for (std::size_t first = 0; first < detail::kCellPixels; first += W) B(0.0f).store_aligned(cell_inside + first);
+  const std::uint32_t* occluders = work.cell_occluders.data() + cell.first_occluder;
+  for (std::uint32_t i = 0; i < cell.occluder_count; ++i) {
+    const std::size_t k = occluders[i];
+    float* start_k = start + k * detail::kTilePixels + cell_offset;
+    float* width_k = width + k * detail::kTilePixels + cell_offset;
+    auto sweep = [&](auto arc_of, bool may_hold_pixels) PAR2D_KERNEL_LAMBDA_INLINE {
+      std::size_t at = 0;
+      for (std::size_t row = 0; row < cell_height; ++row) {
+        const B py(sample_y[row]);
+        for (std::size_t column = 0; column < cell_width; column += W, at += W) {
+          const Arc<A> arc = arc_of(B::load_unaligned(sample_x + column), py);
+          arc.start.store_aligned(start_k + at);
+          arc.width.store_aligned(width_k + at);
+          if (may_hold_pixels) {
+            const B was = B::load_aligned(cell_inside + at);
+            xsimd::select(arc.inside, B(1.0f), was).store_aligned(cell_inside + at);
+          }
+        }
+      }
+    };
+    with_known_arc<A>(work, work.occluders[k], sweep);
   }
 }
 
@@ -1469,46 +1524,69 @@ PAR2D_KERNEL_INLINE xsimd::batch<float, A> visible_past_one_occluder(
   return visible;
 }
 
-// The tile's single-pair lights (single_pair_light), summed shape-major into `sum` like the
-// unblocked ones: each packet gets both shapes' tangent directions (no atan2) and one
-// visible_past_one_occluder. Their occluders' inside flags are added to `inside`.
+// One single-pair light (single_pair_light) summed shape-major into `sum` like the unblocked
+// ones: each packet gets both shapes' tangent directions (no atan2) and one
+// visible_past_one_occluder. The occluder's inside flags are added to `inside`. The shapes'
+// kinds and flags fold away where the caller set them from constants.
 template <class A>
-PAR2D_KERNEL_NOINLINE void tile_single_pair_lights(const TileWork& work, TileResult& sum, float* inside) noexcept {
+PAR2D_KERNEL_INLINE void single_pair_sweep(const TileWork& work, const KernelLight& light, const KernelPair& pair,
+                                           const KernelShape& light_shape, const KernelShape& occluder,
+                                           TileResult& sum, float* inside) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   // Read once: a vector store may alias any float, so members read in the loop are reloaded.
   const float* sample_x = work.sample_x.data();
   const float* sample_y = work.sample_y.data();
+  const B emission[3] = {B(light.emission[0]), B(light.emission[1]), B(light.emission[2])};
+  // In front in a lane: everywhere (front), or on the occluder's side of the separating line.
+  const B nx(pair.front ? 0.0f : pair.nx), ny(pair.front ? 0.0f : pair.ny);
+  const B line_c(pair.front ? -std::numeric_limits<float>::infinity() : pair.c);
+  const bool occluder_may_hold_pixels = may_hold_pixels(occluder);
+  for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
+    const B px = B::load_unaligned(sample_x + first % detail::kTileSize);
+    const B py(sample_y[first / detail::kTileSize]);
+    B lx, ly, hx, hy, ox, oy, qx, qy;
+    xsimd::batch_bool<float, A> in_light, in_occluder;
+    shape_tangents<A>(work, light_shape, px, py, lx, ly, hx, hy, in_light);
+    shape_tangents<A>(work, occluder, px, py, ox, oy, qx, qy, in_occluder);
+    const auto blocks = (xsimd::fma(nx, px, ny * py) >= line_c) & ~in_light;
+    const B visible = xsimd::select(in_light, B(kTwoPiF),
+                                    visible_past_one_occluder<A>(lx, ly, hx, hy, ox, oy, qx, qy, blocks));
+    for (int c = 0; c < 3; ++c)
+      xsimd::fma(emission[c], visible, B::load_aligned(sum.rgb[c] + first)).store_aligned(sum.rgb[c] + first);
+    if (occluder_may_hold_pixels) {
+      const B was = B::load_aligned(inside + first);
+      xsimd::select(in_occluder, B(1.0f), was).store_aligned(inside + first);
+    }
+  }
+}
+
+// A round single-pair light (most torches and lamps: 95 % of the dungeon's single-pair
+// lights) with the occluder's kind known. Out of line: inlined into tile_single_pair_lights,
+// its five loops changed the registers GCC gave that function's other loops (paper, whose
+// lights are polygons, then took 0.9 M more instructions a frame).
+template <class A>
+PAR2D_KERNEL_NOINLINE void round_light_single_pair(const TileWork& work, const KernelLight& light,
+                                                   const KernelPair& pair, TileResult& sum, float* inside) noexcept {
+  KernelShape known_light = light.shape;
+  known_light.kind = ShapeKind::circle;
+  known_light.ordered = false;
+  known_light.may_contain = true;
+  known_light.clipped = false;
+  with_known_kind(work.occluders[pair.occluder], [&](const KernelShape& known_occluder) PAR2D_KERNEL_LAMBDA_INLINE {
+    single_pair_sweep<A>(work, light, pair, known_light, known_occluder, sum, inside);
+  });
+}
+
+// The tile's single-pair lights (single_pair_sweep). Instantiations: both shapes tile tangent
+// pairs with their kinds known, a round light with each kind of occluder, and any other kinds
+// branched on per packet. Every pair of known kinds (25 inlined loops) took the
+// AddressSanitizer build of a kernel file past 20 minutes (then at -O3).
+template <class A>
+PAR2D_KERNEL_NOINLINE void tile_single_pair_lights(const TileWork& work, TileResult& sum, float* inside) noexcept {
   for (const KernelLight& light : work.lights) {
     const KernelPair* pair = work.pairs.data() + light.first_pair;
     if (!single_pair_light(light, pair, light.pair_count)) continue;
-    const B emission[3] = {B(light.emission[0]), B(light.emission[1]), B(light.emission[2])};
-    // In front in a lane: everywhere (front), or on the occluder's side of the separating line.
-    const B nx(pair->front ? 0.0f : pair->nx), ny(pair->front ? 0.0f : pair->ny);
-    const B line_c(pair->front ? -std::numeric_limits<float>::infinity() : pair->c);
-    // Two instantiations: both shapes tile tangent pairs (the common case) with their kinds
-    // known, and any other kinds branched on per packet. Every pair of known kinds (25
-    // inlined loops) took the AddressSanitizer build of a kernel file past 20 minutes.
-    auto sweep = [&](const KernelShape& light_shape, const KernelShape& occluder) PAR2D_KERNEL_LAMBDA_INLINE {
-      const bool occluder_may_hold_pixels = may_hold_pixels(occluder);
-      for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
-        const B px = B::load_unaligned(sample_x + first % detail::kTileSize);
-        const B py(sample_y[first / detail::kTileSize]);
-        B lx, ly, hx, hy, ox, oy, qx, qy;
-        xsimd::batch_bool<float, A> in_light, in_occluder;
-        shape_tangents<A>(work, light_shape, px, py, lx, ly, hx, hy, in_light);
-        shape_tangents<A>(work, occluder, px, py, ox, oy, qx, qy, in_occluder);
-        const auto blocks = (xsimd::fma(nx, px, ny * py) >= line_c) & ~in_light;
-        const B visible = xsimd::select(in_light, B(kTwoPiF),
-                                        visible_past_one_occluder<A>(lx, ly, hx, hy, ox, oy, qx, qy, blocks));
-        for (int c = 0; c < 3; ++c)
-          xsimd::fma(emission[c], visible, B::load_aligned(sum.rgb[c] + first)).store_aligned(sum.rgb[c] + first);
-        if (occluder_may_hold_pixels) {
-          const B was = B::load_aligned(inside + first);
-          xsimd::select(in_occluder, B(1.0f), was).store_aligned(inside + first);
-        }
-      }
-    };
     const KernelShape& occluder = work.occluders[pair->occluder];
     if (light.shape.ordered && occluder.ordered) {
       // Copies whose flags the compiler sees: shape_tangents' kind tests fold away.
@@ -1519,9 +1597,11 @@ PAR2D_KERNEL_NOINLINE void tile_single_pair_lights(const TileWork& work, TileRes
         known->may_contain = false;
         known->clipped = false;
       }
-      sweep(known_light, known_occluder);
+      single_pair_sweep<A>(work, light, *pair, known_light, known_occluder, sum, inside);
+    } else if (light.shape.kind == ShapeKind::circle && !light.shape.clipped) {
+      round_light_single_pair<A>(work, light, *pair, sum, inside);
     } else {
-      sweep(light.shape, occluder);
+      single_pair_sweep<A>(work, light, *pair, light.shape, occluder, sum, inside);
     }
   }
 }
@@ -1576,7 +1656,6 @@ PAR2D_KERNEL_NOINLINE void render_plain_tile_shape_major(const TileWork& work, f
     return;
   }
   TileArcs<A> arcs;
-  arcs.stride = detail::kTilePixels;
   arcs.lights = packet_lights;
   arcs.light_count = packet_light_count;
   // Read once: a vector store may alias any float, so members read in the loop are reloaded.
@@ -1595,24 +1674,60 @@ PAR2D_KERNEL_NOINLINE void render_plain_tile_shape_major(const TileWork& work, f
   }
 }
 
+// The plain kernel at one sample per pixel with cells: cell by cell, the cell's occluder arcs
+// occluder-major (cell_occluder_arcs), then its packets from those arcs and its lists.
+template <class A>
+PAR2D_KERNEL_NOINLINE void render_plain_cell_tile(const TileWork& work, float* scratch, TileResult& out) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  const std::size_t plane = work.occluders.size() * detail::kTilePixels;
+  float* start = scratch;
+  float* width = start + plane;
+  float* inside = width + plane;
+  float* packet_scratch = inside + detail::kTilePixels;
+  constexpr std::size_t cell_width = kCellWidth<W>, cell_height = kCellHeight<W>;
+  constexpr std::size_t columns = detail::kTileSize / cell_width;
+  // Read once: a vector store may alias any float, so members read in the loop are reloaded.
+  const float* sample_x = work.sample_x.data();
+  const float* sample_y = work.sample_y.data();
+  TileArcs<A> arcs;
+  for (std::size_t c = 0; c < work.cells.size(); ++c) {
+    const detail::KernelCell& cell = work.cells[c];
+    const std::size_t x0 = c % columns * cell_width, y0 = c / columns * cell_height;
+    if (cell.light_count == 0) {  // no light here (or wholly in the tile's padding): dark
+      for (std::size_t row = y0; row < y0 + cell_height; ++row)
+        for (std::size_t column = x0; column < x0 + cell_width; column += W)
+          for (int ch = 0; ch < 3; ++ch) B(0.0f).store_aligned(out.rgb[ch] + row * detail::kTileSize + column);
+      continue;
+    }
+    const std::size_t cell_offset = c * detail::kCellPixels;
+    cell_occluder_arcs<A>(work, cell, x0, y0, cell_offset, start, width, inside);
+    std::size_t at = cell_offset;
+    for (std::size_t row = y0; row < y0 + cell_height; ++row) {
+      const B py(sample_y[row]);
+      for (std::size_t column = x0; column < x0 + cell_width; column += W, at += W) {
+        const B px = B::load_unaligned(sample_x + column);
+        arcs.start = start + at;
+        arcs.width = width + at;
+        arcs.inside = inside + at;
+        B e[3];
+        packet_irradiance<A, true, true>(work, &cell, px, py, packet_scratch, e, arcs);
+        for (int ch = 0; ch < 3; ++ch) e[ch].store_aligned(out.rgb[ch] + row * detail::kTileSize + column);
+      }
+    }
+  }
+}
+
 // The plain kernel over the tile's packets, each from its cell's lists with kCells.
 template <class A, bool kCells>
 PAR2D_KERNEL_INLINE void render_plain_tile(const TileWork& work, float* scratch, TileResult& out) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   auto cell_of = [&](std::size_t first) { return kCells ? packet_cell(work, first) : nullptr; };
-  if constexpr (!kCells) {
-    if (work.spp == 1) return render_plain_tile_shape_major<A>(work, scratch, out);
-  }
   if (work.spp == 1) {  // the pixel centers: no sum, no division
-    for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
-      const B px = B::load_unaligned(work.sample_x.data() + first % detail::kTileSize);
-      const B py(work.sample_y[first / detail::kTileSize]);
-      B e[3];
-      packet_irradiance<A, kCells>(work, cell_of(first), px, py, scratch, e);
-      for (int c = 0; c < 3; ++c) e[c].store_aligned(out.rgb[c] + first);
-    }
-    return;
+    if constexpr (!kCells) return render_plain_tile_shape_major<A>(work, scratch, out);
+    // Cells made for another packet width (not by this library's setup) take the loop below.
+    if (work.cell_width == static_cast<int>(kCellWidth<W>)) return render_plain_cell_tile<A>(work, scratch, out);
   }
   const B inv_spp(1.0f / static_cast<float>(work.spp));
   for (std::size_t first = 0; first < detail::kTilePixels; first += W) {

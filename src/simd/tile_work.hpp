@@ -134,6 +134,9 @@ struct KernelCellLight {
   std::uint32_t pair_count = 0;
 };
 
+// Every cell holds this many pixels (a quarter of a tile), whatever its shape.
+inline constexpr int kCellPixels = 64;
+
 struct KernelCell {
   std::uint32_t first_light = 0, light_count = 0;        // TileWork::cell_lights
   std::uint32_t first_occluder = 0, occluder_count = 0;  // TileWork::cell_occluders: the arcs the cell needs
@@ -249,11 +252,12 @@ inline std::size_t kernel_packet_scratch_floats(const TileWork& work, int lanes)
 // Floats of scratch a kernel of `lanes` lanes needs for this work (caller-provided, 64-byte
 // aligned, so the kernel never allocates).
 inline std::size_t kernel_scratch_floats(const TileWork& work, int lanes) noexcept {
-  // The plain kernel without cells keeps every occluder's arc over the whole tile (start
-  // and width planes) and an inside plane ahead of the per-packet scratch, and after it a
-  // light index per light and a byte per occluder (the lights its packets compute, and which
-  // lights use each occluder, see render_plain_tile_shape_major).
-  const std::size_t tile_arcs = work.model || !work.cells.empty()
+  // The plain kernel at one sample per pixel keeps every occluder's arc over the whole tile
+  // (start and width planes; with cells, a cell's at a time) and an inside plane ahead of the
+  // per-packet scratch, and after it a light index per light and a byte per occluder (the
+  // lights its packets compute, and which lights use each occluder, see
+  // render_plain_tile_shape_major).
+  const std::size_t tile_arcs = work.model || work.spp != 1
                                     ? 0
                                     : (2 * work.occluders.size() + 1) * kTilePixels + work.lights.size() +
                                           (work.occluders.size() + 3) / 4;
