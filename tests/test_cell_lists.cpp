@@ -151,6 +151,19 @@ TEST_CASE("cell lists: small occluders and lights (1.5-5 px), mirrored and far v
   check_cells_against_unculled(rubble_scene(2706, std::nullopt), 4, "4 spp");
 }
 
+TEST_CASE("cell lists: an image whose size is no multiple of the tile size (cells wholly past its edge) matches unculled and scalar") {
+  // 84 x 74 pixels: the last tile column keeps 4 columns and the last tile row 10 rows, so
+  // that column's right-hand 8 x 8 cells and that row's last 16 x 4 cells lie wholly in the
+  // padding; the kernel leaves them dark and must still compute the cells beside them.
+  Scene scene = rubble_scene(2707, std::nullopt);
+  scene.width = 84;
+  scene.height = 74;
+  CHECK(tiles_with_cells(scene, 8) > 4);
+  CHECK(tiles_with_cells(scene, 16) > 4);
+  check_cells_against_unculled(scene, 1, "84 x 74");
+  check_cells_against_unculled(scene, 4, "84 x 74, 4 spp");
+}
+
 TEST_CASE("cell lists: game-model scenes with every term on small occluders match unculled and scalar") {
   // Ranges, cones, masks, translucent and lit-interior occluders, ambient, a normal map and two
   // directional lights (whose pairs keep every cell: a light at infinity has no shadow cone)
