@@ -81,6 +81,26 @@ int tiles_with_cells(const Scene& scene, int lanes) {
   return count;
 }
 
+// The most occluders any tile of `scene` with cells of its own takes to the kernel (culled
+// as in production, lists for `lanes` lanes).
+std::size_t most_cell_tile_occluders(const Scene& scene, int lanes) {
+  const detail::PreparedScene prepared = detail::prepare_scene(scene);
+  detail::TileSetupScratch setup;
+  detail::CellListScratch cells;
+  detail::TileWork work;
+  std::size_t most = 0;
+  for (int y = 0; y < scene.height; y += detail::kTileSize) {
+    for (int x = 0; x < scene.width; x += detail::kTileSize) {
+      const detail::TileRect tile{x, y, x + detail::kTileSize, y + detail::kTileSize};
+      detail::gather_block_candidates(prepared, tile, nullptr, setup);
+      detail::build_tile_work(prepared, tile, 1, true, work, setup, true);
+      detail::build_cell_lists(prepared, tile, lanes, setup, work, cells);
+      if (work.cells.size() > 1) most = std::max(most, work.occluders.size());
+    }
+  }
+  return most;
+}
+
 }  // namespace
 
 TEST_CASE("cell lists: a pair reaches only the cells inside its shadow cone") {
@@ -162,6 +182,28 @@ TEST_CASE("cell lists: an image whose size is no multiple of the tile size (cell
   CHECK(tiles_with_cells(scene, 16) > 4);
   check_cells_against_unculled(scene, 1, "84 x 74");
   check_cells_against_unculled(scene, 4, "84 x 74, 4 spp");
+}
+
+TEST_CASE("cell lists: tiles with more occluders than the arc planes hold (a dense cluster) match unculled and scalar") {
+  // 4,400 overlapping discs of radius 0.5 px in a cluster 2 px across, between a 16 x 16 image
+  // and a lamp twice the cluster's size: every pixel sees the lamp around the cluster, so no
+  // proof hides it, and every tile takes all the discs. Past kMaxArcPlaneOccluders the
+  // kernel computes each packet's arcs itself (no planes of 2 KiB per occluder), culled with
+  // cells and unculled without; the union stays a few intervals wide, so float rounding
+  // stays far inside the bound.
+  Scene scene;
+  scene.width = 16;
+  scene.height = 16;
+  scene.view = View{0.0, 0.0, 16.0, 16.0};
+  scene.lights.push_back(Light{Circle{{8.0, -14.0}, 4.0}, {1.0, 0.9, 0.8}, 1.0});
+  for (int k = 0; k < 4400; ++k) {
+    // A golden-angle spiral fills the cluster's disc evenly.
+    const double radius = 1.5 * std::sqrt((k + 0.5) / 4400.0), angle = 2.39996322972865332 * k;
+    scene.occluders.push_back(Occluder{Circle{{8.0 + radius * std::cos(angle), -6.0 + radius * std::sin(angle)}, 0.5}});
+  }
+  CHECK(most_cell_tile_occluders(scene, 8) > detail::kMaxArcPlaneOccluders);
+  CHECK(most_cell_tile_occluders(scene, 16) > detail::kMaxArcPlaneOccluders);
+  check_cells_against_unculled(scene, 1, "dense cluster");
 }
 
 TEST_CASE("cell lists: game-model scenes with every term on small occluders match unculled and scalar") {

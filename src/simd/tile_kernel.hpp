@@ -1724,9 +1724,11 @@ PAR2D_KERNEL_INLINE void render_plain_tile(const TileWork& work, float* scratch,
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   auto cell_of = [&](std::size_t first) { return kCells ? packet_cell(work, first) : nullptr; };
-  if (work.spp == 1) {  // the pixel centers: no sum, no division
+  // One sample per pixel with arc planes (tile_work.hpp): the arcs shape-major over the tile
+  // or cell by cell. Otherwise, and for cells made for another packet width (not by this
+  // library's setup), the loop below: each packet computes its own arcs.
+  if (detail::uses_arc_planes(work)) {
     if constexpr (!kCells) return render_plain_tile_shape_major<A>(work, scratch, out);
-    // Cells made for another packet width (not by this library's setup) take the loop below.
     if (work.cell_width == static_cast<int>(kCellWidth<W>)) return render_plain_cell_tile<A>(work, scratch, out);
   }
   const B inv_spp(1.0f / static_cast<float>(work.spp));

@@ -249,15 +249,25 @@ inline std::size_t kernel_packet_scratch_floats(const TileWork& work, int lanes)
   return static_cast<std::size_t>(lanes) * (2 * work.occluders.size() + 2 * sort_slots + event_slots + 2 + model_floats);
 }
 
+// The plain kernel at one sample per pixel keeps every occluder's arc over the whole tile
+// (start and width planes, 2 KiB an occluder; with cells, a cell's pixels at a time) up to
+// this many occluders in the tile (8 MiB). A tile with more (a dense level with culling off,
+// or thousands of occluders around one tile) computes each packet's arcs in the packet: the
+// same values, in scratch that does not grow with the tile's pixels.
+inline constexpr std::size_t kMaxArcPlaneOccluders = 4096;
+
+inline bool uses_arc_planes(const TileWork& work) noexcept {
+  return !work.model && work.spp == 1 && work.occluders.size() <= kMaxArcPlaneOccluders;
+}
+
 // Floats of scratch a kernel of `lanes` lanes needs for this work (caller-provided, 64-byte
 // aligned, so the kernel never allocates).
 inline std::size_t kernel_scratch_floats(const TileWork& work, int lanes) noexcept {
-  // The plain kernel at one sample per pixel keeps every occluder's arc over the whole tile
-  // (start and width planes; with cells, a cell's at a time) and an inside plane ahead of the
+  // With arc planes (uses_arc_planes), those planes and an inside plane ahead of the
   // per-packet scratch, and after it a light index per light and a byte per occluder (the
   // lights its packets compute, and which lights use each occluder, see
   // render_plain_tile_shape_major).
-  const std::size_t tile_arcs = work.model || work.spp != 1
+  const std::size_t tile_arcs = !uses_arc_planes(work)
                                     ? 0
                                     : (2 * work.occluders.size() + 1) * kTilePixels + work.lights.size() +
                                           (work.occluders.size() + 3) / 4;
