@@ -253,7 +253,7 @@ inline std::size_t kernel_packet_scratch_floats(const TileWork& work, int lanes)
 // (start and width planes, 2 KiB an occluder; with cells, a cell's pixels at a time) up to
 // this many occluders in the tile (8 MiB). A tile with more (a dense level with culling off,
 // or thousands of occluders around one tile) computes each packet's arcs in the packet: the
-// same values, in scratch that does not grow with the tile's pixels.
+// same arcs, in scratch that does not grow with the tile's pixels.
 inline constexpr std::size_t kMaxArcPlaneOccluders = 4096;
 
 inline bool uses_arc_planes(const TileWork& work) noexcept {
