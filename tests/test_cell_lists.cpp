@@ -61,45 +61,35 @@ Scene rubble_scene(std::uint32_t seed, std::optional<View> view, RandomSceneOpti
   return random_scene(seed, opt);
 }
 
-// Tiles of `scene` (each its own block, culled as in production) that get cells of their own
-// (more than the one whole-tile cell of a game-model tile) for a kernel of `lanes` lanes.
-int tiles_with_cells(const Scene& scene, int lanes) {
+// Over the tiles of `scene` (each its own block, culled as in production, lists for `lanes`
+// lanes) that get cells of their own (more than the one whole-tile cell of a game-model
+// tile): how many there are, and the most occluders one of them takes to the kernel.
+struct CellTiles {
+  int count = 0;
+  std::size_t most_occluders = 0;
+};
+
+CellTiles cell_tiles(const Scene& scene, int lanes) {
   const detail::PreparedScene prepared = detail::prepare_scene(scene);
   detail::TileSetupScratch setup;
   detail::CellListScratch cells;
   detail::TileWork work;
-  int count = 0;
+  CellTiles found;
   for (int y = 0; y < scene.height; y += detail::kTileSize) {
     for (int x = 0; x < scene.width; x += detail::kTileSize) {
       const detail::TileRect tile{x, y, x + detail::kTileSize, y + detail::kTileSize};
       detail::gather_block_candidates(prepared, tile, nullptr, setup);
       detail::build_tile_work(prepared, tile, 1, true, work, setup, true);
       detail::build_cell_lists(prepared, tile, lanes, setup, work, cells);
-      count += work.cells.size() > 1 ? 1 : 0;
+      if (work.cells.size() <= 1) continue;
+      ++found.count;
+      found.most_occluders = std::max(found.most_occluders, work.occluders.size());
     }
   }
-  return count;
+  return found;
 }
 
-// The most occluders any tile of `scene` with cells of its own takes to the kernel (culled
-// as in production, lists for `lanes` lanes).
-std::size_t most_cell_tile_occluders(const Scene& scene, int lanes) {
-  const detail::PreparedScene prepared = detail::prepare_scene(scene);
-  detail::TileSetupScratch setup;
-  detail::CellListScratch cells;
-  detail::TileWork work;
-  std::size_t most = 0;
-  for (int y = 0; y < scene.height; y += detail::kTileSize) {
-    for (int x = 0; x < scene.width; x += detail::kTileSize) {
-      const detail::TileRect tile{x, y, x + detail::kTileSize, y + detail::kTileSize};
-      detail::gather_block_candidates(prepared, tile, nullptr, setup);
-      detail::build_tile_work(prepared, tile, 1, true, work, setup, true);
-      detail::build_cell_lists(prepared, tile, lanes, setup, work, cells);
-      if (work.cells.size() > 1) most = std::max(most, work.occluders.size());
-    }
-  }
-  return most;
-}
+int tiles_with_cells(const Scene& scene, int lanes) { return cell_tiles(scene, lanes).count; }
 
 }  // namespace
 
@@ -201,8 +191,8 @@ TEST_CASE("cell lists: tiles with more occluders than the arc planes hold (a den
     const double radius = 1.5 * std::sqrt((k + 0.5) / 4400.0), angle = 2.39996322972865332 * k;
     scene.occluders.push_back(Occluder{Circle{{8.0 + radius * std::cos(angle), -6.0 + radius * std::sin(angle)}, 0.5}});
   }
-  CHECK(most_cell_tile_occluders(scene, 8) > detail::kMaxArcPlaneOccluders);
-  CHECK(most_cell_tile_occluders(scene, 16) > detail::kMaxArcPlaneOccluders);
+  CHECK(cell_tiles(scene, 8).most_occluders > detail::kMaxArcPlaneOccluders);
+  CHECK(cell_tiles(scene, 16).most_occluders > detail::kMaxArcPlaneOccluders);
   check_cells_against_unculled(scene, 1, "dense cluster");
 }
 

@@ -1606,6 +1606,21 @@ PAR2D_KERNEL_NOINLINE void tile_single_pair_lights(const TileWork& work, TileRes
   }
 }
 
+// The arc planes in the kernel's scratch (uses_arc_planes; sized by kernel_scratch_floats):
+// every occluder's start angles over the tile's pixels, then their widths, then one plane
+// of inside flags, then the packets' own scratch.
+struct ArcPlanes {
+  float* start;
+  float* width;
+  float* inside;
+  float* packet_scratch;
+};
+
+inline ArcPlanes arc_planes(const TileWork& work, float* scratch) noexcept {
+  const std::size_t plane = work.occluders.size() * detail::kTilePixels;
+  return {scratch, scratch + plane, scratch + 2 * plane, scratch + 2 * plane + detail::kTilePixels};
+}
+
 // The plain kernel at one sample per pixel without cells: occluder arcs shape-major for the
 // whole tile (tile_occluder_arcs), the lights without pairs and with a single pair too,
 // then the other lights packet by packet.
@@ -1614,11 +1629,11 @@ PAR2D_KERNEL_NOINLINE void render_plain_tile_shape_major(const TileWork& work, f
                                                          TileResult& out) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
-  const std::size_t plane = work.occluders.size() * detail::kTilePixels;
-  float* start = scratch;
-  float* width = start + plane;
-  float* inside = width + plane;
-  float* packet_scratch = inside + detail::kTilePixels;
+  const ArcPlanes planes = arc_planes(work, scratch);
+  float* start = planes.start;
+  float* width = planes.width;
+  float* inside = planes.inside;
+  float* packet_scratch = planes.packet_scratch;
   // Past the packets' scratch (kernel_scratch_floats keeps room): the lights the packets
   // compute, and which lights use each occluder (a byte each; an occluder in no pair keeps
   // its arc, for its inside flags).
@@ -1680,11 +1695,11 @@ template <class A>
 PAR2D_KERNEL_NOINLINE void render_plain_cell_tile(const TileWork& work, float* scratch, TileResult& out) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
-  const std::size_t plane = work.occluders.size() * detail::kTilePixels;
-  float* start = scratch;
-  float* width = start + plane;
-  float* inside = width + plane;
-  float* packet_scratch = inside + detail::kTilePixels;
+  const ArcPlanes planes = arc_planes(work, scratch);
+  float* start = planes.start;
+  float* width = planes.width;
+  float* inside = planes.inside;
+  float* packet_scratch = planes.packet_scratch;
   constexpr std::size_t cell_width = kCellWidth<W>, cell_height = kCellHeight<W>;
   constexpr std::size_t columns = detail::kTileSize / cell_width;
   // Read once: a vector store may alias any float, so members read in the loop are reloaded.
