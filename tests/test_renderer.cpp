@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -479,6 +480,57 @@ TEST_CASE("a segment light cut from an occluder's edge stays hidden when the occ
     OccluderHandle h;
     REQUIRE(r.add_occluder(occluder, &h).ok());
     for (float v : frame_rgb(r)) CHECK(v == 0.0f);
+  }
+}
+
+// A light overlapping an occluder carries what the tile setup asks of the pair (where the
+// boundaries meet, whether the light lies inside, the edge that clips it: LightOverlap), made
+// once per change of either shape. Every update path must keep it in step: the frames must
+// equal one-shot renders, which prepare it afresh, bit for bit.
+TEST_CASE("a torch overlapping a wall keeps its clip and containment in step through moves and removals") {
+  Scene scene;
+  scene.width = 64;
+  scene.height = 48;
+  scene.view = {0.0, 0.0, 64.0, 48.0};
+  Light torch;
+  torch.shape = Circle{{28.0, 24.0}, 5.0};
+  torch.color = {1.0, 0.8, 0.5};
+  torch.intensity = 2.0;
+  scene.lights.push_back(torch);
+  scene.lights.push_back(Light{Circle{{8.0, 8.0}, 3.0}, {0.5, 0.5, 1.0}, 1.0});
+  auto box = [](double x0, double y0, double x1, double y1) {
+    return Occluder{Polygon{{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}}};
+  };
+  scene.occluders.push_back(box(14.0, 30.0, 18.0, 34.0));  // a crate, removed below
+  scene.occluders.push_back(box(30.0, 4.0, 40.0, 44.0));   // the wall: 3 px into the torch
+  for (Isa isa : isas_here()) {
+    INFO("isa ", std::string(isa_name(isa)));
+    Renderer r;
+    REQUIRE(r.set_options(options_for(isa)).ok());
+    std::vector<LightHandle> lights;
+    std::vector<OccluderHandle> occluders;
+    const Status set = r.set_scene(scene, &lights, &occluders);
+    REQUIRE_MESSAGE(set.ok(), set.message());
+    auto check_frame = [&](const char* step) {
+      INFO(step);
+      CHECK(same_bits(frame_rgb(r), one_shot(r.snapshot(), options_for(isa))));
+    };
+    check_frame("clipped by the wall's left edge");
+    REQUIRE(r.update_occluder(occluders[1], box(20.0, 4.0, 40.0, 44.0)).ok());
+    check_frame("the wall grown over the whole torch: inside it");
+    REQUIRE(r.update_occluder(occluders[1], box(34.0, 4.0, 44.0, 44.0)).ok());
+    check_frame("the wall moved off the torch");
+    REQUIRE(r.update_occluder(occluders[1], box(16.0, 4.0, 25.0, 44.0)).ok());
+    check_frame("the wall moved to the torch's other side, clipping it there");
+    REQUIRE(r.remove_occluder(occluders[0]).ok());  // the wall takes the crate's index
+    check_frame("the crate removed");
+    Light moved_torch = torch;
+    moved_torch.shape = Circle{{22.0, 26.0}, 5.0};
+    REQUIRE(r.update_light(lights[0], moved_torch).ok());
+    check_frame("the torch moved deeper into the wall");
+    moved_torch.shape = Circle{{20.0, 26.0}, 3.0};
+    REQUIRE(r.update_light(lights[0], moved_torch).ok());
+    check_frame("the torch moved inside the wall");
   }
 }
 

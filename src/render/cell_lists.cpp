@@ -7,10 +7,6 @@
 namespace par2d::detail {
 namespace {
 
-// Cells of kCellPixels (64) pixels, whole packets wide (a 16-lane packet is a tile row): 8 x 8
-// for 4 and 8 lanes, 16 x 4 for 16.
-int cell_width_for(int lanes) noexcept { return std::min(kTileSize, std::max(lanes, 8)); }
-
 CellListScratch::Disc bounding_disc(const ConvexShape& s) noexcept { return {s.centroid, centroid_radius(s)}; }
 
 // Where an occluder can block a light: a ray from x meets the occluder at o before it reaches

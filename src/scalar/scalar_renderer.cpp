@@ -45,7 +45,7 @@ void for_each_blocked_piece(const PreparedLight& light, const ConvexShape& occlu
   // Overlapping shapes: which one comes first can only change at a direction through a
   // point where their boundaries meet, so test one key ray between consecutive such
   // directions.
-  const auto& points = light.overlap_points[static_cast<std::size_t>(overlap - light.overlapping_occluders.begin())];
+  const auto& points = light.overlaps[static_cast<std::size_t>(overlap - light.overlapping_occluders.begin())].points;
   // Key rays in angular order: each ray's entry edges are found from the previous ones'.
   EntryHints hints;
   for (const ArcInterval& piece : scratch.pieces) {

@@ -186,27 +186,26 @@ PAR2D_KERNEL_INLINE void shape_tangents(const TileWork& work, const KernelShape&
   vertex_tangents<A>(work, s, px, py, lox, loy, hix, hiy, inside);
 }
 
-// Arc of a light clipped to one side of a line (KernelShape::clipped): the kept part's arc
-// ends are the light's tangent points where they lie on that side, else the chord ends (the
-// kept part is the hull of the light's near boundary and the chord). Kept out of line: only
-// lights overlapping a wall take it.
-template <class A, bool kWithStart>
-PAR2D_KERNEL_NOINLINE Arc<A> clipped_shape_arc(const TileWork& work, const KernelShape& s,
-                                                   const xsimd::batch<float, A>& px,
-                                                   const xsimd::batch<float, A>& py) noexcept {
+// Tangent directions of a light clipped to one side of a line (KernelShape::clipped), and
+// whether the point is inside the whole light: the kept part's arc ends are the light's
+// tangent points where they lie on that side, else the chord ends (the kept part is the hull
+// of the light's near boundary and the chord).
+template <class A>
+PAR2D_KERNEL_INLINE void clipped_tangents(const TileWork& work, const KernelShape& s, const xsimd::batch<float, A>& px,
+                                          const xsimd::batch<float, A>& py, xsimd::batch<float, A>& lox,
+                                          xsimd::batch<float, A>& loy, xsimd::batch<float, A>& hix,
+                                          xsimd::batch<float, A>& hiy, xsimd::batch_bool<float, A>& inside) noexcept {
   using B = xsimd::batch<float, A>;
-  Arc<A> arc;
-  B lox, loy, hix, hiy;
   B scale_v(1.0f), scale_room(1.0f);  // tangent point = x + (scale_v / scale_room) * direction
   if (s.kind == ShapeKind::circle) {
     const B excess = circle_excess<A>(s, px, py);
-    arc.inside = excess <= B(0.0f);
+    inside = excess <= B(0.0f);
     scale_v = xsimd::sqrt(xsimd::max(excess, B(0.0f)));
     circle_tangents<A>(s, px, py, scale_v, lox, loy, hix, hiy);
     const B dx = B(s.cx) - px, dy = B(s.cy) - py;
     scale_room = xsimd::fma(dx, dx, dy * dy);  // |d|^2, the length of the circle's tangent vectors times |d|
   } else {
-    vertex_tangents<A>(work, s, px, py, lox, loy, hix, hiy, arc.inside);
+    vertex_tangents<A>(work, s, px, py, lox, loy, hix, hiy, inside);
   }
   const B cnx(s.clip_nx), cny(s.clip_ny);
   const B room = B(s.clip_c) - xsimd::fma(cnx, px, cny * py);  // > 0 on the kept side
@@ -220,6 +219,18 @@ PAR2D_KERNEL_NOINLINE Arc<A> clipped_shape_arc(const TileWork& work, const Kerne
   loy = xsimd::select(lo_beyond, xsimd::select(a_first, ay, by), loy);
   hix = xsimd::select(hi_beyond, xsimd::select(a_first, bx, ax), hix);
   hiy = xsimd::select(hi_beyond, xsimd::select(a_first, by, ay), hiy);
+}
+
+// Arc of a light clipped to one side of a line (clipped_tangents). Kept out of line: only
+// lights overlapping a wall take it (their unblocked sweeps inline it, tile_unblocked_lights).
+template <class A, bool kWithStart>
+PAR2D_KERNEL_NOINLINE Arc<A> clipped_shape_arc(const TileWork& work, const KernelShape& s,
+                                                   const xsimd::batch<float, A>& px,
+                                                   const xsimd::batch<float, A>& py) noexcept {
+  using B = xsimd::batch<float, A>;
+  Arc<A> arc;
+  B lox, loy, hix, hiy;
+  clipped_tangents<A>(work, s, px, py, lox, loy, hix, hiy, arc.inside);
   arc_from_tangents<A, kWithStart, false>(lox, loy, hix, hiy, arc);
   return arc;
 }
@@ -1412,10 +1423,10 @@ PAR2D_KERNEL_NOINLINE void tile_occluder_arcs(const TileWork& work, const unsign
   }
 }
 
-// A cell's width and height for packets of W lanes: whole packets, at least 8 pixels wide
-// (cell_lists.cpp makes the same cells).
+// A cell's width and height for packets of W lanes (detail::cell_width_for, which the setup
+// uses to make the cells).
 template <std::size_t W>
-inline constexpr std::size_t kCellWidth = W < 8 ? 8 : (W > detail::kTileSize ? detail::kTileSize : W);
+inline constexpr std::size_t kCellWidth = static_cast<std::size_t>(detail::cell_width_for(static_cast<int>(W)));
 template <std::size_t W>
 inline constexpr std::size_t kCellHeight = detail::kCellPixels / kCellWidth<W>;
 
@@ -1475,6 +1486,25 @@ PAR2D_KERNEL_NOINLINE void tile_unblocked_lights(const TileWork& work, TileResul
   for (const KernelLight& light : work.lights) {
     if (light.pair_count != 0) continue;
     const B emission[3] = {B(light.emission[0]), B(light.emission[1]), B(light.emission[2])};
+    if (light.shape.clipped && light.shape.kind == ShapeKind::circle) {
+      // A round light overlapping a wall (torches): the clipped arc inlined with the kind
+      // known, instead of a call per packet (the torch level's walls, 1 px deep: 10 % fewer
+      // instructions than through clipped_shape_arc).
+      KernelShape known = light.shape;
+      known.kind = ShapeKind::circle;
+      for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
+        const B px = B::load_unaligned(sample_x + first % detail::kTileSize);
+        const B py(sample_y[first / detail::kTileSize]);
+        Arc<A> arc;
+        B lox, loy, hix, hiy;
+        clipped_tangents<A>(work, known, px, py, lox, loy, hix, hiy, arc.inside);
+        arc_from_tangents<A, false, false>(lox, loy, hix, hiy, arc);
+        const B visible = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
+        for (int c = 0; c < 3; ++c)
+          xsimd::fma(emission[c], visible, B::load_aligned(sum.rgb[c] + first)).store_aligned(sum.rgb[c] + first);
+      }
+      continue;
+    }
     with_known_kind(light.shape, [&](const KernelShape& known) PAR2D_KERNEL_LAMBDA_INLINE {
       for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
         const B px = B::load_unaligned(sample_x + first % detail::kTileSize);

@@ -137,6 +137,12 @@ struct KernelCellLight {
 // Every cell holds this many pixels (a quarter of a tile), whatever its shape.
 inline constexpr int kCellPixels = 64;
 
+// A cell's width for packets of `lanes` lanes: whole packets, at least 8 pixels (8 x 8 cells
+// for 4 and 8 lanes, 16 x 4 for 16). One definition for the setup that makes the cells
+// (cell_lists.cpp) and the kernel that walks them with compile-time sizes: cells of another
+// width would still render right, through the kernel's slower general loop.
+constexpr int cell_width_for(int lanes) noexcept { return lanes < 8 ? 8 : (lanes > kTileSize ? kTileSize : lanes); }
+
 struct KernelCell {
   std::uint32_t first_light = 0, light_count = 0;        // TileWork::cell_lights
   std::uint32_t first_occluder = 0, occluder_count = 0;  // TileWork::cell_occluders: the arcs the cell needs

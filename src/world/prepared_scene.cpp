@@ -279,9 +279,77 @@ void update_scene_bounds(PreparedScene& out) noexcept {
   for (const ConvexShape& o : out.occluders) grow_extent(o.bounds_min, o.bounds_max);
 }
 
+namespace {
+
+// A light that overlaps a polygon occluder whose edge line cuts off a cap of the light lying
+// inside the occluder: along any ray from a point outside the occluder whose first light point
+// is in the cap, the occluder comes first (that point is in it), and such a ray meets the
+// light's near part (side <= 0 of the line) only later. So everywhere the light can be replaced
+// by its near part, which the edge line separates from the occluder (the occluder on side >= 0,
+// in front of the near part exactly where side >= 0: a ray from there meets the occluder's side
+// before crossing to the near part). The pair becomes an ordinary separated pair. Finds such an
+// edge and the chord (where the line crosses the light's boundary); false if none qualifies.
+bool clip_light_by_occluder(const ConvexShape& light, const ConvexShape& occluder, LightClip& clip) noexcept {
+  if (occluder.kind != ShapeKind::polygon || light.kind == ShapeKind::segment) return false;
+  const std::size_t n = occluder.vertices.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    // Occluder on side >= 0 (its inward normal).
+    const Line line{occluder.edge_normals[i], occluder.vertices[i]};
+    // The chord: where the light's boundary crosses the line.
+    int found = 0;
+    if (light.kind == ShapeKind::circle) {
+      const double h = line.side(light.vertices[0]);
+      if (!(std::abs(h) < light.radius)) continue;
+      const Vec2 foot = light.vertices[0] - h * line.normal;
+      const double half = std::sqrt(light.radius * light.radius - h * h);
+      const Vec2 along{-line.normal.y, line.normal.x};
+      clip.chord[0] = foot + half * along;
+      clip.chord[1] = foot - half * along;
+      found = 2;
+    } else {
+      const std::size_t m = light.vertices.size();
+      for (std::size_t k = 0; k < m && found < 3; ++k) {
+        const Vec2 a = light.vertices[k], b = light.vertices[(k + 1) % m];
+        const double sa = line.side(a), sb = line.side(b);
+        if ((sa > 0.0) == (sb > 0.0)) continue;
+        if (found < 2) clip.chord[found] = a + (sa / (sa - sb)) * (b - a);
+        ++found;
+      }
+    }
+    if (found != 2) continue;
+    // The cap inside the occluder: against every other edge, its least point is a chord end
+    // or (a polygon light's vertex / the circle's extreme point) on the far side of the line.
+    bool inside = true;
+    for (std::size_t j = 0; j < n && inside; ++j) {
+      if (j == i) continue;
+      const Line edge{occluder.edge_normals[j], occluder.vertices[j]};
+      inside = edge.side(clip.chord[0]) >= 0.0 && edge.side(clip.chord[1]) >= 0.0;
+      if (light.kind == ShapeKind::circle) {
+        const Vec2 extreme = light.vertices[0] - light.radius * edge.normal;
+        if (line.side(extreme) > 0.0) inside = inside && edge.side(extreme) >= 0.0;
+      } else {
+        for (Vec2 v : light.vertices)
+          if (line.side(v) > 0.0) inside = inside && edge.side(v) >= 0.0;
+      }
+    }
+    if (!inside) continue;
+    clip.line = line;
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+void describe_overlap(const ConvexShape& light, const ConvexShape& occluder, LightOverlap& out) {
+  boundary_intersections(light, occluder, out.points);
+  out.contained = contained_within_contact(light, occluder);
+  out.clips = clip_light_by_occluder(light, occluder, out.clip);
+}
+
 void find_light_overlaps(const PreparedScene& scene, PreparedLight& light, std::vector<std::uint32_t>& near) {
   light.overlapping_occluders.clear();
-  light.overlap_points.clear();
+  light.overlaps.clear();
   near.clear();
   const ConvexShape& ls = light.shape;
   scene.occluder_bvh.query_box({ls.bounds_min.x, ls.bounds_min.y, ls.bounds_max.x, ls.bounds_max.y}, near);
@@ -289,8 +357,8 @@ void find_light_overlaps(const PreparedScene& scene, PreparedLight& light, std::
     const ConvexShape& occ = scene.occluders[k];
     if (!meets_within_contact(ls, occ)) continue;
     light.overlapping_occluders.push_back(k);
-    light.overlap_points.emplace_back();
-    boundary_intersections(ls, occ, light.overlap_points.back());
+    light.overlaps.emplace_back();
+    describe_overlap(ls, occ, light.overlaps.back());
   }
 }
 

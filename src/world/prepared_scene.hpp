@@ -59,6 +59,26 @@ struct PreparedDirectional {
 
 enum class NormalSource : std::uint8_t { none, constant, map };
 
+// A light cut by an edge line of an occluder it overlaps: the light's part with side <= 0 of
+// `line` (the occluder lies on side >= 0); the chord's ends are where the line crosses the
+// light's boundary. See describe_overlap.
+struct LightClip {
+  Line line;
+  Vec2 chord[2];
+};
+
+// What the renderers need of a light and an occluder that overlap or touch, found once when
+// either shape changes (the tile setup used to find the containment and the clip again in
+// every tile that sees the pair).
+struct LightOverlap {
+  // Where the two boundaries meet: the only directions at which the nearer of the two
+  // shapes can change.
+  std::vector<Vec2> points;
+  bool contained = false;  // the light lies in the closed occluder (to within a contact)
+  bool clips = false;      // an edge of the occluder cuts off a cap of the light inside it: `clip`
+  LightClip clip;
+};
+
 struct PreparedLight {
   ConvexShape shape;
   Rgb emission{};  // intensity * color
@@ -66,9 +86,8 @@ struct PreparedLight {
   // Occluders whose shape meets this light's (sorted). For such a pair the blocked
   // directions are not all-or-nothing per direction interval; see scalar_renderer.
   std::vector<std::uint32_t> overlapping_occluders;
-  // For each of those, where the two boundaries meet: the only directions at which the
-  // nearer of the two shapes can change.
-  std::vector<std::vector<Vec2>> overlap_points;
+  // For each of those, in the same order: how the two shapes meet.
+  std::vector<LightOverlap> overlaps;
 };
 
 // Separating lines of disjoint light/occluder pairs (occluder on the positive side),
@@ -159,8 +178,10 @@ void scale_shape(ConvexShape& shape, double factor) noexcept;
 // e_max (lights, directional lights and ambient) and extent of a prepared scene from its
 // view, lights and occluders.
 void update_scene_bounds(PreparedScene& scene) noexcept;
-// light.overlapping_occluders / overlap_points from scratch, with the scene's index.
+// light.overlapping_occluders / overlaps from scratch, with the scene's index.
 void find_light_overlaps(const PreparedScene& scene, PreparedLight& light, std::vector<std::uint32_t>& scratch);
+// `out` for a light and an occluder that meet (meets_within_contact).
+void describe_overlap(const ConvexShape& light, const ConvexShape& occluder, LightOverlap& out);
 
 // World position of sample (sx, sy) in [0,1)^2 of pixel (i, j) of a width x height
 // image of `view` (docs/contract.md section 2).

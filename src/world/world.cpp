@@ -43,22 +43,22 @@ Status unknown_handle(const char* kind, std::uint64_t id) {
   return Status(StatusCode::invalid_argument, std::string("unknown ") + kind + " handle " + std::to_string(id));
 }
 
-// Keeps a light's overlap list sorted by occluder, its points in step.
+// Keeps a light's overlap list sorted by occluder, its overlaps in step.
 void erase_overlap(PreparedLight& light, std::uint32_t k) {
   auto& list = light.overlapping_occluders;
   const auto it = std::lower_bound(list.begin(), list.end(), k);
   if (it == list.end() || *it != k) return;
   const auto i = it - list.begin();
   list.erase(it);
-  light.overlap_points.erase(light.overlap_points.begin() + i);
+  light.overlaps.erase(light.overlaps.begin() + i);
 }
 
-void insert_overlap(PreparedLight& light, std::uint32_t k, std::vector<Vec2> points) {
+void insert_overlap(PreparedLight& light, std::uint32_t k, LightOverlap overlap) {
   auto& list = light.overlapping_occluders;
   const auto it = std::lower_bound(list.begin(), list.end(), k);
   const auto i = it - list.begin();
   list.insert(it, k);
-  light.overlap_points.insert(light.overlap_points.begin() + i, std::move(points));
+  light.overlaps.insert(light.overlaps.begin() + i, std::move(overlap));
 }
 
 }  // namespace
@@ -466,9 +466,9 @@ void World::occluder_changed(std::size_t k, const Aabb* old_box) {
   for (PreparedLight& light : scene_.lights) {
     erase_overlap(light, index);
     if (!meet(box_of(light.shape), box) || !meets_within_contact(light.shape, occ)) continue;
-    std::vector<Vec2> points;
-    boundary_intersections(light.shape, occ, points);
-    insert_overlap(light, index, std::move(points));
+    LightOverlap overlap;
+    describe_overlap(light.shape, occ, overlap);
+    insert_overlap(light, index, std::move(overlap));
   }
   scene_.separators.forget_occluder(k);
   if (old_box) touch_reach(*old_box);
@@ -525,9 +525,9 @@ Status World::remove_occluder(OccluderHandle handle) {
     auto& list = light.overlapping_occluders;
     const auto it = std::lower_bound(list.begin(), list.end(), static_cast<std::uint32_t>(m));
     if (it == list.end() || *it != m) continue;
-    std::vector<Vec2> points = std::move(light.overlap_points[static_cast<std::size_t>(it - list.begin())]);
+    LightOverlap overlap = std::move(light.overlaps[static_cast<std::size_t>(it - list.begin())]);
     erase_overlap(light, static_cast<std::uint32_t>(m));
-    insert_overlap(light, static_cast<std::uint32_t>(k), std::move(points));
+    insert_overlap(light, static_cast<std::uint32_t>(k), std::move(overlap));
   }
   scene_.occluder_bvh.remove(static_cast<std::uint32_t>(k));
   if (k != m) {
