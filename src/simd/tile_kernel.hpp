@@ -1488,8 +1488,8 @@ PAR2D_KERNEL_NOINLINE void tile_unblocked_lights(const TileWork& work, TileResul
     const B emission[3] = {B(light.emission[0]), B(light.emission[1]), B(light.emission[2])};
     if (light.shape.clipped && light.shape.kind == ShapeKind::circle) {
       // A round light overlapping a wall (torches): the clipped arc inlined with the kind
-      // known, instead of a call per packet (the torch level's walls, 1 px deep: 10 % fewer
-      // instructions than through clipped_shape_arc).
+      // known, instead of a call per packet (the torch level, torches 1 px into the walls:
+      // this pass 12.7 M -> 11.1 M instructions a frame).
       KernelShape known = light.shape;
       known.kind = ShapeKind::circle;
       for (std::size_t first = 0; first < detail::kTilePixels; first += W) {

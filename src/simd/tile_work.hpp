@@ -53,9 +53,9 @@ struct KernelShape {
   float cx = 0, cy = 0, r = 0;
   float px = 0, py = 0, ux = 0, uy = 0;
   // Lights only: the part with clip_nx*x + clip_ny*y <= clip_c (an occluder overlapping the
-  // light holds the rest, see clip_light_by_occluder in tile_setup.cpp). The arc's ends are
-  // the light's tangent points where they lie on that side, else the chord's ends, where the
-  // line crosses the light's boundary.
+  // light holds the rest, see clip_light_by_occluder in world/prepared_scene.cpp). The arc's
+  // ends are the light's tangent points where they lie on that side, else the chord's ends,
+  // where the line crosses the light's boundary.
   bool clipped = false;
   float clip_nx = 0, clip_ny = 0, clip_c = 0;
   float chord_x[2] = {0, 0}, chord_y[2] = {0, 0};
