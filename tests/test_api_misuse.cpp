@@ -7,6 +7,7 @@
 
 #include "par2d/par2d.hpp"
 #include "support/random_scenes.hpp"
+#include "support/test_tiers.hpp"
 
 namespace {
 
@@ -55,7 +56,7 @@ TEST_CASE("render refuses a row stride below 3 * width, negative included, and w
   }
 }
 
-TEST_CASE("a padded row stride renders and leaves the padding untouched") {
+TEST_CASE("a padded row stride renders and leaves the padding untouched" * par2d::test::per_isa()) {
   Buffer b(5, 4, 20);
   REQUIRE(render(small_scene(), {}, b.view).ok());
   for (int j = 0; j < 4; ++j)
@@ -159,7 +160,7 @@ TEST_CASE("an ISA this CPU lacks (e.g. another architecture's) renders at the be
   }
 }
 
-TEST_CASE("a million threads are capped and render the same bytes as one thread, for every backend") {
+TEST_CASE("a million threads are capped and render the same bytes as one thread, for every backend" * par2d::test::per_isa()) {
   for (Backend backend : {Backend::scalar, Backend::simd, Backend::raycast}) {
     RenderOptions one;
     one.backend = backend;

@@ -15,6 +15,7 @@
 #include "culling/light_reach.hpp"
 #include "support/random_scenes.hpp"
 #include "support/render_checks.hpp"
+#include "support/test_tiers.hpp"
 #include "world/prepared_scene.hpp"
 
 using namespace par2d;
@@ -151,14 +152,20 @@ TEST_CASE("cell lists: a pair reaches only the cells inside its shadow cone") {
 }
 
 TEST_CASE("cell lists: small occluders and lights (1.5-5 px), mirrored and far views, 1 and 4 spp, match unculled and scalar") {
-  for (std::uint32_t seed = 2701; seed <= 2703; ++seed) {
+  const Scene plain = rubble_scene(2701, std::nullopt);
+  REQUIRE(plain.occluders.size() > 100);
+  check_cells_against_unculled(plain, 1, "seed 2701");
+  check_cells_against_unculled(rubble_scene(2704, View{96.0, 80.0, 0.0, 0.0}), 1, "mirrored");
+  check_cells_against_unculled(rubble_scene(2705, View{1e5, 1e5, 1e5 + 96.0, 1e5 + 80.0}), 1, "far");
+  check_cells_against_unculled(rubble_scene(2706, std::nullopt), 4, "4 spp");
+}
+
+TEST_CASE("cell lists: small occluders and lights, more seeds" * par2d::test::long_tier()) {
+  for (std::uint32_t seed = 2702; seed <= 2703; ++seed) {
     const Scene plain = rubble_scene(seed, std::nullopt);
     REQUIRE(plain.occluders.size() > 100);
     check_cells_against_unculled(plain, 1, "seed " + std::to_string(seed));
   }
-  check_cells_against_unculled(rubble_scene(2704, View{96.0, 80.0, 0.0, 0.0}), 1, "mirrored");
-  check_cells_against_unculled(rubble_scene(2705, View{1e5, 1e5, 1e5 + 96.0, 1e5 + 80.0}), 1, "far");
-  check_cells_against_unculled(rubble_scene(2706, std::nullopt), 4, "4 spp");
 }
 
 TEST_CASE("cell lists: an image whose size is no multiple of the tile size (cells wholly past its edge) matches unculled and scalar") {
@@ -196,20 +203,32 @@ TEST_CASE("cell lists: tiles with more occluders than the arc planes hold (a den
   check_cells_against_unculled(scene, 1, "dense cluster");
 }
 
-TEST_CASE("cell lists: game-model scenes with every term on small occluders match unculled and scalar") {
-  // Ranges, cones, masks, translucent and lit-interior occluders, ambient, a normal map and two
-  // directional lights (whose pairs keep every cell: a light at infinity has no shadow cone)
-  // over rubble, so the model kernel runs from cells in most tiles.
-  for (std::uint32_t seed = 2711; seed <= 2714; ++seed) {
+namespace {
+
+void check_model_cells(std::uint32_t first_seed, std::uint32_t last_seed) {
+  for (std::uint32_t seed = first_seed; seed <= last_seed; ++seed) {
     const Scene scene = rubble_scene(seed, std::nullopt, with_every_model_term({}));
     REQUIRE(scene.directional_lights.size() == 2);
     REQUIRE(scene.normal_map.has_value());
     CHECK(tiles_with_cells(scene, 8) > 10);
     check_cells_against_unculled(scene, 1, "every term, seed " + std::to_string(seed));
   }
+}
+
+}  // namespace
+
+TEST_CASE("cell lists: game-model scenes with every term on small occluders match unculled and scalar") {
+  // Ranges, cones, masks, translucent and lit-interior occluders, ambient, a normal map and two
+  // directional lights (whose pairs keep every cell: a light at infinity has no shadow cone)
+  // over rubble, so the model kernel runs from cells in most tiles.
+  check_model_cells(2711, 2712);
   check_cells_against_unculled(rubble_scene(2715, View{96.0, 80.0, 0.0, 0.0}, with_every_model_term({})), 1,
                                "every term, mirrored");
   check_cells_against_unculled(rubble_scene(2716, std::nullopt, with_every_model_term({})), 4, "every term, 4 spp");
+}
+
+TEST_CASE("cell lists: game-model scenes with every term, more seeds" * par2d::test::long_tier()) {
+  check_model_cells(2713, 2714);
 }
 
 namespace {

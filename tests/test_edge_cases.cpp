@@ -13,6 +13,7 @@
 #include "fuzz/fuzz_huge_checks.hpp"
 #include "par2d/par2d.hpp"
 #include "support/random_scenes.hpp"
+#include "support/test_tiers.hpp"
 
 namespace {
 
@@ -357,7 +358,7 @@ TEST_CASE("a 4000-gon matches its circle's closed form within the inscribed/circ
   }
 }
 
-TEST_CASE("zero-area views are refused; a 1e-300-wide view renders its one world point") {
+TEST_CASE("zero-area views are refused; a 1e-300-wide view renders its one world point" * par2d::test::per_isa()) {
   Scene scene;
   scene.width = 4;
   scene.height = 3;

@@ -10,6 +10,7 @@
 #include "par2d/render.hpp"
 #include "support/random_scenes.hpp"
 #include "support/render_checks.hpp"
+#include "support/test_tiers.hpp"
 
 using namespace par2d;
 using namespace par2d::test;
@@ -39,10 +40,19 @@ TEST_CASE("every example scene loads") {
   }
 }
 
-TEST_CASE("the lighting-model examples: every SIMD ISA matches the scalar reference, shaded and plain") {
+namespace {
+
+// The lighting-model examples whose file name is (`in_default_tier`) or is not `lighting_game.json`
+// and `lighting_normals.json` (every term together, and the normal-mapped one: shaded and plain
+// differ there), each at full size, on every SIMD ISA against the scalar reference.
+void check_lighting_examples(bool in_default_tier) {
   const std::vector<std::string> paths = example_scenes("lighting_");
   CHECK(paths.size() == 7);
+  int checked_scenes = 0;
   for (const std::string& path : paths) {
+    const std::string name = std::filesystem::path(path).filename().string();
+    if ((name == "lighting_game.json" || name == "lighting_normals.json") != in_default_tier) continue;
+    ++checked_scenes;
     Scene scene;
     REQUIRE(load_scene_file(path, scene).ok());
     const double bound = 1e-4 * emission_max_sum(scene);
@@ -63,4 +73,15 @@ TEST_CASE("the lighting-model examples: every SIMD ISA matches the scalar refere
       }
     }
   }
+  CHECK(checked_scenes == (in_default_tier ? 2 : 5));
+}
+
+}  // namespace
+
+TEST_CASE("the lighting-model examples: every SIMD ISA matches the scalar reference, shaded and plain") {
+  check_lighting_examples(true);
+}
+
+TEST_CASE("the other lighting-model examples: every SIMD ISA matches the scalar reference" * par2d::test::long_tier()) {
+  check_lighting_examples(false);
 }

@@ -11,6 +11,7 @@
 #include "par2d/par2d.hpp"
 #include "scattered_scene.hpp"
 #include "support/random_scenes.hpp"
+#include "support/test_tiers.hpp"
 
 using namespace par2d;
 
@@ -62,7 +63,7 @@ Scene closed_room() {
 
 }  // namespace
 
-TEST_CASE("FrameStats follow the frame's blocks and tiles, and the kernel's work per tile") {
+TEST_CASE("FrameStats follow the frame's blocks and tiles, and the kernel's work per tile" * par2d::test::per_isa()) {
   const Scene scene = bench::scattered_scene(12, 90, 7, 200, 136);
   RenderOptions options = simd_options();
   options.threads = 2;

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -18,6 +19,7 @@
 #include "raycast/raycast_renderer.hpp"
 #include "support/random_scenes.hpp"
 #include "support/render_checks.hpp"
+#include "support/test_tiers.hpp"
 
 using namespace par2d;
 using namespace par2d::test;
@@ -146,8 +148,13 @@ void check_simd(const Scene& scene, const std::string& what, const Exempt& exemp
 
 }  // namespace
 
-TEST_CASE("huge slanted segments and polygons: scalar against closed forms and the ray caster, SIMD against scalar") {
-  for (double extent : kExtents) {
+namespace {
+
+// Every other extent of kExtents, from `first`: the default tier takes the even ones, the
+// long tier the odd ones.
+void check_huge_slanted(std::size_t first) {
+  for (std::size_t e = first; e < std::size(kExtents); e += 2) {
+    const double extent = kExtents[e];
     const double d = unit_for(extent);
     const Vec2 a{-8.0 * d, -3.0 * d}, b{8.0 * d, 3.0 * d};  // on the line 3x = 8y
     const Exempt line{[](Vec2 p) { return below_line(p); }};
@@ -190,6 +197,16 @@ TEST_CASE("huge slanted segments and polygons: scalar against closed forms and t
       check_simd(s, what, line);
     }
   }
+}
+
+}  // namespace
+
+TEST_CASE("huge slanted segments and polygons: scalar against closed forms and the ray caster, SIMD against scalar") {
+  check_huge_slanted(0);
+}
+
+TEST_CASE("huge slanted segments and polygons at the other extents" * par2d::test::long_tier()) {
+  check_huge_slanted(1);
 }
 
 TEST_CASE("huge circles through the view: scalar against closed forms and the ray caster, SIMD against scalar") {

@@ -11,6 +11,7 @@
 #include "culling/light_reach.hpp"
 #include "world/prepared_scene.hpp"
 #include "support/random_scenes.hpp"
+#include "support/test_tiers.hpp"
 
 namespace {
 
@@ -119,7 +120,7 @@ TEST_CASE("light reach of a closed ring is the first ladder radius whose sector 
   }
 }
 
-TEST_CASE("culled renders equal unculled ones and the scalar reference inside rings and rooms at every ladder radius") {
+TEST_CASE("culled renders equal unculled ones and the scalar reference inside rings and rooms at every ladder radius" * par2d::test::per_isa()) {
   // A reach 5% short of the proof culls the lit band between 0.95·r and the wall: ~100
   // pixels at up to 26x the SIMD bound. Every ring and room here sits where that band is lit.
   std::vector<std::pair<std::string, Scene>> scenes;
@@ -222,7 +223,7 @@ TEST_CASE("LightReach::hides: the sectors a box spans, against its boundary's di
   CHECK(spanning_several >= 1000);
 }
 
-TEST_CASE("light reach of a room with a doorway: open only toward the doorway, and culled renders equal unculled ones") {
+TEST_CASE("light reach of a room with a doorway: open only toward the doorway, and culled renders equal unculled ones" * par2d::test::per_isa()) {
   // The square room of half-width 20 with a 6-unit gap in its right wall (y in [61, 67]).
   const double half = 20.0;
   std::vector<Occluder> walls = room(half);

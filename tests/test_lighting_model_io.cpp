@@ -22,6 +22,7 @@
 #include "par2d/renderer.hpp"
 #include "par2d/scene.hpp"
 #include "par2d/scene_write.hpp"
+#include "support/test_tiers.hpp"
 
 extern char** environ;
 
@@ -488,7 +489,7 @@ TEST_CASE("a PNG normal map is read relative to the scene file, decoded as 2 rgb
   CHECK(map.normals[2] == 1.0f);
 }
 
-TEST_CASE("Renderer setters for the scene-wide terms refuse bad values and keep the previous ones") {
+TEST_CASE("Renderer setters for the scene-wide terms refuse bad values and keep the previous ones" * par2d::test::per_isa()) {
   par2d::Renderer renderer;
   REQUIRE(renderer.set_frame(4, 3).ok());
   REQUIRE(renderer.set_ambient({0.25, 0.5, 0}).ok());
@@ -558,7 +559,7 @@ TEST_CASE("Renderer setters for the scene-wide terms refuse bad values and keep 
   CHECK(renderer.occluder_count() == 0u);
 }
 
-TEST_CASE("the CLI writes the plain irradiance next to the shaded one, all files or none") {
+TEST_CASE("the CLI writes the plain irradiance next to the shaded one, all files or none" * par2d::test::per_isa()) {
   TempDir dir("par2d_model_io");
   write_png(dir / "n.png", 12, 8, 3, {200, 90, 230});
   {

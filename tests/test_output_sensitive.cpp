@@ -22,6 +22,7 @@
 #include "scattered_scene.hpp"
 #include "support/random_scenes.hpp"
 #include "support/render_checks.hpp"
+#include "support/test_tiers.hpp"
 #include "world/prepared_scene.hpp"
 
 using namespace par2d;
@@ -118,11 +119,14 @@ TEST_CASE("a light one occluder covers in whole packets, and packets inside an o
   check_against_scalar_and_unculled(scene, "wall umbra");
 }
 
-TEST_CASE("small occluders and small lights (1.5-4 px, 3-5 px): culled SIMD matches scalar and unculled") {
-  // The many-lights level's sizes, scaled down: dense small occluders hide lights in whole
-  // packets (one occluder or several), fail most occlusion proofs by a visible segment and
-  // offer many umbra tests that cannot succeed.
-  for (std::uint32_t seed = 1501; seed <= 1504; ++seed) {
+namespace {
+
+// The many-lights level's sizes, scaled down: dense small occluders hide lights in whole
+// packets (one occluder or several), fail most occlusion proofs by a visible segment and
+// offer many umbra tests that cannot succeed. Odd seeds keep occluders apart, even ones let
+// them overlap.
+void check_small_shapes(std::uint32_t first_seed, std::uint32_t last_seed) {
+  for (std::uint32_t seed = first_seed; seed <= last_seed; ++seed) {
     RandomSceneOptions opt = scattered_options(128, 5, 7, 220, 220, 1.5, 5.0);
     opt.occluders_may_overlap = seed % 2 == 0;
     const Scene scene = random_scene(seed, opt);
@@ -130,6 +134,64 @@ TEST_CASE("small occluders and small lights (1.5-4 px, 3-5 px): culled SIMD matc
     check_against_scalar_and_unculled(scene, "seed " + std::to_string(seed));
   }
 }
+
+// The many-lights "rubble" level's density (par2d_make_field --occluder-size 1.5 4
+// --light-size 3 5), scaled down: ~85 % of its tile proofs fail, so after a light's first
+// failures in a block the rule stops trying; the image must stay the unculled and scalar one.
+void check_rubble_tile_rule(const Scene& scene) {
+  REQUIRE(validate_scene(scene).ok());
+  check_against_scalar_and_unculled(scene, "rubble");
+  for (Isa isa : simd_isas_here()) {
+    INFO("isa ", std::string(isa_name(isa)));
+    RenderOptions options = simd_options(isa, true);
+    options.threads = 1;
+    const FrameStats one = stats_of(scene, options);
+    CHECK(one.tile_proofs_skipped > one.tile_proofs_tried);
+    // Decided per block from its own tiles: the same counts whatever the threads.
+    options.threads = 3;
+    const FrameStats three = stats_of(scene, options);
+    CHECK(three.tile_proofs_skipped == one.tile_proofs_skipped);
+    CHECK(three.tile_proofs_tried == one.tile_proofs_tried);
+    CHECK(three.tile_lights == one.tile_lights);
+  }
+}
+
+// A block tries its first 24 block proofs (lights in scene order), then only while at least
+// 1 in 16 succeeded: on rubble almost none do. The skipped lights go to the tiles, whose
+// images must stay the unculled and scalar ones.
+void check_rubble_block_rule(const Scene& scene) {
+  REQUIRE(validate_scene(scene).ok());
+  check_against_scalar_and_unculled(scene, "rubble, 40 lights");
+  for (Isa isa : simd_isas_here()) {
+    INFO("isa ", std::string(isa_name(isa)));
+    RenderOptions options = simd_options(isa, true);
+    options.threads = 1;
+    const FrameStats one = stats_of(scene, options);
+    INFO("block proofs tried ", one.block_proofs_tried, ", succeeded ", one.block_proofs_succeeded, ", skipped ",
+         one.block_proofs_skipped);
+    CHECK(one.block_proofs_skipped > 0u);
+    CHECK(one.block_proofs_tried + one.block_proofs_skipped + one.block_lights_out_of_reach <= one.block_lights);
+    // Decided per block from its own tries: the same counts whatever the threads.
+    options.threads = 3;
+    const FrameStats three = stats_of(scene, options);
+    CHECK(three.block_proofs_skipped == one.block_proofs_skipped);
+    CHECK(three.block_proofs_tried == one.block_proofs_tried);
+    CHECK(three.tile_lights == one.tile_lights);
+    // Without culling no proof is tried or skipped.
+    const FrameStats unculled = stats_of(scene, simd_options(isa, false));
+    CHECK(unculled.block_proofs_skipped == 0u);
+  }
+}
+
+const bench::ScatteredSizes kRubble{1.5, 4.0, 3.0, 5.0};
+
+}  // namespace
+
+TEST_CASE("small occluders and small lights (1.5-4 px, 3-5 px): culled SIMD matches scalar and unculled") {
+  check_small_shapes(1501, 1502);  // apart and overlapping
+}
+
+TEST_CASE("small occluders and small lights, more seeds" * par2d::test::long_tier()) { check_small_shapes(1503, 1504); }
 
 TEST_CASE("segment_passes agrees with dense sampling of the segment, and never passes through a touch") {
   PortableRandom rng(77);
@@ -175,55 +237,19 @@ TEST_CASE("segment_passes agrees with dense sampling of the segment, and never p
 }
 
 TEST_CASE("rubble (1.5-4 px occluders, 3-5 px lights): the adaptive rule skips failing tile proofs, same image") {
-  // The many-lights "rubble" level's density (par2d_make_field --occluder-size 1.5 4
-  // --light-size 3 5), scaled down: ~85 % of its tile proofs fail, so after a light's first
-  // failures in a block the rule stops trying; the image must stay the unculled and scalar one.
-  const bench::ScatteredSizes rubble{1.5, 4.0, 3.0, 5.0};
-  const Scene scene = bench::scattered_scene(8, 120, 77, 320, 192, rubble);
-  REQUIRE(validate_scene(scene).ok());
-  check_against_scalar_and_unculled(scene, "rubble");
-  for (Isa isa : simd_isas_here()) {
-    INFO("isa ", std::string(isa_name(isa)));
-    RenderOptions options = simd_options(isa, true);
-    options.threads = 1;
-    const FrameStats one = stats_of(scene, options);
-    CHECK(one.tile_proofs_skipped > one.tile_proofs_tried);
-    // Decided per block from its own tiles: the same counts whatever the threads.
-    options.threads = 3;
-    const FrameStats three = stats_of(scene, options);
-    CHECK(three.tile_proofs_skipped == one.tile_proofs_skipped);
-    CHECK(three.tile_proofs_tried == one.tile_proofs_tried);
-    CHECK(three.tile_lights == one.tile_lights);
-  }
+  check_rubble_tile_rule(bench::scattered_scene(8, 60, 77, 224, 136, kRubble));
+}
+
+TEST_CASE("rubble at 320 x 192: the adaptive tile rule, same image" * par2d::test::long_tier()) {
+  check_rubble_tile_rule(bench::scattered_scene(8, 120, 77, 320, 192, kRubble));
 }
 
 TEST_CASE("rubble with many lights per block: the adaptive rule skips failing block proofs, same image") {
-  // A block tries its first 24 block proofs (lights in scene order), then only while at least
-  // 1 in 16 succeeded: on rubble almost none do. The skipped lights go to the tiles, whose
-  // images must stay the unculled and scalar ones.
-  const bench::ScatteredSizes rubble{1.5, 4.0, 3.0, 5.0};
-  const Scene scene = bench::scattered_scene(40, 360, 77, 256, 192, rubble);
-  REQUIRE(validate_scene(scene).ok());
-  check_against_scalar_and_unculled(scene, "rubble, 40 lights");
-  for (Isa isa : simd_isas_here()) {
-    INFO("isa ", std::string(isa_name(isa)));
-    RenderOptions options = simd_options(isa, true);
-    options.threads = 1;
-    const FrameStats one = stats_of(scene, options);
-    INFO("block proofs tried ", one.block_proofs_tried, ", succeeded ", one.block_proofs_succeeded, ", skipped ",
-         one.block_proofs_skipped);
-    CHECK(one.block_proofs_skipped > 0u);
-    CHECK(one.block_proofs_tried + one.block_proofs_skipped + one.block_lights_out_of_reach <= one.block_lights);
-    // Decided per block from its own tries: the same counts whatever the threads.
-    options.threads = 3;
-    const FrameStats three = stats_of(scene, options);
-    CHECK(three.block_proofs_skipped == one.block_proofs_skipped);
-    CHECK(three.block_proofs_tried == one.block_proofs_tried);
-    CHECK(three.tile_lights == one.tile_lights);
-    // Without culling no proof is tried or skipped.
-    const FrameStats unculled = stats_of(scene, simd_options(isa, false));
-    CHECK(unculled.block_proofs_skipped == 0u);
-  }
+  check_rubble_block_rule(bench::scattered_scene(40, 150, 77, 160, 128, kRubble));
+}
+
+TEST_CASE("rubble with many lights per block at 256 x 192: the adaptive block rule, same image" * par2d::test::long_tier()) {
+  check_rubble_block_rule(bench::scattered_scene(40, 360, 77, 256, 192, kRubble));
 }
 
 TEST_CASE("the benchmark's level (4-12 px occluders), where most tile proofs hide the light: the rule keeps them") {

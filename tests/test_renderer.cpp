@@ -16,6 +16,7 @@
 #include "render/frame_output.hpp"
 #include "world/occluder_bvh.hpp"
 #include "support/random_scenes.hpp"
+#include "support/test_tiers.hpp"
 
 namespace par2d::test {
 namespace {
@@ -69,7 +70,7 @@ Shape moved(const Shape& shape, double dx, double dy) {
 
 }  // namespace
 
-TEST_CASE("Renderer after random light and occluder updates equals a one-shot render of its snapshot, bit for bit") {
+TEST_CASE("Renderer after random light and occluder updates equals a one-shot render of its snapshot, bit for bit" * par2d::test::per_isa()) {
   for (Isa isa : isas_here()) {
     for (std::uint32_t seed = 1; seed <= 12; ++seed) {
       RandomSceneOptions opt;
@@ -137,7 +138,7 @@ TEST_CASE("Renderer after random light and occluder updates equals a one-shot re
   }
 }
 
-TEST_CASE("moving and flickering lights never rebuilds or updates the occluder index") {
+TEST_CASE("moving and flickering lights never rebuilds or updates the occluder index" * par2d::test::per_isa()) {
   for (Isa isa : isas_here()) {
     Renderer r;
     REQUIRE(r.set_options(options_for(isa)).ok());
@@ -166,7 +167,7 @@ TEST_CASE("moving and flickering lights never rebuilds or updates the occluder i
   }
 }
 
-TEST_CASE("moving one pillar updates the index in place and re-proves only the lights that looked there") {
+TEST_CASE("moving one pillar updates the index in place and re-proves only the lights that looked there" * par2d::test::per_isa()) {
   Renderer r;
   REQUIRE(r.set_options(options_for(default_isa() == Isa::scalar ? Isa::scalar : detect_isa())).ok());
   const Scene level = bench::game_level(320, 176);
@@ -190,7 +191,7 @@ TEST_CASE("moving one pillar updates the index in place and re-proves only the l
   CHECK(same_bits(image, one_shot(r.snapshot(), r.options())));
 }
 
-TEST_CASE("a refused update names the handle and the problem and keeps the previous state") {
+TEST_CASE("a refused update names the handle and the problem and keeps the previous state" * par2d::test::per_isa()) {
   Renderer r;
   std::vector<LightHandle> lights;
   std::vector<OccluderHandle> occluders;
@@ -227,7 +228,7 @@ TEST_CASE("a refused update names the handle and the problem and keeps the previ
   CHECK(r.stats().index_updates == stats.index_updates);
 }
 
-TEST_CASE("the lights' total emission stays within 1e38 per channel through every update path") {
+TEST_CASE("the lights' total emission stays within 1e38 per channel through every update path" * par2d::test::per_isa()) {
   Renderer r;
   REQUIRE(r.set_frame(16, 16).ok());
   LightHandle a, b;
@@ -249,7 +250,7 @@ TEST_CASE("the lights' total emission stays within 1e38 per channel through ever
   CHECK(std::all_of(pixels.begin(), pixels.end(), [](float v) { return std::isfinite(v) && v >= 0.0f; }));
 }
 
-TEST_CASE("every pixel format and any region equal the same pixels of the whole float frame") {
+TEST_CASE("every pixel format and any region equal the same pixels of the whole float frame" * par2d::test::per_isa()) {
   const Scene level = bench::game_level(150, 83);
   for (Isa isa : isas_here()) {
     Renderer r;
@@ -312,7 +313,7 @@ TEST_CASE("every pixel format and any region equal the same pixels of the whole 
   }
 }
 
-TEST_CASE("render refuses bad buffers and regions with a message") {
+TEST_CASE("render refuses bad buffers and regions with a message" * par2d::test::per_isa()) {
   Renderer r;
   std::vector<float> pixels(16 * 16 * 4);
   FrameBuffer fb{pixels.data(), PixelFormat::rgba_f32, 16 * 16, 1.0};
@@ -340,7 +341,7 @@ TEST_CASE("render refuses bad buffers and regions with a message") {
   CHECK(r.set_options(negative).code() == StatusCode::invalid_argument);
 }
 
-TEST_CASE("threading: own pool of N, resolved thread count, and rendering inside the host's arena give the same bytes") {
+TEST_CASE("threading: own pool of N, resolved thread count, and rendering inside the host's arena give the same bytes" * par2d::test::per_isa()) {
   const Scene level = bench::game_level(96, 53);
   const int hardware = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   RenderOptions o;
@@ -454,7 +455,7 @@ TEST_CASE("8-bit sRGB table look-up equals the threshold search at every thresho
 
 namespace par2d::test {
 
-TEST_CASE("a segment light cut from an occluder's edge stays hidden when the occluder is added to a persistent Renderer") {
+TEST_CASE("a segment light cut from an occluder's edge stays hidden when the occluder is added to a persistent Renderer" * par2d::test::per_isa()) {
   // A light within the contact tolerance of an occluder touches it (docs/contract.md section 5):
   // the edge piece here rounded 1e-16 of its length outside the edge's line, and the SIMD path
   // showed 7 % to 31 % of the light (tests/fuzz/FINDINGS.md #9). The occluder arrives through
@@ -487,7 +488,7 @@ TEST_CASE("a segment light cut from an occluder's edge stays hidden when the occ
 // boundaries meet, whether the light lies inside, the edge that clips it: LightOverlap), made
 // once per change of either shape. Every update path must keep it in step: the frames must
 // equal one-shot renders, which prepare it afresh, bit for bit.
-TEST_CASE("a torch overlapping a wall keeps its clip and containment in step through moves and removals") {
+TEST_CASE("a torch overlapping a wall keeps its clip and containment in step through moves and removals" * par2d::test::per_isa()) {
   Scene scene;
   scene.width = 64;
   scene.height = 48;
@@ -541,7 +542,7 @@ namespace par2d::test {
 // The tile-relative sample offsets are kept between tiles and frames while the sampling,
 // the pixel size and the scale stay (TileWork::sample_grid): one Renderer taken through
 // changes of each must still equal a one-shot render of every frame, bit for bit.
-TEST_CASE("Renderer through spp, view and size changes equals one-shot renders bit for bit") {
+TEST_CASE("Renderer through spp, view and size changes equals one-shot renders bit for bit" * par2d::test::per_isa()) {
   for (Isa isa : isas_here()) {
     RandomSceneOptions opt;
     opt.width = 53;

@@ -16,6 +16,7 @@
 #include "scattered_scene.hpp"
 #include "support/random_scenes.hpp"
 #include "support/render_checks.hpp"
+#include "support/test_tiers.hpp"
 
 using namespace par2d;
 using namespace par2d::test;
@@ -280,7 +281,7 @@ TEST_CASE("vector atan2 is within 3e-7 rad of std::atan2 and never NaN, in each 
   }
 }
 
-TEST_CASE("PAR2D_ISA caps the default ISA, and the automatic backend follows it") {
+TEST_CASE("PAR2D_ISA caps the default ISA, and the automatic backend follows it" * par2d::test::per_isa()) {
   const char* forced = std::getenv("PAR2D_ISA");
   if (forced == nullptr) {
     CHECK(default_isa() == detect_isa());
@@ -325,19 +326,17 @@ TEST_CASE("ISA names round-trip, and capped_isa never picks a level this CPU lac
 #endif
 }
 
-TEST_CASE("culling is exact with up to 1000 occluders: long thin ones, ones spanning many tiles, far lights") {
-  // Culled against unculled and against the scalar reference, docs/contract.md section 5 bound.
-  struct Case {
-    std::uint32_t seed;
-    int occluders;
-    double min_size, max_size, outside;
-  };
-  const Case cases[] = {
-      {1201, 1000, 0.004, 0.02, 0.15},  // many small scattered occluders
-      {1202, 16, 0.1, 0.35, 0.15},      // large occluders spanning many 16 px tiles
-      {1203, 300, 0.01, 0.05, 3.0},     // lights and occluders far outside the image
-  };
-  for (const Case& c : cases) {
+namespace {
+
+struct CullingCase {
+  std::uint32_t seed;
+  int occluders;
+  double min_size, max_size, outside;
+};
+
+// Culled against unculled and against the scalar reference, docs/contract.md section 5 bound.
+void check_culling_cases(std::initializer_list<CullingCase> cases) {
+  for (const CullingCase& c : cases) {
     RandomSceneOptions opt;
     opt.width = 160;
     opt.height = 96;
@@ -379,9 +378,10 @@ TEST_CASE("culling is exact with up to 1000 occluders: long thin ones, ones span
   }
 }
 
-TEST_CASE("culling is exact in a dense field where most lights are hidden by many occluders together") {
-  // The scaling benchmark's kind of level, scaled down: 16 lights among 400 occluders of 4..12
-  // px over 192 x 128 px, so that light reach, block proofs and tile proofs all decide.
+// The scaling benchmark's kind of level, scaled down: 16 lights among 400 occluders of 4..12
+// px over 192 x 128 px, so that light reach, block proofs and tile proofs all decide; lights
+// [first, last] of them, one at a time.
+void check_dense_field(std::size_t first, std::size_t last) {
   Scene scene = bench::scattered_scene(16, 400, 1, 192, 128);
   const auto prepared = detail::prepare_scene(scene);
   REQUIRE(std::all_of(prepared.lights.begin(), prepared.lights.end(),
@@ -390,12 +390,31 @@ TEST_CASE("culling is exact in a dense field where most lights are hidden by man
   // One light at a time: the contract's bound scales with the sum of emissions, and alone a light
   // seen through a crack that a wrong proof closed stands out against it.
   const std::vector<Light> lights = scene.lights;
-  for (std::size_t l = 0; l < 3; ++l) {
+  for (std::size_t l = first; l <= last; ++l) {
     scene.lights = {lights[l]};
     REQUIRE(validate_scene(scene).ok());
     check_culling_exact(scene, true, "light " + std::to_string(l));
   }
 }
+
+}  // namespace
+
+TEST_CASE("culling is exact with up to 1000 occluders: long thin ones, ones spanning many tiles, far lights") {
+  check_culling_cases({
+      {1202, 16, 0.1, 0.35, 0.15},  // large occluders spanning many 16 px tiles
+      {1203, 300, 0.01, 0.05, 3.0},  // lights and occluders far outside the image
+  });
+}
+
+TEST_CASE("culling is exact with 1000 small scattered occluders and long thin ones" * par2d::test::long_tier()) {
+  check_culling_cases({{1201, 1000, 0.004, 0.02, 0.15}});
+}
+
+TEST_CASE("culling is exact in a dense field where most lights are hidden by many occluders together") {
+  check_dense_field(0, 0);
+}
+
+TEST_CASE("culling is exact in a dense field, two more lights" * par2d::test::long_tier()) { check_dense_field(1, 2); }
 
 TEST_CASE("a 0.1-unit polygon light 1e7 from the origin keeps its winding: inside it E is the full emission") {
   // The shoelace area over absolute coordinates (~1e14 per term) cancels to noise here; a

@@ -1,8 +1,10 @@
 // Portable half of ISA selection: names, PAR2D_ISA, and which levels a CPU supports. The CPU
 // probe itself (detect_isa) lives in isa_detect_<arch>.cpp, one per architecture.
+#include <atomic>
 #include <cstdlib>
 
 #include "par2d/isa.hpp"
+#include "render/isa_usage.hpp"
 
 namespace par2d {
 namespace {
@@ -10,6 +12,8 @@ namespace {
 // The architecture a level belongs to. Within one architecture the levels nest, each a
 // superset of the ones before it in the enum.
 enum class IsaFamily { any, x86, arm };
+
+std::atomic<std::uint64_t> default_isa_query_count{0};
 
 IsaFamily isa_family(Isa isa) noexcept {
   switch (isa) {
@@ -33,6 +37,7 @@ bool isa_supported(Isa isa) noexcept {
 Isa capped_isa(Isa wanted) noexcept { return isa_supported(wanted) ? wanted : detect_isa(); }
 
 Isa default_isa() noexcept {
+  default_isa_query_count.fetch_add(1, std::memory_order_relaxed);
   if (const char* env = std::getenv("PAR2D_ISA")) {
     if (auto forced = parse_isa(env)) return capped_isa(*forced);
   }
@@ -58,6 +63,10 @@ std::optional<Isa> parse_isa(std::string_view name) noexcept {
   if (name == "neon64" || name == "neon") return Isa::neon64;
   return std::nullopt;
 }
+
+namespace detail {
+std::uint64_t default_isa_queries() noexcept { return default_isa_query_count.load(std::memory_order_relaxed); }
+}  // namespace detail
 
 int isa_lanes(Isa isa) noexcept {
   switch (isa) {

@@ -47,8 +47,11 @@ struct Arc {
 };
 
 // Shape arcs are inlined into the packet loop (three call sites), so that nothing passes
-// through memory and tile-constant branches fold into straight code.
-#if defined(__GNUC__)
+// through memory and tile-constant branches fold into straight code. Sanitizer builds
+// (PAR2D_KERNEL_INLINE_HINTS, set by PAR2D_SANITIZE) leave inlining to the compiler: forced
+// into one body, the instrumented kernels made functions whose compile time grows faster
+// than their size (GCC's alias analysis under ASan took minutes per kernel file).
+#if defined(__GNUC__) && !defined(PAR2D_KERNEL_INLINE_HINTS)
 #define PAR2D_KERNEL_INLINE inline __attribute__((always_inline))
 #define PAR2D_KERNEL_NOINLINE __attribute__((noinline))
 #define PAR2D_KERNEL_LAMBDA_INLINE __attribute__((always_inline))

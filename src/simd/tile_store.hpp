@@ -31,7 +31,8 @@
 
 // The row helpers are inlined into each store whatever the compiler's size estimate says:
 // called, a whole row costs more than the stores themselves (measured with callgrind).
-#if defined(__GNUC__)
+// Sanitizer builds leave it to the compiler (PAR2D_KERNEL_INLINE_HINTS, simd/tile_kernel.hpp).
+#if defined(__GNUC__) && !defined(PAR2D_KERNEL_INLINE_HINTS)
 #define PAR2D_STORE_INLINE inline __attribute__((always_inline))
 #else
 #define PAR2D_STORE_INLINE inline

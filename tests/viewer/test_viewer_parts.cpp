@@ -13,6 +13,7 @@
 #include <doctest/doctest.h>
 
 #include "par2d/par2d.hpp"
+#include "support/test_tiers.hpp"
 #include "viewer/scene_edit.hpp"
 
 namespace {
@@ -121,7 +122,7 @@ TEST_CASE("outlines: closed loops for circles and polygons, the two ends of a se
   CHECK(par2d::viewer::outline(Segment{{1, 2}, {3, 4}}).size() == 2);
 }
 
-TEST_CASE("the viewer's display path: edits mirrored by handle, sRGB bytes as the PNG writer's") {
+TEST_CASE("the viewer's display path: edits mirrored by handle, sRGB bytes as the PNG writer's" * par2d::test::per_isa()) {
   // What the viewer does: one Renderer at the window's size, each scene_edit change passed on
   // through the light's handle, frames as rgba8_srgb into a padded texture. Its bytes must be
   // those par2d::write_png stores for a fresh render of the edited scene.

@@ -56,7 +56,7 @@ unset PAR2D_ISA
 # One case per emulated process, on every core (sharded.sh).
 echo "+ sharded: ${QEMU[*]} $BUILD/tests/par2d_tests --test-case=... --test-case-exclude=..."
 SHARD_WRAPPER="${QEMU[*]}" JOBS="$JOBS" tools/ci/sharded.sh "$BUILD/tests/par2d_tests" \
-  --test-case="$FILTER" --test-case-exclude="$SLOW"
+  --test-case="$FILTER" --test-case-exclude="$SLOW" --test-suite-exclude=long
 # ISA selection with PAR2D_ISA forced to each level (as ctest does natively): scalar must be
 # honoured, neon64 kept, and x86 names fall back to the best level the CPU has.
 for isa in scalar neon64 avx2; do

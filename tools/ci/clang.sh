@@ -10,5 +10,5 @@ DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends clang
 cmake --preset clang -DCMAKE_CXX_FLAGS=-Werror >/dev/null
 cmake --build build-clang -j"$JOBS"
 t1=$(date +%s)
-./build-clang/tests/par2d_tests --test-case='*SIMD*,*simd*,*ISA*,*isa*,*thread*'
+./build-clang/tests/par2d_tests --test-case='*SIMD*,*simd*,*ISA*,*isa*,*thread*' --test-suite-exclude=long
 echo "clang.sh: build $((t1 - t0)) s, tests $(( $(date +%s) - t1 )) s"

@@ -26,7 +26,8 @@ t0=$(date +%s)
 cmake -S . -B "$BUILD" -DCMAKE_CXX_COMPILER="$CXX_CLANG" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
       -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" \
       -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
-      -DPAR2D_BUILD_TESTS=OFF -DPAR2D_BUILD_TOOLS=OFF -DPAR2D_BUILD_BENCH=OFF -DPAR2D_BUILD_FUZZ=ON >/dev/null
+      -DPAR2D_KERNEL_INLINE_HINTS=ON -DPAR2D_BUILD_TESTS=OFF -DPAR2D_BUILD_TOOLS=OFF -DPAR2D_BUILD_BENCH=OFF \
+      -DPAR2D_BUILD_FUZZ=ON >/dev/null
 cmake --build "$BUILD" -j"$JOBS" --target fuzz_scene_loader fuzz_render fuzz_contact fuzz_huge
 t1=$(date +%s)
 echo "fuzz.sh: build $((t1 - t0)) s"
