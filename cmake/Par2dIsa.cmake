@@ -27,12 +27,11 @@ set(PAR2D_ISA_FLAGS_neon64 "")
 set(PAR2D_ISAS_x86 sse4_2 avx2 avx512)
 set(PAR2D_ISAS_aarch64 neon64)
 
-# The kernel files' optimisation level. -O3 for every build a user makes. The sanitizer builds
-# of CI (tools/ci/sanitizers.sh) take -O1: under AddressSanitizer GCC's points-to analysis on
-# the always-inlined kernels grows with the -O3 function size, and one kernel file took 559 s
-# at -O3 against 275 s at -O2 and 131 s at -O1 (tile_kernel_avx512.cpp, asan+ubsan).
-# -O1 at least, for the reason above: -O0 (and -Og, which inlines as little) would emit the
-# shared inline helpers out of line with the ISA's instructions.
+# The kernel files' optimisation level: -O3 for every build a user makes. (The sanitizer builds
+# once took -O1 here because one instrumented kernel file took minutes at -O3; the cause was
+# forced inlining, which instrumented builds now leave to the compiler: PAR2D_KERNEL_INLINE_HINTS
+# in CMakeLists.txt.) -O1 at least: -O0 (and -Og, which inlines as little) would emit the shared
+# inline helpers out of line with the ISA's instructions.
 set(PAR2D_KERNEL_OPTIMIZATION "-O3" CACHE STRING "Optimisation flag of the per-ISA kernel files: -O1, -O2 or -O3")
 if(NOT PAR2D_KERNEL_OPTIMIZATION MATCHES "^-O[123]$")
   message(FATAL_ERROR "PAR2D_KERNEL_OPTIMIZATION must be -O1, -O2 or -O3, got '${PAR2D_KERNEL_OPTIMIZATION}'")

@@ -5,7 +5,7 @@
 #
 # Usage: tools/ci/mutants.sh [SOURCE_DIR]   (default: this checkout, with uncommitted changes)
 # Env:   JOBS (default nproc), KEEP=1 keeps the copy for a look at a failure, TEST_CMD (default
-#        the README's `ctest --test-dir build --output-on-failure -j$JOBS`) to check another
+#        the README's `ctest --test-dir build --output-on-failure -j$JOBS -LE long`) to check another
 #        command instead (an older tree's suite, say).
 # Exit:  0 when every mutant is caught and the unmutated copy passes, 1 otherwise.
 set -euo pipefail
@@ -28,7 +28,7 @@ MUTANTS=(
 
 test_command() {
   cmake --build build -j"$JOBS" >"$WORK/build.log" 2>&1 || { echo "build failed"; tail -20 "$WORK/build.log"; return 2; }
-  eval "${TEST_CMD:-ctest --test-dir build --output-on-failure -j$JOBS}" >"$WORK/ctest.log" 2>&1
+  eval "${TEST_CMD:-ctest --test-dir build --output-on-failure -j$JOBS -LE long}" >"$WORK/ctest.log" 2>&1
 }
 
 t0=$(date +%s)
