@@ -275,7 +275,7 @@ TEST_CASE("cell lists: lights hidden only by several small occluders together (a
 TEST_CASE("block candidates: 16 or more for a light come ordered by direction from the block, counter-clockwise from the light's") {
   // The kernel's blocked prefix closes a cover made of several occluders only when their
   // intervals arrive in the order of their starts, so the order's direction matters: the
-  // reverse order rendered the same images and cost more (README, "Covers made of several
+  // reverse order rendered the same images and cost more (docs/performance.md, "Covers made of several
   // occluders"). The block (0, 0)-(64, 64) holds the lamp and 42 squares of the fence.
   const Scene scene = staggered_fence();
   const detail::PreparedScene prepared = detail::prepare_scene(scene);

@@ -1,7 +1,7 @@
 # Cross build for 64-bit ARM Linux from an x86-64 Debian host: Debian's cross compiler
 # (crossbuild-essential-arm64) and multiarch :arm64 packages (libtbb-dev:arm64 etc.).
 # Usage: cmake --preset aarch64-linux-gnu, or cmake -S . -B build-arm64
-#        -DCMAKE_TOOLCHAIN_FILE=cmake/toolchains/aarch64-linux-gnu.cmake. See README "Building for ARM64".
+#        -DCMAKE_TOOLCHAIN_FILE=cmake/toolchains/aarch64-linux-gnu.cmake. See docs/arm64.md.
 set(CMAKE_SYSTEM_NAME Linux)
 set(CMAKE_SYSTEM_PROCESSOR aarch64)
 set(PAR2D_CROSS_TRIPLET aarch64-linux-gnu)

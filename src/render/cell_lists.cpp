@@ -156,7 +156,7 @@ void build_cell_lists(const PreparedScene& scene, const TileRect& tile, int lane
   // Per light, each pair's cells (one shadow cone per pair), then the light's pairs cell by
   // cell. Every pair is written and counted only when its cell keeps it: which cells keep a
   // pair varies without pattern, and the mispredicted branch on it took a third of the cell
-  // lists' time on rubble (perf, README). The buffer only grows, so it is not refilled.
+  // lists' time on rubble (perf, docs/performance.md). The buffer only grows, so it is not refilled.
   if (scratch.pair_buffer.size() < cell_count * work.pairs.size()) scratch.pair_buffer.resize(cell_count * work.pairs.size());
   KernelPair* pairs_out = scratch.pair_buffer.data();
   std::size_t kept_pairs = 0;

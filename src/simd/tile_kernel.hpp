@@ -721,7 +721,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
       // kept, so the sort and sweep run over the intervals this packet really sees.
       // Stored in any case and counted only when kept: whether a pair is kept varies from
       // packet to packet without pattern, and the branch it took was mispredicted often
-      // enough to cost a fifth of the kernel's time on rubble (perf, README).
+      // enough to cost a fifth of the kernel's time on rubble (perf, docs/performance.md).
       const B lo_p = xsimd::select(blocks, xsimd::min(o, width), width);
       const B hi_p = xsimd::select(blocks, xsimd::min(end, width), width);
       lo_p.store_aligned(lo + n * W);

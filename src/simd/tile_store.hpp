@@ -140,7 +140,7 @@ PAR2D_STORE_INLINE void store_whole_row(const TileRowPlanes& planes, float* row)
 // decides), so whole rows that start on a register-width boundary are written with
 // non-temporal stores. An ordinary store first reads each line it fills; a frame written
 // whole does not need that read. Measured on paper at 1920x1080 (float RGB, 25 MB), AVX-512,
-// 2 threads: see the README's performance section. The bytes are the same either way.
+// 2 threads: see docs/performance.md. The bytes are the same either way.
 template <class A, std::size_t kChannels>
 void store_float_tile(const detail::TileResult& tile, int first_column, int first_row, int rows, int count,
                       unsigned char* host, std::ptrdiff_t row_stride, bool stream) noexcept {

@@ -6,7 +6,7 @@
 # Usage: tools/ci/arm64.sh            (installs what it needs with apt-get; run as root)
 # Env:   JOBS (default nproc), BUILD (default build-arm64, the preset's directory).
 #
-# Under emulation the tests run about 10-15x slower than natively (see README "Building for
+# Under emulation the tests run about 10-15x slower than natively (see docs/arm64.md, "Building for
 # ARM64"), so the run is an explicit selection of doctest test cases (FILTER and SLOW below),
 # never a test that skips itself; the native x86 suite covers the rest (scene parsing, proofs).
 set -euo pipefail
