@@ -116,7 +116,12 @@ double ray_segment(Vec2 x, Vec2 d, Vec2 a, Vec2 b) noexcept {
   // segment there, and a ray through the corner hit the light but missed the occluder.
   const double side_a = cross(d, w), side_b = cross(d, sub(b, x));
   if ((side_a > 0.0 && side_b > 0.0) || (side_a < 0.0 && side_b < 0.0)) return kInf;
-  const double t = side_of(a, b, x) / denom;
+  // The hit is a point of the segment, so its distance along the ray (|d| = 1) lies between
+  // the ends' own. Clamped there: for a ray almost along the segment the quotient is two
+  // rounding residues (a ray along a light's edge from an occluder's corner where the edge
+  // starts put the hit before the corner, and the light in front of the occluder).
+  const double ta = dot(w, d), tb = dot(sub(b, x), d);
+  const double t = std::clamp(side_of(a, b, x) / denom, std::min(ta, tb), std::max(ta, tb));
   return t < 0.0 ? kInf : t;
 }
 
