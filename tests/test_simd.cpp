@@ -281,6 +281,13 @@ TEST_CASE("vector atan2 is within 3e-7 rad of std::atan2 and never NaN, in each 
   }
 }
 
+// A probe of the tier check itself (tests/main.cpp), skipped in every normal run: the ctest
+// entry test_tiers_catch_an_untagged_case runs it with --no-skip and expects the listener to
+// fail the run for it, as it would any new case that renders with the default ISA untagged.
+TEST_CASE("tier check probe: resolves the default ISA without the per_isa tag" * doctest::skip()) {
+  CHECK(isa_supported(default_isa()));
+}
+
 TEST_CASE("PAR2D_ISA caps the default ISA, and the automatic backend follows it" * par2d::test::per_isa()) {
   const char* forced = std::getenv("PAR2D_ISA");
   if (forced == nullptr) {
