@@ -1,7 +1,8 @@
 /* par2d C API: a persistent soft-shadow renderer for game loops, through opaque handles.
  *
  * Every function that can fail returns a par2d_status; on failure par2d_last_error()
- * gives a one-line message (per thread, until the next failing call on that thread).
+ * gives a one-line message that starts with the function's name
+ * ("par2d_add_light: shape is null"), per thread, until the next failing call on that thread.
  * Nothing here allocates per frame once a renderer has rendered a frame of its size.
  * See docs/api.md for the full reference and docs/contract.md for what is computed. */
 #ifndef PAR2D_PAR2D_H
@@ -47,11 +48,17 @@ typedef enum par2d_shape_kind {
   PAR2D_SHAPE_SEGMENT = 2  /* a line segment */
 } par2d_shape_kind;
 
+/* The largest counts the C API accepts (a polygon's vertex_count; the directional lights of one
+ * par2d_set_directional_lights call). Larger ones are refused with PAR2D_INVALID_ARGUMENT
+ * before anything is read or allocated. */
+#define PAR2D_MAX_POLYGON_VERTICES 1048576
+#define PAR2D_MAX_DIRECTIONAL_LIGHTS 65536
+
 /* A shape in world coordinates (x right, y down). Only the fields of `kind` are read. */
 typedef struct par2d_shape {
   par2d_shape_kind kind;
   const double* vertices; /* polygon: x0, y0, x1, y1, ... */
-  size_t vertex_count;    /* polygon: number of (x, y) pairs */
+  size_t vertex_count;    /* polygon: number of (x, y) pairs, at most PAR2D_MAX_POLYGON_VERTICES */
   double circle[3];       /* circle: center x, center y, radius (> 0) */
   double segment[4];      /* segment: ax, ay, bx, by (distinct points) */
 } par2d_shape;

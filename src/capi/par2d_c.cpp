@@ -2,6 +2,7 @@
 // buffers (no allocation per update), errors kept per thread.
 #include "par2d/par2d.h"
 
+#include <cstring>
 #include <exception>
 #include <new>
 #include <string>
@@ -20,10 +21,22 @@ namespace {
 
 thread_local std::string g_last_error;
 
-par2d_status to_c(const par2d::Status& s) {
+// The message with the C function's name in front (`par2d_add_light: shape is null`). A
+// library message that already starts with the C++ call's name (`set_ambient: ...` from
+// par2d_set_ambient) gets the C name in its place rather than a second name.
+std::string named(const char* function, const std::string& message) {
+  const char* stem = function + std::strlen("par2d_");
+  const std::size_t n = std::strlen(stem);
+  if (std::strncmp(function, "par2d_", 6) == 0 && message.size() > n + 2 && message.compare(0, n, stem) == 0 &&
+      message.compare(n, 2, ": ") == 0)
+    return "par2d_" + message;
+  return std::string(function) + ": " + message;
+}
+
+par2d_status to_c(const char* function, const par2d::Status& s) {
   if (s.ok()) return PAR2D_OK;
   try {
-    g_last_error = s.message();
+    g_last_error = named(function, s.message());
   } catch (...) {
     g_last_error.clear();
   }
@@ -38,28 +51,35 @@ par2d_status to_c(const par2d::Status& s) {
   return PAR2D_INVALID_ARGUMENT;
 }
 
-par2d_status fail(const char* message) { return to_c(par2d::Status(par2d::StatusCode::invalid_argument, message)); }
+par2d_status fail(const char* function, const std::string& message) {
+  return to_c(function, par2d::Status(par2d::StatusCode::invalid_argument, message));
+}
 
-// Runs fn, turning exceptions into statuses (nothing may unwind into C).
+// Runs fn, turning exceptions into statuses (nothing may unwind into C). Counts and sizes are
+// checked before anything is allocated, so these are real failures, not misuse.
 template <class Fn>
-par2d_status guarded(Fn&& fn) noexcept {
+par2d_status guarded(const char* function, Fn&& fn) noexcept {
   try {
     return fn();
   } catch (const std::bad_alloc&) {
-    return to_c(par2d::Status(par2d::StatusCode::out_of_memory, "out of memory"));
+    return to_c(function, par2d::Status(par2d::StatusCode::out_of_memory, "out of memory"));
   } catch (const std::exception& e) {
-    return to_c(par2d::Status(par2d::StatusCode::invalid_argument, e.what()));
+    return fail(function, std::string("internal error: ") + e.what());
   } catch (...) {
-    return fail("unexpected error");
+    return fail(function, "internal error");
   }
 }
 
 // Converts into `out`, reusing a polygon's vertex buffer when the shape stays a polygon.
-par2d_status convert_shape(const par2d_shape* in, par2d::Shape& out) {
-  if (in == nullptr) return fail("shape is null");
+// Everything about the C struct is checked before its vertices are read or copied.
+par2d_status convert_shape(const char* function, const par2d_shape* in, par2d::Shape& out) {
+  if (in == nullptr) return fail(function, "shape is null");
   switch (in->kind) {
     case PAR2D_SHAPE_POLYGON: {
-      if (in->vertices == nullptr && in->vertex_count > 0) return fail("polygon vertices are null");
+      if (in->vertex_count > PAR2D_MAX_POLYGON_VERTICES)
+        return fail(function, "shape vertex_count " + std::to_string(in->vertex_count) + " is more than " +
+                                  std::to_string(PAR2D_MAX_POLYGON_VERTICES));
+      if (in->vertices == nullptr && in->vertex_count > 0) return fail(function, "shape vertices are null");
       if (!std::holds_alternative<par2d::Polygon>(out)) out = par2d::Polygon{};
       auto& v = std::get<par2d::Polygon>(out).vertices;
       v.resize(in->vertex_count);
@@ -73,12 +93,14 @@ par2d_status convert_shape(const par2d_shape* in, par2d::Shape& out) {
       out = par2d::Segment{{in->segment[0], in->segment[1]}, {in->segment[2], in->segment[3]}};
       return PAR2D_OK;
   }
-  return fail("unknown shape kind");
+  return fail(function, "shape kind " + std::to_string(static_cast<long long>(in->kind)) +
+                            " is not PAR2D_SHAPE_POLYGON, _CIRCLE or _SEGMENT");
 }
 
-par2d_status fill_light(par2d_renderer* r, const par2d_shape* shape, const double color[3], double intensity) {
-  if (color == nullptr) return fail("color is null");
-  if (par2d_status s = convert_shape(shape, r->light.shape); s != PAR2D_OK) return s;
+par2d_status fill_light(const char* function, par2d_renderer* r, const par2d_shape* shape, const double color[3],
+                        double intensity) {
+  if (color == nullptr) return fail(function, "color is null");
+  if (par2d_status s = convert_shape(function, shape, r->light.shape); s != PAR2D_OK) return s;
   r->light.color = {color[0], color[1], color[2]};
   r->light.intensity = intensity;
   return PAR2D_OK;
@@ -130,24 +152,29 @@ void par2d_options_default(par2d_options* options) {
   options->culling = 1;
 }
 
+// Each function below names itself (fn = __func__) in every message it leaves.
+
 par2d_status par2d_renderer_create(const par2d_options* options, par2d_renderer** out) {
-  if (out == nullptr) return fail("par2d_renderer_create: out is null");
+  const char* const fn = __func__;
+  if (out == nullptr) return fail(fn, "out is null");
   *out = nullptr;
-  return guarded([&] {
+  return guarded(fn, [&] {
     par2d::RenderOptions o;
     if (options) {
       switch (options->backend) {
         case PAR2D_BACKEND_AUTO: o.backend = par2d::Backend::automatic; break;
         case PAR2D_BACKEND_SIMD: o.backend = par2d::Backend::simd; break;
         case PAR2D_BACKEND_SCALAR: o.backend = par2d::Backend::scalar; break;
-        default: return fail("par2d_renderer_create: unknown backend");
+        default:
+          return fail(fn, "backend " + std::to_string(static_cast<long long>(options->backend)) +
+                              " is not PAR2D_BACKEND_AUTO, _SIMD or _SCALAR");
       }
       o.threads = options->threads;
       o.spp = options->spp;
       o.culling = options->culling != 0;
     }
     auto r = std::make_unique<par2d_renderer>();
-    if (par2d::Status s = r->renderer.set_options(o); !s.ok()) return to_c(s);
+    if (par2d::Status s = r->renderer.set_options(o); !s.ok()) return to_c(fn, s);
     *out = r.release();
     return PAR2D_OK;
   });
@@ -158,30 +185,35 @@ void par2d_renderer_destroy(par2d_renderer* renderer) { delete renderer; }
 int par2d_renderer_threads(const par2d_renderer* renderer) { return renderer ? renderer->renderer.threads() : 0; }
 
 par2d_status par2d_set_frame(par2d_renderer* r, int width, int height, const double* view) {
-  if (r == nullptr) return fail("par2d_set_frame: renderer is null");
-  return guarded([&] {
-    if (view == nullptr) return to_c(r->renderer.set_frame(width, height));
-    return to_c(r->renderer.set_frame(width, height, par2d::View{view[0], view[1], view[2], view[3]}));
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  return guarded(fn, [&] {
+    if (view == nullptr) return to_c(fn, r->renderer.set_frame(width, height));
+    return to_c(fn, r->renderer.set_frame(width, height, par2d::View{view[0], view[1], view[2], view[3]}));
   });
 }
 
 par2d_status par2d_load_scene(par2d_renderer* r, const char* path) {
-  if (r == nullptr || path == nullptr) return fail("par2d_load_scene: renderer or path is null");
-  return guarded([&] {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (path == nullptr) return fail(fn, "path is null");
+  return guarded(fn, [&] {
     par2d::Scene scene;
-    if (par2d::Status s = par2d::load_scene_file(path, scene); !s.ok()) return to_c(s);
-    return to_c(r->renderer.set_scene(scene));
+    if (par2d::Status s = par2d::load_scene_file(path, scene); !s.ok()) return to_c(fn, s);
+    return to_c(fn, r->renderer.set_scene(scene));
   });
 }
 
 par2d_status par2d_add_light(par2d_renderer* r, const par2d_shape* shape, const double color[3], double intensity,
                              par2d_light* out) {
-  if (r == nullptr || out == nullptr) return fail("par2d_add_light: renderer or out is null");
-  return guarded([&] {
-    if (par2d_status s = fill_light(r, shape, color, intensity); s != PAR2D_OK) return s;
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (out == nullptr) return fail(fn, "out is null");
+  return guarded(fn, [&] {
+    if (par2d_status s = fill_light(fn, r, shape, color, intensity); s != PAR2D_OK) return s;
     set_default_terms(r->light);
     par2d::LightHandle h;
-    if (par2d::Status s = r->renderer.add_light(r->light, &h); !s.ok()) return to_c(s);
+    if (par2d::Status s = r->renderer.add_light(r->light, &h); !s.ok()) return to_c(fn, s);
     *out = h.id;
     return PAR2D_OK;
   });
@@ -189,70 +221,81 @@ par2d_status par2d_add_light(par2d_renderer* r, const par2d_shape* shape, const 
 
 par2d_status par2d_update_light(par2d_renderer* r, par2d_light light, const par2d_shape* shape, const double color[3],
                                 double intensity) {
-  if (r == nullptr) return fail("par2d_update_light: renderer is null");
-  return guarded([&] {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  return guarded(fn, [&] {
     // The light keeps its terms (range, cone, mask, elevation): start from it as it is.
     if (!r->renderer.light(par2d::LightHandle{light}, &r->light).ok()) set_default_terms(r->light);
-    if (par2d_status s = fill_light(r, shape, color, intensity); s != PAR2D_OK) return s;
-    return to_c(r->renderer.update_light(par2d::LightHandle{light}, r->light));
+    if (par2d_status s = fill_light(fn, r, shape, color, intensity); s != PAR2D_OK) return s;
+    return to_c(fn, r->renderer.update_light(par2d::LightHandle{light}, r->light));
   });
 }
 
 par2d_status par2d_set_light_emission(par2d_renderer* r, par2d_light light, const double color[3], double intensity) {
-  if (r == nullptr || color == nullptr) return fail("par2d_set_light_emission: renderer or color is null");
-  return guarded([&] {
-    return to_c(r->renderer.set_light_emission(par2d::LightHandle{light}, {color[0], color[1], color[2]}, intensity));
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (color == nullptr) return fail(fn, "color is null");
+  return guarded(fn, [&] {
+    return to_c(fn, r->renderer.set_light_emission(par2d::LightHandle{light}, {color[0], color[1], color[2]}, intensity));
   });
 }
 
 par2d_status par2d_remove_light(par2d_renderer* r, par2d_light light) {
-  if (r == nullptr) return fail("par2d_remove_light: renderer is null");
-  return guarded([&] { return to_c(r->renderer.remove_light(par2d::LightHandle{light})); });
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  return guarded(fn, [&] { return to_c(fn, r->renderer.remove_light(par2d::LightHandle{light})); });
 }
 
 par2d_status par2d_add_occluder(par2d_renderer* r, const par2d_shape* shape, par2d_occluder* out) {
-  if (r == nullptr || out == nullptr) return fail("par2d_add_occluder: renderer or out is null");
-  return guarded([&] {
-    if (par2d_status s = convert_shape(shape, r->occluder.shape); s != PAR2D_OK) return s;
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (out == nullptr) return fail(fn, "out is null");
+  return guarded(fn, [&] {
+    if (par2d_status s = convert_shape(fn, shape, r->occluder.shape); s != PAR2D_OK) return s;
     set_default_terms(r->occluder);
     par2d::OccluderHandle h;
-    if (par2d::Status s = r->renderer.add_occluder(r->occluder, &h); !s.ok()) return to_c(s);
+    if (par2d::Status s = r->renderer.add_occluder(r->occluder, &h); !s.ok()) return to_c(fn, s);
     *out = h.id;
     return PAR2D_OK;
   });
 }
 
 par2d_status par2d_update_occluder(par2d_renderer* r, par2d_occluder occluder, const par2d_shape* shape) {
-  if (r == nullptr) return fail("par2d_update_occluder: renderer is null");
-  return guarded([&] {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  return guarded(fn, [&] {
     // The occluder keeps its terms (transmittance, mask, interior).
     if (!r->renderer.occluder(par2d::OccluderHandle{occluder}, &r->occluder).ok()) set_default_terms(r->occluder);
-    if (par2d_status s = convert_shape(shape, r->occluder.shape); s != PAR2D_OK) return s;
-    return to_c(r->renderer.update_occluder(par2d::OccluderHandle{occluder}, r->occluder));
+    if (par2d_status s = convert_shape(fn, shape, r->occluder.shape); s != PAR2D_OK) return s;
+    return to_c(fn, r->renderer.update_occluder(par2d::OccluderHandle{occluder}, r->occluder));
   });
 }
 
 par2d_status par2d_remove_occluder(par2d_renderer* r, par2d_occluder occluder) {
-  if (r == nullptr) return fail("par2d_remove_occluder: renderer is null");
-  return guarded([&] { return to_c(r->renderer.remove_occluder(par2d::OccluderHandle{occluder})); });
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  return guarded(fn, [&] { return to_c(fn, r->renderer.remove_occluder(par2d::OccluderHandle{occluder})); });
 }
 
 par2d_status par2d_render(par2d_renderer* r, void* pixels, par2d_pixel_format format, ptrdiff_t row_stride,
                           double exposure, const int* region) {
-  if (r == nullptr) return fail("par2d_render: renderer is null");
-  return guarded([&] {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  return guarded(fn, [&] {
     par2d::FrameBuffer buffer;
     buffer.data = pixels;
     switch (format) {
       case PAR2D_RGB_F32: buffer.format = par2d::PixelFormat::rgb_f32; break;
       case PAR2D_RGBA_F32: buffer.format = par2d::PixelFormat::rgba_f32; break;
       case PAR2D_RGBA8_SRGB: buffer.format = par2d::PixelFormat::rgba8_srgb; break;
-      default: return fail("par2d_render: unknown pixel format");
+      default:
+        return fail(fn, "pixel format " + std::to_string(static_cast<long long>(format)) +
+                            " is not PAR2D_RGB_F32, PAR2D_RGBA_F32 or PAR2D_RGBA8_SRGB");
     }
     buffer.row_stride = row_stride;
     buffer.exposure = exposure;
-    if (region == nullptr) return to_c(r->renderer.render(buffer));
-    return to_c(r->renderer.render(buffer, par2d::PixelRect{region[0], region[1], region[2], region[3]}));
+    if (region == nullptr) return to_c(fn, r->renderer.render(buffer));
+    return to_c(fn, r->renderer.render(buffer, par2d::PixelRect{region[0], region[1], region[2], region[3]}));
   });
 }
 
@@ -279,9 +322,11 @@ void par2d_directional_light_default(par2d_directional_light* light) {
 }
 
 par2d_status par2d_get_light_terms(par2d_renderer* r, par2d_light light, par2d_light_terms* out) {
-  if (r == nullptr || out == nullptr) return fail("par2d_get_light_terms: renderer or out is null");
-  return guarded([&] {
-    if (par2d::Status s = r->renderer.light(par2d::LightHandle{light}, &r->light); !s.ok()) return to_c(s);
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (out == nullptr) return fail(fn, "out is null");
+  return guarded(fn, [&] {
+    if (par2d::Status s = r->renderer.light(par2d::LightHandle{light}, &r->light); !s.ok()) return to_c(fn, s);
     par2d_light_terms_default(out);
     out->range = r->light.range ? *r->light.range : 0.0;
     out->has_cone = r->light.cone ? 1 : 0;
@@ -297,9 +342,11 @@ par2d_status par2d_get_light_terms(par2d_renderer* r, par2d_light light, par2d_l
 }
 
 par2d_status par2d_set_light_terms(par2d_renderer* r, par2d_light light, const par2d_light_terms* terms) {
-  if (r == nullptr || terms == nullptr) return fail("par2d_set_light_terms: renderer or terms is null");
-  return guarded([&] {
-    if (par2d::Status s = r->renderer.light(par2d::LightHandle{light}, &r->light); !s.ok()) return to_c(s);
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (terms == nullptr) return fail(fn, "terms is null");
+  return guarded(fn, [&] {
+    if (par2d::Status s = r->renderer.light(par2d::LightHandle{light}, &r->light); !s.ok()) return to_c(fn, s);
     // 0 means no range; anything else (negative, NaN) goes to validation and is refused there.
     if (terms->range == 0.0) r->light.range.reset();
     else r->light.range = terms->range;
@@ -307,14 +354,17 @@ par2d_status par2d_set_light_terms(par2d_renderer* r, par2d_light light, const p
     else r->light.cone.reset();
     r->light.mask = terms->mask;
     r->light.elevation = terms->elevation;
-    return to_c(r->renderer.update_light(par2d::LightHandle{light}, r->light));
+    return to_c(fn, r->renderer.update_light(par2d::LightHandle{light}, r->light));
   });
 }
 
 par2d_status par2d_get_occluder_terms(par2d_renderer* r, par2d_occluder occluder, par2d_occluder_terms* out) {
-  if (r == nullptr || out == nullptr) return fail("par2d_get_occluder_terms: renderer or out is null");
-  return guarded([&] {
-    if (par2d::Status s = r->renderer.occluder(par2d::OccluderHandle{occluder}, &r->occluder); !s.ok()) return to_c(s);
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (out == nullptr) return fail(fn, "out is null");
+  return guarded(fn, [&] {
+    if (par2d::Status s = r->renderer.occluder(par2d::OccluderHandle{occluder}, &r->occluder); !s.ok())
+      return to_c(fn, s);
     for (int c = 0; c < 3; ++c) out->transmittance[c] = r->occluder.transmittance[static_cast<std::size_t>(c)];
     out->mask = r->occluder.mask;
     out->interior = r->occluder.interior == par2d::Interior::lit ? PAR2D_INTERIOR_LIT : PAR2D_INTERIOR_DARK;
@@ -323,64 +373,81 @@ par2d_status par2d_get_occluder_terms(par2d_renderer* r, par2d_occluder occluder
 }
 
 par2d_status par2d_set_occluder_terms(par2d_renderer* r, par2d_occluder occluder, const par2d_occluder_terms* terms) {
-  if (r == nullptr || terms == nullptr) return fail("par2d_set_occluder_terms: renderer or terms is null");
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (terms == nullptr) return fail(fn, "terms is null");
   if (terms->interior != PAR2D_INTERIOR_DARK && terms->interior != PAR2D_INTERIOR_LIT)
-    return fail("par2d_set_occluder_terms: interior must be PAR2D_INTERIOR_DARK or PAR2D_INTERIOR_LIT");
-  return guarded([&] {
-    if (par2d::Status s = r->renderer.occluder(par2d::OccluderHandle{occluder}, &r->occluder); !s.ok()) return to_c(s);
+    return fail(fn, "interior " + std::to_string(static_cast<long long>(terms->interior)) +
+                        " is not PAR2D_INTERIOR_DARK or PAR2D_INTERIOR_LIT");
+  return guarded(fn, [&] {
+    if (par2d::Status s = r->renderer.occluder(par2d::OccluderHandle{occluder}, &r->occluder); !s.ok())
+      return to_c(fn, s);
     r->occluder.transmittance = {terms->transmittance[0], terms->transmittance[1], terms->transmittance[2]};
     r->occluder.mask = terms->mask;
     r->occluder.interior = terms->interior == PAR2D_INTERIOR_LIT ? par2d::Interior::lit : par2d::Interior::dark;
-    return to_c(r->renderer.update_occluder(par2d::OccluderHandle{occluder}, r->occluder));
+    return to_c(fn, r->renderer.update_occluder(par2d::OccluderHandle{occluder}, r->occluder));
   });
 }
 
 par2d_status par2d_set_ambient(par2d_renderer* r, const double ambient[3]) {
-  if (r == nullptr || ambient == nullptr) return fail("par2d_set_ambient: renderer or ambient is null");
-  return guarded([&] { return to_c(r->renderer.set_ambient({ambient[0], ambient[1], ambient[2]})); });
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (ambient == nullptr) return fail(fn, "ambient is null");
+  return guarded(fn, [&] { return to_c(fn, r->renderer.set_ambient({ambient[0], ambient[1], ambient[2]})); });
 }
 
 par2d_status par2d_set_directional_lights(par2d_renderer* r, const par2d_directional_light* lights, size_t count) {
-  if (r == nullptr || (lights == nullptr && count > 0))
-    return fail("par2d_set_directional_lights: renderer or lights is null");
-  return guarded([&] {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (count > PAR2D_MAX_DIRECTIONAL_LIGHTS)
+    return fail(fn, "count " + std::to_string(count) + " is more than " + std::to_string(PAR2D_MAX_DIRECTIONAL_LIGHTS));
+  if (lights == nullptr && count > 0) return fail(fn, "lights is null");
+  return guarded(fn, [&] {
     std::vector<par2d::DirectionalLight> converted;
     converted.reserve(count);
     for (size_t i = 0; i < count; ++i) converted.push_back(from_c(lights[i]));
-    return to_c(r->renderer.set_directional_lights(converted));
+    return to_c(fn, r->renderer.set_directional_lights(converted));
   });
 }
 
 par2d_status par2d_set_normal(par2d_renderer* r, const double normal[3]) {
-  if (r == nullptr || normal == nullptr) return fail("par2d_set_normal: renderer or normal is null");
-  return guarded([&] { return to_c(r->renderer.set_normal({normal[0], normal[1], normal[2]})); });
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (normal == nullptr) return fail(fn, "normal is null");
+  return guarded(fn, [&] { return to_c(fn, r->renderer.set_normal({normal[0], normal[1], normal[2]})); });
 }
 
 par2d_status par2d_set_normal_map(par2d_renderer* r, const float* normals, int width, int height) {
-  if (r == nullptr || normals == nullptr) return fail("par2d_set_normal_map: renderer or normals is null");
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (normals == nullptr) return fail(fn, "normals is null");
   if (width < 1 || height < 1 || width > par2d::kMaxImageSide || height > par2d::kMaxImageSide)
-    return fail("par2d_set_normal_map: width and height must be from 1 to 16384");
-  return guarded([&] {
+    return fail(fn, "width and height must be from 1 to " + std::to_string(par2d::kMaxImageSide) + ", got " +
+                        std::to_string(width) + "x" + std::to_string(height));
+  return guarded(fn, [&] {
     par2d::NormalMap map;
     map.width = width;
     map.height = height;
     map.normals.assign(normals, normals + 3 * static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
-    return to_c(r->renderer.set_normal_map(map));
+    return to_c(fn, r->renderer.set_normal_map(map));
   });
 }
 
 par2d_status par2d_load_normal_map(par2d_renderer* r, const char* png_path) {
-  if (r == nullptr || png_path == nullptr) return fail("par2d_load_normal_map: renderer or path is null");
-  return guarded([&] {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (png_path == nullptr) return fail(fn, "png_path is null");
+  return guarded(fn, [&] {
     par2d::NormalMap map;
-    if (par2d::Status s = par2d::load_normal_map_png(png_path, map); !s.ok()) return to_c(s);
-    return to_c(r->renderer.set_normal_map(map));
+    if (par2d::Status s = par2d::load_normal_map_png(png_path, map); !s.ok()) return to_c(fn, s);
+    return to_c(fn, r->renderer.set_normal_map(map));
   });
 }
 
 par2d_status par2d_clear_normal_source(par2d_renderer* r) {
-  if (r == nullptr) return fail("par2d_clear_normal_source: renderer is null");
-  return guarded([&] { return to_c(r->renderer.clear_normal_source()); });
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  return guarded(fn, [&] { return to_c(fn, r->renderer.clear_normal_source()); });
 }
 
 }  // extern "C"
