@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -237,13 +238,32 @@ TEST_CASE("range_window is clamp(1 - (d/R)^2, 0, 1)^2 in double and float") {
   for (const double d : {0.0, 1.0, 3.75, 7.0, 7.5, 9.0, 1e30}) {
     CAPTURE(d);
     const double q = d / range, expected = std::max(0.0, 1.0 - q * q) * std::max(0.0, 1.0 - q * q);
-    CHECK(par2d::detail::range_window(d, 1.0 / range) == doctest::Approx(expected).epsilon(1e-15));
+    CHECK(par2d::detail::range_window(d, range) == doctest::Approx(expected).epsilon(1e-15));
     const xsimd::batch<float> w = par2d::detail::range_window(xsimd::batch<float>(static_cast<float>(d)),
-                                                              xsimd::batch<float>(static_cast<float>(1.0 / range)));
+                                                              xsimd::batch<float>(static_cast<float>(range)));
     CHECK(std::fabs(w.get(0) - expected) <= 1e-6);
   }
-  // No range (1/R = 0): weight 1 everywhere.
-  CHECK(par2d::detail::range_window(123.0, 0.0) == 1.0);
+}
+
+// Ranges with no finite inverse in the number type (subnormal doubles, floats below ~3e-39, or
+// a range that rounds to 0 in float): inside the light (d = 0) the window is 1, at d = R/2 it
+// is (3/4)^2, beyond the range 0; never NaN.
+TEST_CASE("range_window at ranges near the smallest numbers") {
+  for (const double range : {1e-300, 4e-310, 5e-324, 1e-30, 1e-38, 1e-40, 1e-45}) {
+    CAPTURE(range);
+    CHECK(par2d::detail::range_window(0.0, range) == 1.0);
+    CHECK(par2d::detail::range_window(range, range) == 0.0);
+    CHECK(par2d::detail::range_window(2.0 * range, range) == 0.0);
+    if (range > 1e-320) CHECK(par2d::detail::range_window(0.5 * range, range) == doctest::Approx(0.5625));
+    const auto rf = xsimd::batch<float>(static_cast<float>(range));
+    CHECK(par2d::detail::range_window(xsimd::batch<float>(0.0f), rf).get(0) == 1.0f);
+    const float beyond = par2d::detail::range_window(xsimd::batch<float>(1e-3f), rf).get(0);
+    CHECK(beyond == 0.0f);
+    if (static_cast<float>(range) >= std::numeric_limits<float>::min()) {
+      const float half = par2d::detail::range_window(rf * xsimd::batch<float>(0.5f), rf).get(0);
+      CHECK(std::fabs(half - 0.5625f) <= 1e-6f);
+    }
+  }
 }
 
 }  // namespace par2d::test

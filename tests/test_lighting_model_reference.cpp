@@ -566,6 +566,80 @@ TEST_CASE("closed form: a normal map shades each pixel with its own normal, in w
   }
 }
 
+// Every length and division the model takes of a user-given number, at the ends of double:
+// ranges with no finite inverse, fades and half angles far below a degree, normals whose
+// squares underflow or overflow. Each against its closed form on the scalar reference.
+TEST_CASE("closed form: ranges, cone angles and normals at the smallest and largest doubles") {
+  Scene base;
+  base.width = 16;
+  base.height = 12;
+  base.view = {0, 0, 16, 12};
+  SUBCASE("a range with no finite inverse: e inside the light, 0 outside") {
+    for (const double range : {1e-300, 4e-310, 5e-324}) {
+      CAPTURE(range);
+      Scene scene = base;
+      Light light{Circle{{8, 6}, 2.5}, {1.0, 0.5, 0.25}, 2.0};
+      light.range = range;
+      scene.lights.push_back(light);
+      int inside = 0;
+      const int compared = check_against(scene, render_scalar(scene), [&](int, int, Vec2 x) {
+        const bool in = std::hypot(x.x - 8, x.y - 6) < 2.5;
+        inside += in;
+        return in ? emission(light) : Rgb{0, 0, 0};
+      });
+      CHECK(compared == 16 * 12);
+      CHECK(inside > 10);
+    }
+  }
+  SUBCASE("a range of 1e300 view sizes: the window is 1") {
+    Scene scene = base;
+    Light light{Circle{{8, -6}, 2.5}, {1.0, 0.5, 0.25}, 2.0};
+    light.range = 1e300;
+    scene.lights.push_back(light);
+    const int compared = check_against(scene, render_scalar(scene), [&](int, int, Vec2 x) {
+      return scaled(emission(light), circle_interval(x, {8, -6}, 2.5).width() / (2.0 * kPi));
+    });
+    CHECK(compared == 16 * 12);
+  }
+  SUBCASE("cone fades and half angles far below a degree") {
+    const Segment light_shape{{-200, -30}, {216, -30}};
+    const Cone cones[] = {{100, 35, 5e-324}, {100, 35, 1e-300}, {100, 35, 1e-40}, {100, 35, 1e-20},
+                          {100, 35, 1e-9},   {100, 35, 1e-6},   {100, 35, 35.0 * (1.0 - 1e-15)},
+                          {100, 1e-9, 1e-9}, {100, 1e-300, 0}, {100, std::nextafter(180.0, 0.0), 1e-30}};
+    for (const Cone& cone : cones) {
+      CAPTURE(cone.half_angle);
+      CAPTURE(cone.fade);
+      Scene scene = base;
+      Light light{light_shape, {1.0, 0.8, 0.6}, 2.0};
+      light.cone = cone;
+      scene.lights.push_back(light);
+      const int compared = check_against(scene, render_scalar(scene), [&](int, int, Vec2 x) {
+        return scaled(emission(light), cone_integral(interval_to(x, light_shape.a, light_shape.b), cone) / (2.0 * kPi));
+      });
+      CHECK(compared == 16 * 12);
+    }
+  }
+  SUBCASE("a normal scaled by 1e-300, a subnormal or 1e300 shades as the unit normal") {
+    const Segment light_shape{{-40, -20}, {56, -20}};
+    const double elevation = 30.0;
+    const Vec3 unit{0.3, -0.5, std::sqrt(1.0 - 0.09 - 0.25)};
+    for (const double k : {1e-300, 1e-310, 1e300, 1e307}) {
+      CAPTURE(k);
+      Scene scene = base;
+      Light light{light_shape, {1.0, 0.8, 0.6}, 1.5};
+      light.elevation = elevation;
+      scene.lights.push_back(light);
+      scene.normal = Vec3{unit.x * k, unit.y * k, unit.z * k};
+      const int compared = check_against(scene, render_scalar(scene), [&](int, int, Vec2 x) {
+        const double integral =
+            clamped_cosine_quadrature(interval_to(x, light_shape.a, light_shape.b), unit, elevation * kPi / 180.0);
+        return scaled(emission(light), integral / (2.0 * kPi));
+      });
+      CHECK(compared == 16 * 12);
+    }
+  }
+}
+
 TEST_CASE("closed form: ambient is added everywhere, inside occluders too") {
   Scene scene;
   scene.width = 16;

@@ -435,3 +435,108 @@ TEST_CASE("model SIMD: shaded lights behind nested occluders (gap-sweep steps th
     check_against_scalar(s, bumpy ? "nested occluders, bumpy map" : "nested occluders, flat map");
   }
 }
+
+// The value classes where float arithmetic breaks first (a range, fade or half angle with no
+// finite float inverse, a cone ramp narrower than float resolves, normals whose squares
+// underflow or overflow): SIMD against the scalar reference on every ISA, shaded and plain.
+TEST_CASE("model SIMD: ranges, cone angles and normals at the ends of float and double match the scalar reference") {
+  SUBCASE("tiny and huge ranges") {
+    for (const double range : {1e-300, 4e-310, 5e-324, 1e-40, 1e-30, 1e300}) {
+      CAPTURE(range);
+      Scene s = empty_scene(32, 24);
+      Light l = circle_light({16.0, 12.0}, 5.0, {1.0, 0.5, 0.25}, 2.0);
+      l.range = range;
+      s.lights.push_back(l);
+      Light far = circle_light({4.0, 4.0}, 2.0, {0.2, 0.5, 1.0}, 1.0);
+      far.range = range * 1e6;
+      s.lights.push_back(far);
+      check_against_scalar(s, "range");
+    }
+  }
+  SUBCASE("cone fades and half angles far below a degree") {
+    const Cone cones[] = {{0, 40, 5e-324}, {0, 40, 1e-300}, {0, 40, 1e-40}, {0, 40, 1e-20}, {0, 40, 1e-9},
+                          {0, 40, 1e-6},   {0, 40, 1e-4},   {0, 40, 40.0 * (1.0 - 1e-15)}, {0, 1e-9, 1e-9},
+                          {0, 1e-30, 0},   {0, std::nextafter(180.0, 0.0), 1e-30}};
+    for (const Cone& cone : cones) {
+      CAPTURE(cone.half_angle);
+      CAPTURE(cone.fade);
+      Scene s = empty_scene(48, 32);
+      Light l = circle_light({4.0, 16.0}, 3.0, {1.0, 1.0, 1.0}, 2.5);
+      l.cone = cone;
+      l.elevation = 25.0;
+      s.lights.push_back(l);
+      s.occluders.push_back(box_occluder(20.0, 12.0, 22.0, 15.0));
+      check_against_scalar(s, "cone, plain", false);
+      s.normal = Vec3{0.2, -0.3, 0.9};  // the cone's pieces times the shading lobe
+      check_against_scalar(s, "cone, shaded");
+    }
+  }
+  SUBCASE("normals scaled to the ends of double") {
+    for (const double k : {1e-300, 1e-310, 5e-324, 1e300, 1e307}) {
+      CAPTURE(k);
+      Scene s = empty_scene(32, 24);
+      Light l = circle_light({8.0, 12.0}, 3.0, {1.0, 0.8, 0.6}, 2.0);
+      l.elevation = 30.0;
+      s.lights.push_back(l);
+      s.occluders.push_back(box_occluder(16.0, 8.0, 18.0, 12.0));
+      const Vec3 n{0.3 * k, -0.5 * k, 0.8 * k};
+      s.normal = std::max({std::fabs(n.x), std::fabs(n.y), std::fabs(n.z)}) > 0.0 ? n : Vec3{0.0, 0.0, k};
+      check_against_scalar(s, "scaled normal");
+    }
+  }
+}
+
+TEST_CASE("model SIMD: random scenes with every term drawn at extreme values match the scalar reference") {
+  int extreme_ranges = 0, extreme_fades = 0;
+  for (std::uint32_t seed = 1; seed <= 12; ++seed) {
+    RandomSceneOptions options = with_every_model_term({});
+    options.width = 32;
+    options.height = 24;
+    options.max_occluders = 10;
+    options.normals = seed % 2 ? RandomSceneOptions::Normals::constant : RandomSceneOptions::Normals::map;
+    options.extreme_values = true;
+    const Scene scene = random_scene(7300 + seed, options);
+    for (const Light& l : scene.lights) {
+      extreme_ranges += l.range && (*l.range < 1e-12 || *l.range > 1e12);
+      extreme_fades += l.cone && l.cone->fade > 0.0 && l.cone->fade < 1e-3;
+    }
+    check_against_scalar(scene, "extreme values, seed " + std::to_string(7300 + seed));
+    check_against_scalar(scene, "extreme values, unshaded, seed " + std::to_string(7300 + seed), false);
+  }
+  // The seeds do draw from the extreme classes.
+  CHECK(extreme_ranges >= 3);
+  CHECK(extreme_fades >= 2);
+}
+
+// A light that overlaps a lit-interior occluder: at pixels inside the occluder it is absent, so
+// the light there is exactly its unblocked arc (the whole circle inside the light too); outside,
+// the occluder's edges cut the light where its part lies behind them. Every ISA against the
+// closed form inside and the scalar reference everywhere.
+TEST_CASE("model SIMD: pixels inside a lit-interior occluder that a light overlaps see the whole light") {
+  Scene s = empty_scene(48, 32);
+  // A sprite box with a torch half inside it, and a dark wall up and to the right of it (it
+  // shadows the world outside the sprite, never a sight line from inside it to a light).
+  Occluder sprite = box_occluder(8.0, 4.0, 32.0, 28.0);
+  sprite.interior = Interior::lit;
+  s.occluders.push_back(sprite);
+  s.occluders.push_back(box_occluder(36.0, 0.0, 38.0, 4.0));
+  Light torch = circle_light({8.0, 16.0}, 3.0, {1.0, 0.7, 0.4}, 2.0);
+  s.lights.push_back(torch);
+  Light lamp = circle_light({44.0, 20.0}, 2.0, {0.3, 0.6, 1.0}, 1.0);  // apart from both
+  s.lights.push_back(lamp);
+  // Inside the sprite the torch and the lamp count whole.
+  const auto inside_sprite = [](Vec2 x) { return x.x > 8.0 && x.x < 32.0 && x.y > 4.0 && x.y < 28.0; };
+  check_closed_form(
+      s, "inside a lit sprite", [&](Vec2 x, int c) {
+        if (!inside_sprite(x)) return std::nan("");
+        const double torch_part = circle_arc(x, {8.0, 16.0}, 3.0) / (2 * kPiD);
+        const double lamp_part = circle_arc(x, {44.0, 20.0}, 2.0) / (2 * kPiD);
+        return torch.intensity * torch.color[c] * torch_part + lamp.intensity * lamp.color[c] * lamp_part;
+      },
+      2.0 + 1.0, false);
+  check_against_scalar(s, "lit sprite overlapped by a torch, plain", false);
+  s.occluders[0].transmittance = {0.5, 0.25, 0.75};  // the translucent pieces' path
+  check_against_scalar(s, "translucent lit sprite overlapped by a torch, plain", false);
+  s.normal = Vec3{0.1, -0.2, 1.0};
+  check_against_scalar(s, "translucent lit sprite overlapped by a torch, shaded");
+}

@@ -191,6 +191,54 @@ TEST_CASE("moving one pillar updates the index in place and re-proves only the l
   CHECK(same_bits(image, one_shot(r.snapshot(), r.options())));
 }
 
+// A light's reach proof rests on the occluders it looked at. A wall that hides half the view
+// from a torch, moved far away, must make the torch's reach stale (its proof looked at the
+// wall's old place, not the new one); the torch moved to the wall's other side likewise. A
+// stale reach would keep the newly lit half black: each frame equals a one-shot render.
+TEST_CASE("moving the wall a reach proof rests on, or the light itself, re-proves the light's reach" * par2d::test::per_isa()) {
+  {
+    const Isa isa = default_isa() == Isa::scalar ? Isa::scalar : detect_isa();
+    Scene scene;
+    scene.width = 128;
+    scene.height = 64;
+    scene.view = {0, 0, 128, 64};
+    scene.lights.push_back(Light{Circle{{10.0, 32.0}, 3.0}, {1.0, 0.8, 0.6}, 2.0});
+    scene.occluders.push_back(Occluder{Polygon{{{20.0, -4.0}, {24.0, -4.0}, {24.0, 68.0}, {20.0, 68.0}}}});
+    // Small pillars on the far side, so the index has more than the wall in it.
+    for (int k = 0; k < 6; ++k) {
+      const double x = 40.0 + 14.0 * k;
+      scene.occluders.push_back(Occluder{Polygon{{{x, 20.0}, {x + 2.0, 20.0}, {x + 2.0, 22.0}, {x, 22.0}}}});
+    }
+    Renderer r;
+    REQUIRE(r.set_options(options_for(isa)).ok());
+    std::vector<LightHandle> lights;
+    std::vector<OccluderHandle> occluders;
+    REQUIRE(r.set_scene(scene, &lights, &occluders).ok());
+    const std::vector<float> walled = frame_rgb(r);
+    CHECK(same_bits(walled, one_shot(r.snapshot(), r.options())));
+    // Far right of the wall is black while the wall stands.
+    CHECK(walled[(32u * 128u + 100u) * 3u] == 0.0f);
+
+    Occluder wall = scene.occluders[0];
+    wall.shape = moved(wall.shape, 400.0, 0.0);  // far outside the view: meets nothing the torch saw
+    REQUIRE(r.update_occluder(occluders[0], wall).ok());
+    const std::vector<float> open = frame_rgb(r);
+    CHECK(open[(32u * 128u + 100u) * 3u] > 0.0f);
+    CHECK(same_bits(open, one_shot(r.snapshot(), r.options())));
+
+    // The wall back, then the torch to its far side: what was lit is now in its shadow.
+    REQUIRE(r.update_occluder(occluders[0], scene.occluders[0]).ok());
+    frame_rgb(r);
+    Light torch = scene.lights[0];
+    torch.shape = Circle{{110.0, 40.0}, 3.0};
+    REQUIRE(r.update_light(lights[0], torch).ok());
+    const std::vector<float> moved_torch = frame_rgb(r);
+    CHECK(moved_torch[(32u * 128u + 10u) * 3u] == 0.0f);
+    CHECK(moved_torch[(32u * 128u + 100u) * 3u] > 0.0f);
+    CHECK(same_bits(moved_torch, one_shot(r.snapshot(), r.options())));
+  }
+}
+
 TEST_CASE("a refused update names the handle and the problem and keeps the previous state" * par2d::test::per_isa()) {
   Renderer r;
   std::vector<LightHandle> lights;

@@ -105,15 +105,38 @@ struct AngularProfile {
   T lobe_center{}, lobe_half{}, amplitude{}, offset{};
 };
 
+// The slope 1 / fade of a cone's ramps, as the number type holds them; 0 (a hard edge) for a
+// ramp too narrow to resolve. The ramp's width is taken as T stores the cone (half minus
+// plateau), so slope and width agree. Float angles near 2 pi are 5e-7 rad apart: a ramp
+// narrower than kNarrowestRamp (2^-20 rad, about 5.5e-5 degree) is a few of those steps, and as
+// a hard edge at its middle it is off by at most a quarter of its width in any integral
+// (2.4e-7 rad of 2 pi: far inside the SIMD bound). Double keeps every ramp whose slope is
+// finite (a fade below ~1e-308 rad has none; 0 * inf would be NaN).
+template <class T>
+double profile_ramp_slope(double half, double fade) noexcept {
+  if constexpr (std::is_same_v<T, double>) {
+    const double width = half - (half - fade);
+    const double slope = width > 0.0 ? 1.0 / width : 0.0;
+    return std::isfinite(slope) ? slope : 0.0;
+  } else {
+    constexpr float kNarrowestRamp = 1.0f / (1 << 20);
+    const float width = static_cast<float>(half) - static_cast<float>(half - fade);
+    return width >= kNarrowestRamp ? 1.0 / static_cast<double>(width) : 0.0;
+  }
+}
+
 // A cone whose axis is the ray direction `center` (radians, any value), half angle `half`
 // and fade `fade` (radians, 0 <= fade <= half <= pi), in the frame starting at `origin`.
 template <class T>
 void set_profile_cone(AngularProfile<T>& p, const T& origin, double center, double half, double fade) noexcept {
   p.cone = true;
   p.cone_center = profile_wrap(profile_constant<T>(center) - origin);
-  p.half = profile_constant<T>(half);
-  p.plateau = profile_constant<T>(half - fade);
-  p.inv_fade = profile_constant<T>(fade > 0.0 ? 1.0 / fade : 0.0);
+  const double slope = profile_ramp_slope<T>(half, fade);
+  // An unresolved ramp becomes a hard edge at its middle (off by at most a quarter of its width).
+  const double edge = slope > 0.0 ? half : half - 0.5 * fade;
+  p.half = profile_constant<T>(edge);
+  p.plateau = profile_constant<T>(slope > 0.0 ? half - fade : edge);
+  p.inv_fade = profile_constant<T>(slope);
 }
 
 // Shading by the unit surface normal (nx, ny, nz) for light from elevation angle alpha
@@ -156,17 +179,26 @@ T lobe_cumulative(const AngularProfile<T>& p, const T& v) noexcept {
   return p.amplitude * s + p.offset * t;
 }
 
-// Integral over v in [lo, hi] (relative to the lobe's center) of (c0 + slope v)(A cos v + C).
+// Integral over v in [lo, hi] (relative to the lobe's center) of (value_lo + slope (v - lo)) *
+// (A cos v + C). Written around the piece's middle m and half width h (sin hi - sin lo =
+// 2 cos m sin h, cos hi - cos lo = -2 sin m sin h), so no term is a difference of nearly equal
+// numbers: each is off by about an ulp times the piece's width, and the slope times the width
+// is at most 1. (The form around the lobe's center, c0 * base + slope * ramp with c0 = value at
+// the center, cancelled catastrophically for steep ramps: c0 ~ pi / fade.)
 template <class T>
-T linear_times_lobe(const AngularProfile<T>& p, const T& c0, const T& slope, const T& lo, const T& hi) noexcept {
-  T slo, clo, shi, chi;
-  profile_sincos(lo, slo, clo);
-  profile_sincos(hi, shi, chi);
+T linear_times_lobe(const AngularProfile<T>& p, const T& value_lo, const T& slope, const T& lo, const T& hi) noexcept {
+  const T h = T(0.5) * (hi - lo);
+  const T w = h + h;
+  T sm, cm, sh, ch;
+  profile_sincos(lo + h, sm, cm);
+  profile_sincos(h, sh, ch);
   const T& a = p.amplitude;
   const T& c = p.offset;
-  const T base = a * (shi - slo) + c * (hi - lo);
-  const T ramp = a * ((hi * shi + chi) - (lo * slo + clo)) + c * T(0.5) * (hi * hi - lo * lo);
-  return c0 * base + slope * ramp;
+  const T base = T(2.0) * a * cm * sh + c * w;
+  // Integral of (v - lo)(A cos v + C) = A (w sin hi + cos hi - cos lo) + C w^2 / 2.
+  const T sin_hi = sm * ch + cm * sh;
+  const T ramp = a * (w * sin_hi - T(2.0) * sm * sh) + c * T(0.5) * w * w;
+  return value_lo * base + slope * ramp;
 }
 
 }  // namespace profile_detail
@@ -196,16 +228,19 @@ T profile_cumulative(const AngularProfile<T>& p, const T& u) noexcept {
     const T lobe_lo = lobe - p.lobe_half, lobe_hi = profile_min(lobe + p.lobe_half, u);
     for (int k = -1; k <= 1; ++k) {
       const T axis = p.cone_center + profile_constant<T>(k * kProfileTwoPi);
-      // (start, end, value at the lobe's center, slope) of the rise, the plateau and the fall.
+      // (start, end, slope) of the rise, the plateau and the fall.
       const T starts[3] = {axis - p.half, axis - p.plateau, axis + p.plateau};
       const T ends[3] = {axis - p.plateau, axis + p.plateau, axis + p.half};
-      const T values[3] = {(lobe - starts[0]) * p.inv_fade, T(1.0), (ends[2] - lobe) * p.inv_fade};
       const T slopes[3] = {p.inv_fade, T(0.0), -p.inv_fade};
       for (int piece = 0; piece < 3; ++piece) {
         const T lo = profile_max(starts[piece], lobe_lo);
         const T hi = profile_min(ends[piece], lobe_hi);
         const auto some = hi > lo;
-        const T part = linear_times_lobe(p, values[piece], slopes[piece], profile_select(some, lo, lobe) - lobe,
+        // The cone's weight where the piece starts (in [0, 1] up to rounding of lo).
+        const T value_lo = piece == 1   ? T(1.0)
+                           : piece == 0 ? profile_clamp((lo - starts[0]) * p.inv_fade, T(0.0), T(1.0))
+                                        : profile_clamp((ends[2] - lo) * p.inv_fade, T(0.0), T(1.0));
+        const T part = linear_times_lobe(p, value_lo, slopes[piece], profile_select(some, lo, lobe) - lobe,
                                          profile_select(some, hi, lobe) - lobe);
         sum = sum + profile_select(some, part, T(0.0));
       }
@@ -214,12 +249,17 @@ T profile_cumulative(const AngularProfile<T>& p, const T& u) noexcept {
   return sum;
 }
 
-// The range window w(d) = clamp(1 - (d / range)^2, 0, 1)^2 (inv_range = 1 / range; 0: none).
+// The range window w(d) = clamp(1 - (d / range)^2, 0, 1)^2, range > 0. Divided, not multiplied
+// by 1 / range: a range near the number type's smallest values has no finite inverse (0 * inf
+// would be NaN inside the light). d >= range gives 0 directly, so the quotient is in [0, 1);
+// d = 0 (inside the light) gives 1 even where the range itself rounded to 0.
 template <class T>
-T range_window(const T& distance, const T& inv_range) noexcept {
-  const T q = distance * inv_range;
-  const T w = profile_clamp(T(1.0) - q * q, T(0.0), T(1.0));
-  return w * w;
+T range_window(const T& distance, const T& range) noexcept {
+  const auto within = distance < range;
+  const T q = profile_select(within, distance / profile_select(within, range, T(1.0)), T(1.0));
+  const T w = T(1.0) - q * q;
+  const T window = w * w;
+  return profile_select(distance > T(0.0), window, T(1.0));
 }
 
 }  // namespace par2d::detail

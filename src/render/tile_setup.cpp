@@ -1154,7 +1154,10 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     work.lights.push_back(kl);
     scratch.tile_lights.push_back(static_cast<std::uint32_t>(l));
     if (model) {
-      if (ranged) terms.inv_range = static_cast<float>(1.0 / (light.terms.range * frame.scale));
+      if (ranged) {
+        terms.ranged = true;
+        terms.range = static_cast<float>(light.terms.range * frame.scale);
+      }
       terms.cone = light.terms.has_cone;
       terms.cone_center = light.terms.cone_center;
       terms.cone_half = light.terms.cone_half;

@@ -212,7 +212,7 @@ Rgb model_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, Sca
     const LightTerms& terms = light.terms;
     double window = 1.0;
     if (terms.has_range()) {
-      window = range_window(point_distance(light.shape, x), 1.0 / terms.range);
+      window = range_window(point_distance(light.shape, x), terms.range);
       if (!(window > 0.0)) continue;
     }
     // Acting occluders containing x: t_B = 0 <= t_L along every direction.

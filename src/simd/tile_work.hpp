@@ -109,7 +109,8 @@ struct KernelLightTerms {
   // light's shape is unused; every pair is in front wherever its occluder is seen).
   bool directional = false;
   float dir_start = 0, dir_width = 0;
-  float inv_range = 0;  // 1 / range, 0: no range
+  bool ranged = false;
+  float range = 0;  // in tile frame units when ranged (may round to 0: range_window copes)
   bool cone = false;
   double cone_center = 0, cone_half = 0, cone_fade = 0;
   double sin_elevation = 0, cos_elevation = 1;

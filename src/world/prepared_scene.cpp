@@ -200,9 +200,13 @@ void prepare_model_terms(const Scene& scene, PreparedScene& out, std::shared_ptr
   out.normal_map.reset();
   out.normal = {0.0, 0.0, 1.0};
   if (scene.normal) {
+    // Divided by its largest component first: the squares of components near 1e-200 would
+    // underflow to a zero length (NaN), those near 1e200 overflow to an infinite one (black).
     const Vec3 n = *scene.normal;
-    const double length = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
-    out.normal = {n.x / length, n.y / length, n.z / length};
+    const double largest = std::max(std::fabs(n.x), std::max(std::fabs(n.y), std::fabs(n.z)));
+    const Vec3 u{n.x / largest, n.y / largest, n.z / largest};
+    const double length = std::sqrt(u.x * u.x + u.y * u.y + u.z * u.z);
+    out.normal = {u.x / length, u.y / length, u.z / length};
     out.normal_source = NormalSource::constant;
   } else if (scene.normal_map) {
     out.normal_map = converted ? std::move(converted) : world_normals(*scene.normal_map, scene.view);

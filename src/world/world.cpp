@@ -78,6 +78,16 @@ World::Slot* World::find(std::uint64_t id, bool occluder) noexcept {
   return &slot;
 }
 
+void World::release_slot(Slot* slot) {
+  slot->where = -1;
+  if (slot->generation == std::numeric_limits<std::uint32_t>::max()) {
+    slot->generation = 0;
+    return;
+  }
+  ++slot->generation;
+  free_slots_.push_back(static_cast<std::uint32_t>(slot - slots_.data()));
+}
+
 std::uint32_t World::new_slot(std::uint8_t list, std::int32_t where) {
   std::uint32_t slot;
   if (!free_slots_.empty()) {
@@ -131,15 +141,23 @@ Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, st
   next.scene_.width = scene.width;
   next.scene_.height = scene.height;
   next.view_ = scene.view;
-  const std::size_t count = scene.lights.size() + scene.occluders.size();
-  next.slots_.resize(std::max(slots_.size(), count));
-  // Generations continue from this world's, so no old handle names a new object.
-  for (std::size_t i = 0; i < slots_.size(); ++i) next.slots_[i].generation = slots_[i].generation + 1;
-  for (std::size_t i = next.slots_.size(); i-- > count;) next.free_slots_.push_back(static_cast<std::uint32_t>(i));
+  // Generations continue from this world's, so no old handle names a new object; retired slots
+  // stay retired, and one whose generation would wrap retires now (see release_slot).
+  next.slots_.resize(slots_.size());
+  for (std::size_t i = 0; i < slots_.size(); ++i) {
+    const std::uint32_t g = slots_[i].generation;
+    next.slots_[i].generation = g == 0 || g == std::numeric_limits<std::uint32_t>::max() ? 0 : g + 1;
+  }
+  std::uint32_t cursor = 0;  // the next slot to consider for a new object
+  const auto take_slot = [&next, &cursor]() -> std::uint32_t {
+    while (cursor < next.slots_.size() && next.slots_[cursor].generation == 0) ++cursor;
+    if (cursor == next.slots_.size()) next.slots_.emplace_back();
+    return cursor++;
+  };
   std::vector<LightHandle> light_handles;
   std::vector<OccluderHandle> occluder_handles;
-  std::uint32_t slot = 0;
   for (const Light& light : scene.lights) {
+    const std::uint32_t slot = take_slot();
     Slot& s = next.slots_[slot];
     if (emits(light)) {
       s.list = kLit;
@@ -152,16 +170,19 @@ Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, st
       next.dark_sources_.push_back(light);
       next.dark_slots_.push_back(slot);
     }
-    light_handles.push_back({next.make_handle(slot++)});
+    light_handles.push_back({next.make_handle(slot)});
   }
   for (const Occluder& occluder : scene.occluders) {
+    const std::uint32_t slot = take_slot();
     Slot& s = next.slots_[slot];
     s.list = kOccluder;
     s.where = static_cast<std::int32_t>(next.occluder_sources_.size());
     next.occluder_sources_.push_back(occluder);
     next.occluder_slots_.push_back(slot);
-    occluder_handles.push_back({next.make_handle(slot++)});
+    occluder_handles.push_back({next.make_handle(slot)});
   }
+  for (std::size_t i = next.slots_.size(); i-- > cursor;)
+    if (next.slots_[i].generation != 0) next.free_slots_.push_back(static_cast<std::uint32_t>(i));
   next.globals_.ambient = scene.ambient;
   next.globals_.directional_lights = scene.directional_lights;
   next.globals_.normal = scene.normal;
@@ -445,9 +466,7 @@ Status World::remove_light(LightHandle handle) {
   } else {
     erase_dark(static_cast<std::size_t>(slot->where));
   }
-  slot->where = -1;
-  ++slot->generation;
-  free_slots_.push_back(static_cast<std::uint32_t>(slot - slots_.data()));
+  release_slot(slot);
   return {};
 }
 
@@ -545,9 +564,7 @@ Status World::remove_occluder(OccluderHandle handle) {
   update_model_flag(scene_);
   scene_.separators.forget_occluder(m);
   scene_.separators.resize(scene_.lights.size(), m);
-  slot->where = -1;
-  ++slot->generation;
-  free_slots_.push_back(static_cast<std::uint32_t>(slot - slots_.data()));
+  release_slot(slot);
   ++stats_.index_updates;
   return {};
 }

@@ -59,18 +59,24 @@ class World {
   const RendererStats& stats() const noexcept { return stats_; }
 
  private:
+  friend struct WorldTestAccess;  // tests/test_world_handles.cpp: ages a slot without 2^32 removals
+
   // A problem when `light`, in place of lit light `replaced` (or added, with replaced ==
   // the lit count), would take the lights' total emission past kMaxTotalEmission.
   std::optional<SceneProblem> emission_total_problem(const Light& light, std::size_t replaced) const;
 
   // A handle's slot: which array its object lives in and where.
   struct Slot {
-    std::uint32_t generation = 1;
+    std::uint32_t generation = 1;  // 0: retired (see release_slot)
     std::int32_t where = -1;  // index into the owning array, -1 when free
     std::uint8_t list = 0;    // kLit / kDark / kOccluder
   };
   enum : std::uint8_t { kLit = 1, kDark = 2, kOccluder = 3 };
 
+  // Frees a slot for reuse under its next generation. A slot whose generation would wrap past
+  // 2^32 - 1 is retired instead (generation 0, never reused): reusing it would give a new object
+  // the handle of one removed 2^32 generations ago.
+  void release_slot(Slot* slot);
   std::uint64_t make_handle(std::uint32_t slot) const noexcept;
   Slot* find(std::uint64_t id, bool occluder) noexcept;
   std::uint32_t new_slot(std::uint8_t list, std::int32_t where);

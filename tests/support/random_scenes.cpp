@@ -151,6 +151,76 @@ void add_model_terms(std::uint32_t seed, const RandomSceneOptions& o, Scene& sce
   }
 }
 
+// A value from the classes where arithmetic breaks, as a multiple of 1 (callers scale it).
+double extreme_scale(PortableRandom& rng) {
+  constexpr double kScales[] = {1e-300, 4e-310, 5e-324, 2.2250738585072014e-308, 1e-40, 1e-30, 1e-12, 1e300, 1e200};
+  return kScales[rng.integer(0, 8)];
+}
+
+// The pass RandomSceneOptions::extreme_values asks for, from its own generator.
+void add_extreme_values(std::uint32_t seed, const RandomSceneOptions& o, Scene& scene) {
+  if (!o.extreme_values) return;
+  PortableRandom rng(seed ^ 0x1b873593u);
+  const double size = std::min(std::fabs(scene.view.x1 - scene.view.x0), std::fabs(scene.view.y1 - scene.view.y0));
+  constexpr double kTinyAngles[] = {5e-324, 1e-300, 1e-40, 1e-20, 1e-9, 1e-6, 1e-4};
+  for (Light& light : scene.lights) {
+    if (light.range && rng.chance(0.6)) light.range = std::clamp(size * extreme_scale(rng), 5e-324, 1e300);
+    if (light.cone && rng.chance(0.7)) {
+      Cone& cone = *light.cone;
+      const int pick = rng.integer(0, 4);
+      if (pick == 0) cone.fade = kTinyAngles[rng.integer(0, 6)];
+      if (pick == 1) cone.fade = cone.half_angle - kTinyAngles[rng.integer(4, 6)] * cone.half_angle;
+      if (pick == 2) {
+        cone.half_angle = std::nextafter(180.0, 0.0);
+        cone.fade = kTinyAngles[rng.integer(0, 6)];
+      }
+      if (pick == 3) {  // a cone narrower than float resolves, fade all of it or none
+        cone.half_angle = kTinyAngles[rng.integer(0, 6)];
+        cone.fade = rng.chance(0.5) ? cone.half_angle : 0.0;
+      }
+      if (pick == 4) cone.fade = std::max(0.0, cone.half_angle * (1.0 - 1e-12));
+      cone.fade = std::min(cone.fade, cone.half_angle);
+    }
+    if (rng.chance(0.5)) {
+      constexpr double kElevations[] = {0.0, 1e-300, 5e-324, 89.99999999999999, 90.0};
+      light.elevation = kElevations[rng.integer(0, 4)];
+    }
+  }
+  for (Occluder& occluder : scene.occluders) {
+    if (occluder.transmittance != Rgb{0.0, 0.0, 0.0} && rng.chance(0.5)) {
+      const int c = rng.integer(0, 2);
+      occluder.transmittance[static_cast<std::size_t>(c)] = rng.chance(0.5) ? 5e-324 : std::nextafter(1.0, 0.0);
+    }
+  }
+  for (DirectionalLight& sun : scene.directional_lights) {
+    const int pick = rng.integer(0, 2);
+    if (pick == 0) sun.angle1 = sun.angle0 + 1e-9 * std::max(1.0, std::fabs(sun.angle0));
+    if (pick == 1) sun.angle1 = std::nextafter(sun.angle0 + 360.0, sun.angle0);
+    if (!(sun.angle1 > sun.angle0)) sun.angle1 = std::nextafter(sun.angle0, 1e300);
+  }
+  if (scene.ambient != Rgb{0.0, 0.0, 0.0} && rng.chance(0.5)) scene.ambient[0] = 5e-324;
+  if (scene.normal) {
+    const double k = extreme_scale(rng);
+    Vec3 n = *scene.normal;
+    if (rng.chance(0.3)) n.x = n.y = 0.0;  // only z left (a normal straight at or away from the viewer)
+    scene.normal = Vec3{n.x * k, n.y * k, n.z * k};
+    if (!(std::max({std::fabs(scene.normal->x), std::fabs(scene.normal->y), std::fabs(scene.normal->z)}) > 0.0))
+      scene.normal = Vec3{0.0, 0.0, 5e-324};
+  }
+  if (scene.normal_map) {
+    constexpr float kLengths[] = {1e-40f, 1e-30f, 1e-20f, 1e20f, 1e30f, 3e38f};
+    std::vector<float>& v = scene.normal_map->normals;
+    for (std::size_t p = 0; p + 2 < v.size(); p += 3) {
+      if (!rng.chance(0.5)) continue;
+      const float k = kLengths[rng.integer(0, 5)];
+      // Scaled so the largest component is k (v's components are at most 2 in size).
+      const float largest = std::max({std::fabs(v[p]), std::fabs(v[p + 1]), std::fabs(v[p + 2])});
+      for (int c = 0; c < 3; ++c) v[p + c] = v[p + c] / largest * k;
+      if (!(std::max({std::fabs(v[p]), std::fabs(v[p + 1]), std::fabs(v[p + 2])}) > 0.0f)) v[p + 2] = k;
+    }
+  }
+}
+
 }  // namespace
 
 double PortableRandom::uniform() noexcept {
@@ -217,6 +287,7 @@ Scene random_scene(std::uint32_t seed, const RandomSceneOptions& o) {
     }
   }
   add_model_terms(seed, o, scene);
+  add_extreme_values(seed, o, scene);
   return scene;
 }
 

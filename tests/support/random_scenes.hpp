@@ -82,6 +82,14 @@ struct RandomSceneOptions {
   // The normal source: one random unit normal (possibly facing away, z < 0), or a
   // width x height map of random normals (some facing away). Default: none.
   Normals normals = Normals::none;
+  // Redraws the terms switched on above from the value classes where arithmetic breaks, in a
+  // pass of its own after them (so it changes nothing else): ranges of 1e-300, subnormal and
+  // 1e300 view sizes, cone fades and half angles at subnormals, 1e-40 .. 1e-4 degrees and their
+  // boundaries (fade 0, fade = half, half just under 180), elevations 0, 1e-300 and just under
+  // 90, directional arcs 1e-9 degrees wide or just under 360, transmittances and ambient at
+  // subnormals and just under 1, normals whose components are all scaled by 1e-300, 1e300 or
+  // a subnormal, normal-map normals with float lengths 1e-40 .. 3e38. Default: off.
+  bool extreme_values = false;
 };
 
 // Every term of RandomSceneOptions switched on (normal map, 2 directional lights).
