@@ -1,15 +1,19 @@
 // The game lighting model's terms as users state them: JSON keys, validation, scene_write, PNG normal maps, Renderer setters.
 #include <doctest/doctest.h>
 
+#include <fcntl.h>
 #include <spawn.h>
+#include <unistd.h>
 #include <stdlib.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <vector>
@@ -77,6 +81,55 @@ int run_cli(const std::vector<std::string>& args) {
   int status = 0;
   REQUIRE(waitpid(pid, &status, 0) == pid);
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+// Runs the CLI with `args`; its exit status, and its standard error in `err`.
+int run_cli_err(const std::vector<std::string>& args, std::string& err) {
+  TempDir capture("par2d_cli_err");
+  const std::string err_path = capture / "stderr.txt";
+  std::vector<char*> argv{const_cast<char*>(PAR2D_CLI_PATH)};
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  REQUIRE(posix_spawn_file_actions_init(&actions) == 0);
+  REQUIRE(posix_spawn_file_actions_addopen(&actions, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600) == 0);
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, PAR2D_CLI_PATH, &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  REQUIRE(spawned == 0);
+  int status = 0;
+  REQUIRE(waitpid(pid, &status, 0) == pid);
+  std::ifstream in(err_path, std::ios::binary);
+  err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// A PNG of a few dozen bytes that declares `width` x `height` 8-bit RGB pixels and holds a
+// cut-off zlib stream: its header is all it has, so decoding it can only fail, after
+// allocating for the declared size. A refusal that names the declared size came from the header.
+std::string header_only_png(std::uint32_t width, std::uint32_t height) {
+  auto crc32 = [](const std::string& bytes) {
+    std::uint32_t c = 0xFFFFFFFFu;
+    for (unsigned char b : bytes) {
+      c ^= b;
+      for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
+    }
+    return c ^ 0xFFFFFFFFu;
+  };
+  auto be32 = [](std::uint32_t v) {
+    return std::string{static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8), static_cast<char>(v)};
+  };
+  auto chunk = [&](const std::string& type, const std::string& data) {
+    return be32(static_cast<std::uint32_t>(data.size())) + type + data + be32(crc32(type + data));
+  };
+  const std::string ihdr = be32(width) + be32(height) + std::string{8, 2, 0, 0, 0};  // 8-bit RGB
+  const std::string idat("\x78\x9C\x62\x60", 4);                                 // zlib header, then nothing
+  return std::string("\x89PNG\r\n\x1A\n", 8) + chunk("IHDR", ihdr) + chunk("IDAT", idat) + chunk("IEND", "");
 }
 
 std::vector<float> read_pfm_file(const std::string& path) {
@@ -615,4 +668,140 @@ TEST_CASE("a large normal map is checked in blocks: the first bad pixel of a lat
   CHECK(message() == "code: normal_map: pixel (3, 5): has a zero normal");
   at(1023, 0, 1) = -std::numeric_limits<float>::infinity();  // the last pixel of the first block
   CHECK(message() == "code: normal_map: pixel (1023, 0): not a finite normal (0, -inf, 1)");
+}
+
+TEST_CASE("a normal map's declared size is checked from its PNG header, before any pixel is decoded") {
+  // The issue: a tiny PNG declaring a huge size was decoded whole (gigabytes, half a minute)
+  // before its size was compared with the scene's. These files hold no pixel data, so a
+  // message naming their declared size can only have come from the header.
+  TempDir dir("par2d_model_io");
+  { std::ofstream(dir / "huge.png", std::ios::binary) << header_only_png(16000, 16000); }
+  { std::ofstream(dir / "huger.png", std::ios::binary) << header_only_png(60000, 60000); }
+  { std::ofstream(dir / "wide.png", std::ios::binary) << header_only_png(4, 60000); }
+  REQUIRE(fs::file_size(dir / "huge.png") < 100u);
+  for (const char* name : {"huge.png", "huger.png", "wide.png"}) {
+    std::ofstream(dir / "s.json") << scene_with(std::string(R"("normal_map": ")") + name + R"(")");
+    Scene scene;
+    const Status status = par2d::load_scene_file(dir / "s.json", scene);
+    CAPTURE(status.message());
+    CHECK(status.code() == StatusCode::invalid_scene);
+    const std::string declared = name == std::string("huge.png") ? "16000x16000" : name == std::string("huger.png") ? "60000x60000" : "4x60000";
+    CHECK(status.message() == (dir / "s.json") + ": normal_map: " + (dir / name) + ": is " + declared +
+                                  " but the image is 4x3 (it must be exactly the image's size)");
+    CHECK_FALSE(scene.normal_map.has_value());
+  }
+  // The loaders for maps given through the API (C and Python use them) read the header first too.
+  par2d::NormalMap map;
+  Status status = par2d::load_normal_map_png(dir / "huge.png", map, 4, 3);
+  CHECK(status.message() == (dir / "huge.png") + ": is 16000x16000 but the image is 4x3 (it must be exactly the image's size)");
+  status = par2d::load_normal_map_png(dir / "huger.png", map);
+  CHECK(status.message() == (dir / "huger.png") + ": is 60000x60000, larger than any image");
+  CHECK(par2d::load_normal_map_png(dir / "huge.png", map, 0, 3).code() == StatusCode::invalid_argument);
+  // A real map of the right size still loads through the sized form.
+  write_png(dir / "ok.png", 4, 3, 3, {128, 128, 255});
+  REQUIRE(par2d::load_normal_map_png(dir / "ok.png", map, 4, 3).ok());
+  CHECK(map.width == 4);
+}
+
+TEST_CASE("normal_map paths stay inside the scene's folder unless any path is allowed") {
+  TempDir dir("par2d_model_io");
+  fs::create_directories(dir / "scenes/maps");
+  write_png(dir / "scenes/maps/n.png", 4, 3, 3, {128, 128, 255});
+  write_png(dir / "outside.png", 4, 3, 3, {128, 128, 255});
+  fs::create_symlink("../../outside.png", dir / "scenes/maps/escape.png");  // leaves the folder
+  fs::create_symlink("n.png", dir / "scenes/maps/inside.png");              // stays inside
+  const std::string scene_path = dir / "scenes/s.json";
+  auto load = [&](const std::string& map, bool allow_any_path) {
+    std::ofstream(scene_path) << scene_with(std::string(R"("normal_map": ")") + map + "\"");
+    Scene scene;
+    par2d::LoadOptions options;
+    options.allow_any_path = allow_any_path;
+    return par2d::load_scene_file(scene_path, scene, options);
+  };
+  const std::string leaves = scene_path + ": normal_map: path leaves the scene's folder";
+  const std::string absolute = scene_path + ": normal_map: path is absolute; it must be relative to the scene's folder";
+  // Refused by default, before the file is opened (a missing file gets the same answer).
+  CHECK(load(dir / "outside.png", false).message() == absolute);
+  CHECK(load(dir / "scenes/maps/n.png", false).message() == absolute);  // even when it points inside
+  CHECK(load("../outside.png", false).message() == leaves);
+  CHECK(load("maps/../../outside.png", false).message() == leaves);
+  CHECK(load("../missing.png", false).message() == leaves);
+  CHECK(load("maps/escape.png", false).message() == leaves);
+  CHECK(load("maps/escape.png", false).code() == StatusCode::invalid_scene);
+  // Inside the folder, by any route.
+  CHECK(load("maps/n.png", false).ok());
+  CHECK(load("maps/../maps/./n.png", false).ok());
+  CHECK(load("maps/inside.png", false).ok());
+  // The opt-in takes any path.
+  CHECK(load(dir / "outside.png", true).ok());
+  CHECK(load("../outside.png", true).ok());
+  CHECK(load("maps/escape.png", true).ok());
+  // Scene text without a file: its folder is that of the name, the current directory for a
+  // bare name; the same rule applies.
+  Scene scene;
+  CHECK(par2d::parse_scene(scene_with(R"("normal_map": "../x.png")"), "s.json", scene).message() ==
+        "s.json: normal_map: path leaves the scene's folder");
+  CHECK(par2d::parse_scene(scene_with(R"("normal_map": "/x.png")"), "s.json", scene).message() ==
+        "s.json: normal_map: path is absolute; it must be relative to the scene's folder");
+  par2d::LoadOptions any;
+  any.allow_any_path = true;
+  CHECK(par2d::parse_scene(scene_with(R"("normal_map": ")" + (dir / "outside.png") + R"(")"), "s.json", scene, any).ok());
+
+  // The CLI: refused by default (one line, nothing written), accepted with --allow-any-path.
+  std::ofstream(scene_path) << scene_with(R"("normal_map": "../outside.png")");
+  std::string err;
+  CHECK(run_cli_err({"render", scene_path, "--backend", "scalar", "-o", dir / "out.png"}, err) == 1);
+  CHECK(err == "par2d: " + leaves + "\n");
+  CHECK_FALSE(fs::exists(dir / "out.png"));
+  CHECK(run_cli_err({"bench", scene_path, "--backend", "scalar", "--frames", "1"}, err) == 1);
+  CHECK(err == "par2d: " + leaves + "\n");
+  CHECK(run_cli_err({"render", scene_path, "--backend", "scalar", "--allow-any-path", "-o", dir / "out.png"}, err) == 0);
+  CHECK(err.empty());
+  CHECK(fs::exists(dir / "out.png"));
+}
+
+TEST_CASE("an output that is the scene's normal map, by any name, is refused before anything is written") {
+  TempDir dir("par2d_model_io");
+  fs::create_directory(dir / "maps");
+  write_png(dir / "maps/n.png", 4, 3, 3, {128, 128, 255});
+  const std::string original = file_bytes(dir / "maps/n.png");
+  fs::create_symlink("maps/n.png", dir / "link.pfm");
+  fs::create_hard_link(dir / "maps/n.png", dir / "hard.png");
+  std::ofstream(dir / "s.json") << scene_with(R"("normal_map": "maps/n.png")");
+  for (const char* option : {"-o", "--pfm", "--plain-png", "--plain-pfm"}) {
+    for (const std::string& name : {dir / "maps/n.png", dir / "link.pfm", dir / "hard.png"}) {
+      std::string err;
+      CAPTURE(option);
+      CAPTURE(name);
+      CHECK(run_cli_err({"render", dir / "s.json", "--backend", "scalar", option, name}, err) == 2);
+      CAPTURE(err);
+      CHECK(err == "par2d: render: " + std::string(option) + " '" + name + "' is the scene's normal map '" +
+                       (dir / "maps/n.png") + "': an output may not replace an input\n");
+      CHECK(file_bytes(dir / "maps/n.png") == original);
+    }
+  }
+  // Through a link the scene file names, and with any path allowed: the same.
+  fs::create_symlink("n.png", dir / "maps/alias.png");
+  std::ofstream(dir / "s.json") << scene_with(R"("normal_map": "maps/alias.png")");
+  std::string err;
+  CHECK(run_cli_err({"render", dir / "s.json", "--allow-any-path", "--pfm", dir / "hard.png"}, err) == 2);
+  CHECK(file_bytes(dir / "maps/n.png") == original);
+}
+
+TEST_CASE("bench --width/--height on a normal-mapped scene is refused naming the scene file") {
+  TempDir dir("par2d_model_io");
+  write_png(dir / "n.png", 4, 3, 3, {128, 128, 255});
+  std::ofstream(dir / "s.json") << scene_with(R"("normal_map": "n.png")");
+  for (const std::vector<std::string>& size : {std::vector<std::string>{"--width", "8"}, std::vector<std::string>{"--height", "5"}}) {
+    std::vector<std::string> args{"bench", dir / "s.json", "--backend", "scalar", "--frames", "1"};
+    args.insert(args.end(), size.begin(), size.end());
+    std::string err;
+    CHECK(run_cli_err(args, err) == 2);
+    CAPTURE(err);
+    CHECK(err.rfind("par2d: " + (dir / "s.json") + ": normal_map: n.png is 4x3 but --width/--height make the image ", 0) == 0);
+    CHECK(err.find('\n') == err.size() - 1);
+  }
+  // Its own size is fine.
+  std::string err;
+  CHECK(run_cli_err({"bench", dir / "s.json", "--backend", "scalar", "--frames", "1", "--width", "4"}, err) == 0);
 }

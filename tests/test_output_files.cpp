@@ -105,6 +105,50 @@ int run_cli(const std::vector<std::string>& args) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
+// What a CLI run left: its exit status (or 128 + signal) and its standard error.
+struct CliResult {
+  int status = -1;
+  std::string err;
+};
+
+// Runs the CLI with `args`, its standard error captured; `close_stdout`: it starts with
+// descriptor 1 closed; `stdout_path`: descriptor 1 appends to that file (created if need be);
+// `env`: its whole environment (NAME=VALUE) when given.
+CliResult run_cli_captured(const std::vector<std::string>& args, bool close_stdout = false,
+                           const std::string& stdout_path = "", const std::vector<std::string>* env = nullptr) {
+  TempDir capture("par2d_cli_err");
+  const std::string err_path = capture / "stderr.txt";
+  std::vector<char*> argv{const_cast<char*>(PAR2D_CLI_PATH)};
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  std::vector<char*> envp;
+  if (env != nullptr) {
+    for (const std::string& e : *env) envp.push_back(const_cast<char*>(e.c_str()));
+    envp.push_back(nullptr);
+  }
+  posix_spawn_file_actions_t actions;
+  REQUIRE(posix_spawn_file_actions_init(&actions) == 0);
+  REQUIRE(posix_spawn_file_actions_addopen(&actions, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600) == 0);
+  if (close_stdout) REQUIRE(posix_spawn_file_actions_addclose(&actions, 1) == 0);
+  if (!stdout_path.empty())
+    REQUIRE(posix_spawn_file_actions_addopen(&actions, 1, stdout_path.c_str(), O_WRONLY | O_APPEND | O_CREAT, 0600) == 0);
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, PAR2D_CLI_PATH, &actions, nullptr, argv.data(), env ? envp.data() : environ);
+  posix_spawn_file_actions_destroy(&actions);
+  REQUIRE(spawned == 0);
+  int status = 0;
+  REQUIRE(waitpid(pid, &status, 0) == pid);
+  CliResult result;
+  result.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  result.err = read_all(err_path);
+  return result;
+}
+
+// A failure the standards ask for: exactly one line, on standard error, starting "par2d: ".
+bool one_error_line(const std::string& err) {
+  return err.rfind("par2d: ", 0) == 0 && err.find('\n') == err.size() - 1;
+}
+
 std::string scene_file(const TempDir& dir, const Scene& s) {
   std::string json = R"({"width": )" + std::to_string(s.width) + R"(, "height": )" + std::to_string(s.height) +
                      R"(, "lights": [{"circle": {"center": [6, 5], "radius": 2}, "color": [1, 0.5, 0.25], "intensity": 3}],)"
@@ -359,4 +403,77 @@ TEST_CASE("SIGTERM or SIGINT while the CLI writes leaves no partial file and the
       CHECK(dir.names() == std::vector<std::string>{"old.png", "pipe", "scene.json"});
     }
   }
+}
+
+TEST_CASE("with standard output closed, '-' is refused and no output file can take descriptor 1") {
+  // The issue: the first output's temporary got descriptor 1, so "-" wrote into it.
+  TempDir dir("par2d_out");
+  const std::string json = scene_file(dir, small_scene());
+  for (const auto& args : {std::vector<std::string>{"-o", dir / "a.png", "--pfm", "-"},
+                           std::vector<std::string>{"--pfm", dir / "a.pfm", "-o", "-"},
+                           std::vector<std::string>{"--plain-pfm", "-", "--plain-png", dir / "a.png"}}) {
+    std::vector<std::string> all{"render", json, "--backend", "scalar"};
+    all.insert(all.end(), args.begin(), args.end());
+    const CliResult run = run_cli_captured(all, /*close_stdout=*/true);
+    CAPTURE(args[0]);
+    CAPTURE(run.err);
+    CHECK(run.status == 2);
+    CHECK(one_error_line(run.err));
+    CHECK(run.err.find("standard output is closed") != std::string::npos);
+    CHECK(dir.names() == std::vector<std::string>{"scene.json"});
+  }
+  // Files only: the same bytes as with standard output open.
+  REQUIRE(run_cli({"render", json, "--backend", "scalar", "-o", dir / "open.png", "--pfm", dir / "open.pfm"}) == 0);
+  const CliResult closed = run_cli_captured(
+      {"render", json, "--backend", "scalar", "-o", dir / "closed.png", "--pfm", dir / "closed.pfm"}, true);
+  CHECK(closed.status == 0);
+  CHECK(closed.err.empty());
+  CHECK(read_all(dir / "closed.png") == read_all(dir / "open.png"));
+  CHECK(read_all(dir / "closed.pfm") == read_all(dir / "open.pfm"));
+}
+
+TEST_CASE("an output that is the scene file, by any name, is refused before anything is written") {
+  TempDir dir("par2d_out");
+  const std::string json = scene_file(dir, small_scene());
+  const std::string original = read_all(json);
+  fs::create_symlink("scene.json", dir / "link.png");
+  fs::create_hard_link(json, dir / "hard.pfm");
+  const std::string dotted = (dir.path / "." / "scene.json").string();
+  for (const char* option : {"-o", "--pfm", "--plain-png", "--plain-pfm"}) {
+    for (const std::string& name : {json, dotted, dir / "link.png", dir / "hard.pfm"}) {
+      const CliResult run = run_cli_captured({"render", json, "--backend", "scalar", option, name});
+      CAPTURE(option);
+      CAPTURE(name);
+      CAPTURE(run.err);
+      CHECK(run.status == 2);
+      CHECK(one_error_line(run.err));
+      CHECK(run.err.find(std::string(option) + " '" + name + "'") != std::string::npos);
+      CHECK(run.err.find("scene file '" + json + "'") != std::string::npos);
+      CHECK(read_all(json) == original);
+      CHECK(dir.names() == std::vector<std::string>{"hard.pfm", "link.png", "scene.json"});
+    }
+  }
+  // Standard output appending to the scene file is the scene file too.
+  const CliResult run = run_cli_captured({"render", json, "--backend", "scalar", "-o", "-"}, false, json);
+  CAPTURE(run.err);
+  CHECK(run.status == 2);
+  CHECK(one_error_line(run.err));
+  CHECK(read_all(json) == original);
+}
+
+TEST_CASE("view with no usable display says so in one line and fails") {
+  TempDir dir("par2d_out");
+  const std::string json = scene_file(dir, small_scene());
+  if (run_cli_captured({"view", "--help"}, false, dir / "help.txt").status != 0) {
+    MESSAGE("this par2d has no view command (built without the viewer)");
+    return;
+  }
+  // DISPLAY set but empty names no display; without XDG_RUNTIME_DIR libwayland would add a
+  // line of its own if SDL were left to probe.
+  const std::vector<std::string> env{"DISPLAY=", "WAYLAND_DISPLAY=", "PATH=/usr/bin:/bin", "HOME=" + dir.path.string()};
+  const CliResult run = run_cli_captured({"view", json}, false, "", &env);
+  CAPTURE(run.err);
+  CHECK(run.status == 1);
+  CHECK(one_error_line(run.err));
+  CHECK(run.err.find("no display") != std::string::npos);
 }

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "support/temp_dir.hpp"
@@ -89,4 +90,49 @@ TEST_CASE("a FIFO with no writer, a directory and other non-regular scene files 
   fs::create_symlink("real.json", dir / "link.json");
   REQUIRE(par2d::load_scene_file(dir / "link.json", scene).ok());
   CHECK(scene.width == 3);
+}
+
+TEST_CASE("a NUL byte in a scene is refused with its offset and line, not taken for the end of the text") {
+  // The issue: a file with a NUL byte and garbage after the JSON was accepted.
+  TempDir dir("par2d_load");
+  struct Case {
+    std::string text;
+    std::size_t offset, line;
+  };
+  const std::string scene = R"({"width": 4,)" "\n" R"( "height": 3})";
+  const Case cases[] = {
+      {scene + std::string("\0garbage", 8), scene.size(), 2},  // after the value
+      {scene + "\n" + std::string(1, '\0'), scene.size() + 1, 3},  // at the very end
+      {std::string(R"({"width": 4, "he)") + '\0' + R"(ight": 3})", 16, 1},  // inside a key
+      {std::string(1, '\0') + scene, 0, 1},
+  };
+  for (const Case& c : cases) {
+    const std::string expected = ": NUL byte at offset " + std::to_string(c.offset) + " (line " + std::to_string(c.line) +
+                                 "); a scene is JSON text only";
+    const std::string path = (dir.path / "nul.json").string();
+    { std::ofstream(path, std::ios::binary) << c.text; }
+    par2d::Scene out;
+    out.width = 7;
+    par2d::Status status = par2d::load_scene_file(path, out);
+    CAPTURE(status.message());
+    CHECK(status.code() == par2d::StatusCode::invalid_scene);
+    CHECK(status.message() == path + expected);
+    CHECK(out.width == 7);  // left as it was
+    status = par2d::parse_scene(c.text, "text", out);
+    CHECK(status.code() == par2d::StatusCode::invalid_scene);
+    CHECK(status.message() == "text" + expected);
+  }
+  // The same scene without the NUL loads.
+  par2d::Scene out;
+  CHECK(par2d::parse_scene(scene, "text", out).ok());
+  // The CLI: one line, non-zero, nothing written.
+  { std::ofstream(dir.path / "nul.json", std::ios::binary) << scene << std::string("\0garbage", 8); }
+  const std::string cmd = std::string(PAR2D_CLI_PATH) + " render " + (dir.path / "nul.json").string() + " -o " +
+                          (dir.path / "out.png").string() + " 2> " + (dir.path / "err.txt").string();
+  CHECK(std::system(cmd.c_str()) != 0);
+  std::ifstream in(dir.path / "err.txt");
+  const std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK(err == "par2d: " + (dir.path / "nul.json").string() + ": NUL byte at offset " + std::to_string(scene.size()) +
+                   " (line 2); a scene is JSON text only\n");
+  CHECK_FALSE(fs::exists(dir.path / "out.png"));
 }

@@ -1,6 +1,11 @@
 // The par2d command-line tool: render a JSON scene to PNG/PFM, benchmark it, report the build (docs/contract.md §4).
 #include <CLI/CLI.hpp>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cmath>
@@ -54,6 +59,55 @@ bool same_output(const std::string& a, const std::string& b) {
   return !ea && !eb && ca == cb;
 }
 
+// Whether standard output was closed when the process started (main() then put /dev/null
+// there): "-" must not write into whatever file would otherwise get descriptor 1.
+bool g_stdout_was_closed = false;
+
+// Makes descriptors 0, 1 and 2 valid before anything opens a file: a closed one gets
+// /dev/null (opened only to hold the number), so that no output or input file can become
+// standard output or standard error. False when even that is impossible.
+bool claim_standard_descriptors() {
+  for (int fd = 0; fd <= 2; ++fd) {
+    if (::fcntl(fd, F_GETFD) != -1 || errno != EBADF) continue;
+    if (fd == STDOUT_FILENO) g_stdout_was_closed = true;
+    // open() returns the lowest free descriptor: this one, since those below it are open.
+    const int opened = ::open("/dev/null", O_RDWR | O_NOCTTY);
+    if (opened != fd) {
+      if (opened >= 0) ::close(opened);
+      return false;
+    }
+  }
+  return true;
+}
+
+// An input the outputs must not replace: what it is, and the path it was read from.
+struct InputFile {
+  const char* what;
+  std::string path;
+};
+
+// The first output that is one of the inputs (the same file by identity, following symbolic
+// links: a link to it or a hard link counts), as a message; empty when there is none.
+// Checked before anything is written.
+std::string output_replacing_input(const std::pair<const char*, const std::string*>* outputs, std::size_t count,
+                                   const std::vector<InputFile>& inputs) {
+  for (const InputFile& input : inputs) {
+    struct stat in {};
+    if (::stat(input.path.c_str(), &in) != 0) continue;
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::string& path = *outputs[k].second;
+      if (path.empty()) continue;
+      struct stat out {};
+      const int got = path == "-" ? (g_stdout_was_closed ? -1 : ::fstat(STDOUT_FILENO, &out))
+                                  : ::stat(path.c_str(), &out);
+      if (got != 0 || out.st_dev != in.st_dev || out.st_ino != in.st_ino) continue;
+      return std::string("render: ") + outputs[k].first + " '" + (path == "-" ? "-' (standard output)" : path + "'") +
+             " is the " + input.what + " '" + input.path + "': an output may not replace an input";
+    }
+  }
+  return {};
+}
+
 // SIGINT/SIGTERM/SIGHUP/SIGPIPE mid-write: delete the temporaries, then die of the signal as usual.
 extern "C" void on_fatal_signal(int sig) {
   par2d::remove_pending_outputs();
@@ -69,7 +123,15 @@ struct CommonArgs {
   int threads = 0;
   int spp = 1;
   int rays = 1024;
+  bool allow_any_path = false;  // normal_map paths outside the scene's folder
 };
+
+// Loads the scene under the path policy the command line chose.
+par2d::Status load_scene(const CommonArgs& args, par2d::Scene& scene) {
+  par2d::LoadOptions options;
+  options.allow_any_path = args.allow_any_path;
+  return par2d::load_scene_file(args.scene_path, scene, options);
+}
 
 struct RenderArgs {
   std::string png_path;
@@ -134,6 +196,9 @@ void add_common_options(CLI::App& cmd, CommonArgs& args) {
                  "Force the SIMD instruction set (capped at what the CPU supports). "
                  "Default: $PAR2D_ISA if set, else the best the CPU has")
       ->check(kIsaName);
+  cmd.add_flag("--allow-any-path", args.allow_any_path,
+               "Let the scene's normal_map name any file (absolute, or outside the scene's folder); by "
+               "default it must stay inside the scene file's folder. For trusted scenes only");
 }
 
 par2d::RenderOptions make_options(const CommonArgs& args) {
@@ -196,9 +261,20 @@ int run_render(const CommonArgs& common, const RenderArgs& args) {
     }
   }
 
+  for (const auto& [option, path] : named) {
+    if (*path == "-" && g_stdout_was_closed)
+      return fail(std::string("render: ") + option + " -: standard output is closed", kExitUsage);
+  }
+
   par2d::Scene scene;
-  if (par2d::Status s = par2d::load_scene_file(common.scene_path, scene); !s)
+  if (par2d::Status s = load_scene(common, scene); !s)
     return fail(s.message());
+
+  // No output may replace what was read: the scene file or its normal map.
+  std::vector<InputFile> inputs{{"scene file", common.scene_path}};
+  if (scene.normal_map)
+    inputs.push_back({"scene's normal map", par2d::scene_relative_path(common.scene_path, scene.normal_map->path)});
+  if (std::string clash = output_replacing_input(named, 4, inputs); !clash.empty()) return fail(clash, kExitUsage);
 
   ImageStorage storage;
   par2d::ImageView image;
@@ -308,11 +384,21 @@ void print_stats(const par2d::FrameStats& s) {
 
 int run_bench(const CommonArgs& common, const BenchArgs& args) {
   par2d::Scene scene;
-  if (par2d::Status s = par2d::load_scene_file(common.scene_path, scene); !s)
+  if (par2d::Status s = load_scene(common, scene); !s)
     return fail(s.message());
   // The view stays as loaded (explicit or [0, 0, W, H]), so a new size rescales the same world.
   if (args.width > 0) scene.width = args.width;
   if (args.height > 0) scene.height = args.height;
+  // A normal map holds one normal per pixel of the scene's own size; say so naming the file
+  // and the options, rather than letting the renderer refuse a nameless "scene".
+  if (scene.normal_map && (scene.normal_map->width != scene.width || scene.normal_map->height != scene.height))
+    return fail(common.scene_path + ": normal_map: " + scene.normal_map->path + " is " +
+                    std::to_string(scene.normal_map->width) + "x" + std::to_string(scene.normal_map->height) +
+                    " but --width/--height make the image " + std::to_string(scene.width) + "x" +
+                    std::to_string(scene.height) + " (a normal-mapped scene keeps its size)",
+                kExitUsage);
+  // Anything else the new size breaks is reported under the scene file's name too.
+  if (par2d::Status s = par2d::validate_scene(scene, common.scene_path); !s) return fail(s.message());
 
   ImageStorage storage;
   par2d::ImageView image;
@@ -439,7 +525,15 @@ int run_cli(int argc, char** argv) {
     if (render->parsed()) return run_render(render_common, render_args);
     if (bench->parsed()) return run_bench(bench_common, bench_args);
 #ifdef PAR2D_HAVE_VIEWER
-    if (view->parsed()) return par2d::viewer::run_view(view_args);
+    if (view->parsed()) {
+      // An empty DISPLAY or WAYLAND_DISPLAY names no display: treated as unset, the viewer
+      // says so in one line instead of letting SDL probe (and libwayland print its own line).
+      for (const char* name : {"DISPLAY", "WAYLAND_DISPLAY"}) {
+        const char* value = std::getenv(name);
+        if (value != nullptr && *value == '\0') ::unsetenv(name);
+      }
+      return par2d::viewer::run_view(view_args);
+    }
 #endif
   } catch (const std::bad_alloc&) {
     return fail("out of memory");
@@ -456,6 +550,8 @@ int run_cli(int argc, char** argv) {
 int main(int argc, char** argv) {
   // Setting up the options allocates too: out of memory there (a tight ulimit -v) is the same
   // one-line failure as anywhere else, not an abort.
+  if (!claim_standard_descriptors())
+    return fail("standard input, output or error is closed and /dev/null cannot be opened in its place");
   try {
     return run_cli(argc, argv);
   } catch (const std::bad_alloc&) {

@@ -14,7 +14,8 @@ namespace par2d {
 // Where each output goes. A regular file (or a new one) is written to a hidden temporary in
 // its directory and renamed over the target at the end, keeping the target's permission
 // bits; a file the user may not write is refused. Devices and FIFOs are written through;
-// "-" is standard output. Symbolic links are followed to their target.
+// "-" is standard output (refused when descriptor 1 is closed). Symbolic links are followed to
+// their target.
 
 // Writes clamp(exposure * E, 0, 1), sRGB-encoded, as an 8-bit RGB PNG.
 Status write_png(const std::string& path, const ImageView& image, double exposure = 1.0);

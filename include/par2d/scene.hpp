@@ -143,18 +143,37 @@ struct Scene {
 // convex non-degenerate shapes, non-negative colors). `name` prefixes messages.
 Status validate_scene(const Scene& scene, std::string_view name = "scene");
 
-// Parses and validates a JSON scene. `name` (usually the file name) prefixes every
-// message, e.g. `level.json: lights[2].polygon: not convex at vertex 3`.
-Status parse_scene(std::string_view json_text, std::string_view name, Scene& out);
+// How a scene's file references (its `normal_map`) may reach the file system.
+struct LoadOptions {
+  // false (the default): a `normal_map` path must be relative and stay, after symbolic links,
+  // inside the scene's folder; an absolute path or one that leaves it is refused before
+  // anything is opened, so an untrusted scene cannot probe the file system. true: any path
+  // (trusted scenes only).
+  bool allow_any_path = false;
+};
 
-// Reads, parses and validates a JSON scene file.
+// Parses and validates a JSON scene. `name` (usually the file name) prefixes every
+// message, e.g. `level.json: lights[2].polygon: not convex at vertex 3`. The scene's folder
+// (for `normal_map`) is the folder part of `name`, the current directory when it has none.
+// A NUL byte anywhere in the text is refused with its offset.
+Status parse_scene(std::string_view json_text, std::string_view name, Scene& out);
+Status parse_scene(std::string_view json_text, std::string_view name, Scene& out, const LoadOptions& options);
+
+// Reads, parses and validates a JSON scene file; its folder is that of `path` as given.
 Status load_scene_file(const std::string& path, Scene& out);
+Status load_scene_file(const std::string& path, Scene& out, const LoadOptions& options);
+
+// The file a scene's `normal_map` text names: `written` as is when absolute, else resolved
+// against the folder of the scene file `scene_name` (the current directory when it has none).
+std::string scene_relative_path(std::string_view scene_name, const std::string& written);
 
 // Reads an 8-bit RGB PNG normal map (RGBA: alpha is ignored; gray and 16-bit PNGs are refused)
 // into `out`: n = 2 * rgb / 255 - 1 per pixel, image axes, rows from the top; `out.path` becomes
-// `path`. Messages start
-// with `path`. The size is not checked here: a scene needs exactly its width x height.
+// `path`. Messages start with `path`. Everything is checked from the PNG header before any
+// pixel is decoded: at most kMaxImageSide per side here (a scene needs exactly its width x
+// height: the second form refuses any other size before decoding).
 Status load_normal_map_png(const std::string& path, NormalMap& out);
+Status load_normal_map_png(const std::string& path, NormalMap& out, int width, int height);
 
 // docs/contract.md section 5's e_max: the sum over lights and directional lights of the largest
 // channel of intensity * color, plus the largest ambient channel.

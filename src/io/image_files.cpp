@@ -179,6 +179,9 @@ Status write_images(const std::vector<ImageOutput>& outputs, const ImageView& sh
         if ((3LL * image.width + 1) * image.height > INT_MAX / 2)
           return {StatusCode::invalid_argument, out.path + ": image too large for PNG"};
       }
+      // Checked before any file is opened: a temporary opened first could take descriptor 1.
+      if (out.path == "-" && ::fcntl(STDOUT_FILENO, F_GETFD) == -1)
+        return {StatusCode::io_error, "-: cannot write: standard output is closed"};
     }
     std::vector<std::unique_ptr<detail::OutputFile>> files;
     for (const ImageOutput& out : outputs) {

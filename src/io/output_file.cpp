@@ -82,6 +82,7 @@ OutputFile::~OutputFile() {
 Status OutputFile::open(const std::string& path) {
   path_ = path;
   if (path == "-") {
+    if (::fcntl(STDOUT_FILENO, F_GETFD) == -1) return io_error("-: cannot write: standard output is closed");
     through_ = is_stdout_ = true;
     fd_ = STDOUT_FILENO;
     return {};

@@ -17,7 +17,7 @@ namespace par2d::detail {
 //   remove_pending_outputs() delete.
 // - a character or block device, or a FIFO: written through (replacing one by a regular file
 //   would break it); nothing can be undone there, so batches write these last.
-// - "-": standard output, written through.
+// - "-": standard output, written through (refused when descriptor 1 is closed).
 // Symbolic links are followed to their final target (a dangling link gets its target
 // created). A regular file the user may not write is refused, as is anything else
 // (directories, sockets).

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -25,19 +26,39 @@ Status bad_map(const std::string& path, const std::string& what) {
   return Status(StatusCode::invalid_scene, path + ": " + what);
 }
 
-}  // namespace
-
-Status load_normal_map_png(const std::string& path, NormalMap& out) {
+// `width` x `height` > 0: the size the map must have, checked from the header; 0 x 0: any size
+// up to kMaxImageSide per side. Nothing is decoded until the header passes.
+Status load_png(const std::string& path, NormalMap& out, int expected_width, int expected_height) {
   try {
     detail::FileHandle file(nullptr, &std::fclose);
     struct stat st {};
     if (Status s = detail::open_regular_file(path, file, st); !s.ok()) return s;
-    unsigned char signature[8] = {};
-    if (std::fread(signature, 1, sizeof signature, file.get()) != sizeof signature ||
-        std::memcmp(signature, kPngSignature, sizeof signature) != 0) {
+    // The signature, then the IHDR chunk (length 13, "IHDR", width, height): the size a PNG
+    // declares is checked here, from these 24 bytes, before anything is decoded; a tiny file
+    // may declare any size.
+    unsigned char header[24] = {};
+    if (std::fread(header, 1, sizeof header, file.get()) != sizeof header ||
+        std::memcmp(header, kPngSignature, sizeof kPngSignature) != 0) {
       return bad_map(path, "not a PNG file");
     }
+    constexpr unsigned char kIhdr[8] = {0, 0, 0, 13, 'I', 'H', 'D', 'R'};
+    if (std::memcmp(header + 8, kIhdr, sizeof kIhdr) != 0) return bad_map(path, "not a PNG file (no IHDR header)");
+    auto be32 = [&](int at) {
+      return (std::uint32_t{header[at]} << 24) | (std::uint32_t{header[at + 1]} << 16) |
+             (std::uint32_t{header[at + 2]} << 8) | std::uint32_t{header[at + 3]};
+    };
+    const std::uint32_t declared_width = be32(16), declared_height = be32(20);
+    const std::string size = std::to_string(declared_width) + "x" + std::to_string(declared_height);
+    if (expected_width > 0 && (declared_width != static_cast<std::uint32_t>(expected_width) ||
+                               declared_height != static_cast<std::uint32_t>(expected_height))) {
+      return bad_map(path, "is " + size + " but the image is " + std::to_string(expected_width) + "x" +
+                               std::to_string(expected_height) + " (it must be exactly the image's size)");
+    }
+    if (declared_width > static_cast<std::uint32_t>(kMaxImageSide) ||
+        declared_height > static_cast<std::uint32_t>(kMaxImageSide))
+      return bad_map(path, "is " + size + ", larger than any image");
     std::rewind(file.get());
+    // stbi_info reads the header chunks only.
     int width = 0, height = 0, channels = 0;
     if (!stbi_info_from_file(file.get(), &width, &height, &channels)) {
       return bad_map(path, std::string("cannot decode the PNG (") + stbi_failure_reason() + ")");
@@ -48,12 +69,13 @@ Status load_normal_map_png(const std::string& path, NormalMap& out) {
       return bad_map(path, "has " + std::to_string(channels) +
                                (channels == 1 ? " channel" : " channels") + "; normal maps must be 8-bit RGB");
     }
-    if (width > kMaxImageSide || height > kMaxImageSide) {
-      return bad_map(path, "is " + std::to_string(width) + "x" + std::to_string(height) + ", larger than any image");
-    }
+    if (static_cast<std::uint32_t>(width) != declared_width || static_cast<std::uint32_t>(height) != declared_height)
+      return bad_map(path, "cannot decode the PNG (its header is inconsistent)");
     std::unique_ptr<unsigned char, void (*)(void*)> pixels(stbi_load_from_file(file.get(), &width, &height, &channels, 3),
                                                            &stbi_image_free);
     if (!pixels) return bad_map(path, std::string("cannot decode the PNG (") + stbi_failure_reason() + ")");
+    if (static_cast<std::uint32_t>(width) != declared_width || static_cast<std::uint32_t>(height) != declared_height)
+      return bad_map(path, "cannot decode the PNG (its size changed while reading)");
     NormalMap map;
     map.path = path;
     map.width = width;
@@ -66,6 +88,17 @@ Status load_normal_map_png(const std::string& path, NormalMap& out) {
   } catch (const std::bad_alloc&) {
     return Status(StatusCode::out_of_memory, path + ": out of memory while loading the normal map");
   }
+}
+
+}  // namespace
+
+Status load_normal_map_png(const std::string& path, NormalMap& out) { return load_png(path, out, 0, 0); }
+
+Status load_normal_map_png(const std::string& path, NormalMap& out, int width, int height) {
+  if (width <= 0 || height <= 0 || width > kMaxImageSide || height > kMaxImageSide)
+    return Status(StatusCode::invalid_argument, path + ": expected normal map size " + std::to_string(width) + "x" +
+                                                    std::to_string(height) + " is not an image size");
+  return load_png(path, out, width, height);
 }
 
 }  // namespace par2d

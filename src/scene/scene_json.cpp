@@ -12,6 +12,7 @@
 #include <exception>
 #include <filesystem>
 #include <initializer_list>
+#include <iterator>
 #include <memory>
 #include <new>
 #include <string>
@@ -655,38 +656,59 @@ Status out_of_memory(std::string_view name) {
 }
 
 
-// The scene's normal_map: `map.path` as written in the scene, resolved against the directory
-// of the scene file `name`; kept as written so that the scene writes back the same text.
-Status load_scene_normal_map(std::string_view name, NormalMap& map, int width, int height) {
-  const std::filesystem::path written(map.path);
-  const std::string resolved =
-      written.is_absolute() ? map.path : (std::filesystem::path(std::string(name)).parent_path() / written).string();
-  const std::string prefix = std::string(name) + ": normal_map: ";
-  NormalMap loaded;
-  if (Status status = load_normal_map_png(resolved, loaded); !status) {
-    return Status(status.code(), prefix + status.message());
+// Why `resolved` (the normal map's file) is not inside the folder of the scene `name` once
+// symbolic links are followed, or "" when it is (weakly_canonical: links in the part that
+// exists, the rest lexically, so "a/../../x" and a link out of the folder both leave it).
+std::string outside_scene_folder(std::string_view name, const std::string& resolved) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  fs::path folder = fs::path(std::string(name)).parent_path();
+  if (folder.empty()) folder = ".";
+  const fs::path base = fs::weakly_canonical(fs::absolute(folder, error), error);
+  if (error) return "cannot resolve the scene's folder: " + error.message();
+  const fs::path target = fs::weakly_canonical(fs::absolute(resolved, error), error);
+  if (error) return "cannot resolve the path: " + error.message();
+  auto t = target.begin();
+  for (const fs::path& part : base) {
+    if (part.empty()) continue;  // a trailing separator
+    if (t == target.end() || part != *t) return "path leaves the scene's folder";
+    ++t;
   }
-  if (loaded.width != width || loaded.height != height) {
-    return Status(StatusCode::invalid_scene, prefix + resolved + ": is " + std::to_string(loaded.width) + "x" +
-                                                 std::to_string(loaded.height) + " but the image is " +
-                                                 std::to_string(width) + "x" + std::to_string(height) +
-                                                 " (it must be exactly the image's size)");
+  if (t == target.end()) return "path leaves the scene's folder";  // the folder itself
+  return {};
+}
+
+// The scene's normal_map: `map.path` as written in the scene, resolved against the directory
+// of the scene file `name`; kept as written so that the scene writes back the same text. Its
+// size is checked from the PNG header before any pixel is decoded.
+Status load_scene_normal_map(std::string_view name, NormalMap& map, int width, int height, const LoadOptions& options) {
+  const std::string prefix = std::string(name) + ": normal_map: ";
+  if (!options.allow_any_path && std::filesystem::path(map.path).is_absolute())
+    return Status(StatusCode::invalid_scene, prefix + "path is absolute; it must be relative to the scene's folder");
+  const std::string resolved = scene_relative_path(name, map.path);
+  if (!options.allow_any_path) {
+    if (const std::string problem = outside_scene_folder(name, resolved); !problem.empty())
+      return Status(StatusCode::invalid_scene, prefix + problem);
+  }
+  NormalMap loaded;
+  if (Status status = load_normal_map_png(resolved, loaded, width, height); !status) {
+    return Status(status.code(), prefix + status.message());
   }
   loaded.path = map.path;
   map = std::move(loaded);
   return Status::success();
 }
 
-// Runs the builder: `run(builder)` calls Json::sax_parse on some input (text, a FILE*).
+// Runs the builder: `run(builder)` calls Json::sax_parse on some input (text, a file).
 template <class Run>
-Status parse_with(Run&& run, std::string_view name, Scene& out) {
+Status parse_with(Run&& run, std::string_view name, Scene& out, const LoadOptions& options) {
   SceneBuilder builder;
   if (!run(builder)) return detail::scene_error(name, builder.problem());
   if (builder.failed()) return detail::scene_error(name, builder.content_problem());
   builder.build_occluders();
   Scene& scene = builder.scene();
   if (scene.normal_map) {
-    if (Status status = load_scene_normal_map(name, *scene.normal_map, scene.width, scene.height); !status)
+    if (Status status = load_scene_normal_map(name, *scene.normal_map, scene.width, scene.height, options); !status)
       return status;
   }
   if (auto problem = detail::check_scene_terms(scene)) return detail::scene_error(name, *problem);
@@ -694,13 +716,111 @@ Status parse_with(Run&& run, std::string_view name, Scene& out) {
   return Status::success();
 }
 
+// The scene's bytes for the parser, one at a time, stopping at the first NUL byte: the
+// parser would take a NUL for the end of the input and accept any garbage after it. The
+// position of a NUL is kept for the message.
+template <class Source>
+class ByteReader {
+ public:
+  explicit ByteReader(Source source) : source_(std::move(source)) {}
+
+  // An input iterator over the bytes; a default-constructed one is the end.
+  class Iterator {
+   public:
+    using iterator_category = std::input_iterator_tag;
+    using value_type = char;
+    using difference_type = std::ptrdiff_t;
+    using pointer = const char*;
+    using reference = const char&;
+    Iterator() = default;
+    explicit Iterator(ByteReader* reader) : reader_(reader) { reader_->advance(); }
+    const char& operator*() const { return reader_->current_; }
+    Iterator& operator++() {
+      reader_->advance();
+      return *this;
+    }
+    bool operator==(const Iterator& other) const { return done() == other.done(); }
+    bool operator!=(const Iterator& other) const { return !(*this == other); }
+
+   private:
+    bool done() const { return reader_ == nullptr || reader_->done_; }
+    ByteReader* reader_ = nullptr;
+  };
+
+  Iterator begin() { return Iterator(this); }
+  Iterator end() { return Iterator(); }
+  bool saw_nul() const { return saw_nul_; }
+  // "NUL byte at offset N (line L)": where the first NUL is.
+  std::string nul_place() const {
+    return "NUL byte at offset " + std::to_string(offset_) + " (line " + std::to_string(line_) +
+           "); a scene is JSON text only";
+  }
+
+ private:
+  void advance() {
+    if (done_) return;
+    if (started_) {
+      ++offset_;
+      if (current_ == '\n') ++line_;
+    }
+    started_ = true;
+    const int byte = source_();
+    if (byte < 0 || byte == 0) {
+      done_ = true;
+      saw_nul_ = byte == 0;
+      return;
+    }
+    current_ = static_cast<char>(byte);
+  }
+
+  Source source_;
+  char current_ = 0;
+  bool started_ = false;
+  bool done_ = false;
+  bool saw_nul_ = false;
+  std::size_t offset_ = 0;
+  std::size_t line_ = 1;
+};
+
+template <class Source>
+ByteReader<Source> make_reader(Source source) {
+  return ByteReader<Source>(std::move(source));
+}
+
+// Parses through `reader`; a NUL byte reached is the problem, whatever the parser made of it.
+template <class Reader>
+Status parse_bytes(Reader& reader, std::string_view name, Scene& out, const LoadOptions& options) {
+  bool saw_nul = false;
+  Status status = parse_with(
+      [&](SceneBuilder& b) {
+        const bool parsed = Json::sax_parse(reader.begin(), reader.end(), &b);
+        saw_nul = reader.saw_nul();
+        return parsed && !saw_nul;
+      },
+      name, out, options);
+  if (saw_nul) return Status(StatusCode::invalid_scene, std::string(name) + ": " + reader.nul_place());
+  return status;
+}
+
 }  // namespace
 
+std::string scene_relative_path(std::string_view scene_name, const std::string& written) {
+  const std::filesystem::path path(written);
+  if (path.is_absolute()) return written;
+  return (std::filesystem::path(std::string(scene_name)).parent_path() / path).string();
+}
+
 Status parse_scene(std::string_view json_text, std::string_view name, Scene& out) {
+  return parse_scene(json_text, name, out, LoadOptions{});
+}
+
+Status parse_scene(std::string_view json_text, std::string_view name, Scene& out, const LoadOptions& options) {
   try {
-    return parse_with(
-        [&](SceneBuilder& b) { return Json::sax_parse(json_text.data(), json_text.data() + json_text.size(), &b); },
-        name, out);
+    std::size_t next = 0;
+    auto reader = make_reader([&]() -> int {
+      return next < json_text.size() ? static_cast<unsigned char>(json_text[next++]) : -1;
+    });
+    return parse_bytes(reader, name, out, options);
   } catch (const std::bad_alloc&) {
     return out_of_memory(name);
   } catch (const std::exception& error) {
@@ -711,7 +831,9 @@ Status parse_scene(std::string_view json_text, std::string_view name, Scene& out
   }
 }
 
-Status load_scene_file(const std::string& path, Scene& out) {
+Status load_scene_file(const std::string& path, Scene& out) { return load_scene_file(path, out, LoadOptions{}); }
+
+Status load_scene_file(const std::string& path, Scene& out, const LoadOptions& options) {
   try {
     // Only regular files are read; their size is known, and nothing else is a scene.
     detail::FileHandle file(nullptr, &std::fclose);
@@ -722,8 +844,10 @@ Status load_scene_file(const std::string& path, Scene& out) {
                                               std::to_string(kMaxFileBytes >> 20) + " MiB");
     }
     // Parsed as it is read: no copy of the text is kept.
-    Status status = parse_with([&](SceneBuilder& b) { return Json::sax_parse(file.get(), &b); }, path, out);
-    if (std::ferror(file.get())) {
+    std::FILE* const stream = file.get();
+    auto reader = make_reader([stream]() -> int { return std::getc(stream); });
+    Status status = parse_bytes(reader, path, out, options);
+    if (std::ferror(stream)) {
       return Status(StatusCode::io_error, path + ": cannot read: " + std::strerror(errno ? errno : EIO));
     }
     return status;
