@@ -240,8 +240,9 @@ Rgb model_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, Sca
     profile = AngularProfile<double>{};
     if (terms.has_cone) set_profile_cone(profile, arc.start, terms.cone_center, terms.cone_half, terms.cone_fade);
     if (normal) set_shading(profile, arc.start, *normal, terms.sin_elevation, terms.cos_elevation);
+    // The integrand is >= 0; differences of its antiderivative over a tiny arc may round below.
     const Rgb seen = covered_integral(scene, profile, arc.width, scratch);
-    for (int c = 0; c < 3; ++c) e[c] += light.emission[c] * factor[c] * seen[c] / kTwoPi;
+    for (int c = 0; c < 3; ++c) e[c] += light.emission[c] * factor[c] * std::max(0.0, seen[c]) / kTwoPi;
   }
   for (const PreparedDirectional& sun : scene.directionals) {
     // Every acting occluder the ray meets is in front of a light at infinity; one containing
@@ -261,7 +262,7 @@ Rgb model_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, Sca
     profile = AngularProfile<double>{};
     if (normal) set_shading(profile, arc.start, *normal, sun.sin_elevation, sun.cos_elevation);
     const Rgb seen = covered_integral(scene, profile, arc.width, scratch);
-    for (int c = 0; c < 3; ++c) e[c] += sun.emission[c] * seen[c] / kTwoPi;
+    for (int c = 0; c < 3; ++c) e[c] += sun.emission[c] * std::max(0.0, seen[c]) / kTwoPi;
   }
   return e;
 }

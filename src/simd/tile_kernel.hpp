@@ -1260,8 +1260,10 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
     if (terms.translucent) {
       B visible[3];
       translucent_pieces<A>(work, profile, lo, hi, owner, n, width, keys, visible);
+      // Clamped as below.
       for (int c = 0; c < 3; ++c)
-        e[c] = xsimd::fma(B(light.emission[c]) * window, xsimd::select(dark_inside, B(0.0f), visible[c]), e[c]);
+        e[c] = xsimd::fma(B(light.emission[c]) * window,
+                          xsimd::select(dark_inside, B(0.0f), xsimd::max(visible[c], B(0.0f))), e[c]);
       continue;
     }
     B visible;
@@ -1279,6 +1281,9 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
       } else {
         visible = profile.cumulative(width) - profile.cumulative(B(0.0f));
       }
+      // Differences of the antiderivative over an arc narrower than float's angle steps (a tiny
+      // light far away, ~1e-6 rad) can round below 0 (FINDINGS.md #15); the integrand is not.
+      visible = xsimd::max(visible, B(0.0f));
     } else if (n == 0) {
       visible = width;
     } else if (n == 1) {

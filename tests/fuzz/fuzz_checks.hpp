@@ -135,6 +135,66 @@ inline Shape decode_shape(ByteReader& in, double origin_x, double origin_y, doub
   }
 }
 
+// The lighting model's terms (docs/contract.md section 6), after the shapes: one byte of flags,
+// then each term's values from the classes where arithmetic breaks (subnormals, 1e-300 and
+// 1e300 next to ordinary values, the keys' own boundaries). An input that ends before the flags
+// reads 0 there: no term, so the corpus from before the terms decodes as it did.
+inline void decode_model_terms(ByteReader& in, double scale, Scene& s) {
+  const unsigned flags = in.byte();
+  if (flags == 0) return;
+  // Multiples of the pixel size; 1e300 and beyond are taken as they are (not times the scale).
+  static constexpr double kRanges[] = {5e-324, 4e-310, 1e-300, 1e-40, 1e-6, 0.5, 4.0, 64.0, 1e6, 1e300};
+  static constexpr double kAngles[] = {5e-324, 1e-300, 1e-40, 1e-9, 1e-6, 1e-4, 0.5, 10.0, 45.0, 90.0, 179.0, 180.0};
+  static constexpr double kFadeParts[] = {0.0, 5e-324, 1e-300, 1e-12, 1e-6, 0.25, 1.0 - 1e-15, 1.0};
+  static constexpr double kElevations[] = {0.0, 5e-324, 1e-300, 30.0, 60.0, 89.99999999999999, 90.0};
+  static constexpr double kParts[] = {0.0, 5e-324, 1e-300, 0.25, 0.5, 0.9999999999999999, 1.0};
+  static constexpr double kNormalScales[] = {5e-324, 1e-310, 1e-300, 1.0, 1e300, 1e307};
+  static constexpr std::uint32_t kMasks[] = {0xFFFFFFFFu, 1u, 2u, 3u, 0u};
+  const auto pick = [&in](const auto& table) { return table[in.byte() % (sizeof(table) / sizeof(table[0]))]; };
+  for (Light& light : s.lights) {
+    if (flags & 1) {
+      const double r = pick(kRanges);
+      if (in.byte() & 1) light.range = r >= 1e300 ? r : std::max(r * scale, 5e-324);
+    }
+    if ((flags & 2) && (in.byte() & 1)) {
+      Cone cone;
+      cone.direction = (static_cast<double>(in.u16()) - 32768.0) * (360.0 / 4096.0);
+      cone.half_angle = pick(kAngles);
+      cone.fade = std::min(cone.half_angle, cone.half_angle * pick(kFadeParts));
+      light.cone = cone;
+    }
+    if (flags & 4) light.elevation = pick(kElevations);
+    if (flags & 16) light.mask = pick(kMasks);
+  }
+  for (Occluder& occluder : s.occluders) {
+    if (flags & 8) {
+      for (double& t : occluder.transmittance) t = pick(kParts);
+      if (in.byte() & 1) occluder.interior = Interior::lit;
+    }
+    if (flags & 16) occluder.mask = pick(kMasks);
+  }
+  if (flags & 32) {
+    for (double& a : s.ambient) a = pick(kParts);
+  }
+  if (flags & 64) {
+    DirectionalLight sun;
+    sun.angle0 = (static_cast<double>(in.u16()) - 32768.0) * (360.0 / 4096.0);
+    static constexpr double kWidths[] = {1e-9, 1e-3, 10.0, 180.0, 359.0, 359.99999999999};
+    sun.angle1 = sun.angle0 + pick(kWidths);
+    sun.color = {in.byte() / 255.0, in.byte() / 255.0, in.byte() / 255.0};
+    sun.intensity = in.byte() / 16.0;
+    if (flags & 4) sun.elevation = pick(kElevations);
+    if (flags & 16) sun.mask = pick(kMasks);
+    s.directional_lights.push_back(sun);
+  }
+  if (flags & 128) {
+    const double k = pick(kNormalScales);
+    Vec3 n{in.signed_byte() / 128.0 * k, in.signed_byte() / 128.0 * k, in.signed_byte() / 128.0 * k};
+    if (!(std::max({std::fabs(n.x), std::fabs(n.y), std::fabs(n.z)}) > 0.0)) n = {0.0, 0.0, k};
+    s.normal = n;
+  }
+}
+
 inline FuzzScene decode_scene(ByteReader& in) {
   static constexpr double kScales[] = {1.0, 1e-3, 0.05, 1e3, 1e7, 1e15};
   static constexpr double kOrigins[] = {0.0, 0.0, 1e5, -1e7, 1e7, 1e15};
@@ -145,9 +205,6 @@ inline FuzzScene decode_scene(ByteReader& in) {
   const double scale = kScales[in.byte() % 6];
   const double origin = kOrigins[in.byte() % 6];
   const unsigned view_flags = in.byte();
-  s.view = {origin, origin, origin + scale * s.width, origin + scale * s.height};
-  if (view_flags & 1) std::swap(s.view.x0, s.view.x1);
-  if (view_flags & 2) std::swap(s.view.y0, s.view.y1);
   f.threads = (view_flags & 4) ? 2 : 1;
   f.spp = (view_flags & 8) ? 1 + static_cast<int>(in.byte() % 4) : 1;
   f.rays = 1 + static_cast<int>(in.byte() % 64);
@@ -175,6 +232,23 @@ inline FuzzScene decode_scene(ByteReader& in) {
     if (const auto* p = std::get_if<Polygon>(&l.shape)) f.polygon_vertices += p->vertices.size();
   for (const Occluder& o : s.occluders)
     if (const auto* p = std::get_if<Polygon>(&o.shape)) f.polygon_vertices += p->vertices.size();
+  decode_model_terms(in, scale, s);
+  // One input's work kept within what the gate's timeout allows under the sanitizers: the
+  // scalar reference measures every polygon vertex at every sample (FINDINGS.md #14: eleven
+  // 12000-vertex polygons at 24x24 pixels and 4 samples took over 25 s). Fewer samples, then
+  // fewer pixels (the same units per pixel), until samples x vertices fit.
+  constexpr double kMaxSampleVertices = 2e7;
+  const auto work = [&] {
+    return static_cast<double>(s.width) * s.height * f.spp * static_cast<double>(std::max<std::size_t>(f.polygon_vertices, 1));
+  };
+  if (work() > kMaxSampleVertices) f.spp = 1;
+  while (work() > kMaxSampleVertices && (s.width > 1 || s.height > 1)) {
+    s.width = (s.width + 1) / 2;
+    s.height = (s.height + 1) / 2;
+  }
+  s.view = {origin, origin, origin + scale * s.width, origin + scale * s.height};
+  if (view_flags & 1) std::swap(s.view.x0, s.view.x1);
+  if (view_flags & 2) std::swap(s.view.y0, s.view.y1);
   return f;
 }
 
@@ -219,9 +293,12 @@ inline bool lights_disjoint_from_occluders(const Scene& scene) {
 
 // Finite, 0 <= E <= sum of e_L per channel (float rounding allowed).
 inline std::string check_bounds(const Scene& scene, const test::RenderedImage& image, const char* what) {
-  double sum[3] = {0.0, 0.0, 0.0};
+  // Every weight of the lighting model (window, cone, shading, transmittance) is in [0, 1].
+  double sum[3] = {scene.ambient[0], scene.ambient[1], scene.ambient[2]};
   for (const Light& l : scene.lights)
     for (int c = 0; c < 3; ++c) sum[c] += l.intensity * l.color[c];
+  for (const DirectionalLight& d : scene.directional_lights)
+    for (int c = 0; c < 3; ++c) sum[c] += d.intensity * d.color[c];
   for (int j = 0; j < image.height; ++j)
     for (int i = 0; i < image.width; ++i)
       for (int c = 0; c < 3; ++c) {
@@ -306,50 +383,6 @@ inline std::string check_render_scene(const FuzzScene& f, bool compare_simd = tr
 inline std::string check_render_bytes(const std::uint8_t* data, std::size_t size) {
   ByteReader in(data, size);
   return check_render_scene(decode_scene(in));
-}
-
-// The scene JSON for a render fuzz input, for bug reports (FINDINGS.md) and the CLI.
-inline std::string scene_json(const Scene& s) {
-  std::ostringstream out;
-  out.precision(17);
-  auto point = [&](Vec2 p) { out << "[" << p.x << ", " << p.y << "]"; };
-  auto shape = [&](const Shape& sh) {
-    if (const auto* c = std::get_if<Circle>(&sh)) {
-      out << "\"circle\": {\"center\": ";
-      point(c->center);
-      out << ", \"radius\": " << c->radius << "}";
-    } else if (const auto* g = std::get_if<Segment>(&sh)) {
-      out << "\"segment\": [";
-      point(g->a);
-      out << ", ";
-      point(g->b);
-      out << "]";
-    } else {
-      out << "\"polygon\": [";
-      const auto& v = std::get<Polygon>(sh).vertices;
-      for (std::size_t k = 0; k < v.size(); ++k) {
-        if (k) out << ", ";
-        point(v[k]);
-      }
-      out << "]";
-    }
-  };
-  out << "{\"width\": " << s.width << ", \"height\": " << s.height << ", \"view\": [" << s.view.x0 << ", "
-      << s.view.y0 << ", " << s.view.x1 << ", " << s.view.y1 << "],\n \"lights\": [";
-  for (std::size_t k = 0; k < s.lights.size(); ++k) {
-    out << (k ? ",\n  {" : "\n  {");
-    shape(s.lights[k].shape);
-    out << ", \"color\": [" << s.lights[k].color[0] << ", " << s.lights[k].color[1] << ", " << s.lights[k].color[2]
-        << "], \"intensity\": " << s.lights[k].intensity << "}";
-  }
-  out << "],\n \"occluders\": [";
-  for (std::size_t k = 0; k < s.occluders.size(); ++k) {
-    out << (k ? ",\n  {" : "\n  {");
-    shape(s.occluders[k].shape);
-    out << "}";
-  }
-  out << "]}\n";
-  return out.str();
 }
 
 }  // namespace par2d::fuzz

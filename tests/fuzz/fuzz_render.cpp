@@ -9,7 +9,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (!problem.empty()) {
     par2d::fuzz::ByteReader in(data, size);
     std::fprintf(stderr, "fuzz_render: %s\nscene:\n%s", problem.c_str(),
-                 par2d::fuzz::scene_json(par2d::fuzz::decode_scene(in).scene).c_str());
+                 par2d::scene_to_json(par2d::fuzz::decode_scene(in).scene).c_str());
     std::abort();  // libFuzzer saves the input as a crash file
   }
   return 0;

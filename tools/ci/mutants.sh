@@ -24,6 +24,10 @@ MUTANTS=(
   "gamma 2.2 in the sRGB encoder|src/io/image_files.cpp|s/std::pow\(\(s \+ 0\.055\) \/ 1\.055, 2\.4\)/std::pow(s, 2.2)/"
   "flipped clipped-light sign|src/render/tile_setup.cpp|s/\(t \* along \+ r \* across\)/(t * along - r * across)/"
   "skipped overlap recompute in World::occluder_changed|src/world/world.cpp|s/^    describe_overlap\(light\.shape, occ, overlap\);\n//m"
+  "lit interior blocks a light that overlaps it (SIMD)|src/simd/tile_kernel.hpp|s/if \(occ_terms\.lit_interior \|\| j > 0\) \{/if (j > 0) {/"
+  "moved occluder's old place not re-proved|src/world/world.cpp|s/^  if \(old_box\) touch_reach\(\*old_box\);\n//m"
+  "moved light's reach kept|src/world/world.cpp|s/^  reach_stale_\[p\] = 1;\n\}/}/m"
+  "range window through 1 / range|src/lighting/angular_profile.hpp|s/distance \/ profile_select\(within, range, T\(1\.0\)\)/distance * (T(1.0) \/ profile_select(within, range, T(1.0)))/"
 )
 
 test_command() {
