@@ -397,8 +397,10 @@ int run_bench(const CommonArgs& common, const BenchArgs& args) {
                     " but --width/--height make the image " + std::to_string(scene.width) + "x" +
                     std::to_string(scene.height) + " (a normal-mapped scene keeps its size)",
                 kExitUsage);
-  // Anything else the new size breaks is reported under the scene file's name too.
-  if (par2d::Status s = par2d::validate_scene(scene, common.scene_path); !s) return fail(s.message());
+  // Anything else a new size breaks is reported under the scene file's name too.
+  if (args.width > 0 || args.height > 0) {
+    if (par2d::Status s = par2d::validate_scene(scene, common.scene_path); !s) return fail(s.message());
+  }
 
   ImageStorage storage;
   par2d::ImageView image;
@@ -548,10 +550,10 @@ int run_cli(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // Setting up the options allocates too: out of memory there (a tight ulimit -v) is the same
-  // one-line failure as anywhere else, not an abort.
   if (!claim_standard_descriptors())
     return fail("standard input, output or error is closed and /dev/null cannot be opened in its place");
+  // Setting up the options allocates too: out of memory there (a tight ulimit -v) is the same
+  // one-line failure as anywhere else, not an abort.
   try {
     return run_cli(argc, argv);
   } catch (const std::bad_alloc&) {
