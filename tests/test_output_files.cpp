@@ -476,4 +476,14 @@ TEST_CASE("view with no usable display says so in one line and fails") {
   CHECK(run.status == 1);
   CHECK(one_error_line(run.err));
   CHECK(run.err.find("no display") != std::string::npos);
+  // DISPLAY naming an X server that is not there (no socket for it): still one line.
+  int number = 77;
+  while (fs::exists("/tmp/.X11-unix/X" + std::to_string(number))) ++number;
+  const std::vector<std::string> dead{"DISPLAY=:" + std::to_string(number), "PATH=/usr/bin:/bin",
+                                      "HOME=" + dir.path.string()};
+  const CliResult dead_run = run_cli_captured({"view", json}, false, "", &dead);
+  CAPTURE(dead_run.err);
+  CHECK(dead_run.status == 1);
+  CHECK(one_error_line(dead_run.err));
+  CHECK(dead_run.err.find("no display (DISPLAY=:" + std::to_string(number) + " cannot be opened") != std::string::npos);
 }

@@ -168,11 +168,22 @@ class Viewer {
     // Without a display SDL falls back to its invisible "offscreen" driver (after libwayland
     // prints its own complaint): say so in one line instead, unless a driver was asked for.
     const bool driver_chosen = std::getenv("SDL_VIDEODRIVER") != nullptr;
-    if (!driver_chosen && !std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
+    const char* x11_display = std::getenv("DISPLAY");
+    const bool wayland = std::getenv("WAYLAND_DISPLAY") != nullptr;
+    if (!driver_chosen && !x11_display && !wayland)
       return fail("cannot open a window: no display (DISPLAY and WAYLAND_DISPLAY are unset; "
                   "SDL_VIDEODRIVER picks another video driver)");
+    // Only X11 can serve DISPLAY: without WAYLAND_DISPLAY, SDL's Wayland probe would add
+    // libwayland's own line to ours when the X display cannot be opened.
+    const bool only_x11 = !driver_chosen && !wayland;
+    if (only_x11) setenv("SDL_VIDEODRIVER", "x11", 1);
     if (std::string error; !load_sdl_library(sdl_api, error)) return fail("cannot open a window: " + error);
-    if (sdl_api.SDL_Init(SDL_INIT_VIDEO) != 0) return fail(std::string("cannot open a window: ") + sdl_api.SDL_GetError());
+    if (sdl_api.SDL_Init(SDL_INIT_VIDEO) != 0) {
+      if (only_x11)
+        return fail(std::string("cannot open a window: no display (DISPLAY=") + x11_display +
+                    " cannot be opened: " + sdl_api.SDL_GetError() + ")");
+      return fail(std::string("cannot open a window: ") + sdl_api.SDL_GetError());
+    }
     sdl_.sdl = true;
     const std::string driver = sdl_api.SDL_GetCurrentVideoDriver();
     if (!driver_chosen && (driver == "offscreen" || driver == "dummy"))
