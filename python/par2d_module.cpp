@@ -73,6 +73,12 @@ std::string type_name(const py::handle& obj) {
   return py::str(py::type::of(obj).attr("__name__")).cast<std::string>();
 }
 
+// "a set", "an ndarray".
+std::string a_type(const py::handle& obj) {
+  const std::string name = type_name(obj);
+  return (name.find_first_of("aeiouAEIOU") == 0 ? "an " : "a ") + name;
+}
+
 // A short one-line repr of a value for a message, or its type when the repr is long or odd.
 std::string describe(const py::handle& obj) {
   std::string text;
@@ -85,7 +91,7 @@ std::string describe(const py::handle& obj) {
   }
   PyErr_Clear();
   if (text.empty() || text.size() > 60 || text.find_first_of("\r\n") != std::string::npos)
-    return "a " + type_name(obj);
+    return a_type(obj);
   return text;
 }
 
@@ -336,7 +342,7 @@ std::optional<JsonProblem> find_json_problem(const py::handle& obj, const std::s
     if (!std::isfinite(*v)) return JsonProblem{place, "not a finite number (" + format_number(*v) + ")"};
     return std::nullopt;
   }
-  return JsonProblem{place, "a " + type_name(obj) + " is not a JSON value"};
+  return JsonProblem{place, a_type(obj) + " is not a JSON value"};
 }
 
 // JSON text of a dict or list (already walked): numbers that are not int or float are
