@@ -95,8 +95,18 @@ PAR2D_C_API int par2d_renderer_threads(const par2d_renderer* renderer);
  * (NULL: {0, 0, width, height}). Independent of the host's screen size. */
 PAR2D_C_API par2d_status par2d_set_frame(par2d_renderer* renderer, int width, int height, const double* view);
 
-/* Replaces the world (frame included) with a scene file (docs/contract.md, section 3). */
+/* Replaces the world (frame included) with a scene file (docs/contract.md, section 3). A
+ * refused scene leaves the world as it was. The scene's normal_map path must be relative and
+ * stay inside the scene file's folder (docs/contract.md section 6): an absolute path or one
+ * that leaves it is refused before anything is opened. */
 PAR2D_C_API par2d_status par2d_load_scene(par2d_renderer* renderer, const char* path);
+
+/* par2d_load_scene_ex flags; 0 is par2d_load_scene. */
+#define PAR2D_LOAD_ALLOW_ANY_PATH 1u /* the scene's normal_map may be any path: trusted scenes only */
+
+/* par2d_load_scene with `flags`, a combination of PAR2D_LOAD_* bits (others are refused with
+ * PAR2D_INVALID_ARGUMENT). */
+PAR2D_C_API par2d_status par2d_load_scene_ex(par2d_renderer* renderer, const char* path, unsigned flags);
 
 /* Lights: color is linear RGB (each >= 0), emission = intensity * color. */
 PAR2D_C_API par2d_status par2d_add_light(par2d_renderer* renderer, const par2d_shape* shape, const double color[3],
@@ -169,7 +179,9 @@ PAR2D_C_API par2d_status par2d_set_directional_lights(par2d_renderer* renderer, 
  * one normal {nx, ny, nz} in world axes (+z toward the viewer, any non-zero length);
  * a map of width x height normals (exactly the frame's size), 3 floats per pixel, rows from
  * the top, in image axes (x right, y UP, z toward the viewer);
- * or an 8-bit RGB PNG normal map (n = 2 * rgb / 255 - 1, alpha ignored). */
+ * or an 8-bit RGB PNG normal map (n = 2 * rgb / 255 - 1, alpha ignored), whose size is checked
+ * against the frame's from the PNG header before a pixel is decoded (before the first
+ * par2d_set_frame: any size up to 16384 per side). */
 PAR2D_C_API par2d_status par2d_set_normal(par2d_renderer* renderer, const double normal[3]);
 PAR2D_C_API par2d_status par2d_set_normal_map(par2d_renderer* renderer, const float* normals, int width, int height);
 PAR2D_C_API par2d_status par2d_load_normal_map(par2d_renderer* renderer, const char* png_path);

@@ -2,6 +2,7 @@
 // buffers (no allocation per update), errors kept per thread.
 #include "par2d/par2d.h"
 
+#include <cstdio>
 #include <cstring>
 #include <exception>
 #include <new>
@@ -193,15 +194,31 @@ par2d_status par2d_set_frame(par2d_renderer* r, int width, int height, const dou
   });
 }
 
-par2d_status par2d_load_scene(par2d_renderer* r, const char* path) {
-  const char* const fn = __func__;
+namespace {
+
+par2d_status load_scene(const char* fn, par2d_renderer* r, const char* path, unsigned flags) {
   if (r == nullptr) return fail(fn, "renderer is null");
   if (path == nullptr) return fail(fn, "path is null");
+  if ((flags & ~static_cast<unsigned>(PAR2D_LOAD_ALLOW_ANY_PATH)) != 0) {
+    char hex[16];
+    std::snprintf(hex, sizeof hex, "0x%X", flags);
+    return fail(fn, std::string("flags ") + hex + " has bits other than PAR2D_LOAD_ALLOW_ANY_PATH");
+  }
   return guarded(fn, [&] {
+    par2d::LoadOptions options;
+    options.allow_any_path = (flags & PAR2D_LOAD_ALLOW_ANY_PATH) != 0;
     par2d::Scene scene;
-    if (par2d::Status s = par2d::load_scene_file(path, scene); !s.ok()) return to_c(fn, s);
+    if (par2d::Status s = par2d::load_scene_file(path, scene, options); !s.ok()) return to_c(fn, s);
     return to_c(fn, r->renderer.set_scene(scene));
   });
+}
+
+}  // namespace
+
+par2d_status par2d_load_scene(par2d_renderer* r, const char* path) { return load_scene(__func__, r, path, 0); }
+
+par2d_status par2d_load_scene_ex(par2d_renderer* r, const char* path, unsigned flags) {
+  return load_scene(__func__, r, path, flags);
 }
 
 par2d_status par2d_add_light(par2d_renderer* r, const par2d_shape* shape, const double color[3], double intensity,
@@ -438,8 +455,13 @@ par2d_status par2d_load_normal_map(par2d_renderer* r, const char* png_path) {
   if (r == nullptr) return fail(fn, "renderer is null");
   if (png_path == nullptr) return fail(fn, "png_path is null");
   return guarded(fn, [&] {
+    // Checked against the frame from the PNG header, before a pixel is decoded: a small file
+    // may declare any size. Before the first set_frame any size up to kMaxImageSide goes.
+    const int width = r->renderer.width(), height = r->renderer.height();
     par2d::NormalMap map;
-    if (par2d::Status s = par2d::load_normal_map_png(png_path, map); !s.ok()) return to_c(fn, s);
+    const par2d::Status s = width > 0 && height > 0 ? par2d::load_normal_map_png(png_path, map, width, height)
+                                                    : par2d::load_normal_map_png(png_path, map);
+    if (!s.ok()) return to_c(fn, s);
     return to_c(fn, r->renderer.set_normal_map(map));
   });
 }

@@ -1,9 +1,13 @@
 /* The C API from a C program: world building, updates, every pixel format, regions, errors,
- * and the version at run time, against closed forms. Exits non-zero on the first failure. */
+ * file policies (normal-map sizes, scene paths) and the version at run time, against closed
+ * forms. Exits non-zero on the first failure. */
+#define _POSIX_C_SOURCE 200809L /* mkdtemp, mkdir */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "par2d/par2d.h"
 
@@ -41,6 +45,174 @@ static int failures = 0;
   } while (0)
 
 enum { W = 64, H = 48 };
+
+/* ---- Files for the file-policy checks: tiny PNGs and scenes in a temporary folder. ---- */
+
+static unsigned long crc32_of(const unsigned char* bytes, size_t n, unsigned long crc) {
+  crc ^= 0xFFFFFFFFul;
+  for (size_t i = 0; i < n; ++i) {
+    crc ^= bytes[i];
+    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xEDB88320ul & (0ul - (crc & 1ul)));
+  }
+  return crc ^ 0xFFFFFFFFul;
+}
+
+static void put_be32(unsigned char* at, unsigned long v) {
+  at[0] = (unsigned char)(v >> 24);
+  at[1] = (unsigned char)(v >> 16);
+  at[2] = (unsigned char)(v >> 8);
+  at[3] = (unsigned char)v;
+}
+
+/* One PNG chunk: length, type, data, CRC over type and data. */
+static void write_chunk(FILE* f, const char type[4], const unsigned char* data, size_t n) {
+  unsigned char head[8];
+  unsigned char tail[4];
+  put_be32(head, (unsigned long)n);
+  memcpy(head + 4, type, 4);
+  unsigned long crc = crc32_of(head + 4, 4, 0);
+  if (n > 0) crc = crc32_of(data, n, crc);
+  put_be32(tail, crc);
+  fwrite(head, 1, 8, f);
+  if (n > 0) fwrite(data, 1, n, f);
+  fwrite(tail, 1, 4, f);
+}
+
+/* An 8-bit RGB PNG declaring width x height. With `rgb` (width * height * 3 bytes) its pixels
+ * are stored uncompressed (one stored deflate block, filter 0); without, it has no pixel data
+ * at all: 45 bytes that claim any size, a loader that decodes before checking falls for. */
+static int write_png_file(const char* path, unsigned long width, unsigned long height, const unsigned char* rgb) {
+  static const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+  FILE* f = fopen(path, "wb");
+  if (f == NULL) return 0;
+  fwrite(signature, 1, 8, f);
+  unsigned char ihdr[13] = {0};
+  put_be32(ihdr, width);
+  put_be32(ihdr + 4, height);
+  ihdr[8] = 8; /* bit depth */
+  ihdr[9] = 2; /* RGB */
+  write_chunk(f, "IHDR", ihdr, sizeof ihdr);
+  if (rgb != NULL) {
+    const size_t row = 1 + 3 * (size_t)width, raw_size = row * (size_t)height; /* < 65536 here */
+    unsigned char* idat = malloc(2 + 5 + raw_size + 4);
+    unsigned char* raw = idat + 7;
+    for (size_t j = 0; j < height; ++j) {
+      raw[j * row] = 0;
+      memcpy(raw + j * row + 1, rgb + j * 3 * width, 3 * width);
+    }
+    unsigned long a = 1, b = 0; /* Adler-32 of the raw rows */
+    for (size_t i = 0; i < raw_size; ++i) {
+      a = (a + raw[i]) % 65521ul;
+      b = (b + a) % 65521ul;
+    }
+    idat[0] = 0x78; /* zlib header: deflate, 32K window, no dictionary */
+    idat[1] = 0x01;
+    idat[2] = 1; /* final stored block */
+    idat[3] = (unsigned char)(raw_size & 0xFF);
+    idat[4] = (unsigned char)(raw_size >> 8);
+    idat[5] = (unsigned char)(~raw_size & 0xFF);
+    idat[6] = (unsigned char)((~raw_size >> 8) & 0xFF);
+    put_be32(raw + raw_size, (b << 16) | a);
+    write_chunk(f, "IDAT", idat, 2 + 5 + raw_size + 4);
+    free(idat);
+  }
+  write_chunk(f, "IEND", NULL, 0);
+  return fclose(f) == 0;
+}
+
+static int write_text_file(const char* path, const char* text) {
+  FILE* f = fopen(path, "wb");
+  if (f == NULL) return 0;
+  fputs(text, f);
+  return fclose(f) == 0;
+}
+
+/* par2d_load_normal_map checks a PNG's declared size against the renderer's frame before
+ * decoding a pixel: a 45-byte file declaring 16000x16000 is refused by name, sizes included.
+ * Before any frame is set, the size is capped from the header only. */
+static void check_normal_map_size_is_checked_first(par2d_renderer* r, const char* dir) {
+  char huge[512], small[512];
+  snprintf(huge, sizeof huge, "%s/huge.png", dir);
+  snprintf(small, sizeof small, "%s/small.png", dir);
+  CHECK(write_png_file(huge, 16000, 16000, NULL));
+  unsigned char rgb[W * H * 3];
+  memset(rgb, 128, sizeof rgb);
+  for (int k = 2; k < W * H * 3; k += 3) rgb[k] = 255; /* (0, 0, 1): facing the viewer */
+  CHECK(write_png_file(small, W, H, rgb));
+
+  char expected[1024];
+  snprintf(expected, sizeof expected,
+           "par2d_load_normal_map: %s: is 16000x16000 but the image is %dx%d (it must be exactly the image's size)",
+           huge, W, H);
+  CHECK_ERROR(par2d_load_normal_map(r, huge), PAR2D_INVALID_SCENE, expected);
+  CHECK(par2d_load_normal_map(r, small) == PAR2D_OK);
+  CHECK(par2d_clear_normal_source(r) == PAR2D_OK);
+
+  /* A renderer without a frame: no size to match, so only the header's cap applies. */
+  par2d_renderer* bare = NULL;
+  CHECK(par2d_renderer_create(NULL, &bare) == PAR2D_OK);
+  char beyond[512];
+  snprintf(beyond, sizeof beyond, "%s/beyond.png", dir);
+  CHECK(write_png_file(beyond, 20000, 16, NULL));
+  snprintf(expected, sizeof expected, "par2d_load_normal_map: %s: is 20000x16, larger than any image", beyond);
+  CHECK_ERROR(par2d_load_normal_map(bare, beyond), PAR2D_INVALID_SCENE, expected);
+  CHECK(par2d_load_normal_map(bare, small) == PAR2D_OK);
+  par2d_renderer_destroy(bare);
+  remove(huge);
+  remove(small);
+  remove(beyond);
+}
+
+/* A scene's normal_map must stay in the scene's folder unless the caller opts in with
+ * PAR2D_LOAD_ALLOW_ANY_PATH; par2d_load_scene keeps the default. */
+static void check_scene_path_policy(par2d_renderer* r, const char* dir) {
+  char inner[512], map[512], scene_up[512], scene_abs[512], scene_in[512], text[2048], expected[1024];
+  snprintf(inner, sizeof inner, "%s/inner", dir);
+  CHECK(mkdir(inner, 0700) == 0);
+  snprintf(map, sizeof map, "%s/map.png", dir);
+  unsigned char rgb[4 * 2 * 3];
+  memset(rgb, 128, sizeof rgb);
+  for (int k = 2; k < 4 * 2 * 3; k += 3) rgb[k] = 255;
+  CHECK(write_png_file(map, 4, 2, rgb));
+
+  /* inner/up.json names ../map.png; inner/abs.json names map.png by its absolute path;
+   * inner/in.json a missing map inside its folder (the policy passes, the file does not). */
+  snprintf(scene_up, sizeof scene_up, "%s/up.json", inner);
+  CHECK(write_text_file(scene_up, "{\"width\": 4, \"height\": 2, \"normal_map\": \"../map.png\"}"));
+  snprintf(scene_abs, sizeof scene_abs, "%s/abs.json", inner);
+  snprintf(text, sizeof text, "{\"width\": 4, \"height\": 2, \"normal_map\": \"%s\"}", map);
+  CHECK(write_text_file(scene_abs, text));
+  snprintf(scene_in, sizeof scene_in, "%s/in.json", inner);
+  CHECK(write_text_file(scene_in, "{\"width\": 4, \"height\": 2, \"normal_map\": \"missing.png\"}"));
+
+  snprintf(expected, sizeof expected, "par2d_load_scene: %s: normal_map: path leaves the scene's folder", scene_up);
+  CHECK_ERROR(par2d_load_scene(r, scene_up), PAR2D_INVALID_SCENE, expected);
+  snprintf(expected, sizeof expected, "par2d_load_scene_ex: %s: normal_map: path leaves the scene's folder", scene_up);
+  CHECK_ERROR(par2d_load_scene_ex(r, scene_up, 0), PAR2D_INVALID_SCENE, expected);
+  snprintf(expected, sizeof expected,
+           "par2d_load_scene_ex: %s: normal_map: path is absolute; it must be relative to the scene's folder", scene_abs);
+  CHECK_ERROR(par2d_load_scene_ex(r, scene_abs, 0), PAR2D_INVALID_SCENE, expected);
+  CHECK_ERROR_PREFIX(par2d_load_scene_ex(r, scene_in, 0), PAR2D_IO_ERROR, "par2d_load_scene_ex: ");
+
+  /* Refused scenes left the world as it was: still the W x H frame. */
+  float pixel[3];
+  const int corner[4] = {W - 1, H - 1, W, H};
+  CHECK(par2d_render(r, pixel, PAR2D_RGB_F32, sizeof pixel, 1.0, corner) == PAR2D_OK);
+
+  CHECK(par2d_load_scene_ex(r, scene_up, PAR2D_LOAD_ALLOW_ANY_PATH) == PAR2D_OK);
+  CHECK(par2d_load_scene_ex(r, scene_abs, PAR2D_LOAD_ALLOW_ANY_PATH) == PAR2D_OK);
+  CHECK(par2d_render(r, pixel, PAR2D_RGB_F32, sizeof pixel, 1.0, corner) == PAR2D_INVALID_ARGUMENT); /* now 4x2 */
+  CHECK_ERROR(par2d_load_scene_ex(r, scene_up, 2u), PAR2D_INVALID_ARGUMENT,
+              "par2d_load_scene_ex: flags 0x2 has bits other than PAR2D_LOAD_ALLOW_ANY_PATH");
+  CHECK_ERROR(par2d_load_scene_ex(r, NULL, 0), PAR2D_INVALID_ARGUMENT, "par2d_load_scene_ex: path is null");
+  CHECK_ERROR(par2d_load_scene_ex(NULL, scene_up, 0), PAR2D_INVALID_ARGUMENT, "par2d_load_scene_ex: renderer is null");
+
+  remove(scene_up);
+  remove(scene_abs);
+  remove(scene_in);
+  rmdir(inner);
+  remove(map);
+}
 
 /* Every error message names the C function that failed, and absurd counts are refused by
  * name before anything is allocated or read (not a C++ library's length_error or bad_alloc). */
@@ -355,6 +527,14 @@ int main(void) {
   }
 
   check_errors_name_the_call(r);
+
+  {
+    char dir[] = "/tmp/par2d_c_api_XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    check_normal_map_size_is_checked_first(r, dir);
+    check_scene_path_policy(r, dir);
+    CHECK(rmdir(dir) == 0);
+  }
 
   free(rgb);
   par2d_renderer_destroy(r);
