@@ -1,0 +1,108 @@
+// What the Python module's files share (internal to the module): par2d.Error, argument
+// conversion, scene conversion and the Scene class, and each file's binding function.
+//
+// Every argument arrives as a plain object and is converted by the functions below, so that a
+// wrong one raises par2d.Error naming it (`region: needs (x0, y0, x1, y1) integers, got (0.5,
+// 0, 4, 4)`), never pybind11's TypeError or cast error. Every failed par2d call raises
+// par2d.Error with the library's one-line message.
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "par2d/par2d.hpp"
+
+namespace par2d::python {
+
+namespace py = pybind11;
+
+using FloatArray = py::array_t<float, py::array::c_style>;
+
+// ---- Errors (arguments.cpp) -------------------------------------------------------------------
+
+// par2d.Error, created in PYBIND11_MODULE (par2d_module.cpp); every failed par2d call raises it.
+extern PyObject* g_error_type;
+
+// Raise par2d.Error(message) with `code` set to the status code's name ("invalid_scene", ...).
+[[noreturn]] void raise(const par2d::Status& status);
+[[noreturn]] void raise(par2d::StatusCode code, std::string message);
+void check(const par2d::Status& status);
+
+// ---- Arguments (arguments.cpp) ----------------------------------------------------------------
+// Each converter names the argument (`place`) in its error, one line, code invalid_argument.
+// Numbers and handles are anything integer-like (__index__) or real, NumPy scalars included.
+
+[[noreturn]] void bad_argument(const std::string& place, const std::string& what);
+std::string type_name(const py::handle& obj);
+std::string a_type(const py::handle& obj);   // "a set", "an ndarray"
+std::string describe(const py::handle& obj);  // a short repr, or a_type when that is long or odd
+std::string one_line(const py::error_already_set& e);
+std::optional<long long> as_integer(const py::handle& obj);
+std::optional<double> as_number(const py::handle& obj);
+
+int to_int(const py::handle& obj, const char* place);
+double to_double(const py::handle& obj, const char* place);
+bool to_bool(const py::handle& obj, const char* place);
+std::string to_text(const py::handle& obj, const char* place);
+std::optional<std::string> to_optional_text(const py::handle& obj, const char* place);
+std::string to_path(const py::handle& obj, const char* place);  // str or os.PathLike
+std::array<double, 3> to_three(const py::handle& obj, const char* place, const char* form);
+// (x0, y0, x1, y1) pixels, unchecked against the frame (that needs the world, under its lock).
+std::optional<std::array<long long, 4>> to_region(const py::handle& obj);
+std::optional<par2d::View> to_view(const py::handle& obj);
+std::uint64_t handle_id(const py::handle& handle, const char* kind);  // kind: "light", "occluder"
+
+par2d::RenderOptions make_options(const py::object& backend, const py::object& threads, const py::object& spp,
+                                  int rays, const py::object& isa, const py::object& culling);
+
+// ---- Scenes (scene.cpp) -----------------------------------------------------------------------
+
+// JSON text of a dict or list (`root`: its place in messages), every value checked first so
+// that a NaN or anything JSON cannot hold is reported at its path under `name`.
+std::string json_text(const py::handle& obj, const std::string& name, const std::string& root);
+
+// A validated scene. Immutable from Python: edit its dict and build a new one, so a Scene
+// object is always one that renders.
+class PyScene {
+ public:
+  explicit PyScene(par2d::Scene scene) : scene_(std::move(scene)) {}
+
+  static PyScene from_json_text(const std::string& text, const std::string& name);
+  static PyScene from_json(const py::object& text, const py::object& name);
+  static PyScene from_dict_named(const py::object& dict, const std::string& name);
+  static PyScene from_dict(const py::object& dict, const py::object& name);
+  static PyScene load(const py::object& path);
+
+  const par2d::Scene& scene() const { return scene_; }
+  std::string to_json() const;
+  py::object to_dict() const;
+  void save(const py::object& path) const;
+
+ private:
+  par2d::Scene scene_;
+};
+
+// The `scene` argument: a Scene, or a dict checked by the loader under the name "<dict>".
+const PyScene& as_scene(const py::object& scene, std::optional<PyScene>& holder);
+
+// A normal map from an (H, W, 3) array of numbers (converted to float32) or a PNG path.
+par2d::NormalMap to_normal_map(const py::object& source);
+
+// One light or occluder from a dict shaped like an entry of the scene file's lists, checked by
+// the scene loader; `name` prefixes its messages.
+par2d::Light parse_light(const py::object& dict, const std::string& name);
+par2d::Occluder parse_occluder(const py::object& dict, const std::string& name);
+
+// ---- Bindings: each file defines its classes and functions on the module ---------------------
+
+void bind_scene(py::module_& m);     // scene.cpp: par2d.Scene, par2d.load_scene
+void bind_renderer(py::module_& m);  // renderer.cpp: par2d.Renderer
+
+}  // namespace par2d::python

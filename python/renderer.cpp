@@ -1,0 +1,381 @@
+// Python module: par2d.Renderer, par2d::Renderer behind a lock so that a Python object may be
+// shared between threads; a persistent world changed through integer handles, rendered into
+// float32 or sRGB uint8 arrays.
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <array>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "bindings.hpp"
+
+namespace par2d::python {
+namespace {
+
+// par2d::Renderer for Python: a persistent world changed through integer handles.
+//
+// The C++ class is one-thread-at-a-time, so every entry point below first converts its
+// arguments (which may run Python code: __index__, __float__, __fspath__), then takes the
+// world's lock, and only then reads or changes any state: a frame is rendered at the size
+// and view of the moment it holds the lock, never a size read before. Errors are raised
+// after the lock is let go. The lock is taken with the GIL released when it is busy, and
+// the GIL is taken again while holding it (never the other order), so a render that holds
+// the lock with the GIL released does not stall other Python threads, and nothing deadlocks.
+class PyRenderer {
+ public:
+  PyRenderer(const py::object& scene, const py::object& backend, const py::object& threads, const py::object& isa,
+             const py::object& spp, const py::object& culling) {
+    set_options(backend, threads, isa, spp, culling);
+    if (!scene.is_none()) set_scene(scene);
+  }
+
+  void set_options(const py::object& backend, const py::object& threads, const py::object& isa, const py::object& spp,
+                   const py::object& culling) {
+    const par2d::RenderOptions options = make_options(backend, threads, spp, 1024, isa, culling);
+    par2d::Status status;
+    {
+      WorldLock lock(mutex_);
+      status = renderer_.set_options(options);
+    }
+    check(status);
+  }
+
+  py::tuple set_scene(const py::object& scene_or_dict) {
+    std::optional<PyScene> holder;
+    const PyScene& scene = as_scene(scene_or_dict, holder);
+    std::vector<par2d::LightHandle> lights;
+    std::vector<par2d::OccluderHandle> occluders;
+    std::vector<std::uint64_t> light_ids, occluder_ids;
+    par2d::Status status;
+    {
+      WorldLock lock(mutex_);
+      status = renderer_.set_scene(scene.scene(), &lights, &occluders);
+      if (status.ok()) {
+        lights_.clear();
+        occluders_.clear();
+        for (const auto& h : lights) lights_.push_back(h.id);
+        for (const auto& h : occluders) occluders_.push_back(h.id);
+        light_ids = lights_;
+        occluder_ids = occluders_;
+      }
+    }
+    check(status);
+    return py::make_tuple(light_ids, occluder_ids);
+  }
+
+  void set_frame(const py::object& width_arg, const py::object& height_arg, const py::object& view_arg) {
+    const int width = to_int(width_arg, "width"), height = to_int(height_arg, "height");
+    const std::optional<par2d::View> view = to_view(view_arg);
+    par2d::Status status;
+    {
+      WorldLock lock(mutex_);
+      status = view ? renderer_.set_frame(width, height, *view) : renderer_.set_frame(width, height);
+    }
+    check(status);
+  }
+
+  std::uint64_t add_light(const py::object& dict) {
+    const par2d::Light light = parse_light(dict, "add_light");
+    par2d::LightHandle handle;
+    par2d::Status status;
+    {
+      WorldLock lock(mutex_);
+      status = renderer_.add_light(light, &handle);
+      if (status.ok()) lights_.push_back(handle.id);
+    }
+    check(status);
+    return handle.id;
+  }
+  void update_light(const py::object& handle, const py::object& dict) {
+    const std::uint64_t id = handle_id(handle, "light");
+    const par2d::Light light = parse_light(dict, "light " + std::to_string(id));
+    locked_check([&] { return renderer_.update_light(par2d::LightHandle{id}, light); });
+  }
+  void set_light_emission(const py::object& handle, const py::object& color_arg, const py::object& intensity_arg) {
+    const std::uint64_t id = handle_id(handle, "light");
+    const std::array<double, 3> color = to_three(color_arg, "color", "(r, g, b)");
+    const double intensity = to_double(intensity_arg, "intensity");
+    locked_check([&] {
+      return renderer_.set_light_emission(par2d::LightHandle{id}, par2d::Rgb{color[0], color[1], color[2]}, intensity);
+    });
+  }
+  void remove_light(const py::object& handle) {
+    const std::uint64_t id = handle_id(handle, "light");
+    locked_check([&] {
+      par2d::Status status = renderer_.remove_light(par2d::LightHandle{id});
+      if (status.ok()) lights_.erase(std::remove(lights_.begin(), lights_.end(), id), lights_.end());
+      return status;
+    });
+  }
+
+  std::uint64_t add_occluder(const py::object& dict) {
+    const par2d::Occluder occluder = parse_occluder(dict, "add_occluder");
+    par2d::OccluderHandle handle;
+    locked_check([&] {
+      par2d::Status status = renderer_.add_occluder(occluder, &handle);
+      if (status.ok()) occluders_.push_back(handle.id);
+      return status;
+    });
+    return handle.id;
+  }
+  void update_occluder(const py::object& handle, const py::object& dict) {
+    const std::uint64_t id = handle_id(handle, "occluder");
+    const par2d::Occluder occluder = parse_occluder(dict, "occluder " + std::to_string(id));
+    locked_check([&] { return renderer_.update_occluder(par2d::OccluderHandle{id}, occluder); });
+  }
+  void remove_occluder(const py::object& handle) {
+    const std::uint64_t id = handle_id(handle, "occluder");
+    locked_check([&] {
+      par2d::Status status = renderer_.remove_occluder(par2d::OccluderHandle{id});
+      if (status.ok()) occluders_.erase(std::remove(occluders_.begin(), occluders_.end(), id), occluders_.end());
+      return status;
+    });
+  }
+
+  // Float RGB frame (or region) into `out` or a new (h, w, 3) float32 array.
+  py::array render(const py::object& out, const py::object& region) {
+    return render_format(par2d::PixelFormat::rgb_f32, 1.0, out, region);
+  }
+  py::array render_rgba8(const py::object& exposure, const py::object& out, const py::object& region) {
+    return render_format(par2d::PixelFormat::rgba8_srgb, to_double(exposure, "exposure"), out, region);
+  }
+
+  py::dict stats() const {
+    par2d::RendererStats s;
+    {
+      WorldLock lock(mutex_);
+      s = renderer_.stats();
+    }
+    py::dict d;
+    d["frames"] = s.frames;
+    d["index_builds"] = s.index_builds;
+    d["index_updates"] = s.index_updates;
+    d["reach_computations"] = s.reach_computations;
+    d["full_prepares"] = s.full_prepares;
+    return d;
+  }
+
+  // The scene-wide lighting-model terms (docs/contract.md section 6).
+  void set_ambient(const py::object& rgb_arg) {
+    const std::array<double, 3> rgb = to_three(rgb_arg, "rgb", "(r, g, b)");
+    locked_check([&] { return renderer_.set_ambient({rgb[0], rgb[1], rgb[2]}); });
+  }
+  // A list of dicts shaped like the scene file's "directional_lights", checked by its loader.
+  void set_directional_lights(const py::object& list) {
+    const std::string name = "set_directional_lights";
+    const std::string text =
+        "{\"width\": 1, \"height\": 1, \"directional_lights\": " + json_text(list, name, "directional_lights") + "}";
+    par2d::Scene scene;
+    check(par2d::parse_scene(text, name, scene));
+    locked_check([&] { return renderer_.set_directional_lights(scene.directional_lights); });
+  }
+  void set_normal(const py::object& normal) {
+    const std::array<double, 3> n = to_three(normal, "normal", "(nx, ny, nz)");
+    locked_check([&] { return renderer_.set_normal({n[0], n[1], n[2]}); });
+  }
+  void set_normal_map(const py::object& source) {
+    const par2d::NormalMap map = to_normal_map(source);
+    locked_check([&] { return renderer_.set_normal_map(map); });
+  }
+  void clear_normal_source() {
+    locked_check([&] { return renderer_.clear_normal_source(); });
+  }
+
+  PyScene snapshot() const {
+    WorldLock lock(mutex_);
+    return PyScene(renderer_.snapshot());
+  }
+
+  // The frame and the handles as one consistent reading.
+  struct Summary {
+    int width = 0, height = 0, threads = 0;
+    par2d::View view{};
+    std::size_t light_count = 0, occluder_count = 0;
+  };
+  Summary summary() const {
+    WorldLock lock(mutex_);
+    return Summary{renderer_.width(),      renderer_.height(),      renderer_.threads(), renderer_.view(),
+                   renderer_.light_count(), renderer_.occluder_count()};
+  }
+  std::vector<std::uint64_t> lights() const {
+    WorldLock lock(mutex_);
+    return lights_;
+  }
+  std::vector<std::uint64_t> occluders() const {
+    WorldLock lock(mutex_);
+    return occluders_;
+  }
+
+ private:
+  // Holds the world's mutex; waits for it with the GIL released.
+  class WorldLock {
+   public:
+    explicit WorldLock(std::mutex& mutex) : mutex_(mutex) {
+      if (!mutex_.try_lock()) {
+        py::gil_scoped_release release;
+        mutex_.lock();
+      }
+    }
+    ~WorldLock() { mutex_.unlock(); }
+    WorldLock(const WorldLock&) = delete;
+    WorldLock& operator=(const WorldLock&) = delete;
+
+   private:
+    std::mutex& mutex_;
+  };
+
+  // Runs fn (which returns a Status) under the lock; raises its error after letting go.
+  template <class Fn>
+  void locked_check(Fn&& fn) {
+    par2d::Status status;
+    {
+      WorldLock lock(mutex_);
+      status = fn();
+    }
+    check(status);
+  }
+
+  py::array render_format(par2d::PixelFormat format, double exposure, const py::object& out_arg,
+                          const py::object& region_arg) {
+    const std::optional<std::array<long long, 4>> region = to_region(region_arg);
+    const bool out_given = !out_arg.is_none();
+    const bool bytes = format == par2d::PixelFormat::rgba8_srgb;
+    const py::ssize_t channels = bytes ? 4 : 3, item = bytes ? 1 : static_cast<py::ssize_t>(sizeof(float));
+    py::array image;
+    par2d::Status status;
+    {
+      WorldLock lock(mutex_);
+      const int width = renderer_.width(), height = renderer_.height();
+      par2d::PixelRect rect{0, 0, width, height};
+      if (region) {
+        const auto& r = *region;
+        if (r[0] < 0 || r[1] < 0 || r[2] > width || r[3] > height || r[0] >= r[2] || r[1] >= r[3]) {
+          status = par2d::Status(par2d::StatusCode::invalid_argument,
+                                 "region: (" + std::to_string(r[0]) + ", " + std::to_string(r[1]) + ", " +
+                                     std::to_string(r[2]) + ", " + std::to_string(r[3]) +
+                                     ") is not a non-empty rectangle inside the " + std::to_string(width) + "x" +
+                                     std::to_string(height) + " frame");
+        } else {
+          rect = {static_cast<int>(r[0]), static_cast<int>(r[1]), static_cast<int>(r[2]), static_cast<int>(r[3])};
+        }
+      }
+      const py::ssize_t w = rect.x1 - rect.x0, h = rect.y1 - rect.y0;
+      if (status.ok() && out_given) {
+        bool fits = py::isinstance<py::array>(out_arg);
+        if (fits) {
+          image = py::reinterpret_borrow<py::array>(out_arg);
+          const bool dtype_ok =
+              bytes ? py::isinstance<py::array_t<std::uint8_t>>(image) : py::isinstance<py::array_t<float>>(image);
+          fits = dtype_ok && image.ndim() == 3 && image.shape(0) == h && image.shape(1) == w &&
+                 image.shape(2) == channels && image.strides(2) == item && image.strides(1) == channels * item &&
+                 image.strides(0) >= w * channels * item && image.writeable();
+        }
+        if (!fits)
+          status = par2d::Status(par2d::StatusCode::invalid_argument,
+                                 std::string("out: needs a writable ") + (bytes ? "uint8" : "float32") +
+                                     " array of shape (" + std::to_string(h) + ", " + std::to_string(w) + ", " +
+                                     std::to_string(channels) + ") with packed pixels (rows may be padded)");
+      } else if (status.ok()) {
+        try {
+          if (bytes) image = py::array_t<std::uint8_t, py::array::c_style>({h, w, channels});
+          else image = FloatArray({h, w, channels});
+        } catch (py::error_already_set&) {
+          PyErr_Clear();
+          status = par2d::Status(par2d::StatusCode::out_of_memory,
+                                 "out: no memory for a (" + std::to_string(h) + ", " + std::to_string(w) + ", " +
+                                     std::to_string(channels) + ") array");
+        }
+      }
+      if (status.ok()) {
+        par2d::FrameBuffer buffer;
+        buffer.data = image.mutable_data();
+        buffer.format = format;
+        buffer.row_stride = static_cast<std::ptrdiff_t>(image.strides(0));
+        buffer.exposure = exposure;
+        py::gil_scoped_release release;
+        status = region ? renderer_.render(buffer, rect) : renderer_.render(buffer);
+      }
+    }
+    check(status);
+    return image;
+  }
+
+  mutable std::mutex mutex_;
+  par2d::Renderer renderer_;
+  std::vector<std::uint64_t> lights_, occluders_;
+};
+
+}  // namespace
+
+void bind_renderer(py::module_& m) {
+  py::class_<PyRenderer>(m, "Renderer",
+                         "A persistent world of lights and occluders, changed through integer handles and\n"
+                         "rendered frame after frame (par2d::Renderer, docs/api.md). Moving or recoloring a light\n"
+                         "never rebuilds the occluder index. Lights and occluders are dicts shaped like one entry\n"
+                         "of the scene file's lists. A refused update raises par2d.Error and changes nothing.")
+      .def(py::init<const py::object&, const py::object&, const py::object&, const py::object&, const py::object&,
+                    const py::object&>(),
+           py::arg("scene") = py::none(), py::kw_only(), py::arg("backend") = "auto", py::arg("threads") = 0,
+           py::arg("isa") = py::none(), py::arg("spp") = 1, py::arg("culling") = true,
+           "A renderer holding `scene` (a Scene or a dict), or an empty world (then call set_frame).\n"
+           "backend: auto|simd|scalar (raycast is refused); threads: 0 = all.")
+      .def("set_options", &PyRenderer::set_options, py::kw_only(), py::arg("backend") = "auto", py::arg("threads") = 0,
+           py::arg("isa") = py::none(), py::arg("spp") = 1, py::arg("culling") = true,
+           "Backend, threads, isa cap, samples per pixel and culling for the next frames.")
+      .def("set_scene", &PyRenderer::set_scene, py::arg("scene"),
+           "Replaces the whole world (frame included); returns (light handles, occluder handles) in the scene's order.")
+      .def("set_frame", &PyRenderer::set_frame, py::arg("width"), py::arg("height"), py::arg("view") = py::none(),
+           "Lightmap size and the world rectangle (x0, y0, x1, y1) it shows (default (0, 0, width, height)).")
+      .def("add_light", &PyRenderer::add_light, py::arg("light"), "Adds a light (dict); returns its handle.")
+      .def("update_light", &PyRenderer::update_light, py::arg("handle"), py::arg("light"),
+           "Replaces the light's shape, color and intensity.")
+      .def("set_light_emission", &PyRenderer::set_light_emission, py::arg("handle"), py::arg("color"),
+           py::arg("intensity"), "Changes only the color and intensity.")
+      .def("remove_light", &PyRenderer::remove_light, py::arg("handle"))
+      .def("add_occluder", &PyRenderer::add_occluder, py::arg("occluder"), "Adds an occluder (dict); returns its handle.")
+      .def("update_occluder", &PyRenderer::update_occluder, py::arg("handle"), py::arg("occluder"))
+      .def("remove_occluder", &PyRenderer::remove_occluder, py::arg("handle"))
+      .def("render", &PyRenderer::render, py::kw_only(), py::arg("out") = py::none(), py::arg("region") = py::none(),
+           "Linear irradiance as float32 (height, width, 3), or of region (x0, y0, x1, y1) only: then shape\n"
+           "(y1 - y0, x1 - x0, 3), bit-identical to those pixels of the whole frame. out: an existing array\n"
+           "to fill. The GIL is released while rendering.")
+      .def("render_rgba8", &PyRenderer::render_rgba8, py::arg("exposure") = 1.0, py::kw_only(),
+           py::arg("out") = py::none(), py::arg("region") = py::none(),
+           "The frame as uint8 (height, width, 4): round(255 * srgb(clamp(exposure * E, 0, 1))), alpha 255 -\n"
+           "the bytes write_png stores, written by the tiles directly.")
+      .def("set_ambient", &PyRenderer::set_ambient, py::arg("rgb"), "Ambient (r, g, b), each >= 0, added to every pixel.")
+      .def("set_directional_lights", &PyRenderer::set_directional_lights, py::arg("lights"),
+           "Replaces the directional lights: a list of dicts like the scene file's directional_lights.")
+      .def("set_normal", &PyRenderer::set_normal, py::arg("normal"),
+           "One normal (nx, ny, nz) for every pixel, world axes; replaces a normal map.")
+      .def("set_normal_map", &PyRenderer::set_normal_map, py::arg("normal_map"),
+           "A PNG path or an array (height, width, 3) of normals in image axes (y up), exactly the frame's size.")
+      .def("clear_normal_source", &PyRenderer::clear_normal_source, "No normal source: plain irradiance.")
+      .def("snapshot", &PyRenderer::snapshot, "The world as a Scene; par2d.render of it gives the same image.")
+      .def_property_readonly("stats", &PyRenderer::stats,
+                             "dict: frames, index_builds, index_updates, reach_computations, full_prepares.")
+      .def_property_readonly("lights", &PyRenderer::lights, "Handles of the lights, in the order they were added.")
+      .def_property_readonly("occluders", &PyRenderer::occluders, "Handles of the occluders, in the order they were added.")
+      .def_property_readonly("width", [](const PyRenderer& r) { return r.summary().width; })
+      .def_property_readonly("height", [](const PyRenderer& r) { return r.summary().height; })
+      .def_property_readonly("shape", [](const PyRenderer& r) {
+        const PyRenderer::Summary s = r.summary();
+        return py::make_tuple(s.height, s.width, 3);
+      })
+      .def_property_readonly("view", [](const PyRenderer& r) {
+        const par2d::View v = r.summary().view;
+        return py::make_tuple(v.x0, v.y0, v.x1, v.y1);
+      })
+      .def_property_readonly("threads", [](const PyRenderer& r) { return r.summary().threads; })
+      .def("__repr__", [](const PyRenderer& r) {
+        const PyRenderer::Summary s = r.summary();
+        return "<par2d.Renderer " + std::to_string(s.width) + "x" + std::to_string(s.height) + ", " +
+               std::to_string(s.light_count) + " lights, " + std::to_string(s.occluder_count) + " occluders>";
+      });
+}
+
+}  // namespace par2d::python

@@ -1,0 +1,272 @@
+// Python module: scenes. Dicts cross into C++ as JSON text, so a dict is checked by the same
+// loader as a file and its errors read the same (`<dict>: lights[2].polygon: not convex at
+// vertex 3`, docs/contract.md section 3); par2d.Scene wraps a validated par2d::Scene; normal
+// maps, lights and occluders given to a Renderer are converted here too.
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "bindings.hpp"
+
+namespace par2d::python {
+
+// ---- Dicts as JSON ------------------------------------------------------------------------
+// Dicts cross into C++ as JSON text for the scene loader. JSON has no NaN or infinity, and
+// json.dumps would write them as bare tokens that the loader can only place by column; so
+// the dict is walked first and such a value is reported at its path, in the loader's words
+// (`lights[0].intensity: not a finite number (nan)`), as is anything JSON cannot hold.
+
+namespace {
+
+constexpr int kMaxJsonDepth = 64;  // the loader's limit too
+
+bool is_identifier(const std::string& key) {
+  if (key.empty()) return false;
+  for (char ch : key)
+    if (!((ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') || ch == '_')) return false;
+  return true;
+}
+
+std::string member_place(const std::string& parent, const py::handle& key) {
+  const std::string text = to_text(key, "key");
+  if (is_identifier(text)) return parent.empty() ? text : parent + "." + text;
+  return parent + "[" + py::module_::import("json").attr("dumps")(key).cast<std::string>() + "]";
+}
+
+std::string format_number(double value) {
+  if (std::isnan(value)) return "nan";
+  return value > 0 ? "inf" : "-inf";
+}
+
+struct JsonProblem {
+  std::string place, what;
+};
+
+std::optional<JsonProblem> find_json_problem(const py::handle& obj, const std::string& place, int depth) {
+  if (depth > kMaxJsonDepth) return JsonProblem{place, "nested too deeply (more than 64 levels)"};
+  PyObject* p = obj.ptr();
+  if (p == Py_None || PyBool_Check(p) || PyUnicode_Check(p) || PyLong_Check(p)) return std::nullopt;
+  if (PyFloat_Check(p)) {
+    const double v = PyFloat_AS_DOUBLE(p);
+    if (!std::isfinite(v)) return JsonProblem{place, "not a finite number (" + format_number(v) + ")"};
+    return std::nullopt;
+  }
+  if (PyDict_Check(p)) {
+    for (auto item : py::reinterpret_borrow<py::dict>(obj)) {
+      if (!PyUnicode_Check(item.first.ptr()))
+        return JsonProblem{place, "a key must be a string, not " + type_name(item.first)};
+      if (auto problem = find_json_problem(item.second, member_place(place, item.first), depth + 1)) return problem;
+    }
+    return std::nullopt;
+  }
+  if (PyList_Check(p) || PyTuple_Check(p)) {
+    const py::sequence seq = py::reinterpret_borrow<py::sequence>(obj);
+    for (std::size_t i = 0; i < seq.size(); ++i)
+      if (auto problem = find_json_problem(seq[i], place + "[" + std::to_string(i) + "]", depth + 1)) return problem;
+    return std::nullopt;
+  }
+  // NumPy scalars and other numbers: written as what they are (see json_default).
+  if (PyIndex_Check(p)) return std::nullopt;
+  if (const std::optional<double> v = as_number(obj)) {
+    if (!std::isfinite(*v)) return JsonProblem{place, "not a finite number (" + format_number(*v) + ")"};
+    return std::nullopt;
+  }
+  return JsonProblem{place, a_type(obj) + " is not a JSON value"};
+}
+
+}  // namespace
+
+// JSON text of a dict or list (already walked): numbers that are not int or float are
+// written as the int or float they stand for.
+std::string json_text(const py::handle& obj, const std::string& name, const std::string& root) {
+  if (auto problem = find_json_problem(obj, root, 0))
+    raise(par2d::StatusCode::invalid_scene,
+          name + ": " + (problem->place.empty() ? "" : problem->place + ": ") + problem->what);
+  const py::cpp_function json_default([](const py::handle& o) -> py::object {
+    if (PyIndex_Check(o.ptr())) return py::reinterpret_steal<py::object>(PyNumber_Index(o.ptr()));
+    return py::float_(PyFloat_AsDouble(o.ptr()));
+  });
+  try {
+    return py::module_::import("json").attr("dumps")(obj, py::arg("default") = json_default).cast<std::string>();
+  } catch (py::error_already_set& e) {
+    raise(par2d::StatusCode::invalid_scene, name + ": " + one_line(e));
+  }
+}
+
+// ---- Scenes ---------------------------------------------------------------------------------
+
+PyScene PyScene::from_json_text(const std::string& text, const std::string& name) {
+  par2d::Scene scene;
+  check(par2d::parse_scene(text, name, scene));
+  return PyScene(std::move(scene));
+}
+
+PyScene PyScene::from_json(const py::object& text, const py::object& name) {
+  const std::string n = to_text(name, "name");
+  return from_json_text(to_text(text, "text"), n);
+}
+
+PyScene PyScene::from_dict_named(const py::object& dict, const std::string& name) {
+  if (!py::isinstance<py::dict>(dict))
+    raise(par2d::StatusCode::invalid_scene, name + ": a scene must be a dict, not " + type_name(dict));
+  return from_json_text(json_text(dict, name, ""), name);
+}
+
+PyScene PyScene::from_dict(const py::object& dict, const py::object& name) {
+  return from_dict_named(dict, to_text(name, "name"));
+}
+
+PyScene PyScene::load(const py::object& path) {
+  par2d::Scene scene;
+  check(par2d::load_scene_file(to_path(path, "path"), scene));
+  return PyScene(std::move(scene));
+}
+
+std::string PyScene::to_json() const { return par2d::scene_to_json(scene_); }
+py::object PyScene::to_dict() const { return py::module_::import("json").attr("loads")(to_json()); }
+void PyScene::save(const py::object& path) const { check(par2d::save_scene_file(to_path(path, "path"), scene_)); }
+
+// The `scene` argument: a Scene, or a dict checked by the loader under the name "<dict>".
+const PyScene& as_scene(const py::object& scene, std::optional<PyScene>& holder) {
+  if (py::isinstance<PyScene>(scene)) return scene.cast<const PyScene&>();
+  if (!py::isinstance<py::dict>(scene)) bad_argument("scene", "must be a par2d.Scene or a dict, not " + type_name(scene));
+  holder = PyScene::from_dict_named(scene, "<dict>");
+  return *holder;
+}
+
+namespace {
+
+py::tuple rgb_tuple(const par2d::Rgb& c) { return py::make_tuple(c[0], c[1], c[2]); }
+
+py::list directional_dicts(const std::vector<par2d::DirectionalLight>& lights) {
+  py::list out;
+  for (const par2d::DirectionalLight& d : lights) {
+    py::dict e;
+    e["angles"] = py::make_tuple(d.angle0, d.angle1);
+    e["color"] = rgb_tuple(d.color);
+    e["intensity"] = d.intensity;
+    e["mask"] = d.mask;
+    e["elevation"] = d.elevation;
+    out.append(e);
+  }
+  return out;
+}
+
+py::object normal_tuple(const std::optional<par2d::Vec3>& n) {
+  if (!n) return py::none();
+  return py::make_tuple(n->x, n->y, n->z);
+}
+
+// A normal map as a new (height, width, 3) float32 array in image axes (y up), or None.
+py::object normal_map_array(const std::optional<par2d::NormalMap>& map) {
+  if (!map) return py::none();
+  FloatArray a({static_cast<py::ssize_t>(map->height), static_cast<py::ssize_t>(map->width), py::ssize_t{3}});
+  std::copy(map->normals.begin(), map->normals.end(), a.mutable_data());
+  return std::move(a);
+}
+
+// One light or occluder from a dict shaped like an entry of the scene file's "lights" or
+// "occluders" list: parsed by the scene loader inside a one-entry scene, so it is checked by
+// the same rules, and the loader's "lights[0]." prefix is dropped from its messages.
+template <typename T>
+T parse_entry(const py::object& dict, const char* list, const std::string& name) {
+  if (!py::isinstance<py::dict>(dict))
+    raise(par2d::StatusCode::invalid_scene, name + ": must be a dict, not " + type_name(dict));
+  const std::string text = std::string("{\"width\": 1, \"height\": 1, \"") + list + "\": [" + json_text(dict, name, "") + "]}";
+  par2d::Scene scene;
+  const par2d::Status status = par2d::parse_scene(text, name, scene);
+  if (!status.ok()) {
+    std::string message = status.message();
+    const std::string prefix = name + ": " + list + "[0]";
+    if (message.compare(0, prefix.size(), prefix) == 0) {
+      std::size_t rest = prefix.size();
+      if (rest < message.size() && message[rest] == '.') ++rest;
+      message = name + ": " + message.substr(rest);
+    }
+    raise(par2d::Status(status.code(), message));
+  }
+  if constexpr (std::is_same_v<T, par2d::Light>)
+    return scene.lights.at(0);
+  else
+    return scene.occluders.at(0);
+}
+
+}  // namespace
+
+// A normal map from an (H, W, 3) array of numbers (converted to float32) or a PNG path.
+par2d::NormalMap to_normal_map(const py::object& source) {
+  par2d::NormalMap map;
+  if (PyUnicode_Check(source.ptr()) || PyObject_HasAttrString(source.ptr(), "__fspath__")) {
+    check(par2d::load_normal_map_png(to_path(source, "normal_map"), map));
+    return map;
+  }
+  const auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(source);
+  if (!a || a.ndim() != 3 || a.shape(2) != 3)
+    bad_argument("normal_map", "needs a PNG path or an array of shape (height, width, 3), got " + describe(source));
+  map.height = static_cast<int>(a.shape(0));
+  map.width = static_cast<int>(a.shape(1));
+  map.normals.assign(a.data(), a.data() + a.size());
+  return map;
+}
+
+par2d::Light parse_light(const py::object& dict, const std::string& name) {
+  return parse_entry<par2d::Light>(dict, "lights", name);
+}
+
+par2d::Occluder parse_occluder(const py::object& dict, const std::string& name) {
+  return parse_entry<par2d::Occluder>(dict, "occluders", name);
+}
+
+void bind_scene(py::module_& m) {
+  py::class_<PyScene>(m, "Scene",
+                      "A validated scene (docs/contract.md section 3). Build one with Scene.from_dict, "
+                      "Scene.from_json or Scene.load; edit a copy of to_dict() and build again to change it.")
+      .def_static("from_dict", &PyScene::from_dict, py::arg("scene"), py::arg("name") = "<dict>",
+                  "Scene from a dict shaped like the JSON file; `name` prefixes error messages. A relative\n"
+                  "normal_map path is read relative to the directory part of `name` (none: the current one).")
+      .def_static("from_json", &PyScene::from_json, py::arg("text"), py::arg("name") = "<json>",
+                  "Scene from JSON text; `name` prefixes error messages.")
+      .def_static("load", &PyScene::load, py::arg("path"), "Scene from a JSON file (path: str or os.PathLike).")
+      .def("to_dict", &PyScene::to_dict, "The scene as a new dict (color and intensity always written; the lighting-model terms only where they differ from their defaults).")
+      .def("to_json", &PyScene::to_json, "The scene as JSON text that from_json reads back exactly.")
+      .def("save", &PyScene::save, py::arg("path"), "Writes the scene as JSON (path: str or os.PathLike), atomically.")
+      .def_property_readonly("width", [](const PyScene& s) { return s.scene().width; })
+      .def_property_readonly("height", [](const PyScene& s) { return s.scene().height; })
+      .def_property_readonly("shape", [](const PyScene& s) { return py::make_tuple(s.scene().height, s.scene().width, 3); },
+                             "(height, width, 3): the shape of its rendered array.")
+      .def_property_readonly("view", [](const PyScene& s) {
+        const par2d::View& v = s.scene().view;
+        return py::make_tuple(v.x0, v.y0, v.x1, v.y1);
+      })
+      .def_property_readonly("ambient", [](const PyScene& s) { return rgb_tuple(s.scene().ambient); },
+                             "(r, g, b) added to every pixel.")
+      .def_property_readonly("directional_lights", [](const PyScene& s) { return directional_dicts(s.scene().directional_lights); },
+                             "List of dicts: angles, color, intensity, mask, elevation.")
+      .def_property_readonly("normal", [](const PyScene& s) { return normal_tuple(s.scene().normal); },
+                             "(nx, ny, nz) for every pixel, or None.")
+      .def_property_readonly("normal_map", [](const PyScene& s) { return normal_map_array(s.scene().normal_map); },
+                             "The normal map as a new float32 array (height, width, 3) in image axes (y up), or None.")
+      .def_property_readonly("normal_map_path",
+                             [](const PyScene& s) -> py::object {
+                               if (!s.scene().normal_map) return py::none();
+                               return py::str(s.scene().normal_map->path);
+                             },
+                             "The normal map's path as written in the scene, or None.")
+      .def_property_readonly("light_count", [](const PyScene& s) { return s.scene().lights.size(); })
+      .def_property_readonly("occluder_count", [](const PyScene& s) { return s.scene().occluders.size(); })
+      .def("__repr__", [](const PyScene& s) {
+        return "<par2d.Scene " + std::to_string(s.scene().width) + "x" + std::to_string(s.scene().height) + ", " +
+               std::to_string(s.scene().lights.size()) + " lights, " + std::to_string(s.scene().occluders.size()) +
+               " occluders>";
+      });
+
+  m.def("load_scene", &PyScene::load, py::arg("path"), "Scene from a JSON file (same as Scene.load).");
+}
+
+}  // namespace par2d::python
