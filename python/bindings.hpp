@@ -74,11 +74,13 @@ class PyScene {
  public:
   explicit PyScene(par2d::Scene scene) : scene_(std::move(scene)) {}
 
-  static PyScene from_json_text(const std::string& text, const std::string& name);
-  static PyScene from_json(const py::object& text, const py::object& name);
-  static PyScene from_dict_named(const py::object& dict, const std::string& name);
-  static PyScene from_dict(const py::object& dict, const py::object& name);
-  static PyScene load(const py::object& path);
+  // `allow_any_path` (a bool): LoadOptions::allow_any_path; by default a scene's normal_map
+  // must be relative and stay inside the scene's folder (docs/contract.md section 6).
+  static PyScene from_json_text(const std::string& text, const std::string& name, const par2d::LoadOptions& options);
+  static PyScene from_json(const py::object& text, const py::object& name, const py::object& allow_any_path);
+  static PyScene from_dict_named(const py::object& dict, const std::string& name, const par2d::LoadOptions& options);
+  static PyScene from_dict(const py::object& dict, const py::object& name, const py::object& allow_any_path);
+  static PyScene load(const py::object& path, const py::object& allow_any_path);
 
   const par2d::Scene& scene() const { return scene_; }
   std::string to_json() const;
@@ -89,11 +91,22 @@ class PyScene {
   par2d::Scene scene_;
 };
 
-// The `scene` argument: a Scene, or a dict checked by the loader under the name "<dict>".
+// The `scene` argument: a Scene, or a dict checked by the loader under the name "<dict>"
+// (default LoadOptions: its normal_map confined to the current directory).
 const PyScene& as_scene(const py::object& scene, std::optional<PyScene>& holder);
 
-// A normal map from an (H, W, 3) array of numbers (converted to float32) or a PNG path.
-par2d::NormalMap to_normal_map(const py::object& source);
+// The `normal_map` argument: a PNG path (str or os.PathLike), to be loaded once the frame's
+// size is known, or an (H, W, 3) array of numbers, converted to float32 into `map`.
+struct NormalMapSource {
+  std::optional<std::string> png_path;
+  par2d::NormalMap map;
+};
+NormalMapSource to_normal_map_source(const py::object& source);
+
+// Loads a PNG normal map with the GIL released. width, height > 0: the PNG must declare
+// exactly that size, checked from its header before a pixel is decoded (a tiny file may
+// declare 16000x16000); 0 x 0 (no frame yet): at most kMaxImageSide per side.
+par2d::NormalMap load_normal_map(const std::string& path, int width, int height);
 
 // One light or occluder from a dict shaped like an entry of the scene file's lists, checked by
 // the scene loader; `name` prefixes its messages.

@@ -177,9 +177,21 @@ class PyRenderer {
     const std::array<double, 3> n = to_three(normal, "normal", "(nx, ny, nz)");
     locked_check([&] { return renderer_.set_normal({n[0], n[1], n[2]}); });
   }
-  void set_normal_map(const py::object& source) {
-    const par2d::NormalMap map = to_normal_map(source);
-    locked_check([&] { return renderer_.set_normal_map(map); });
+  // A PNG is checked against the frame's size (read under the lock) from its header, then
+  // decoded outside the lock, so a large map does not hold up other threads' frames; a
+  // set_frame in between is caught by set_normal_map, under the lock.
+  void set_normal_map(const py::object& source_arg) {
+    NormalMapSource source = to_normal_map_source(source_arg);
+    if (source.png_path) {
+      int width = 0, height = 0;
+      {
+        WorldLock lock(mutex_);
+        width = renderer_.width();
+        height = renderer_.height();
+      }
+      source.map = load_normal_map(*source.png_path, width, height);
+    }
+    locked_check([&] { return renderer_.set_normal_map(source.map); });
   }
   void clear_normal_source() {
     locked_check([&] { return renderer_.clear_normal_source(); });
@@ -353,7 +365,9 @@ void bind_renderer(py::module_& m) {
       .def("set_normal", &PyRenderer::set_normal, py::arg("normal"),
            "One normal (nx, ny, nz) for every pixel, world axes; replaces a normal map.")
       .def("set_normal_map", &PyRenderer::set_normal_map, py::arg("normal_map"),
-           "A PNG path or an array (height, width, 3) of normals in image axes (y up), exactly the frame's size.")
+           "A PNG path or an array (height, width, 3) of normals in image axes (y up), exactly the frame's size\n"
+           "(a PNG's size is checked from its header before a pixel is decoded; before the first set_frame, any\n"
+           "size up to 16384 per side).")
       .def("clear_normal_source", &PyRenderer::clear_normal_source, "No normal source: plain irradiance.")
       .def("snapshot", &PyRenderer::snapshot, "The world as a Scene; par2d.render of it gives the same image.")
       .def_property_readonly("stats", &PyRenderer::stats,

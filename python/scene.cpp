@@ -101,30 +101,44 @@ std::string json_text(const py::handle& obj, const std::string& name, const std:
 
 // ---- Scenes ---------------------------------------------------------------------------------
 
-PyScene PyScene::from_json_text(const std::string& text, const std::string& name) {
+namespace {
+
+par2d::LoadOptions to_load_options(const py::object& allow_any_path) {
+  par2d::LoadOptions options;
+  options.allow_any_path = to_bool(allow_any_path, "allow_any_path");
+  return options;
+}
+
+}  // namespace
+
+PyScene PyScene::from_json_text(const std::string& text, const std::string& name, const par2d::LoadOptions& options) {
   par2d::Scene scene;
-  check(par2d::parse_scene(text, name, scene));
+  check(par2d::parse_scene(text, name, scene, options));
   return PyScene(std::move(scene));
 }
 
-PyScene PyScene::from_json(const py::object& text, const py::object& name) {
+PyScene PyScene::from_json(const py::object& text, const py::object& name, const py::object& allow_any_path) {
   const std::string n = to_text(name, "name");
-  return from_json_text(to_text(text, "text"), n);
+  const par2d::LoadOptions options = to_load_options(allow_any_path);
+  return from_json_text(to_text(text, "text"), n, options);
 }
 
-PyScene PyScene::from_dict_named(const py::object& dict, const std::string& name) {
+PyScene PyScene::from_dict_named(const py::object& dict, const std::string& name, const par2d::LoadOptions& options) {
   if (!py::isinstance<py::dict>(dict))
     raise(par2d::StatusCode::invalid_scene, name + ": a scene must be a dict, not " + type_name(dict));
-  return from_json_text(json_text(dict, name, ""), name);
+  return from_json_text(json_text(dict, name, ""), name, options);
 }
 
-PyScene PyScene::from_dict(const py::object& dict, const py::object& name) {
-  return from_dict_named(dict, to_text(name, "name"));
+PyScene PyScene::from_dict(const py::object& dict, const py::object& name, const py::object& allow_any_path) {
+  const std::string n = to_text(name, "name");
+  return from_dict_named(dict, n, to_load_options(allow_any_path));
 }
 
-PyScene PyScene::load(const py::object& path) {
+PyScene PyScene::load(const py::object& path, const py::object& allow_any_path) {
+  const std::string p = to_path(path, "path");
+  const par2d::LoadOptions options = to_load_options(allow_any_path);
   par2d::Scene scene;
-  check(par2d::load_scene_file(to_path(path, "path"), scene));
+  check(par2d::load_scene_file(p, scene, options));
   return PyScene(std::move(scene));
 }
 
@@ -136,7 +150,7 @@ void PyScene::save(const py::object& path) const { check(par2d::save_scene_file(
 const PyScene& as_scene(const py::object& scene, std::optional<PyScene>& holder) {
   if (py::isinstance<PyScene>(scene)) return scene.cast<const PyScene&>();
   if (!py::isinstance<py::dict>(scene)) bad_argument("scene", "must be a par2d.Scene or a dict, not " + type_name(scene));
-  holder = PyScene::from_dict_named(scene, "<dict>");
+  holder = PyScene::from_dict_named(scene, "<dict>", par2d::LoadOptions{});
   return *holder;
 }
 
@@ -199,19 +213,30 @@ T parse_entry(const py::object& dict, const char* list, const std::string& name)
 
 }  // namespace
 
-// A normal map from an (H, W, 3) array of numbers (converted to float32) or a PNG path.
-par2d::NormalMap to_normal_map(const py::object& source) {
-  par2d::NormalMap map;
+NormalMapSource to_normal_map_source(const py::object& source) {
+  NormalMapSource out;
   if (PyUnicode_Check(source.ptr()) || PyObject_HasAttrString(source.ptr(), "__fspath__")) {
-    check(par2d::load_normal_map_png(to_path(source, "normal_map"), map));
-    return map;
+    out.png_path = to_path(source, "normal_map");
+    return out;
   }
   const auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(source);
   if (!a || a.ndim() != 3 || a.shape(2) != 3)
     bad_argument("normal_map", "needs a PNG path or an array of shape (height, width, 3), got " + describe(source));
-  map.height = static_cast<int>(a.shape(0));
-  map.width = static_cast<int>(a.shape(1));
-  map.normals.assign(a.data(), a.data() + a.size());
+  out.map.height = static_cast<int>(a.shape(0));
+  out.map.width = static_cast<int>(a.shape(1));
+  out.map.normals.assign(a.data(), a.data() + a.size());
+  return out;
+}
+
+par2d::NormalMap load_normal_map(const std::string& path, int width, int height) {
+  par2d::NormalMap map;
+  par2d::Status status;
+  {
+    py::gil_scoped_release release;
+    status = width > 0 && height > 0 ? par2d::load_normal_map_png(path, map, width, height)
+                                     : par2d::load_normal_map_png(path, map);
+  }
+  check(status);
   return map;
 }
 
@@ -224,15 +249,28 @@ par2d::Occluder parse_occluder(const py::object& dict, const std::string& name) 
 }
 
 void bind_scene(py::module_& m) {
+  // docs/contract.md section 6's folder rule, as every loader's docstring states it.
+  const std::string policy =
+      "A scene's normal_map must be a relative path that stays inside the scene's folder; an absolute\n"
+      "path or one that leaves it is refused before anything is opened. allow_any_path=True accepts any\n"
+      "path (trusted scenes only).";
   py::class_<PyScene>(m, "Scene",
                       "A validated scene (docs/contract.md section 3). Build one with Scene.from_dict, "
                       "Scene.from_json or Scene.load; edit a copy of to_dict() and build again to change it.")
-      .def_static("from_dict", &PyScene::from_dict, py::arg("scene"), py::arg("name") = "<dict>",
-                  "Scene from a dict shaped like the JSON file; `name` prefixes error messages. A relative\n"
-                  "normal_map path is read relative to the directory part of `name` (none: the current one).")
-      .def_static("from_json", &PyScene::from_json, py::arg("text"), py::arg("name") = "<json>",
-                  "Scene from JSON text; `name` prefixes error messages.")
-      .def_static("load", &PyScene::load, py::arg("path"), "Scene from a JSON file (path: str or os.PathLike).")
+      .def_static("from_dict", &PyScene::from_dict, py::arg("scene"), py::arg("name") = "<dict>", py::kw_only(),
+                  py::arg("allow_any_path") = false,
+                  ("Scene from a dict shaped like the JSON file; `name` prefixes error messages. A relative\n"
+                   "normal_map path is read relative to the directory part of `name` (none: the current one).\n" +
+                   policy)
+                      .c_str())
+      .def_static("from_json", &PyScene::from_json, py::arg("text"), py::arg("name") = "<json>", py::kw_only(),
+                  py::arg("allow_any_path") = false,
+                  ("Scene from JSON text; `name` prefixes error messages and its directory part is the scene's\n"
+                   "folder (none: the current one).\n" +
+                   policy)
+                      .c_str())
+      .def_static("load", &PyScene::load, py::arg("path"), py::kw_only(), py::arg("allow_any_path") = false,
+                  ("Scene from a JSON file (path: str or os.PathLike).\n" + policy).c_str())
       .def("to_dict", &PyScene::to_dict, "The scene as a new dict (color and intensity always written; the lighting-model terms only where they differ from their defaults).")
       .def("to_json", &PyScene::to_json, "The scene as JSON text that from_json reads back exactly.")
       .def("save", &PyScene::save, py::arg("path"), "Writes the scene as JSON (path: str or os.PathLike), atomically.")
@@ -266,7 +304,8 @@ void bind_scene(py::module_& m) {
                " occluders>";
       });
 
-  m.def("load_scene", &PyScene::load, py::arg("path"), "Scene from a JSON file (same as Scene.load).");
+  m.def("load_scene", &PyScene::load, py::arg("path"), py::kw_only(), py::arg("allow_any_path") = false,
+        "Scene from a JSON file (same as Scene.load).");
 }
 
 }  // namespace par2d::python
