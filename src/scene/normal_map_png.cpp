@@ -26,6 +26,14 @@ Status bad_map(const std::string& path, const std::string& what) {
   return Status(StatusCode::invalid_scene, path + ": " + what);
 }
 
+// n = 2 * c / 255 - 1 per 8-bit component. Out of line with unaliased pointers so that it
+// vectorizes: inlined into load_png (whose calls may throw) GCC 12 left it scalar, 3 more
+// instructions a component (+4.5 M for a 960x540 map, callgrind).
+__attribute__((noinline)) void expand_components(const unsigned char* __restrict src, float* __restrict dst,
+                                                 std::size_t count) noexcept {
+  for (std::size_t k = 0; k < count; ++k) dst[k] = 2.0f * static_cast<float>(src[k]) / 255.0f - 1.0f;
+}
+
 // `width` x `height` > 0: the size the map must have, checked from the header; 0 x 0: any size
 // up to kMaxImageSide per side. Nothing is decoded until the header passes.
 Status load_png(const std::string& path, NormalMap& out, int expected_width, int expected_height) {
@@ -82,7 +90,7 @@ Status load_png(const std::string& path, NormalMap& out, int expected_width, int
     map.height = height;
     const std::size_t count = 3 * static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
     map.normals.resize(count);
-    for (std::size_t k = 0; k < count; ++k) map.normals[k] = 2.0f * static_cast<float>(pixels.get()[k]) / 255.0f - 1.0f;
+    expand_components(pixels.get(), map.normals.data(), count);
     out = std::move(map);
     return Status::success();
   } catch (const std::bad_alloc&) {
