@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "render/tile_setup.hpp"
+
 namespace par2d::detail {
 namespace {
 
@@ -97,7 +99,7 @@ void whole_tile_cell(TileWork& work) {
 
 void build_cell_lists(const PreparedScene& scene, const TileRect& tile, int lanes, const TileSetupScratch& setup,
                       TileWork& work, CellListScratch& scratch) {
-  if (!setup.tile_culled || work.pairs.size() < kCellMinPairs) {
+  if (!setup.plan.cells) {
     if (work.model) whole_tile_cell(work);
     return;
   }
@@ -145,7 +147,7 @@ void build_cell_lists(const PreparedScene& scene, const TileRect& tile, int lane
   scratch.occluder_discs.clear();
   scratch.occluder_cells.assign(tile_occluders, 0u);
   for (std::uint32_t k = 0; k < tile_occluders; ++k) {
-    const ConvexShape& shape = scene.occluders[setup.used[k]];
+    const ConvexShape& shape = scene.occluders[setup.occluders.used[k]];
     scratch.occluder_discs.push_back(bounding_disc(shape));
     if (work.model) continue;
     const Aabb bounds = bounds_of(shape);

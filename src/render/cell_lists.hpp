@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "render/tile_setup.hpp"
+#include "render/tile_plan.hpp"
 #include "render/tiling.hpp"
 #include "simd/tile_work.hpp"
 #include "world/occluder_bvh.hpp"
@@ -14,13 +14,7 @@
 
 namespace par2d::detail {
 
-// Tiles with fewer pairs keep their lists: cells cost setup per pair and cell, and save
-// kernel work only where many pairs' shadows miss parts of the tile (small occluders). With
-// cells on every tile, examples/paper.json's pairs fell from 2.4 per tile to 2.2 per sample
-// and its frames cost 10 % more instructions (callgrind, AVX2, 1 thread, with an earlier
-// form of the kernel loop); from 16 pairs, paper and the dungeon stay within 0.6 % and
-// rubble's tiles (hundreds of pairs each) all get cells.
-inline constexpr std::size_t kCellMinPairs = 16;
+struct TileSetupScratch;  // render/tile_setup.hpp
 
 // Per-thread buffers reused from tile to tile.
 struct CellListScratch {
@@ -37,9 +31,10 @@ struct CellListScratch {
 };
 
 // Fills work's cells (TileWork::cells) for `tile`, the tile that build_tile_work last built
-// into `work` with `setup`, for a kernel of `lanes` lanes. Culled tiles with many pairs get
-// cells (plain and game-model scenes alike); other plain tiles keep the tile's lists, other
-// game-model tiles get them as one cell over the whole tile (the model kernel reads only cells). The image is the same either way: a pair an occluder
+// into `work` with `setup`, for a kernel of `lanes` lanes. Tiles whose plan (TilePlan, made by
+// build_tile_work) has cells get them (plain and game-model scenes alike); other plain tiles
+// keep the tile's lists, other game-model tiles get them as one cell over the whole tile (the
+// model kernel reads only cells). The image is the same either way: a pair an occluder
 // cannot form over the cell blocks nothing there.
 void build_cell_lists(const PreparedScene& scene, const TileRect& tile, int lanes, const TileSetupScratch& setup,
                       TileWork& work, CellListScratch& scratch);

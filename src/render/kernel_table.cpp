@@ -154,11 +154,7 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
   scheduler.for_each_index(lanes, [&](int lane, int) {
     ThreadState& state = states_[static_cast<std::size_t>(lane)];
     state.counts = FrameStats{};
-    state.setup.occlusion.proofs_tried = state.setup.occlusion.proofs_succeeded = 0;
-    state.setup.umbra_tests = state.setup.umbra_hits = 0;
-    state.setup.tile_proofs_skipped = 0;
-    state.setup.block_proofs_skipped = 0;
-    state.setup.hull_pairs_dropped = 0;
+    state.setup.clear_counts();
     for (int b = lane; b < blocks; b += lanes) render_block(b, state);
   });
   if (stats) *stats = sum_counts(lanes);
@@ -184,11 +180,11 @@ FrameStats FrameEngine::sum_counts(int lanes) const noexcept {
     // The proof counters run over blocks and tiles alike; the blocks' share is counted above.
     sum.tile_proofs_tried += state.setup.occlusion.proofs_tried - c.block_proofs_tried;
     sum.tile_proofs_succeeded += state.setup.occlusion.proofs_succeeded - c.block_proofs_succeeded;
-    sum.umbra_tests += state.setup.umbra_tests;
-    sum.umbra_hits += state.setup.umbra_hits;
-    sum.tile_proofs_skipped += state.setup.tile_proofs_skipped;
-    sum.block_proofs_skipped += state.setup.block_proofs_skipped;
-    sum.tile_pairs_outside_hull += state.setup.hull_pairs_dropped;
+    sum.umbra_tests += state.setup.pairs.umbra_tests;
+    sum.umbra_hits += state.setup.pairs.umbra_hits;
+    sum.tile_proofs_skipped += state.setup.culling.tile_proofs_skipped;
+    sum.block_proofs_skipped += state.setup.culling.block_proofs_skipped;
+    sum.tile_pairs_outside_hull += state.setup.pairs.hull_pairs_dropped;
   }
   return sum;
 }
