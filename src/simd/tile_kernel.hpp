@@ -137,7 +137,7 @@ PAR2D_KERNEL_INLINE void vertex_tangents(const TileWork& work, const KernelShape
   if (s.kind == ShapeKind::segment) {
     inside = B(0.0f) > B(0.0f);  // a segment has no interior
     hix = B(vx[1]) - px, hiy = B(vy[1]) - py;
-    // The side of the segment's line (edge slot 0, see kernel_shape in render/tile_setup.cpp)
+    // The side of the segment's line (edge slot 0, see kernel_shape in render/kernel_shapes.cpp)
     // orders the ends: cross(a - x, b - x) = |b - a| (n.x - c). From the line's offset, not the
     // ends' cross product, which loses its sign for a point near a segment whose ends are far.
     const auto swap = xsimd::fma(B(work.edge_nx[s.first]), px, B(work.edge_ny[s.first]) * py) < B(work.edge_c[s.first]);
@@ -707,7 +707,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
       // With cells (tiles with many pairs): an interval starting inside the blocked prefix
       // [0, reach0] extends it, so several occluders that together span the light's arc end
       // its work too when they arrive in order of their starts (their candidates are
-      // ordered by angle per block, see order_by_angle in render/tile_setup.cpp). Elsewhere
+      // ordered by angle per block, see order_by_angle in render/block_culling.cpp). Elsewhere
       // lights have a pair or two and this cost more than it saved (the dungeon, callgrind).
       if constexpr (kCells)
         reach0 = xsimd::select(blocks & (o <= reach0), xsimd::max(reach0, xsimd::min(end, width)), reach0);

@@ -38,7 +38,7 @@ struct KernelShape {
   bool may_contain = true;  // polygons: whether the tile meets the bounding box (else skip the inside test)
   bool ordered = false;     // segments: vertex first is the clockwise tangent over the whole tile (a tile tangent pair)
   // Occluders whose arcs the kernel takes and lights with pairs, in plain (not game-model)
-  // tiles (assign_arc_window in tile_setup.cpp): every direction from a tile sample to a
+  // tiles (assign_arc_window in render/kernel_shapes.cpp): every direction from a tile sample to a
   // point whose angle the kernel takes (a polygon's or segment's vertices, a circle's
   // center) lies within atan(0.875), 41 degrees, of direction `window` * 45 degrees
   // (kWindowX/Y below; -1: none). The kernel then takes each arc end's angle from that

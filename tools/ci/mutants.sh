@@ -22,7 +22,7 @@ MUTANTS=(
   "shortened reach|src/culling/light_reach.cpp|s/reach\.reach\[static_cast<std::size_t>\(k\)\] = radii\[found\];/reach.reach[static_cast<std::size_t>(k)] = 0.9 * radii[found];/"
   "removed fold check|src/scene/scene_validate.cpp|s/turn\.side == -winding \|\| \(turn\.fold && turn\.side == 0\)/turn.side == -winding/"
   "gamma 2.2 in the sRGB encoder|src/io/image_files.cpp|s/std::pow\(\(s \+ 0\.055\) \/ 1\.055, 2\.4\)/std::pow(s, 2.2)/"
-  "flipped clipped-light sign|src/render/tile_setup.cpp|s/\(t \* along \+ r \* across\)/(t * along - r * across)/"
+  "flipped clipped-light sign|src/render/pair_setup.cpp|s/\(t \* along \+ r \* across\)/(t * along - r * across)/"
   "skipped overlap recompute in World::occluder_changed|src/world/world.cpp|s/^    describe_overlap\(light\.shape, occ, overlap\);\n//m"
   "lit interior blocks a light that overlaps it (SIMD)|src/simd/tile_kernel.hpp|s/if \(occ_terms\.lit_interior \|\| j > 0\) \{/if (j > 0) {/"
   "moved occluder's old place not re-proved|src/world/world.cpp|s/^  if \(old_box\) touch_reach\(\*old_box\);\n//m"
