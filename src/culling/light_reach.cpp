@@ -35,10 +35,7 @@ bool sector_hidden(const PreparedScene& scene, std::size_t light_index, const Li
                          c + r * Vec2{std::cos(mid + half), std::sin(mid + half)}};
   hull_with_shape(chord, 2, light, scratch.hull_points, scratch.hull);
   // The answer depends on the occluders meeting this hull and nothing else.
-  for (const Vec2 p : scratch.hull) {
-    Aabb& d = scratch.depends_on;
-    d = {std::min(d.min_x, p.x), std::min(d.min_y, p.y), std::max(d.max_x, p.x), std::max(d.max_y, p.y)};
-  }
+  for (const Vec2 p : scratch.hull) grow(scratch.depends_on, p);
   scratch.candidates.clear();
   scene.occluder_bvh.query_convex(scratch.hull.data(), static_cast<int>(scratch.hull.size()), scratch.candidates);
   if (scene.model) {
@@ -106,7 +103,7 @@ LightReach compute_light_reach(const PreparedScene& scene, std::size_t light_ind
   const ConvexShape& light = scene.lights[light_index].shape;
   LightReach reach;
   reach.reach.fill(kInf);
-  scratch.depends_on = {kInf, kInf, -kInf, -kInf};
+  scratch.depends_on = kEmptyBox;
   reach.center = light.centroid;
   if (light.kind == ShapeKind::circle) {
     reach.radius = light.radius;

@@ -6,21 +6,13 @@
 #include <optional>
 #include <vector>
 
+#include "geometry/vec2.hpp"
 #include "par2d/scene.hpp"
 
 namespace par2d::detail {
 
 inline constexpr double kPi = 3.14159265358979323846;
 inline constexpr double kTwoPi = 2.0 * kPi;
-
-inline Vec2 operator+(Vec2 a, Vec2 b) noexcept { return {a.x + b.x, a.y + b.y}; }
-inline Vec2 operator-(Vec2 a, Vec2 b) noexcept { return {a.x - b.x, a.y - b.y}; }
-inline Vec2 operator*(double s, Vec2 a) noexcept { return {s * a.x, s * a.y}; }
-inline double dot(Vec2 a, Vec2 b) noexcept { return a.x * b.x + a.y * b.y; }
-// Pseudo-cross product: > 0 when b is counter-clockwise of a in a y-up frame
-// (clockwise on screen, where y points down).
-inline double cross(Vec2 a, Vec2 b) noexcept { return a.x * b.y - a.y * b.x; }
-double length(Vec2 a) noexcept;
 
 enum class ShapeKind : std::uint8_t { polygon, circle, segment };
 

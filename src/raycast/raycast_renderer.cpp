@@ -1,12 +1,15 @@
 // Brute-force ray caster: exact ray/shape distances, stratified directions (the check on PAR).
 //
-// Deliberately shares no code with src/geometry: it is what the PAR renderer is
-// tested against, so a bug in the shared tangent/interval code must not hide here.
+// Deliberately shares no code with src/geometry beyond its vector arithmetic (vec2.hpp): it is
+// what the PAR renderer is tested against, so a bug in the shared tangent/interval code must not
+// hide here.
 #include "raycast/raycast_renderer.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include "geometry/vec2.hpp"
 
 namespace par2d::detail {
 namespace {
@@ -18,9 +21,6 @@ constexpr double kTwoPi = 6.283185307179586476925286766559;
 // is not visible, but the two distances round apart by a few ulps.
 constexpr double kContactTolerance = 0x1p-40;
 
-Vec2 sub(Vec2 a, Vec2 b) noexcept { return {a.x - b.x, a.y - b.y}; }
-double dot(Vec2 a, Vec2 b) noexcept { return a.x * b.x + a.y * b.y; }
-double cross(Vec2 a, Vec2 b) noexcept { return a.x * b.y - a.y * b.x; }
 
 // Exact sum of n doubles (n <= 32) to within an ulp or so of the result, by distillation:
 // passes of error-free additions (Knuth's two-sum) along the terms until none changes, which
@@ -53,7 +53,7 @@ void push_product(double a, double b, double* t, int& n) noexcept {
 // cross(a - x, b - a) (= cross(a - x, b - x)), accurate where the plain products cancel: a
 // segment 1e17 long a unit from x. The plain value is kept when it is far above its rounding.
 double side_of(Vec2 a, Vec2 b, Vec2 x) noexcept {
-  const Vec2 w = sub(a, x), e = sub(b, a);
+  const Vec2 w = a - x, e = b - a;
   const double l = w.x * e.y, r = w.y * e.x;
   const double magnitude = std::fabs(l) + std::fabs(r);
   if (std::fabs(l - r) > 0x1p-20 * magnitude || !(magnitude < kInf)) return l - r;
@@ -79,7 +79,7 @@ double side_of(Vec2 a, Vec2 b, Vec2 x) noexcept {
 
 // |x - c|^2 - r^2, accurate where it cancels (x near a circle of radius 1e17).
 double power_of(Vec2 c, double r, Vec2 x) noexcept {
-  const Vec2 m = sub(x, c);
+  const Vec2 m = x - c;
   const double mm = dot(m, m), rr = r * r;
   if (std::fabs(mm - rr) > 0x1p-20 * (mm + rr) || !(mm + rr < kInf)) return mm - rr;
   double t[16];
@@ -97,15 +97,15 @@ double power_of(Vec2 c, double r, Vec2 x) noexcept {
 
 // Smallest t >= 0 with x + t*d on the closed segment [a, b], or +inf.
 double ray_segment(Vec2 x, Vec2 d, Vec2 a, Vec2 b) noexcept {
-  const Vec2 e = sub(b, a);
-  const Vec2 w = sub(a, x);
+  const Vec2 e = b - a;
+  const Vec2 w = a - x;
   const double denom = cross(d, e);
   if (denom == 0.0) {
     // Parallel: only a collinear segment can be hit, and then at its nearer end
     // (or at t = 0 when x lies on it).
     if (cross(w, d) != 0.0) return kInf;
     double ta = dot(w, d);
-    double tb = dot(sub(b, x), d);
+    double tb = dot(b - x, d);
     if (ta > tb) std::swap(ta, tb);
     if (tb < 0.0) return kInf;
     return ta <= 0.0 ? 0.0 : ta;
@@ -114,13 +114,13 @@ double ray_segment(Vec2 x, Vec2 d, Vec2 a, Vec2 b) noexcept {
   // a vertex shared by two segments (a segment light ending at an occluder's corner) is on the
   // same side for both. The quotient s = cross(w, d) / denom in [0, 1] rounds differently per
   // segment there, and a ray through the corner hit the light but missed the occluder.
-  const double side_a = cross(d, w), side_b = cross(d, sub(b, x));
+  const double side_a = cross(d, w), side_b = cross(d, b - x);
   if ((side_a > 0.0 && side_b > 0.0) || (side_a < 0.0 && side_b < 0.0)) return kInf;
   // The hit is a point of the segment, so its distance along the ray (|d| = 1) lies between
   // the ends' own. Clamped there: for a ray almost along the segment the quotient is two
   // rounding residues (a ray along a light's edge from an occluder's corner where the edge
   // starts put the hit before the corner, and the light in front of the occluder).
-  const double ta = dot(w, d), tb = dot(sub(b, x), d);
+  const double ta = dot(w, d), tb = dot(b - x, d);
   const double t = std::clamp(side_of(a, b, x) / denom, std::min(ta, tb), std::max(ta, tb));
   return t < 0.0 ? kInf : t;
 }
@@ -160,8 +160,8 @@ RaycastRenderer::RayShape RaycastRenderer::make_shape(const Shape& shape) {
     s.bound_center = {0.5 * (x0 + x1), 0.5 * (y0 + y1)};
     double area2 = 0.0;
     for (std::size_t i = 0; i < poly.vertices.size(); ++i) {
-      const Vec2 a = sub(poly.vertices[i], s.bound_center);
-      const Vec2 b = sub(poly.vertices[(i + 1) % poly.vertices.size()], s.bound_center);
+      const Vec2 a = poly.vertices[i] - s.bound_center;
+      const Vec2 b = poly.vertices[(i + 1) % poly.vertices.size()] - s.bound_center;
       area2 += cross(a, b);
       bound_radius = std::max(bound_radius, std::hypot(a.x, a.y));
     }
@@ -285,8 +285,8 @@ bool RaycastRenderer::contains(const RayShape& s, Vec2 x) const noexcept {
       return power_of(s.p0, s.radius, x) <= 0.0;
     }
     case Kind::segment: {
-      const Vec2 e = sub(s.p1, s.p0);
-      const Vec2 w = sub(x, s.p0);
+      const Vec2 e = s.p1 - s.p0;
+      const Vec2 w = x - s.p0;
       if (side_of(s.p0, s.p1, x) != 0.0) return false;
       const double u = dot(e, w);
       return u >= 0.0 && u <= dot(e, e);
@@ -309,7 +309,7 @@ bool RaycastRenderer::contains(const RayShape& s, Vec2 x) const noexcept {
 double RaycastRenderer::hit_distance(const RayShape& s, Vec2 x, Vec2 d, double limit) const noexcept {
   // Early-out on the bounding circle when x is outside it: a ray that points away,
   // passes beside it, or enters it no nearer than `limit` cannot give a useful hit.
-  const Vec2 m = sub(s.bound_center, x);
+  const Vec2 m = s.bound_center - x;
   const double mm = dot(m, m);
   if (mm > s.bound_radius2) {
     const double b = dot(m, d);
@@ -322,7 +322,7 @@ double RaycastRenderer::hit_distance(const RayShape& s, Vec2 x, Vec2 d, double l
   }
   switch (s.kind) {
     case Kind::circle: {
-      const Vec2 mc = sub(s.p0, x);
+      const Vec2 mc = s.p0 - x;
       const double c = power_of(s.p0, s.radius, x);
       if (c <= 0.0) return 0.0;
       const double b = dot(mc, d);
@@ -359,7 +359,7 @@ Rgb RaycastRenderer::irradiance(Vec2 world, int rays, double jitter, const Vec3*
   if (rays <= 0 || lights_.empty()) return sum;
   // Inside a closed occluder t_occ = 0 in every direction and no light is visible.
   for (const RayShape& o : occluders_) {
-    const Vec2 m = sub(o.bound_center, x);
+    const Vec2 m = o.bound_center - x;
     if (dot(m, m) <= o.bound_radius2 && contains(o, x)) return sum;
   }
   // Directions in blocks: one exact sincos per block, rotated by a small table of
@@ -400,7 +400,7 @@ Rgb RaycastRenderer::irradiance(Vec2 world, int rays, double jitter, const Vec3*
 double RaycastRenderer::distance_to(const RayShape& s, Vec2 x) const noexcept {
   // Euclidean distance from x to the closed shape: 0 inside, else to the nearest boundary point.
   auto to_segment = [](Vec2 p, Vec2 a, Vec2 b) {
-    const Vec2 e = sub(b, a), w = sub(p, a);
+    const Vec2 e = b - a, w = p - a;
     const double ee = dot(e, e);
     const double u = ee > 0.0 ? std::clamp(dot(w, e) / ee, 0.0, 1.0) : 0.0;
     // Inside the segment, the distance to its line (the foot point would round to the end
@@ -410,7 +410,7 @@ double RaycastRenderer::distance_to(const RayShape& s, Vec2 x) const noexcept {
   };
   switch (s.kind) {
     case Kind::circle: {
-      const Vec2 m = sub(x, s.p0);
+      const Vec2 m = x - s.p0;
       const double power = power_of(s.p0, s.radius, x);
       return power <= 0.0 ? 0.0 : power / (std::hypot(m.x, m.y) + s.radius);
     }

@@ -12,6 +12,8 @@
 #include <system_error>
 #include <vector>
 
+#include "geometry/vec2.hpp"
+
 namespace par2d {
 namespace detail {
 namespace {
@@ -35,9 +37,6 @@ MaybeProblem check_point(const Vec2& p, const std::string& place) {
   }
   return std::nullopt;
 }
-
-double cross(const Vec2& a, const Vec2& b) { return a.x * b.y - a.y * b.x; }
-double dot(const Vec2& a, const Vec2& b) { return a.x * b.x + a.y * b.y; }
 
 // The polygon rule of docs/contract.md section 3. Coordinates are first scaled by a power of two
 // (exact) into [-1, 1], so that edge vectors, cross products and the shoelace sum cannot

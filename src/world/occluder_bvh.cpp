@@ -29,34 +29,10 @@ namespace {
 constexpr uint32_t kNoParent = std::numeric_limits<uint32_t>::max();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-constexpr Aabb kEmptyBox{kInf, kInf, -kInf, -kInf};
-
-inline void grow(Aabb& a, const Aabb& b) noexcept {
-  a.min_x = std::min(a.min_x, b.min_x);
-  a.min_y = std::min(a.min_y, b.min_y);
-  a.max_x = std::max(a.max_x, b.max_x);
-  a.max_y = std::max(a.max_y, b.max_y);
-}
-
-inline void grow(Aabb& a, Vec2 p) noexcept {
-  a.min_x = std::min(a.min_x, p.x);
-  a.min_y = std::min(a.min_y, p.y);
-  a.max_x = std::max(a.max_x, p.x);
-  a.max_y = std::max(a.max_y, p.y);
-}
-
 // Half the perimeter, the 2D SAH measure: a random line hits a convex set with probability
 // proportional to its perimeter. Halves are taken first so that boxes spanning +-1e308 stay finite.
 inline double half_perimeter(const Aabb& b) noexcept {
   return (0.5 * b.max_x - 0.5 * b.min_x) + (0.5 * b.max_y - 0.5 * b.min_y);
-}
-
-inline bool boxes_overlap(const Aabb& a, const Aabb& b) noexcept {
-  return a.min_x <= b.max_x && b.min_x <= a.max_x && a.min_y <= b.max_y && b.min_y <= a.max_y;
-}
-
-inline double cross(Vec2 o, Vec2 a, Vec2 b) noexcept {
-  return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
 }
 
 inline double axis_of(Vec2 c, int axis) noexcept { return axis == 0 ? c.x : c.y; }
@@ -165,7 +141,7 @@ void ConvexQuery::add_half_test(const HalfTest& t) noexcept {
 }
 
 bool ConvexQuery::may_touch(const Aabb& b) const noexcept {
-  if (!boxes_overlap(b, bounds_)) return false;
+  if (!boxes_meet(b, bounds_)) return false;
   const double corner[4] = {b.min_x, b.min_y, b.max_x, b.max_y};
   for (int i = 0; i < half_test_count_; ++i) {
     const HalfTest& t = half_tests_[i];
@@ -196,11 +172,11 @@ int convex_hull(Vec2* points, int count, Vec2* out) noexcept {
   int k = 0;
   // Lower chain then upper chain; popping on cross <= 0 drops collinear points.
   for (int i = 0; i < n; ++i) {
-    while (k >= 2 && cross(out[k - 2], out[k - 1], points[i]) <= 0.0) --k;
+    while (k >= 2 && cross(out[k - 1] - out[k - 2], points[i] - out[k - 2]) <= 0.0) --k;
     out[k++] = points[i];
   }
   for (int i = n - 1, lower = k + 1; i-- > 0;) {
-    while (k >= lower && cross(out[k - 2], out[k - 1], points[i]) <= 0.0) --k;
+    while (k >= lower && cross(out[k - 1] - out[k - 2], points[i] - out[k - 2]) <= 0.0) --k;
     out[k++] = points[i];
   }
   return k - 1;  // the last point repeats the first
@@ -466,7 +442,7 @@ void OccluderBvh::query_convex(const Vec2* hull, int hull_count, std::vector<uin
 }
 
 void OccluderBvh::query_box(const Aabb& query, std::vector<uint32_t>& out) const noexcept {
-  auto overlaps = [&](const Aabb& b) { return boxes_overlap(b, query); };
+  auto overlaps = [&](const Aabb& b) { return boxes_meet(b, query); };
   collect(overlaps, overlaps, out);
 }
 

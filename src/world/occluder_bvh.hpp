@@ -7,24 +7,11 @@
 #include <cstdint>
 #include <vector>
 
+#include "geometry/aabb.hpp"
 #include "geometry/convex_shape.hpp"
 #include "par2d/scene.hpp"
 
 namespace par2d::detail {
-
-// Axis-aligned box, closed on every side. Precondition everywhere: finite, min <= max.
-struct Aabb {
-  double min_x, min_y, max_x, max_y;
-};
-
-inline Aabb bounds_of(const ConvexShape& s) noexcept {
-  return {s.bounds_min.x, s.bounds_min.y, s.bounds_max.x, s.bounds_max.y};
-}
-
-// Whether two closed boxes share a point.
-inline bool boxes_meet(const Aabb& a, const Aabb& b) noexcept {
-  return a.min_x <= b.max_x && b.min_x <= a.max_x && a.min_y <= b.max_y && b.min_y <= a.max_y;
-}
 
 // Convex hull by Andrew's monotone chain. Counter-clockwise in the math sense: the cross
 // product of consecutive edges is positive (with the contract's y-down axes that looks clockwise on
@@ -113,8 +100,7 @@ class BoxPairHull {
 // Inline: built per tile and light and tested per occluder in the tile setup's inner loop.
 inline void BoxPairHull::assign(const Aabb& a, const Aabb& b) noexcept {
   cut_count_ = 0;
-  bounds_ = {std::min(a.min_x, b.min_x), std::min(a.min_y, b.min_y), std::max(a.max_x, b.max_x),
-             std::max(a.max_y, b.max_y)};
+  bounds_ = box_union(a, b);
   for (int sx = -1; sx <= 1; sx += 2) {
     for (int sy = -1; sy <= 1; sy += 2) {
       // Does box x reach the union's extreme in x (resp. y) on this side?

@@ -7,19 +7,11 @@
 #include <limits>
 #include <string>
 
+#include "geometry/aabb.hpp"
 #include "scene/scene_validate.hpp"
 
 namespace par2d::detail {
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr Aabb kEmpty{kInf, kInf, -kInf, -kInf};
-
-Aabb box_of(const ConvexShape& s) noexcept { return {s.bounds_min.x, s.bounds_min.y, s.bounds_max.x, s.bounds_max.y}; }
-
-bool meet(const Aabb& a, const Aabb& b) noexcept {
-  return a.min_x <= b.max_x && b.min_x <= a.max_x && a.min_y <= b.max_y && b.min_y <= a.max_y;
-}
 
 bool emits(const Light& light) noexcept {
   const double e = std::max({light.intensity * light.color[0], light.intensity * light.color[1],
@@ -231,7 +223,7 @@ void World::reprepare_all(std::shared_ptr<const WorldNormals> converted) {
   for (PreparedLight& l : scene_.lights) find_light_overlaps(scene_, l, query_);
   scene_.separators.reset(scene_.lights.size(), scene_.occluders.size());
   reach_.assign(scene_.lights.size(), LightReach{});
-  reach_depends_.assign(scene_.lights.size(), kEmpty);
+  reach_depends_.assign(scene_.lights.size(), kEmptyBox);
   reach_stale_.assign(scene_.lights.size(), 1);
   update_scene_bounds(scene_);
   ++stats_.full_prepares;
@@ -240,7 +232,7 @@ void World::reprepare_all(std::shared_ptr<const WorldNormals> converted) {
 void World::rebuild_index() {
   std::vector<Aabb>& boxes = boxes_;
   boxes.clear();
-  for (const ConvexShape& o : scene_.occluders) boxes.push_back(box_of(o));
+  for (const ConvexShape& o : scene_.occluders) boxes.push_back(bounds_of(o));
   scene_.occluder_bvh.build(boxes);
   ++stats_.index_builds;
 }
@@ -263,7 +255,7 @@ void World::push_lit(const Light& light, std::uint32_t slot) {
   light_slots_.push_back(slot);
   scene_.lights.emplace_back();
   reach_.emplace_back();
-  reach_depends_.push_back(kEmpty);
+  reach_depends_.push_back(kEmptyBox);
   reach_stale_.push_back(1);
   scene_.separators.resize(p + 1, scene_.occluders.size());
   slots_[slot].list = kLit;
@@ -472,7 +464,7 @@ Status World::remove_light(LightHandle handle) {
 
 void World::touch_reach(const Aabb& box) noexcept {
   for (std::size_t p = 0; p < reach_stale_.size(); ++p) {
-    if (!reach_stale_[p] && meet(reach_depends_[p], box)) reach_stale_[p] = 1;
+    if (!reach_stale_[p] && boxes_meet(reach_depends_[p], box)) reach_stale_[p] = 1;
   }
 }
 
@@ -480,11 +472,11 @@ void World::touch_reach(const Aabb& box) noexcept {
 // reach of lights whose proofs looked where it was or is.
 void World::occluder_changed(std::size_t k, const Aabb* old_box) {
   const ConvexShape& occ = scene_.occluders[k];
-  const Aabb box = box_of(occ);
+  const Aabb box = bounds_of(occ);
   const auto index = static_cast<std::uint32_t>(k);
   for (PreparedLight& light : scene_.lights) {
     erase_overlap(light, index);
-    if (!meet(box_of(light.shape), box) || !meets_within_contact(light.shape, occ)) continue;
+    if (!boxes_meet(bounds_of(light.shape), box) || !meets_within_contact(light.shape, occ)) continue;
     LightOverlap overlap;
     describe_overlap(light.shape, occ, overlap);
     insert_overlap(light, index, std::move(overlap));
@@ -506,7 +498,7 @@ Status World::add_occluder(const Occluder& occluder, OccluderHandle* handle) {
   update_model_flag(scene_);
   make_convex_shape(occluder.shape, scene_.occluders[k]);
   scale_shape(scene_.occluders[k], factor_);
-  scene_.occluder_bvh.insert(box_of(scene_.occluders[k]));
+  scene_.occluder_bvh.insert(bounds_of(scene_.occluders[k]));
   scene_.separators.resize(scene_.lights.size(), k + 1);
   occluder_changed(k, nullptr);
   ++stats_.index_updates;
@@ -519,13 +511,13 @@ Status World::update_occluder(OccluderHandle handle, const Occluder& occluder) {
   if (!slot) return unknown_handle("occluder", handle.id);
   if (auto problem = check_occluder(occluder, std::string())) return refused("occluder " + std::to_string(handle.id), *problem);
   const auto k = static_cast<std::size_t>(slot->where);
-  const Aabb old_box = box_of(scene_.occluders[k]);
+  const Aabb old_box = bounds_of(scene_.occluders[k]);
   occluder_sources_[k] = occluder;
   scene_.occluder_terms[k] = occluder_terms(occluder);
   update_model_flag(scene_);
   make_convex_shape(occluder.shape, scene_.occluders[k]);
   scale_shape(scene_.occluders[k], factor_);
-  scene_.occluder_bvh.update(static_cast<std::uint32_t>(k), box_of(scene_.occluders[k]));
+  scene_.occluder_bvh.update(static_cast<std::uint32_t>(k), bounds_of(scene_.occluders[k]));
   occluder_changed(k, &old_box);
   ++stats_.index_updates;
   return {};
@@ -536,7 +528,7 @@ Status World::remove_occluder(OccluderHandle handle) {
   if (!slot) return unknown_handle("occluder", handle.id);
   const auto k = static_cast<std::size_t>(slot->where);
   const std::size_t m = occluder_sources_.size() - 1;
-  touch_reach(box_of(scene_.occluders[k]));
+  touch_reach(bounds_of(scene_.occluders[k]));
   // Occluder m takes index k everywhere.
   for (PreparedLight& light : scene_.lights) {
     erase_overlap(light, static_cast<std::uint32_t>(k));
