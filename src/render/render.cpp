@@ -13,7 +13,7 @@
 
 #include "par2d/render.hpp"
 #include "render/frame_output.hpp"
-#include "render/kernel_table.hpp"
+#include "render/frame_driver.hpp"
 #include "render/render_arguments.hpp"
 #include "render/scheduler.hpp"
 #include "world/prepared_scene.hpp"

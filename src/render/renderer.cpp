@@ -6,7 +6,7 @@
 #include <string>
 
 #include "render/frame_output.hpp"
-#include "render/kernel_table.hpp"
+#include "render/frame_driver.hpp"
 #include "render/render_arguments.hpp"
 #include "render/scheduler.hpp"
 #include "world/world.hpp"

@@ -1,0 +1,50 @@
+// The frame driver: renders a prepared scene's frame (or a region of it) into a host
+// buffer, tile by tile, with the kernels of kernel_table.hpp or the scalar reference.
+#pragma once
+
+#include <vector>
+
+#include "culling/light_reach.hpp"
+#include "par2d/isa.hpp"
+#include "par2d/render.hpp"
+#include "render/frame_output.hpp"
+#include "render/scheduler.hpp"
+#include "world/prepared_scene.hpp"
+
+namespace par2d::detail {
+
+// What one frame computes: samples per pixel, culling, and the kernel ISA (Isa::scalar:
+// the reference path, pixel by pixel).
+struct FrameSettings {
+  int spp = 1;
+  bool culling = true;
+  Isa isa = Isa::scalar;
+  bool shaded = false;  // RenderOptions::shaded (docs/contract.md section 6)
+  bool sample_needs = false;  // fill FrameStats' sampled counts (one exact pixel per tile)
+};
+
+// Renders frames of prepared scenes into host buffers, tile by tile, keeping every
+// per-thread buffer from frame to frame: after the first frame at a size (and worker
+// count) a frame allocates nothing.
+class FrameEngine {
+ public:
+  FrameEngine();
+  ~FrameEngine();
+  FrameEngine(FrameEngine&&) noexcept;
+  FrameEngine& operator=(FrameEngine&&) noexcept;
+
+  // The pixels of target.region, each tile computed whole and stored straight into the
+  // target's format. Tiles and blocks are those of the whole frame, so a region's pixels
+  // equal the same pixels of a whole frame bit for bit. `reach` (with culling): per light.
+  // `stats`, when given, receives the frame's culling and kernel work (FrameStats).
+  void render(const PreparedScene& scene, const std::vector<LightReach>* reach, const FrameSettings& settings,
+              const Scheduler& scheduler, const FrameTarget& target, FrameStats* stats = nullptr);
+
+ private:
+  struct ThreadState;
+  FrameStats sum_counts(int lanes) const noexcept;
+  std::vector<ThreadState> states_;
+  SrgbBuckets srgb_;  // the last 8-bit sRGB target's exposure's, rebuilt when it changes
+};
+
+}  // namespace par2d::detail
