@@ -136,7 +136,7 @@ void cull_block(const PreparedScene& scene, const std::array<Vec2, 4>& corners, 
     // Hidden from the whole block by one occluder or several together (rooms behind a
     // wall, a field of rubble): the proof's cost is shared by the block's tiles.
     if (prover_count != 0 && !block_proof_worth_trying(block_proofs)) {
-      ++scratch.block_proofs_skipped;
+      ++scratch.counts.block_proofs_skipped;
     } else if (prover_count != 0) {
       ++block_proofs.tried;
       if (rect_hidden_from_light({box.min_x, box.min_y}, {box.max_x, box.max_y}, light, scene.occluders, provers,
@@ -159,7 +159,7 @@ bool tile_proof_hides_light(const PreparedScene& scene, std::size_t l, const Aab
   BlockCullingScratch::TileProofRecord& light_proofs = scratch.tile_proof_records[l];
   BlockCullingScratch::TileProofRecord& block_proofs = scratch.block_proof_record;
   if (!tile_proof_worth_trying(light_proofs, block_proofs)) {
-    ++scratch.tile_proofs_skipped;
+    ++scratch.counts.tile_proofs_skipped;
     return false;
   }
   scratch.provers.clear();

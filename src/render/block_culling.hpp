@@ -13,6 +13,7 @@
 
 #include "culling/light_reach.hpp"
 #include "culling/occlusion_proof.hpp"
+#include "render/frame_counters.hpp"
 #include "simd/tile_work.hpp"
 #include "world/prepared_scene.hpp"
 
@@ -32,15 +33,14 @@ struct BlockCullingScratch {
   };
   std::vector<TileProofRecord> tile_proof_records;
   TileProofRecord block_proof_record;
-  // Counts for FrameStats, accumulated until the owner clears them.
-  std::uint64_t tile_proofs_skipped = 0;  // tile proofs the adaptive rule did not try
-  std::uint64_t block_proofs_skipped = 0;  // block proofs the adaptive rule did not try
+  // Its counts (block_proofs_skipped, tile_proofs_skipped: proofs the adaptive rule did not
+  // try), accumulated until the owner clears them.
+  FrameCounters counts;
 
   void start_block(std::size_t lights) {
     tile_proof_records.assign(lights, TileProofRecord{});
     block_proof_record = TileProofRecord{};
   }
-  void clear_counts() noexcept { tile_proofs_skipped = block_proofs_skipped = 0; }
 };
 
 // Whether the culling's double-precision tests (light reach, occlusion proofs, umbra and

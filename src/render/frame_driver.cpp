@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "render/cell_lists.hpp"
+#include "render/frame_counters.hpp"
 #include "render/kernel_table.hpp"
 #include "render/scalar_tiles.hpp"
 #include "render/tile_setup.hpp"
@@ -15,14 +16,51 @@
 #include "scalar/scalar_renderer.hpp"
 
 namespace par2d::detail {
+namespace {
 
 constexpr int kLanesPerWorker = 4;
+
+// A block's counts, after gather_block_candidates: `tried` and `succeeded` are the proof
+// counts before it, so the differences are the block proofs.
+void count_block(const PreparedScene& scene, const TileSetupScratch& setup, std::uint64_t tried,
+                 std::uint64_t succeeded, FrameCounters& counts) noexcept {
+  const std::uint64_t proven = setup.occlusion.proofs_succeeded - succeeded;
+  std::uint64_t shadowed = 0;
+  for (const unsigned char s : setup.block_shadowed) shadowed += s;
+  for (const std::vector<std::uint32_t>& c : setup.block_candidates) counts.block_candidates += c.size();
+  ++counts.blocks;
+  counts.block_lights += scene.lights.size();
+  counts.block_lights_out_of_reach += shadowed - proven;
+  counts.block_proofs_tried += setup.occlusion.proofs_tried - tried;
+  counts.block_proofs_succeeded += proven;
+}
+
+// The kernel's work on a tile: its lights, pairs and the samples they are evaluated at (per
+// cell when the tile has cell lists).
+void count_tile_work(const TileWork& work, FrameCounters& counts) noexcept {
+  const std::uint64_t samples = static_cast<std::uint64_t>(work.spp) * kTilePixels;
+  counts.samples += samples;
+  counts.tile_lights += work.lights.size();
+  counts.tile_pairs += work.pairs.size();
+  for (const KernelPair& pair : work.pairs) counts.tile_general_pairs += pair.general ? 1u : 0u;
+  if (work.cells.empty()) {
+    counts.light_samples += work.lights.size() * samples;
+    counts.pair_samples += work.pairs.size() * samples;
+  } else {  // each packet evaluates its cell's lists
+    const std::uint64_t cell_samples = samples / work.cells.size();
+    for (const KernelCell& cell : work.cells) {
+      counts.light_samples += cell.light_count * cell_samples;
+      for (std::uint32_t i = cell.first_light; i < cell.first_light + cell.light_count; ++i)
+        counts.pair_samples += work.cell_lights[i].pair_count * cell_samples;
+    }
+  }
+}
 
 // FrameStats' sampled needs at the middle pixel of `part`, a part of a tile of the block last
 // given to gather_block_candidates: that block's candidates hold every occluder that can stand
 // between its pixels and each light it may see.
 void sample_needs(const PreparedScene& scene, const TileRect& part, const TileSetupScratch& setup, ScalarScratch& scalar,
-                  FrameStats& counts) {
+                  FrameCounters& counts) {
   const Vec2 x = sample_position(scene, (part.x0 + part.x1) / 2, (part.y0 + part.y1) / 2, 0.5, 0.5);
   ++counts.sampled_pixels;
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
@@ -32,6 +70,8 @@ void sample_needs(const PreparedScene& scene, const TileRect& part, const TileSe
     counts.sampled_blocking_pairs += needs.blocking;
   }
 }
+
+}  // namespace
 
 // Everything one lane of blocks reuses from tile to tile and frame to frame.
 struct FrameEngine::ThreadState {
@@ -43,7 +83,7 @@ struct FrameEngine::ThreadState {
   std::size_t scratch_floats = 0;
   float* aligned = nullptr;
   TileResult result;
-  FrameStats counts;  // this lane's share of the frame's FrameStats
+  FrameCounters counts;  // this lane's counts in this frame (its setup's added when the lane ends)
 
   float* kernel_scratch(std::size_t floats) {
     if (floats > scratch_floats) {
@@ -81,25 +121,15 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
     }
   }
 
-  // Counting costs a few additions per block and tile, so it is always on; `stats` only
-  // decides whether the lanes' counts are summed.
   auto render_block = [&](int b, ThreadState& state) {
     const int x0 = (bx0 + b % columns) * kBlockSize, y0 = (by0 + b / columns) * kBlockSize;
     const TileRect block{x0, y0, std::min(x0 + kBlockSize, scene.width), std::min(y0 + kBlockSize, scene.height)};
-    FrameStats& counts = state.counts;
+    FrameCounters& counts = state.counts;
     if (kernels) {
-      const OcclusionProofScratch& proofs = state.setup.occlusion;
-      const std::uint64_t tried = proofs.proofs_tried, succeeded = proofs.proofs_succeeded;
+      const std::uint64_t tried = state.setup.occlusion.proofs_tried;
+      const std::uint64_t succeeded = state.setup.occlusion.proofs_succeeded;
       gather_block_candidates(scene, block, cull ? reach : nullptr, state.setup);
-      const std::uint64_t proven = proofs.proofs_succeeded - succeeded;
-      std::uint64_t shadowed = 0;
-      for (const unsigned char s : state.setup.block_shadowed) shadowed += s;
-      for (const std::vector<std::uint32_t>& c : state.setup.block_candidates) counts.block_candidates += c.size();
-      ++counts.blocks;
-      counts.block_lights += scene.lights.size();
-      counts.block_lights_out_of_reach += shadowed - proven;
-      counts.block_proofs_tried += proofs.proofs_tried - tried;
-      counts.block_proofs_succeeded += proven;
+      count_block(scene, state.setup, tried, succeeded, counts);
     }
     for_each_cell(block, kTileSize, [&](const TileRect& tile) {
       const TileRect part{std::max(tile.x0, region.x0), std::max(tile.y0, region.y0), std::min(tile.x1, region.x1),
@@ -113,26 +143,10 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
       } else {
         build_tile_work(scene, tile, settings.spp, cull, state.work, state.setup, settings.shaded);
         build_cell_lists(scene, tile, kernels->lanes, state.setup, state.work, state.cells);
-        const TileWork& work = state.work;
-        const std::uint64_t samples = static_cast<std::uint64_t>(work.spp) * kTilePixels;
-        counts.samples += samples;
-        counts.tile_lights += work.lights.size();
-        counts.tile_pairs += work.pairs.size();
-        for (const KernelPair& pair : work.pairs) counts.tile_general_pairs += pair.general ? 1u : 0u;
-        if (work.cells.empty()) {
-          counts.light_samples += work.lights.size() * samples;
-          counts.pair_samples += work.pairs.size() * samples;
-        } else {  // each packet evaluates its cell's lists
-          const std::uint64_t cell_samples = samples / work.cells.size();
-          for (const KernelCell& cell : work.cells) {
-            counts.light_samples += cell.light_count * cell_samples;
-            for (std::uint32_t i = cell.first_light; i < cell.first_light + cell.light_count; ++i)
-              counts.pair_samples += work.cell_lights[i].pair_count * cell_samples;
-          }
-        }
+        count_tile_work(state.work, counts);
         if (settings.sample_needs) sample_needs(scene, part, state.setup, state.scalar, counts);
-        float* scratch = state.kernel_scratch(kernel_scratch_floats(work, kernels->lanes));
-        kernels->render_tile(work, scratch, state.result);
+        float* scratch = state.kernel_scratch(kernel_scratch_floats(state.work, kernels->lanes));
+        kernels->render_tile(state.work, scratch, state.result);
       }
       store_tile(state.result, tile.x0, tile.y0, part, target, stores);
     });
@@ -147,40 +161,15 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
   if (states_.size() < static_cast<std::size_t>(lanes)) states_.resize(static_cast<std::size_t>(lanes));
   scheduler.for_each_index(lanes, [&](int lane, int) {
     ThreadState& state = states_[static_cast<std::size_t>(lane)];
-    state.counts = FrameStats{};
+    state.counts = FrameCounters{};
     state.setup.clear_counts();
     for (int b = lane; b < blocks; b += lanes) render_block(b, state);
+    state.counts += state.setup.counts();
   });
-  if (stats) *stats = sum_counts(lanes);
-}
-
-// The counts each lane keeps in ThreadState::counts (the rest come from its setup scratch).
-constexpr std::uint64_t FrameStats::*kLaneCounts[] = {
-    &FrameStats::pixels,         &FrameStats::samples,          &FrameStats::blocks,
-    &FrameStats::block_lights,   &FrameStats::block_lights_out_of_reach,
-    &FrameStats::block_candidates, &FrameStats::block_proofs_tried, &FrameStats::block_proofs_succeeded,
-    &FrameStats::tiles,          &FrameStats::tile_lights,      &FrameStats::tile_pairs,
-    &FrameStats::tile_general_pairs, &FrameStats::light_samples, &FrameStats::pair_samples,
-    &FrameStats::scalar_tiles,   &FrameStats::sampled_pixels,   &FrameStats::sampled_visible_lights,
-    &FrameStats::sampled_blocking_pairs,
-};
-
-FrameStats FrameEngine::sum_counts(int lanes) const noexcept {
-  FrameStats sum;
-  for (int lane = 0; lane < lanes; ++lane) {
-    const ThreadState& state = states_[static_cast<std::size_t>(lane)];
-    const FrameStats& c = state.counts;
-    for (std::uint64_t FrameStats::*count : kLaneCounts) sum.*count += c.*count;
-    // The proof counters run over blocks and tiles alike; the blocks' share is counted above.
-    sum.tile_proofs_tried += state.setup.occlusion.proofs_tried - c.block_proofs_tried;
-    sum.tile_proofs_succeeded += state.setup.occlusion.proofs_succeeded - c.block_proofs_succeeded;
-    sum.umbra_tests += state.setup.pairs.umbra_tests;
-    sum.umbra_hits += state.setup.pairs.umbra_hits;
-    sum.tile_proofs_skipped += state.setup.culling.tile_proofs_skipped;
-    sum.block_proofs_skipped += state.setup.culling.block_proofs_skipped;
-    sum.tile_pairs_outside_hull += state.setup.pairs.hull_pairs_dropped;
-  }
-  return sum;
+  if (!stats) return;
+  FrameCounters sum;
+  for (int lane = 0; lane < lanes; ++lane) sum += states_[static_cast<std::size_t>(lane)].counts;
+  *stats = to_frame_stats(sum);
 }
 
 }  // namespace par2d::detail

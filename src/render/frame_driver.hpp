@@ -42,7 +42,6 @@ class FrameEngine {
 
  private:
   struct ThreadState;
-  FrameStats sum_counts(int lanes) const noexcept;
   std::vector<ThreadState> states_;
   SrgbBuckets srgb_;  // the last 8-bit sRGB target's exposure's, rebuilt when it changes
 };

@@ -388,11 +388,11 @@ void build_light_pairs(const PreparedScene& scene, std::size_t l, const std::vec
           if (band->state < 0) umbra_band(light.shape, occluder, inner_disc, *band);
         }
         if (band && umbra_possible(*band, corners)) {
-          ++scratch.umbra_tests;
+          ++scratch.counts.umbra_tests;
           if (!light_directions) light_directions = scratch.light_grid.of(l, block.serial);
           if (rect_in_umbra(light.shape, occluder, corners, grid, light_directions,
                             scratch.occluder_grid.of(k, block.serial))) {
-            ++scratch.umbra_hits;
+            ++scratch.counts.umbra_hits;
             shadowed = true;
             break;
           }
@@ -425,7 +425,7 @@ void build_light_pairs(const PreparedScene& scene, std::size_t l, const std::vec
             outside = outside_hull_side(occluder, sides[i]);
         }
         if (outside) {
-          ++scratch.hull_pairs_dropped;
+          ++scratch.counts.tile_pairs_outside_hull;
           continue;
         }
         work.pairs[kept++] = pair;

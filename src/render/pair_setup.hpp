@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "render/frame_counters.hpp"
 #include "render/kernel_shapes.hpp"
 #include "render/tiling.hpp"
 #include "simd/tile_work.hpp"
@@ -69,9 +70,9 @@ struct PairSetupScratch {
   };
   std::vector<std::vector<BlockSeparator>> block_separators;
   std::vector<std::uint64_t> block_separator_block;  // per light: BlockView::serial its entries belong to
-  // Counts for FrameStats, accumulated until the owner clears them.
-  std::uint64_t umbra_tests = 0, umbra_hits = 0;
-  std::uint64_t hull_pairs_dropped = 0;  // pairs whose occluder misses the tile-light hull
+  // Its counts (umbra_tests, umbra_hits, tile_pairs_outside_hull: pairs whose occluder
+  // misses the tile-light hull), accumulated until the owner clears them.
+  FrameCounters counts;
 
   // Entries of earlier blocks carry an older serial: found anew on first use.
   void start_block(std::size_t lights, std::size_t occluders) {
@@ -82,7 +83,6 @@ struct PairSetupScratch {
     block_separator_block.resize(lights, 0);
     occluder_grid.start_block(occluders);
   }
-  void clear_counts() noexcept { umbra_tests = umbra_hits = hull_pairs_dropped = 0; }
 };
 
 // The tile as its lights' pair setup sees it, made once per tile.

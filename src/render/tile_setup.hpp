@@ -8,6 +8,7 @@
 #include "culling/light_reach.hpp"
 #include "culling/occlusion_proof.hpp"
 #include "render/block_culling.hpp"
+#include "render/frame_counters.hpp"
 #include "render/kernel_shapes.hpp"
 #include "render/model_terms.hpp"
 #include "render/pair_setup.hpp"
@@ -39,12 +40,20 @@ struct TileSetupScratch {
   TilePlan plan;
   std::vector<std::uint32_t> tile_lights;
 
-  // Clears the counts for FrameStats (the proofs', umbra tests', skipped proofs', dropped
+  // Clears the counts its parts keep (the proofs', umbra tests', skipped proofs', dropped
   // pairs'), which accumulate from block to block until then.
   void clear_counts() noexcept {
     occlusion.proofs_tried = occlusion.proofs_succeeded = 0;
-    culling.clear_counts();
-    pairs.clear_counts();
+    culling.counts = FrameCounters{};
+    pairs.counts = FrameCounters{};
+  }
+  // What its parts counted since clear_counts.
+  FrameCounters counts() const noexcept {
+    FrameCounters sum = culling.counts;
+    sum += pairs.counts;
+    sum.proofs_tried += occlusion.proofs_tried;
+    sum.proofs_succeeded += occlusion.proofs_succeeded;
+    return sum;
   }
 };
 

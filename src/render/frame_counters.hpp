@@ -1,0 +1,111 @@
+// Every count a frame keeps, per lane: filled where the work is done (the frame driver, block
+// culling, pair setup, the occlusion proofs), summed with +=, and turned into the public
+// FrameStats in one place (to_frame_stats), so a new counter leaves the public API alone.
+#pragma once
+
+#include <cstdint>
+
+#include "par2d/render.hpp"
+
+namespace par2d::detail {
+
+// Counting costs a few additions per block and tile, so it is always on. The meanings are
+// FrameStats'; the fields that differ say how they map.
+struct FrameCounters {
+  // Blocks (frame_driver.cpp).
+  std::uint64_t blocks = 0;
+  std::uint64_t block_lights = 0;
+  std::uint64_t block_lights_out_of_reach = 0;
+  std::uint64_t block_candidates = 0;
+  std::uint64_t block_proofs_tried = 0;
+  std::uint64_t block_proofs_succeeded = 0;
+  // The adaptive proof rule (block_culling.cpp).
+  std::uint64_t block_proofs_skipped = 0;
+  std::uint64_t tile_proofs_skipped = 0;
+  // Occlusion proofs over blocks and tiles together (OcclusionProofScratch's own counts);
+  // FrameStats' tile proofs are these less the block proofs.
+  std::uint64_t proofs_tried = 0;
+  std::uint64_t proofs_succeeded = 0;
+  // Pair setup (pair_setup.cpp).
+  std::uint64_t umbra_tests = 0;
+  std::uint64_t umbra_hits = 0;
+  std::uint64_t tile_pairs_outside_hull = 0;
+  // Tiles and the kernel's work (frame_driver.cpp).
+  std::uint64_t pixels = 0;
+  std::uint64_t samples = 0;
+  std::uint64_t tiles = 0;
+  std::uint64_t tile_lights = 0;
+  std::uint64_t tile_pairs = 0;
+  std::uint64_t tile_general_pairs = 0;
+  std::uint64_t light_samples = 0;
+  std::uint64_t pair_samples = 0;
+  std::uint64_t scalar_tiles = 0;
+  // One exact pixel per tile (FrameSettings::sample_needs; frame_driver.cpp).
+  std::uint64_t sampled_pixels = 0;
+  std::uint64_t sampled_visible_lights = 0;
+  std::uint64_t sampled_blocking_pairs = 0;
+
+  FrameCounters& operator+=(const FrameCounters& o) noexcept {
+    blocks += o.blocks;
+    block_lights += o.block_lights;
+    block_lights_out_of_reach += o.block_lights_out_of_reach;
+    block_candidates += o.block_candidates;
+    block_proofs_tried += o.block_proofs_tried;
+    block_proofs_succeeded += o.block_proofs_succeeded;
+    block_proofs_skipped += o.block_proofs_skipped;
+    tile_proofs_skipped += o.tile_proofs_skipped;
+    proofs_tried += o.proofs_tried;
+    proofs_succeeded += o.proofs_succeeded;
+    umbra_tests += o.umbra_tests;
+    umbra_hits += o.umbra_hits;
+    tile_pairs_outside_hull += o.tile_pairs_outside_hull;
+    pixels += o.pixels;
+    samples += o.samples;
+    tiles += o.tiles;
+    tile_lights += o.tile_lights;
+    tile_pairs += o.tile_pairs;
+    tile_general_pairs += o.tile_general_pairs;
+    light_samples += o.light_samples;
+    pair_samples += o.pair_samples;
+    scalar_tiles += o.scalar_tiles;
+    sampled_pixels += o.sampled_pixels;
+    sampled_visible_lights += o.sampled_visible_lights;
+    sampled_blocking_pairs += o.sampled_blocking_pairs;
+    return *this;
+  }
+};
+// A new field must be added above too.
+static_assert(sizeof(FrameCounters) == 25 * sizeof(std::uint64_t), "FrameCounters::operator+= adds every field");
+
+// The public report of a frame's counts: the one place FrameCounters map to FrameStats.
+inline FrameStats to_frame_stats(const FrameCounters& c) noexcept {
+  FrameStats s;
+  s.pixels = c.pixels;
+  s.samples = c.samples;
+  s.blocks = c.blocks;
+  s.block_lights = c.block_lights;
+  s.block_lights_out_of_reach = c.block_lights_out_of_reach;
+  s.block_candidates = c.block_candidates;
+  s.block_proofs_tried = c.block_proofs_tried;
+  s.block_proofs_succeeded = c.block_proofs_succeeded;
+  s.block_proofs_skipped = c.block_proofs_skipped;
+  s.tiles = c.tiles;
+  s.tile_lights = c.tile_lights;
+  s.tile_pairs = c.tile_pairs;
+  s.tile_general_pairs = c.tile_general_pairs;
+  s.tile_proofs_tried = c.proofs_tried - c.block_proofs_tried;
+  s.tile_proofs_succeeded = c.proofs_succeeded - c.block_proofs_succeeded;
+  s.tile_proofs_skipped = c.tile_proofs_skipped;
+  s.umbra_tests = c.umbra_tests;
+  s.umbra_hits = c.umbra_hits;
+  s.tile_pairs_outside_hull = c.tile_pairs_outside_hull;
+  s.light_samples = c.light_samples;
+  s.pair_samples = c.pair_samples;
+  s.scalar_tiles = c.scalar_tiles;
+  s.sampled_pixels = c.sampled_pixels;
+  s.sampled_visible_lights = c.sampled_visible_lights;
+  s.sampled_blocking_pairs = c.sampled_blocking_pairs;
+  return s;
+}
+
+}  // namespace par2d::detail
