@@ -115,7 +115,7 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
   VectorTileStores stores;
   if (kernels) {
     stores = kernels->stores;
-    if (target.format == PixelFormat::rgba8_srgb) {
+    if (pixel_format_info(target.format)->srgb8) {
       if (srgb_.exposure != target.exposure || srgb_.below.empty()) build_srgb_buckets(target.exposure, srgb_);
       stores.srgb = &srgb_;
     }

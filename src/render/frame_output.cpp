@@ -1,4 +1,4 @@
-// Tile stores for each pixel format: float RGB, float RGBA, 8-bit sRGB RGBA with exposure.
+// The table of pixel formats and their tile stores: float RGB, float RGBA, 8-bit sRGB RGBA with exposure.
 #include "render/frame_output.hpp"
 
 #include <algorithm>
@@ -13,16 +13,6 @@
 #endif
 
 namespace par2d {
-
-int bytes_per_pixel(PixelFormat format) noexcept {
-  switch (format) {
-    case PixelFormat::rgb_f32: return 12;
-    case PixelFormat::rgba_f32: return 16;
-    case PixelFormat::rgba8_srgb: return 4;
-  }
-  return 0;
-}
-
 namespace detail {
 namespace {
 
@@ -129,7 +119,40 @@ void store_float_rows(const TileResult& result, int tile_x0, int tile_y0, const 
       });
 }
 
+// 8-bit sRGB rows through the scalar encoder, at the target's exposure.
+void store_srgb8_rows(const TileResult& result, int tile_x0, int tile_y0, const TileRect& part,
+                      const FrameTarget& target) noexcept {
+  const double exposure = target.exposure;
+  store_rows<4, unsigned char>(result, tile_x0, tile_y0, part, target,
+                               [exposure](unsigned char* p, float r, float g, float b) {
+                                 p[0] = encode_srgb8(exposure * static_cast<double>(r));
+                                 p[1] = encode_srgb8(exposure * static_cast<double>(g));
+                                 p[2] = encode_srgb8(exposure * static_cast<double>(b));
+                                 p[3] = 255;
+                               });
+}
+
+// Rows in PixelFormat's order, so that a format's row is found by its value.
+constexpr PixelFormatInfo kPixelFormats[] = {
+    {PixelFormat::rgb_f32, "rgb_f32", 12, 3, false, &VectorTileStores::rgb_f32, store_float_rows<3>},
+    {PixelFormat::rgba_f32, "rgba_f32", 16, 4, false, &VectorTileStores::rgba_f32, store_float_rows<4>},
+    {PixelFormat::rgba8_srgb, "rgba8_srgb", 4, 4, true, nullptr, store_srgb8_rows},
+};
+constexpr std::size_t kPixelFormatCount = sizeof(kPixelFormats) / sizeof(kPixelFormats[0]);
+
+constexpr bool rows_in_enum_order() noexcept {
+  for (std::size_t i = 0; i < kPixelFormatCount; ++i)
+    if (static_cast<std::size_t>(kPixelFormats[i].format) != i) return false;
+  return true;
+}
+static_assert(rows_in_enum_order(), "kPixelFormats lists the formats in PixelFormat's order");
+
 }  // namespace
+
+const PixelFormatInfo* pixel_format_info(PixelFormat format) noexcept {
+  const auto index = static_cast<std::size_t>(format);
+  return index < kPixelFormatCount ? &kPixelFormats[index] : nullptr;
+}
 
 unsigned char encode_srgb8(double linear) noexcept {
   if (!(linear > 0.0)) return 0;
@@ -193,52 +216,40 @@ void build_srgb_buckets(double exposure, SrgbBuckets& out) {
 }
 
 bool streams_float_frame(const FrameTarget& target) noexcept {
-  if (target.format == PixelFormat::rgba8_srgb) return false;
+  const PixelFormatInfo& format = *pixel_format_info(target.format);
+  if (format.srgb8) return false;
   const std::size_t frame_bytes = static_cast<std::size_t>(target.region.x1 - target.region.x0) *
                                   static_cast<std::size_t>(target.region.y1 - target.region.y0) *
-                                  static_cast<std::size_t>(bytes_per_pixel(target.format));
+                                  static_cast<std::size_t>(format.bytes_per_pixel);
   return frame_bytes >= kStreamingFrameBytes;
 }
 
 void store_tile(const TileResult& result, int tile_x0, int tile_y0, const TileRect& part, const FrameTarget& target,
                 const VectorTileStores& vector_stores) noexcept {
+  const PixelFormatInfo& format = *pixel_format_info(target.format);  // valid: checked at the API boundary
   const int count = part.x1 - part.x0, rows = part.y1 - part.y0;
   const int first_column = part.x0 - tile_x0, first_row = part.y0 - tile_y0;
   unsigned char* host = target.data + static_cast<std::ptrdiff_t>(part.y0 - target.region.y0) * target.row_stride +
-                        static_cast<std::ptrdiff_t>(part.x0 - target.region.x0) * bytes_per_pixel(target.format);
-  const FloatRowsStore float_store = target.format == PixelFormat::rgb_f32    ? vector_stores.rgb_f32
-                                     : target.format == PixelFormat::rgba_f32 ? vector_stores.rgba_f32
-                                                                               : nullptr;
+                        static_cast<std::ptrdiff_t>(part.x0 - target.region.x0) * format.bytes_per_pixel;
+  const FloatRowsStore float_store = format.float_store ? vector_stores.*format.float_store : nullptr;
   if (float_store) {
     float_store(result, first_column, first_row, rows, count, host, target.row_stride, streams_float_frame(target));
     return;
   }
-  if (target.format == PixelFormat::rgba8_srgb && vector_stores.rgba8_srgb && vector_stores.srgb &&
+  if (format.srgb8 && vector_stores.rgba8_srgb && vector_stores.srgb &&
       vector_stores.srgb->valid && vector_stores.srgb->exposure == target.exposure) {
     vector_stores.rgba8_srgb(result, first_column, first_row, rows, count, host, target.row_stride,
                              *vector_stores.srgb);
     return;
   }
-  switch (target.format) {
-    case PixelFormat::rgb_f32:
-      store_float_rows<3>(result, tile_x0, tile_y0, part, target);
-      break;
-    case PixelFormat::rgba_f32:
-      store_float_rows<4>(result, tile_x0, tile_y0, part, target);
-      break;
-    case PixelFormat::rgba8_srgb: {
-      const double exposure = target.exposure;
-      store_rows<4, unsigned char>(result, tile_x0, tile_y0, part, target,
-                                   [exposure](unsigned char* p, float r, float g, float b) {
-                                     p[0] = encode_srgb8(exposure * static_cast<double>(r));
-                                     p[1] = encode_srgb8(exposure * static_cast<double>(g));
-                                     p[2] = encode_srgb8(exposure * static_cast<double>(b));
-                                     p[3] = 255;
-                                   });
-      break;
-    }
-  }
+  format.generic_store(result, tile_x0, tile_y0, part, target);
 }
 
 }  // namespace detail
+
+int bytes_per_pixel(PixelFormat format) noexcept {
+  const detail::PixelFormatInfo* info = detail::pixel_format_info(format);
+  return info ? info->bytes_per_pixel : 0;
+}
+
 }  // namespace par2d

@@ -34,6 +34,28 @@ struct VectorTileStores {
   const SrgbBuckets* srgb = nullptr;  // the target's exposure's buckets (rgba8_srgb needs valid ones)
 };
 
+// A store any ISA can run: the scalar path's, and the fallback of a kernel without a vector
+// store for the format.
+using GenericTileStore = void (*)(const TileResult& result, int tile_x0, int tile_y0, const TileRect& part,
+                                  const FrameTarget& target) noexcept;
+
+// The one table of pixel formats (frame_output.cpp), a row per PixelFormat. A new format is a
+// row there with its generic store, a VectorTileStores member with each ISA's store
+// (simd/tile_kernel_entry.hpp, declared and listed in simd/tile_kernel_entries.hpp), and the
+// enum value (par2d/renderer.hpp).
+struct PixelFormatInfo {
+  PixelFormat format;
+  const char* name;  // the enum value's name
+  int bytes_per_pixel;
+  int channels;  // stored per pixel, alpha included
+  bool srgb8;    // 8-bit sRGB with exposure: the ISA store needs the frame's SrgbBuckets; never streamed
+  FloatRowsStore VectorTileStores::*float_store;  // the ISA's vector store of a float format, else null
+  GenericTileStore generic_store;
+};
+
+// The row of `format`, or null for a value outside the enum.
+const PixelFormatInfo* pixel_format_info(PixelFormat format) noexcept;
+
 // Float frames of at least this many bytes (over the target's region) are written with
 // non-temporal stores wherever a tile row starts on a vector-register boundary: such a
 // frame (1920x1080 float RGB is 25 MB) does not stay in a last-level cache from one frame

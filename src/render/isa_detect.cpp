@@ -1,6 +1,7 @@
 // Portable half of ISA selection: names, PAR2D_ISA, and which levels a CPU supports. The CPU
 // probe itself (detect_isa) lives in isa_detect_<arch>.cpp, one per architecture.
 #include <atomic>
+#include <cstddef>
 #include <cstdlib>
 
 #include "par2d/isa.hpp"
@@ -13,17 +14,42 @@ namespace {
 // superset of the ones before it in the enum.
 enum class IsaFamily { any, x86, arm };
 
+// The one table of ISA facts, a row per Isa in the enum's order. The CPU probe is per
+// architecture (isa_detect_<arch>.cpp); the kernels per ISA (render/kernel_table_<arch>.cpp).
+struct IsaFacts {
+  Isa isa;
+  const char* name;         // isa_name, and what parse_isa and PAR2D_ISA accept
+  const char* aliases[2];   // other names parse_isa accepts (null: none)
+  IsaFamily family;
+  int lanes;                // float lanes of its vectors (isa_lanes)
+};
+constexpr IsaFacts kIsas[] = {
+    {Isa::scalar, "scalar", {nullptr, nullptr}, IsaFamily::any, 1},
+    {Isa::sse4_2, "sse4", {"sse4.2", "sse4_2"}, IsaFamily::x86, 4},
+    {Isa::avx2, "avx2", {nullptr, nullptr}, IsaFamily::x86, 8},
+    {Isa::avx512, "avx512", {nullptr, nullptr}, IsaFamily::x86, 16},
+    {Isa::neon64, "neon64", {"neon", nullptr}, IsaFamily::arm, 4},
+};
+constexpr std::size_t kIsaCount = sizeof(kIsas) / sizeof(kIsas[0]);
+
+constexpr bool rows_in_enum_order() noexcept {
+  for (std::size_t i = 0; i < kIsaCount; ++i)
+    if (static_cast<std::size_t>(kIsas[i].isa) != i) return false;
+  return true;
+}
+static_assert(rows_in_enum_order(), "kIsas lists the levels in Isa's order");
+
+// The row of `isa`, or null for a value outside the enum.
+const IsaFacts* isa_facts(Isa isa) noexcept {
+  const auto index = static_cast<std::size_t>(isa);
+  return index < kIsaCount ? &kIsas[index] : nullptr;
+}
+
 std::atomic<std::uint64_t> default_isa_query_count{0};
 
 IsaFamily isa_family(Isa isa) noexcept {
-  switch (isa) {
-    case Isa::scalar: return IsaFamily::any;
-    case Isa::sse4_2:
-    case Isa::avx2:
-    case Isa::avx512: return IsaFamily::x86;
-    case Isa::neon64: return IsaFamily::arm;
-  }
-  return IsaFamily::any;
+  const IsaFacts* facts = isa_facts(isa);
+  return facts ? facts->family : IsaFamily::any;
 }
 
 }  // namespace
@@ -45,22 +71,16 @@ Isa default_isa() noexcept {
 }
 
 const char* isa_name(Isa isa) noexcept {
-  switch (isa) {
-    case Isa::scalar: return "scalar";
-    case Isa::sse4_2: return "sse4";
-    case Isa::avx2: return "avx2";
-    case Isa::avx512: return "avx512";
-    case Isa::neon64: return "neon64";
-  }
-  return "unknown";
+  const IsaFacts* facts = isa_facts(isa);
+  return facts ? facts->name : "unknown";
 }
 
 std::optional<Isa> parse_isa(std::string_view name) noexcept {
-  if (name == "scalar") return Isa::scalar;
-  if (name == "sse4" || name == "sse4.2" || name == "sse4_2") return Isa::sse4_2;
-  if (name == "avx2") return Isa::avx2;
-  if (name == "avx512") return Isa::avx512;
-  if (name == "neon64" || name == "neon") return Isa::neon64;
+  for (const IsaFacts& facts : kIsas) {
+    if (name == facts.name) return facts.isa;
+    for (const char* alias : facts.aliases)
+      if (alias && name == alias) return facts.isa;
+  }
   return std::nullopt;
 }
 
@@ -69,14 +89,8 @@ std::uint64_t default_isa_queries() noexcept { return default_isa_query_count.lo
 }  // namespace detail
 
 int isa_lanes(Isa isa) noexcept {
-  switch (isa) {
-    case Isa::scalar: return 1;
-    case Isa::sse4_2: return 4;
-    case Isa::avx2: return 8;
-    case Isa::avx512: return 16;
-    case Isa::neon64: return 4;
-  }
-  return 1;
+  const IsaFacts* facts = isa_facts(isa);
+  return facts ? facts->lanes : 1;
 }
 
 }  // namespace par2d
