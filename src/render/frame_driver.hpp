@@ -8,7 +8,7 @@
 #include "par2d/isa.hpp"
 #include "par2d/render.hpp"
 #include "render/frame_output.hpp"
-#include "render/scheduler.hpp"
+#include "parallel/scheduler.hpp"
 #include "world/prepared_scene.hpp"
 
 namespace par2d::detail {

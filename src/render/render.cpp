@@ -15,7 +15,7 @@
 #include "render/frame_output.hpp"
 #include "render/frame_driver.hpp"
 #include "render/render_arguments.hpp"
-#include "render/scheduler.hpp"
+#include "parallel/scheduler.hpp"
 #include "world/prepared_scene.hpp"
 #include "render/scalar_tiles.hpp"
 #include "render/tiling.hpp"

@@ -8,7 +8,7 @@
 #include "render/frame_output.hpp"
 #include "render/frame_driver.hpp"
 #include "render/render_arguments.hpp"
-#include "render/scheduler.hpp"
+#include "parallel/scheduler.hpp"
 #include "world/world.hpp"
 
 namespace par2d {

@@ -12,7 +12,7 @@
 #include "par2d/status.hpp"
 #include "culling/light_reach.hpp"
 #include "world/prepared_scene.hpp"
-#include "render/scheduler.hpp"
+#include "parallel/scheduler.hpp"
 #include "scene/scene_validate.hpp"
 
 namespace par2d::detail {

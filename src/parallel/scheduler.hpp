@@ -9,7 +9,7 @@
 #include <memory>
 
 #include "par2d/render.hpp"
-#include "render/tiling.hpp"
+#include "parallel/parallel_for.hpp"
 
 namespace par2d::detail {
 
