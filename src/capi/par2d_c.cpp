@@ -7,6 +7,7 @@
 #include <exception>
 #include <new>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "par2d/renderer.hpp"
@@ -71,11 +72,22 @@ par2d_status guarded(const char* function, Fn&& fn) noexcept {
   }
 }
 
+// The value a C caller stored in an enum field or parameter, read as its bytes. A C caller may
+// store any int there; in C++, loading an enum object whose value lies outside its
+// enumerators' range is undefined (UBSan's enum check stops on it), so the value is checked
+// as an integer before it is ever read as the enum.
+template <class E>
+long long raw_enum(const E& field) noexcept {
+  std::underlying_type_t<E> value;
+  std::memcpy(&value, &field, sizeof value);
+  return static_cast<long long>(value);
+}
+
 // Converts into `out`, reusing a polygon's vertex buffer when the shape stays a polygon.
 // Everything about the C struct is checked before its vertices are read or copied.
 par2d_status convert_shape(const char* function, const par2d_shape* in, par2d::Shape& out) {
   if (in == nullptr) return fail(function, "shape is null");
-  switch (in->kind) {
+  switch (raw_enum(in->kind)) {
     case PAR2D_SHAPE_POLYGON: {
       if (in->vertex_count > PAR2D_MAX_POLYGON_VERTICES)
         return fail(function, "shape vertex_count " + std::to_string(in->vertex_count) + " is more than " +
@@ -94,7 +106,7 @@ par2d_status convert_shape(const char* function, const par2d_shape* in, par2d::S
       out = par2d::Segment{{in->segment[0], in->segment[1]}, {in->segment[2], in->segment[3]}};
       return PAR2D_OK;
   }
-  return fail(function, "shape kind " + std::to_string(static_cast<long long>(in->kind)) +
+  return fail(function, "shape kind " + std::to_string(raw_enum(in->kind)) +
                             " is not PAR2D_SHAPE_POLYGON, _CIRCLE or _SEGMENT");
 }
 
@@ -162,12 +174,12 @@ par2d_status par2d_renderer_create(const par2d_options* options, par2d_renderer*
   return guarded(fn, [&] {
     par2d::RenderOptions o;
     if (options) {
-      switch (options->backend) {
+      switch (raw_enum(options->backend)) {
         case PAR2D_BACKEND_AUTO: o.backend = par2d::Backend::automatic; break;
         case PAR2D_BACKEND_SIMD: o.backend = par2d::Backend::simd; break;
         case PAR2D_BACKEND_SCALAR: o.backend = par2d::Backend::scalar; break;
         default:
-          return fail(fn, "backend " + std::to_string(static_cast<long long>(options->backend)) +
+          return fail(fn, "backend " + std::to_string(raw_enum(options->backend)) +
                               " is not PAR2D_BACKEND_AUTO, _SIMD or _SCALAR");
       }
       o.threads = options->threads;
@@ -301,12 +313,12 @@ par2d_status par2d_render(par2d_renderer* r, void* pixels, par2d_pixel_format fo
   return guarded(fn, [&] {
     par2d::FrameBuffer buffer;
     buffer.data = pixels;
-    switch (format) {
+    switch (raw_enum(format)) {
       case PAR2D_RGB_F32: buffer.format = par2d::PixelFormat::rgb_f32; break;
       case PAR2D_RGBA_F32: buffer.format = par2d::PixelFormat::rgba_f32; break;
       case PAR2D_RGBA8_SRGB: buffer.format = par2d::PixelFormat::rgba8_srgb; break;
       default:
-        return fail(fn, "pixel format " + std::to_string(static_cast<long long>(format)) +
+        return fail(fn, "pixel format " + std::to_string(raw_enum(format)) +
                             " is not PAR2D_RGB_F32, PAR2D_RGBA_F32 or PAR2D_RGBA8_SRGB");
     }
     buffer.row_stride = row_stride;
@@ -393,8 +405,8 @@ par2d_status par2d_set_occluder_terms(par2d_renderer* r, par2d_occluder occluder
   const char* const fn = __func__;
   if (r == nullptr) return fail(fn, "renderer is null");
   if (terms == nullptr) return fail(fn, "terms is null");
-  if (terms->interior != PAR2D_INTERIOR_DARK && terms->interior != PAR2D_INTERIOR_LIT)
-    return fail(fn, "interior " + std::to_string(static_cast<long long>(terms->interior)) +
+  if (raw_enum(terms->interior) != PAR2D_INTERIOR_DARK && raw_enum(terms->interior) != PAR2D_INTERIOR_LIT)
+    return fail(fn, "interior " + std::to_string(raw_enum(terms->interior)) +
                         " is not PAR2D_INTERIOR_DARK or PAR2D_INTERIOR_LIT");
   return guarded(fn, [&] {
     if (par2d::Status s = r->renderer.occluder(par2d::OccluderHandle{occluder}, &r->occluder); !s.ok())

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <deque>
 #include <new>
 #include <optional>
@@ -28,6 +29,33 @@
 
 namespace par2d::viewer {
 namespace {
+
+// Whether DISPLAY names a local X display (":N", "unix:N", with an optional ".screen") whose
+// server socket /tmp/.X11-unix/XN exists neither as a file nor in Linux's abstract namespace
+// (/proc/net/unix). Anything else (a remote display, no /proc) is left to SDL to try.
+bool local_x_server_missing(const char* display, std::string& socket) {
+  std::string d = display;
+  if (d.rfind("unix:", 0) == 0) d.erase(0, 4);
+  if (d.size() < 2 || d[0] != ':') return false;
+  std::size_t end = 1;
+  while (end < d.size() && d[end] >= '0' && d[end] <= '9') ++end;
+  if (end == 1 || (end < d.size() && d[end] != '.')) return false;
+  socket = "/tmp/.X11-unix/X" + d.substr(1, end - 1);
+  struct stat st {};
+  if (stat(socket.c_str(), &st) == 0) return false;
+  std::FILE* sockets = std::fopen("/proc/net/unix", "r");
+  if (!sockets) return false;
+  char line[512];
+  bool listed = false;
+  const std::string abstract = "@" + socket;
+  while (!listed && std::fgets(line, sizeof line, sockets)) {
+    const char* at = std::strstr(line, abstract.c_str());
+    listed = at != nullptr && (at[abstract.size()] == '\n' || at[abstract.size()] == ' ' || at[abstract.size()] == '\0');
+  }
+  std::fclose(sockets);
+  return !listed;
+}
+
 
 using Clock = std::chrono::steady_clock;
 
@@ -176,13 +204,22 @@ class Viewer {
     // Only X11 can serve DISPLAY: without WAYLAND_DISPLAY, SDL's Wayland probe would add
     // libwayland's own line to ours when the X display cannot be opened.
     const bool only_x11 = !driver_chosen && !wayland;
-    if (only_x11) setenv("SDL_VIDEODRIVER", "x11", 1);
+    if (only_x11) {
+      // A local display with no server is refused before SDL is loaded: its probe would only
+      // add its drivers' complaints, and leave libdbus's allocations behind.
+      if (std::string socket; local_x_server_missing(x11_display, socket))
+        return fail(std::string("cannot open a window: no display (DISPLAY=") + x11_display +
+                    " cannot be opened: no X server listens on " + socket + ")");
+      setenv("SDL_VIDEODRIVER", "x11", 1);
+    }
     if (std::string error; !load_sdl_library(sdl_api, error)) return fail("cannot open a window: " + error);
     if (sdl_api.SDL_Init(SDL_INIT_VIDEO) != 0) {
+      const std::string why = sdl_api.SDL_GetError();
+      sdl_api.SDL_Quit();  // safe after a failed SDL_Init; releases what the probe opened
       if (only_x11)
-        return fail(std::string("cannot open a window: no display (DISPLAY=") + x11_display +
-                    " cannot be opened: " + sdl_api.SDL_GetError() + ")");
-      return fail(std::string("cannot open a window: ") + sdl_api.SDL_GetError());
+        return fail(std::string("cannot open a window: no display (DISPLAY=") + x11_display + " cannot be opened: " +
+                    why + ")");
+      return fail("cannot open a window: " + why);
     }
     sdl_.sdl = true;
     const std::string driver = sdl_api.SDL_GetCurrentVideoDriver();
