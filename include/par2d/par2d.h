@@ -187,6 +187,128 @@ PAR2D_C_API par2d_status par2d_set_normal_map(par2d_renderer* renderer, const fl
 PAR2D_C_API par2d_status par2d_load_normal_map(par2d_renderer* renderer, const char* png_path);
 PAR2D_C_API par2d_status par2d_clear_normal_source(par2d_renderer* renderer);
 
+/* ---- Options beyond par2d_options, the frame, the world's contents and what was done ---- */
+
+/* The renderer's options as last set (par2d_renderer_create or par2d_set_options). */
+PAR2D_C_API par2d_status par2d_get_options(const par2d_renderer* renderer, par2d_options* out);
+/* Replaces backend, threads, spp and culling; the advanced options below stay. A refused value
+ * (spp 0, negative threads, an unknown backend) keeps the options as they were. Recreates the
+ * thread pool here, never per frame. */
+PAR2D_C_API par2d_status par2d_set_options(par2d_renderer* renderer, const par2d_options* options);
+
+/* SIMD instruction-set levels. PAR2D_ISA_DEFAULT: the PAR2D_ISA environment variable if set,
+ * else the best the CPU has. A level the CPU lacks falls back to the best it has. */
+typedef enum par2d_isa {
+  PAR2D_ISA_DEFAULT = -1,
+  PAR2D_ISA_SCALAR = 0, /* the double-precision reference */
+  PAR2D_ISA_SSE4_2 = 1,
+  PAR2D_ISA_AVX2 = 2,
+  PAR2D_ISA_AVX512 = 3,
+  PAR2D_ISA_NEON64 = 4
+} par2d_isa;
+
+/* Where a frame's parallel work runs. */
+typedef enum par2d_threading {
+  PAR2D_THREADING_OWN_POOL = 0,    /* default: the renderer's pool of par2d_options.threads workers */
+  PAR2D_THREADING_CALLER_ARENA = 1 /* the TBB arena par2d_render is called from (a C++ host calling it
+                                      inside tbb::task_arena::execute); threads is ignored */
+} par2d_threading;
+
+/* The options par2d_options lacks (they came later, so they have their own struct). */
+typedef struct par2d_advanced_options {
+  par2d_isa isa;             /* cap on the SIMD level; default PAR2D_ISA_DEFAULT */
+  par2d_threading threading; /* default PAR2D_THREADING_OWN_POOL */
+  int shaded;                /* nonzero (default): the normal-shaded value when there is a normal
+                                source; 0: the plain irradiance */
+} par2d_advanced_options;
+
+PAR2D_C_API void par2d_advanced_options_default(par2d_advanced_options* options);
+PAR2D_C_API par2d_status par2d_get_advanced_options(const par2d_renderer* renderer, par2d_advanced_options* out);
+/* A refused value keeps every option as it was. */
+PAR2D_C_API par2d_status par2d_set_advanced_options(par2d_renderer* renderer, const par2d_advanced_options* options);
+/* The level the renderer's SIMD path runs at on this CPU with its options (PAR2D_ISA_SCALAR for
+ * the scalar backend); the best level this CPU has; "scalar", "sse4", "avx2", "avx512",
+ * "neon64" ("" for a value that is no level). */
+PAR2D_C_API par2d_isa par2d_renderer_isa(const par2d_renderer* renderer);
+PAR2D_C_API par2d_isa par2d_detect_isa(void);
+PAR2D_C_API const char* par2d_isa_name(par2d_isa isa);
+
+/* Bytes one pixel of `format` takes (12, 16, 4; 0 for a value that is no format). */
+PAR2D_C_API int par2d_bytes_per_pixel(par2d_pixel_format format);
+
+/* The frame as last set: width, height and view {x0, y0, x1, y1}; any pointer may be NULL.
+ * 0 x 0 before the first par2d_set_frame or scene. */
+PAR2D_C_API par2d_status par2d_get_frame(const par2d_renderer* renderer, int* width, int* height, double view[4]);
+
+/* How many lights and occluders the world holds (0 for a NULL renderer). */
+PAR2D_C_API size_t par2d_light_count(const par2d_renderer* renderer);
+PAR2D_C_API size_t par2d_occluder_count(const par2d_renderer* renderer);
+/* The handles of the world's lights (occluders): a loaded scene's in the scene file's order,
+ * then those added since, in the order they were added (removed ones left out). Writes the
+ * first min(capacity, count) into `out` (NULL when capacity is 0) and the total into *count,
+ * so a call with capacity 0 asks for the size. */
+PAR2D_C_API par2d_status par2d_get_light_handles(const par2d_renderer* renderer, par2d_light* out, size_t capacity,
+                                                 size_t* count);
+PAR2D_C_API par2d_status par2d_get_occluder_handles(const par2d_renderer* renderer, par2d_occluder* out,
+                                                    size_t capacity, size_t* count);
+
+/* The light (occluder) a handle names, as last given: its shape, color and intensity (any
+ * output may be NULL; the terms come from par2d_get_light_terms). A polygon's
+ * shape->vertices point into memory the renderer owns, valid until the next par2d_get_light
+ * or par2d_get_occluder on it or its destruction. An unknown handle is refused and the
+ * outputs are left as they were. */
+PAR2D_C_API par2d_status par2d_get_light(par2d_renderer* renderer, par2d_light light, par2d_shape* shape,
+                                         double color[3], double* intensity);
+PAR2D_C_API par2d_status par2d_get_occluder(par2d_renderer* renderer, par2d_occluder occluder, par2d_shape* shape);
+
+/* The scene-wide terms as last set: ambient; the directional lights (the first
+ * min(capacity, count) into `out`, the total into *count); the normal source. */
+PAR2D_C_API par2d_status par2d_get_ambient(const par2d_renderer* renderer, double ambient[3]);
+PAR2D_C_API par2d_status par2d_get_directional_lights(const par2d_renderer* renderer, par2d_directional_light* out,
+                                                      size_t capacity, size_t* count);
+typedef enum par2d_normal_source {
+  PAR2D_NORMAL_NONE = 0,     /* plain irradiance */
+  PAR2D_NORMAL_CONSTANT = 1, /* one normal for every pixel */
+  PAR2D_NORMAL_MAP = 2       /* a normal per pixel */
+} par2d_normal_source;
+/* Which normal source is set; with PAR2D_NORMAL_CONSTANT, `normal` (may be NULL) receives it. */
+PAR2D_C_API par2d_status par2d_get_normal_source(const par2d_renderer* renderer, par2d_normal_source* kind,
+                                                 double normal[3]);
+
+/* The world as a scene file (docs/contract.md section 3): lights that emit first, then dark
+ * ones, then occluders; rendering it gives the same image. par2d_save_scene writes it to `path`
+ * atomically (a normal map is written as the path it was loaded from; one given as floats
+ * cannot be saved). par2d_snapshot_json copies the JSON text, NUL-terminated, into `out` when
+ * it fits in `capacity` bytes and always sets *length to its length without the NUL (so a
+ * call with capacity 0 asks for the size); text that does not fit is refused with
+ * PAR2D_INVALID_ARGUMENT and nothing is written. */
+PAR2D_C_API par2d_status par2d_save_scene(const par2d_renderer* renderer, const char* path);
+PAR2D_C_API par2d_status par2d_snapshot_json(const par2d_renderer* renderer, char* out, size_t capacity,
+                                             size_t* length);
+
+/* What the renderer has done so far (docs/api.md, RendererStats). */
+typedef struct par2d_stats {
+  uint64_t frames;             /* successful par2d_render calls */
+  uint64_t index_builds;       /* occluder index built from scratch */
+  uint64_t index_updates;      /* occluder index updated in place */
+  uint64_t reach_computations; /* per-light reach proofs run */
+  uint64_t full_prepares;      /* whole world re-prepared */
+} par2d_stats;
+PAR2D_C_API par2d_status par2d_get_stats(const par2d_renderer* renderer, par2d_stats* out);
+
+/* The culling and kernel work of the last successful par2d_render (all zero before one); the
+ * fields of docs/api.md's FrameStats table, totals over the frame. */
+typedef struct par2d_frame_stats {
+  uint64_t pixels, samples;
+  uint64_t blocks, block_lights, block_lights_out_of_reach, block_candidates;
+  uint64_t block_proofs_tried, block_proofs_succeeded, block_proofs_skipped;
+  uint64_t tiles, tile_lights, tile_pairs, tile_general_pairs;
+  uint64_t tile_proofs_tried, tile_proofs_succeeded, tile_proofs_skipped;
+  uint64_t umbra_tests, umbra_hits, tile_pairs_outside_hull;
+  uint64_t light_samples, pair_samples, scalar_tiles;
+} par2d_frame_stats;
+PAR2D_C_API par2d_status par2d_get_frame_stats(const par2d_renderer* renderer, par2d_frame_stats* out);
+
 /* Renders region = {x0, y0, x1, y1} (pixels [x0, x1) x [y0, y1); NULL: the whole frame)
  * into `pixels`, whose first byte is the region's top-left pixel, rows `row_stride` bytes
  * apart. `exposure` (finite, >= 0) is used by PAR2D_RGBA8_SRGB only. A region's pixels are

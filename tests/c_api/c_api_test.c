@@ -1,6 +1,7 @@
 /* The C API from a C program: world building, updates, every pixel format, regions, errors,
- * file policies (normal-map sizes, scene paths) and the version at run time, against closed
- * forms. Exits non-zero on the first failure. */
+ * file policies (normal-map sizes, scene paths), the version at run time, and everything the C++
+ * Renderer reaches (handles of a loaded scene, options, getters, snapshot, stats), against
+ * closed forms. Exits non-zero on the first failure. */
 #define _POSIX_C_SOURCE 200809L /* mkdtemp, mkdir */
 #include <math.h>
 #include <stdio.h>
@@ -348,6 +349,192 @@ static void check_errors_name_the_call(par2d_renderer* r) {
   CHECK(par2d_remove_occluder(r, occluder) == PAR2D_OK);
 }
 
+/* Everything the C++ Renderer reaches, reached from C: handles of a loaded scene and the
+ * objects they name, the frame, options (ISA cap and caller-arena mode included), the
+ * scene-wide terms, snapshot, stats and frame stats, pixel sizes. */
+static void check_parity_with_the_cpp_renderer(const char* dir) {
+  char path[512], saved[512];
+  snprintf(path, sizeof path, "%s/level.json", dir);
+  CHECK(write_text_file(path,
+                        "{\"width\": 40, \"height\": 30, \"view\": [0, 0, 80, 60],"
+                        " \"lights\": [{\"circle\": {\"center\": [10, 12], \"radius\": 3}, \"intensity\": 2},"
+                        "              {\"segment\": [[60, 5], [70, 5]], \"color\": [1, 0.5, 0.25]}],"
+                        " \"occluders\": [{\"polygon\": [[30, 20], [40, 20], [40, 30], [30, 30]]},"
+                        "                 {\"circle\": {\"center\": [50, 40], \"radius\": 4}}]}"));
+  par2d_options options;
+  par2d_options_default(&options);
+  options.threads = 2;
+  par2d_renderer* r = NULL;
+  CHECK(par2d_renderer_create(&options, &r) == PAR2D_OK);
+  if (r == NULL) return;
+  CHECK(par2d_load_scene(r, path) == PAR2D_OK);
+
+  /* The frame and view as loaded. */
+  int w = 0, h = 0;
+  double view[4] = {0, 0, 0, 0};
+  CHECK(par2d_get_frame(r, &w, &h, view) == PAR2D_OK);
+  CHECK(w == 40 && h == 30 && view[0] == 0 && view[1] == 0 && view[2] == 80 && view[3] == 60);
+  CHECK(par2d_get_frame(r, NULL, NULL, NULL) == PAR2D_OK);
+  CHECK_ERROR(par2d_get_frame(NULL, &w, &h, view), PAR2D_INVALID_ARGUMENT, "par2d_get_frame: renderer is null");
+
+  /* Handles of the loaded scene, in the file's order: a size query, then the list. */
+  size_t count = 99;
+  par2d_light lights[4] = {0, 0, 0, 0};
+  par2d_occluder occluders[4] = {0, 0, 0, 0};
+  CHECK(par2d_get_light_handles(r, NULL, 0, &count) == PAR2D_OK && count == 2);
+  CHECK(par2d_light_count(r) == 2 && par2d_occluder_count(r) == 2);
+  CHECK(par2d_get_light_handles(r, lights, 1, &count) == PAR2D_OK && count == 2 && lights[0] != 0 && lights[1] == 0);
+  CHECK(par2d_get_light_handles(r, lights, 4, &count) == PAR2D_OK && count == 2 && lights[1] != 0);
+  CHECK(par2d_get_occluder_handles(r, occluders, 4, &count) == PAR2D_OK && count == 2);
+  CHECK_ERROR(par2d_get_light_handles(r, lights, 4, NULL), PAR2D_INVALID_ARGUMENT, "par2d_get_light_handles: count is null");
+  CHECK_ERROR(par2d_get_occluder_handles(r, NULL, 3, &count), PAR2D_INVALID_ARGUMENT,
+              "par2d_get_occluder_handles: out is null but capacity is 3");
+
+  /* What the handles name, as the file gave it. */
+  par2d_shape shape;
+  double color[3] = {0, 0, 0}, intensity = 0;
+  CHECK(par2d_get_light(r, lights[0], &shape, color, &intensity) == PAR2D_OK);
+  CHECK(shape.kind == PAR2D_SHAPE_CIRCLE && shape.circle[0] == 10 && shape.circle[1] == 12 && shape.circle[2] == 3);
+  CHECK(intensity == 2 && color[0] == 1 && color[1] == 1 && color[2] == 1);
+  CHECK(par2d_get_light(r, lights[1], &shape, color, NULL) == PAR2D_OK);
+  CHECK(shape.kind == PAR2D_SHAPE_SEGMENT && shape.segment[0] == 60 && shape.segment[3] == 5 && color[1] == 0.5);
+  CHECK(par2d_get_occluder(r, occluders[0], &shape) == PAR2D_OK);
+  CHECK(shape.kind == PAR2D_SHAPE_POLYGON && shape.vertex_count == 4 && shape.vertices != NULL &&
+        shape.vertices[0] == 30 && shape.vertices[1] == 20 && shape.vertices[7] == 30);
+  CHECK(par2d_get_occluder(r, occluders[1], &shape) == PAR2D_OK && shape.kind == PAR2D_SHAPE_CIRCLE &&
+        shape.circle[2] == 4);
+  CHECK_ERROR_PREFIX(par2d_get_light(r, lights[0] + 7777, &shape, color, &intensity), PAR2D_INVALID_ARGUMENT,
+                     "par2d_get_light: ");
+  CHECK(shape.kind == PAR2D_SHAPE_CIRCLE && shape.circle[2] == 4); /* left as it was */
+
+  /* The loaded scene's handles work like added ones; removals and additions show in the list. */
+  const double red[3] = {1, 0, 0};
+  CHECK(par2d_set_light_emission(r, lights[0], red, 5.0) == PAR2D_OK);
+  CHECK(par2d_get_light(r, lights[0], NULL, color, &intensity) == PAR2D_OK && intensity == 5 && color[1] == 0);
+  CHECK(par2d_remove_occluder(r, occluders[0]) == PAR2D_OK);
+  par2d_occluder added = 0;
+  CHECK(par2d_add_occluder(r, &shape, &added) == PAR2D_OK);
+  par2d_occluder after[4] = {0, 0, 0, 0};
+  CHECK(par2d_get_occluder_handles(r, after, 4, &count) == PAR2D_OK && count == 2 && after[0] == occluders[1] &&
+        after[1] == added);
+
+  /* Options: read back, replaced, a refused value keeps them. */
+  par2d_options got;
+  CHECK(par2d_get_options(r, &got) == PAR2D_OK && got.threads == 2 && got.spp == 1 && got.culling == 1 &&
+        got.backend == PAR2D_BACKEND_AUTO);
+  got.spp = 4;
+  got.backend = PAR2D_BACKEND_SCALAR;
+  CHECK(par2d_set_options(r, &got) == PAR2D_OK);
+  CHECK(par2d_renderer_isa(r) == PAR2D_ISA_SCALAR); /* the scalar backend */
+  got.spp = 0;
+  CHECK_ERROR_PREFIX(par2d_set_options(r, &got), PAR2D_INVALID_ARGUMENT, "par2d_set_options: ");
+  CHECK(par2d_get_options(r, &got) == PAR2D_OK && got.spp == 4 && got.backend == PAR2D_BACKEND_SCALAR);
+  got.backend = (par2d_backend)7;
+  CHECK_ERROR(par2d_set_options(r, &got), PAR2D_INVALID_ARGUMENT,
+              "par2d_set_options: backend 7 is not PAR2D_BACKEND_AUTO, _SIMD or _SCALAR");
+  par2d_options_default(&got);
+  got.threads = 2;
+  CHECK(par2d_set_options(r, &got) == PAR2D_OK);
+
+  /* The ISA cap, caller-arena threading and shading. */
+  par2d_advanced_options advanced;
+  par2d_advanced_options_default(&advanced);
+  CHECK(advanced.isa == PAR2D_ISA_DEFAULT && advanced.threading == PAR2D_THREADING_OWN_POOL && advanced.shaded == 1);
+  CHECK(par2d_get_advanced_options(r, &advanced) == PAR2D_OK && advanced.threading == PAR2D_THREADING_OWN_POOL);
+  const size_t n = (size_t)40 * 30 * 3;
+  float* pool = malloc(sizeof(float) * n);
+  float* other = malloc(sizeof(float) * n);
+  CHECK(par2d_render(r, pool, PAR2D_RGB_F32, 40 * 12, 1.0, NULL) == PAR2D_OK);
+  advanced.isa = PAR2D_ISA_SCALAR;
+  CHECK(par2d_set_advanced_options(r, &advanced) == PAR2D_OK);
+  CHECK(par2d_renderer_isa(r) == PAR2D_ISA_SCALAR);
+  CHECK(par2d_get_advanced_options(r, &advanced) == PAR2D_OK && advanced.isa == PAR2D_ISA_SCALAR);
+  advanced.isa = PAR2D_ISA_DEFAULT;
+  advanced.threading = PAR2D_THREADING_CALLER_ARENA;
+  CHECK(par2d_set_advanced_options(r, &advanced) == PAR2D_OK);
+  CHECK(par2d_get_advanced_options(r, &advanced) == PAR2D_OK && advanced.threading == PAR2D_THREADING_CALLER_ARENA);
+  /* From a plain thread the caller's arena is TBB's implicit one: the same bytes. */
+  CHECK(par2d_render(r, other, PAR2D_RGB_F32, 40 * 12, 1.0, NULL) == PAR2D_OK);
+  CHECK(memcmp(pool, other, sizeof(float) * n) == 0);
+  advanced.isa = (par2d_isa)9;
+  CHECK_ERROR(par2d_set_advanced_options(r, &advanced), PAR2D_INVALID_ARGUMENT,
+              "par2d_set_advanced_options: isa 9 is not PAR2D_ISA_DEFAULT or a PAR2D_ISA_* level");
+  advanced.isa = PAR2D_ISA_DEFAULT;
+  advanced.threading = (par2d_threading)5;
+  CHECK_ERROR(par2d_set_advanced_options(r, &advanced), PAR2D_INVALID_ARGUMENT,
+              "par2d_set_advanced_options: threading 5 is not PAR2D_THREADING_OWN_POOL or PAR2D_THREADING_CALLER_ARENA");
+  CHECK(par2d_get_advanced_options(r, &advanced) == PAR2D_OK && advanced.threading == PAR2D_THREADING_CALLER_ARENA);
+  par2d_advanced_options_default(&advanced);
+  CHECK(par2d_set_advanced_options(r, &advanced) == PAR2D_OK);
+  CHECK(strcmp(par2d_isa_name(PAR2D_ISA_AVX2), "avx2") == 0 && strcmp(par2d_isa_name(PAR2D_ISA_DEFAULT), "") == 0);
+  CHECK(par2d_isa_name(par2d_detect_isa())[0] != '\0');
+  CHECK(par2d_bytes_per_pixel(PAR2D_RGB_F32) == 12 && par2d_bytes_per_pixel(PAR2D_RGBA_F32) == 16 &&
+        par2d_bytes_per_pixel(PAR2D_RGBA8_SRGB) == 4 && par2d_bytes_per_pixel((par2d_pixel_format)7) == 0);
+
+  /* Stats and the last frame's work. */
+  par2d_stats stats;
+  par2d_frame_stats frame;
+  CHECK(par2d_get_stats(r, &stats) == PAR2D_OK && stats.frames == 2 && stats.index_builds >= 1);
+  CHECK(par2d_render(r, pool, PAR2D_RGB_F32, 40 * 12, 1.0, NULL) == PAR2D_OK);
+  CHECK(par2d_get_stats(r, &stats) == PAR2D_OK && stats.frames == 3);
+  CHECK(par2d_get_frame_stats(r, &frame) == PAR2D_OK && frame.pixels == 40 * 30 && frame.tiles > 0);
+  const int region[4] = {8, 4, 24, 20};
+  CHECK(par2d_render(r, other, PAR2D_RGB_F32, 16 * 12, 1.0, region) == PAR2D_OK);
+  CHECK(par2d_get_frame_stats(r, &frame) == PAR2D_OK && frame.pixels == 16 * 16);
+  CHECK_ERROR(par2d_get_stats(r, NULL), PAR2D_INVALID_ARGUMENT, "par2d_get_stats: out is null");
+
+  /* Scene-wide terms read back. */
+  const double ambient[3] = {0.125, 0.25, 0.5};
+  double back[3] = {0, 0, 0};
+  CHECK(par2d_set_ambient(r, ambient) == PAR2D_OK);
+  CHECK(par2d_get_ambient(r, back) == PAR2D_OK && back[0] == 0.125 && back[1] == 0.25 && back[2] == 0.5);
+  par2d_directional_light suns[2], sun_back;
+  par2d_directional_light_default(&suns[0]);
+  par2d_directional_light_default(&suns[1]);
+  suns[0].angles[0] = 10;
+  suns[0].angles[1] = 20;
+  suns[1].angles[0] = 100;
+  suns[1].angles[1] = 110;
+  suns[1].intensity = 0.5;
+  CHECK(par2d_set_directional_lights(r, suns, 2) == PAR2D_OK);
+  CHECK(par2d_get_directional_lights(r, &sun_back, 1, &count) == PAR2D_OK && count == 2 && sun_back.angles[1] == 20);
+  CHECK(par2d_get_directional_lights(r, suns, 2, &count) == PAR2D_OK && suns[1].intensity == 0.5);
+  par2d_normal_source kind = PAR2D_NORMAL_MAP;
+  CHECK(par2d_get_normal_source(r, &kind, NULL) == PAR2D_OK && kind == PAR2D_NORMAL_NONE);
+  const double tilted[3] = {0, 1, 1};
+  double normal[3] = {0, 0, 0};
+  CHECK(par2d_set_normal(r, tilted) == PAR2D_OK);
+  CHECK(par2d_get_normal_source(r, &kind, normal) == PAR2D_OK && kind == PAR2D_NORMAL_CONSTANT && normal[2] > 0);
+  CHECK(par2d_clear_normal_source(r) == PAR2D_OK);
+
+  /* The snapshot: JSON text, and a file that a fresh renderer renders to the same bytes. */
+  size_t length = 0;
+  CHECK(par2d_snapshot_json(r, NULL, 0, &length) == PAR2D_OK && length > 0);
+  char* text = malloc(length + 1);
+  CHECK_ERROR_PREFIX(par2d_snapshot_json(r, text, length, &length), PAR2D_INVALID_ARGUMENT,
+                     "par2d_snapshot_json: capacity ");
+  CHECK(par2d_snapshot_json(r, text, length + 1, &length) == PAR2D_OK && strlen(text) == length);
+  CHECK(strstr(text, "\"ambient\"") != NULL && strstr(text, "\"directional_lights\"") != NULL);
+  free(text);
+  snprintf(saved, sizeof saved, "%s/snapshot.json", dir);
+  CHECK(par2d_save_scene(r, saved) == PAR2D_OK);
+  par2d_renderer* copy = NULL;
+  CHECK(par2d_renderer_create(&options, &copy) == PAR2D_OK);
+  CHECK(par2d_load_scene(copy, saved) == PAR2D_OK);
+  CHECK(par2d_render(r, pool, PAR2D_RGB_F32, 40 * 12, 1.0, NULL) == PAR2D_OK);
+  CHECK(par2d_render(copy, other, PAR2D_RGB_F32, 40 * 12, 1.0, NULL) == PAR2D_OK);
+  CHECK(memcmp(pool, other, sizeof(float) * n) == 0);
+  CHECK(par2d_light_count(copy) == 2 && par2d_occluder_count(copy) == 2);
+  CHECK_ERROR(par2d_save_scene(r, NULL), PAR2D_INVALID_ARGUMENT, "par2d_save_scene: path is null");
+
+  free(pool);
+  free(other);
+  par2d_renderer_destroy(copy);
+  par2d_renderer_destroy(r);
+  remove(saved);
+  remove(path);
+}
+
 int main(void) {
   int major = -1, minor = -1, patch = -1;
   char expected[32];
@@ -533,6 +720,7 @@ int main(void) {
     CHECK(mkdtemp(dir) != NULL);
     check_normal_map_size_is_checked_first(r, dir);
     check_scene_path_policy(r, dir);
+    check_parity_with_the_cpp_renderer(dir);
     CHECK(rmdir(dir) == 0);
   }
 
