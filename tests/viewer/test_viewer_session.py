@@ -1,8 +1,9 @@
 """`par2d view` driven as a person would: real X mouse and key events (xdotool) on an Xvfb display.
 
 The session reloads the watched file, drags a light, resizes one with the wheel, adds and deletes
-lights, survives a broken save of the file, then saves; the screenshot must equal `par2d render`
-of the saved scene byte for byte, and the window capture must show the same pixels.
+lights, survives a broken save of the file, then saves (to a new file: never over the opened scene)
+and reloads with R; the screenshot must equal `par2d render` of the saved scene byte for byte, and
+the window capture must show the same pixels.
 """
 import json
 import os
@@ -143,9 +144,20 @@ def test_drag_resize_add_delete_reload_and_save(display, tmp_path):
     write_atomically(scene_path, '{"width": 512, "height": 384, "lights": [{"circle": {"center": [1, 2]}}]}')
     assert session.expect("reload failed: ").startswith("reload failed: " + scene_path + ": lights[0].circle")
 
+    # S without --save-to never writes the opened file: it picks the first of scene.edited.json,
+    # scene.edited-2.json, ... that does not exist yet (here the first is taken).
+    taken = tmp_path / "scene.edited.json"
+    taken.write_text("not ours")
+    saved_path = str(tmp_path / "scene.edited-2.json")
+    broken = open(scene_path, encoding="utf-8").read()
     session.key("s")
-    saved_line = session.expect("saved " + scene_path + " and ")
+    saved_line = session.expect("saved " + saved_path + " and ")
     session.expect("captured the window in ")
+    assert open(scene_path, encoding="utf-8").read() == broken
+    assert taken.read_text() == "not ours"
+    # R reloads the opened file at once: it is still broken, so the edits stay.
+    session.key("r")
+    assert session.expect("reload failed: ").startswith("reload failed: " + scene_path + ": lights[0].circle")
     closed = session.close()
     # One persistent renderer: the world was prepared at opening and at the one good reload;
     # dragging, resizing, adding and deleting lights went through handles (no index rebuilt).
@@ -155,7 +167,7 @@ def test_drag_resize_add_delete_reload_and_save(display, tmp_path):
     assert counts.endswith(" frames, 2 index builds, 2 full prepares)"), closed
 
     # The saved file holds every edit and nothing else changed.
-    saved = json.load(open(scene_path, encoding="utf-8"))
+    saved = json.load(open(saved_path, encoding="utf-8"))
     lights = saved["lights"]
     assert len(lights) == 5
     assert lights[0] == {"circle": {"center": [330, 260], "radius": 14}, "color": [1, 0.25, 0.2], "intensity": 4}
@@ -167,7 +179,7 @@ def test_drag_resize_add_delete_reload_and_save(display, tmp_path):
     # The screenshot is `par2d render` of the saved scene with the viewer's backend, ISA and exposure.
     isa = saved_line.split("isa ")[1].split(",")[0]
     reference = str(tmp_path / "reference.png")
-    subprocess.run([CLI, "render", scene_path, "-o", reference, "--backend", "simd", "--isa", isa,
+    subprocess.run([CLI, "render", saved_path, "-o", reference, "--backend", "simd", "--isa", isa,
                     "--exposure", "1.25"], check=True)
     screenshot = str(tmp_path / "scene.screenshot.png")
     with open(screenshot, "rb") as a, open(reference, "rb") as b:

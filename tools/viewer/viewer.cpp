@@ -128,6 +128,21 @@ std::string default_screenshot_path(const std::string& scene_path) {
   return base + ".screenshot.png";
 }
 
+// Where S saves without --save-to: never the opened file (an edit session must not silently
+// replace the scene it started from) but SCENE.edited.json next to it, or SCENE.edited-2.json,
+// -3, ... when that exists: the first name that does not exist yet.
+std::string fresh_save_path(const std::string& scene_path) {
+  std::string base = scene_path;
+  const std::size_t slash = base.find_last_of('/');
+  const std::size_t dot = base.find_last_of('.');
+  if (dot != std::string::npos && (slash == std::string::npos || dot > slash)) base.erase(dot);
+  for (int n = 1;; ++n) {
+    const std::string path = base + ".edited" + (n == 1 ? std::string() : "-" + std::to_string(n)) + ".json";
+    struct stat st {};
+    if (::lstat(path.c_str(), &st) != 0) return path;
+  }
+}
+
 std::string window_capture_path(const std::string& screenshot_path) {
   std::string base = screenshot_path;
   if (base.size() > 4 && base.compare(base.size() - 4, 4, ".png") == 0) base.erase(base.size() - 4);
@@ -156,7 +171,7 @@ struct Sdl {
 class Viewer {
  public:
   Viewer(const ViewArgs& args, Scene scene) : args_(args), scene_(std::move(scene)) {
-    save_path_ = args.save_path.empty() ? args.scene_path : args.save_path;
+    save_path_ = args.save_path;  // empty: chosen by the first save (fresh_save_path)
     screenshot_path_ = args.screenshot_path.empty() ? default_screenshot_path(args.scene_path) : args.screenshot_path;
     options_.backend = *parse_backend(args.backend.c_str());
     if (!args.isa.empty()) options_.isa = parse_isa(args.isa);
@@ -441,6 +456,8 @@ class Viewer {
   // The save key: the edited scene as JSON, the scene rendered at its own size as a PNG (the
   // bytes `par2d render -o` writes for the saved file with these options), and the window.
   void save() {
+    // The first save of a session without --save-to picks a new file; later ones rewrite it.
+    if (save_path_.empty()) save_path_ = fresh_save_path(args_.scene_path);
     if (Status s = save_scene_file(save_path_, scene_); !s) {
       message(s.message(), true);
       return;
@@ -547,7 +564,8 @@ class Viewer {
            {"drag a light: move   wheel over it: resize",
             "A: add a light at the mouse   D/Del: delete the light under it",
             "B: SIMD/scalar   I: next ISA   +/-: exposure",
-            "S: save scene + screenshot   R: reload   Q: quit"})
+            "S: save scene (never over the opened file) + screenshot",
+            "R: reload the file now (edits lost)   Q: quit"})
         y += text(line, 8, y, grey);
     }
     if (!status_.empty()) text(status_, 8, y, status_is_error_ ? red : white);
@@ -594,9 +612,12 @@ class Viewer {
 
 CLI::App* add_view_command(CLI::App& app, ViewArgs& args) {
   CLI::App* view = app.add_subcommand(
-      "view", "Open a window on a scene: drag lights, wheel to resize, A/D add/delete, S saves (H: help)");
+      "view",
+      "Open a window on a scene: drag lights, wheel to resize, A/D add/delete, S saves, R reloads (H: help)");
   view->add_option("scene", args.scene_path, "Scene file (JSON); reloaded when it changes on disk")->required();
-  view->add_option("--save-to", args.save_path, "Where S writes the edited scene. Default: the scene file");
+  view->add_option("--save-to", args.save_path,
+                   "Where S writes the edited scene (may be the scene file itself). Default: SCENE.edited.json "
+                   "next to it, or SCENE.edited-N.json for the first N that does not exist yet (never the scene file)");
   view->add_option("--screenshot", args.screenshot_path,
                    "Where S writes the rendered PNG (the window goes to *.window.png). Default: SCENE.screenshot.png");
   view->add_option("--backend", args.backend, "auto (default), simd or scalar; B toggles")

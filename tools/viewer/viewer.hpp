@@ -11,7 +11,8 @@ namespace par2d::viewer {
 
 struct ViewArgs {
   std::string scene_path;
-  // Where the save key writes the edited scene. Default: the scene file itself.
+  // Where the save key writes the edited scene (the scene file only when named here). Default:
+  // SCENE.edited.json next to the scene, or SCENE.edited-N.json, the first that does not exist.
   std::string save_path;
   // Where the save key writes the rendered image (the scene at its own size, as
   // `par2d render -o` writes it). Default: SCENE.screenshot.png next to the scene.
