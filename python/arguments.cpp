@@ -54,12 +54,24 @@ std::optional<std::vector<py::object>> as_items(const py::handle& obj, std::size
 }  // namespace
 
 PyObject* g_error_type = nullptr;
+std::array<PyObject*, kStatusCodes> g_error_types{};
 
-// Raises par2d.Error(message) with `code` set to the status code's name ("invalid_scene", ...).
+PyObject* error_type(par2d::StatusCode code) {
+  const auto index = static_cast<std::size_t>(code);
+  PyObject* type = index < g_error_types.size() ? g_error_types[index] : nullptr;
+  return type != nullptr ? type : g_error_type;
+}
+
+void set_error(par2d::StatusCode code, const std::string& message) {
+  PyObject* type = error_type(code);
+  py::object error = py::reinterpret_borrow<py::object>(type)(message);
+  error.attr("code") = code_identifier(code);
+  PyErr_SetObject(type, error.ptr());
+}
+
+// Raises the par2d.Error subclass of the status code, `code` set to the code's name.
 [[noreturn]] void raise(const par2d::Status& status) {
-  py::object error = py::reinterpret_borrow<py::object>(g_error_type)(status.message());
-  error.attr("code") = code_identifier(status.code());
-  PyErr_SetObject(g_error_type, error.ptr());
+  set_error(status.code(), status.message());
   throw py::error_already_set();
 }
 
@@ -109,8 +121,20 @@ std::string one_line(const py::error_already_set& e) {
   return text;
 }
 
-// An integer-like object (int, numpy.int64, anything with __index__; not bool) as a long long.
-std::optional<long long> as_integer(const py::handle& obj) {
+// A 0-d NumPy array as the scalar it holds (numpy.array(3) is the number 3); anything else as is.
+py::object unwrapped(const py::handle& obj) {
+  if (py::isinstance<py::array>(obj) && py::reinterpret_borrow<py::array>(obj).ndim() == 0) {
+    PyObject* item = PyObject_CallMethod(obj.ptr(), "item", nullptr);
+    if (item != nullptr) return py::reinterpret_steal<py::object>(item);
+    PyErr_Clear();
+  }
+  return py::reinterpret_borrow<py::object>(obj);
+}
+
+// An integer-like object (int, numpy.int64, a 0-d integer array, anything with __index__; not
+// bool) as a long long.
+std::optional<long long> as_integer(const py::handle& arg) {
+  const py::object obj = unwrapped(arg);
   if (PyBool_Check(obj.ptr()) || !PyIndex_Check(obj.ptr())) return std::nullopt;
   PyObject* index = PyNumber_Index(obj.ptr());
   if (index == nullptr) {
@@ -127,8 +151,10 @@ std::optional<long long> as_integer(const py::handle& obj) {
   return value;
 }
 
-// A real number (int, float, numpy scalars, anything with __float__ or __index__; not bool or text).
-std::optional<double> as_number(const py::handle& obj) {
+// A real number (int, float, NumPy scalars and 0-d arrays, anything with __float__ or
+// __index__; not bool or text).
+std::optional<double> as_number(const py::handle& arg) {
+  const py::object obj = unwrapped(arg);
   if (PyBool_Check(obj.ptr()) || is_text(obj)) return std::nullopt;
   if (!PyFloat_Check(obj.ptr()) && !PyIndex_Check(obj.ptr()) &&
       (Py_TYPE(obj.ptr())->tp_as_number == nullptr || Py_TYPE(obj.ptr())->tp_as_number->nb_float == nullptr))
@@ -144,7 +170,10 @@ std::optional<double> as_number(const py::handle& obj) {
 int to_int(const py::handle& obj, const char* place) {
   const std::optional<long long> value = as_integer(obj);
   if (!value) {
-    if (!PyBool_Check(obj.ptr()) && PyIndex_Check(obj.ptr())) bad_argument(place, describe(obj) + " is out of range");
+    // Integer-like but not a long long: too large (a 0-d float array is index-like as a type,
+    // not as a value, so it is judged by what it holds).
+    const py::object held = unwrapped(obj);
+    if (!PyBool_Check(held.ptr()) && PyIndex_Check(held.ptr())) bad_argument(place, describe(obj) + " is out of range");
     bad_argument(place, "must be an integer, not " + type_name(obj));
   }
   if (*value < std::numeric_limits<int>::min() || *value > std::numeric_limits<int>::max())
@@ -158,7 +187,8 @@ double to_double(const py::handle& obj, const char* place) {
   return *value;
 }
 
-bool to_bool(const py::handle& obj, const char* place) {
+bool to_bool(const py::handle& arg, const char* place) {
+  const py::object obj = unwrapped(arg);
   if (PyBool_Check(obj.ptr())) return obj.ptr() == Py_True;
   if (type_name(obj) == "bool_") return PyObject_IsTrue(obj.ptr()) == 1;  // numpy.bool_
   if (PyLong_CheckExact(obj.ptr())) {

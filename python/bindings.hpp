@@ -27,10 +27,18 @@ using FloatArray = py::array_t<float, py::array::c_style>;
 
 // ---- Errors (arguments.cpp) -------------------------------------------------------------------
 
-// par2d.Error, created in PYBIND11_MODULE (par2d_module.cpp); every failed par2d call raises it.
+// par2d.Error and its subclass per status code, created in PYBIND11_MODULE (par2d_module.cpp);
+// every failed par2d call raises the subclass of its code, which is also the built-in exception
+// a Python user expects (an invalid argument is a ValueError, an I/O failure an OSError).
+inline constexpr std::size_t kStatusCodes = 6;  // StatusCode's values, ok included
 extern PyObject* g_error_type;
+extern std::array<PyObject*, kStatusCodes> g_error_types;  // by StatusCode value; ok: nullptr
+PyObject* error_type(par2d::StatusCode code);  // the subclass (par2d.Error when none)
 
-// Raise par2d.Error(message) with `code` set to the status code's name ("invalid_scene", ...).
+// Sets (without throwing) the Python error of `code`: its class, `message`, `e.code`.
+void set_error(par2d::StatusCode code, const std::string& message);
+// Raise the par2d.Error subclass of the status code with `code` set to the code's name
+// ("invalid_scene", ...).
 [[noreturn]] void raise(const par2d::Status& status);
 [[noreturn]] void raise(par2d::StatusCode code, std::string message);
 void check(const par2d::Status& status);

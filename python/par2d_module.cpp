@@ -8,12 +8,15 @@
 // and releases the GIL.
 #include <pybind11/stl.h>
 
+#include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <exception>
 #include <new>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "bindings.hpp"
 
@@ -43,15 +46,85 @@ void render_into(const par2d::Scene& scene, const par2d::RenderOptions& options,
   check(status);
 }
 
+// par2d.Error and one subclass per status code that also derives from the built-in exception
+// Python code catches for that kind of failure, so `except ValueError` or `except OSError`
+// works on par2d calls as on any other library's, and `except par2d.Error` catches them all.
+void define_errors(py::module_& m) {
+  struct Kind {
+    par2d::StatusCode code;
+    const char* name;
+    PyObject* builtin;
+    const char* doc;
+  };
+  const Kind kinds[] = {
+      {par2d::StatusCode::invalid_argument, "InvalidArgumentError", PyExc_ValueError,
+       "A bad argument (type, value, size, handle): a par2d.Error and a ValueError; code 'invalid_argument'."},
+      {par2d::StatusCode::invalid_scene, "InvalidSceneError", PyExc_ValueError,
+       "A scene, light or occluder that breaks docs/contract.md section 3: a par2d.Error and a ValueError; code "
+       "'invalid_scene'."},
+      {par2d::StatusCode::io_error, "FileError", PyExc_OSError,
+       "A file that could not be read or written: a par2d.Error and an OSError; code 'io_error'."},
+      {par2d::StatusCode::out_of_memory, "OutOfMemoryError", PyExc_MemoryError,
+       "An allocation that failed: a par2d.Error and a MemoryError; code 'out_of_memory'."},
+      {par2d::StatusCode::unsupported, "UnsupportedError", PyExc_NotImplementedError,
+       "Something this build or CPU lacks: a par2d.Error and a NotImplementedError; code 'unsupported'."},
+  };
+  // The module keeps the classes alive; the pointers below are borrowed for its lifetime.
+  py::object base = py::reinterpret_steal<py::object>(PyErr_NewExceptionWithDoc(
+      "par2d.Error",
+      "A failed par2d call. str(e) is par2d's one-line message (`FILE: PLACE: what is wrong`); e.code names the\n"
+      "kind: invalid_scene, invalid_argument, io_error, out_of_memory, unsupported. Each kind has its subclass\n"
+      "(InvalidArgumentError, InvalidSceneError, FileError, OutOfMemoryError, UnsupportedError), which is also\n"
+      "the built-in exception of that kind (ValueError, ValueError, OSError, MemoryError, NotImplementedError).",
+      PyExc_Exception, nullptr));
+  if (!base) throw py::error_already_set();
+  m.attr("Error") = base;
+  g_error_type = base.ptr();
+  for (const Kind& kind : kinds) {
+    const std::string qualified = std::string("par2d.") + kind.name;
+    py::object bases = py::make_tuple(base, py::handle(kind.builtin));
+    py::object type = py::reinterpret_steal<py::object>(
+        PyErr_NewExceptionWithDoc(qualified.c_str(), kind.doc, bases.ptr(), nullptr));
+    if (!type) throw py::error_already_set();
+    m.attr(kind.name) = type;
+    g_error_types[static_cast<std::size_t>(kind.code)] = type.ptr();
+  }
+}
+
+// A uint8 array of shape (H, W, 4) or (H, W, 3): sRGB bytes such as render_rgba8 returns.
+bool is_srgb8_image(const py::object& image) {
+  if (!py::isinstance<py::array_t<std::uint8_t>>(image)) return false;
+  const auto a = py::reinterpret_borrow<py::array>(image);
+  return a.ndim() == 3 && (a.shape(2) == 3 || a.shape(2) == 4);
+}
+
+// The bytes' RGB as linear floats that par2d::write_png encodes back to the same bytes: code k
+// decodes to the exact inverse transfer function at k / 255, the middle of the interval of
+// values that round to k (write_png's thresholds lie at (k +- 0.5) / 255), far wider than a
+// float's rounding. Alpha is dropped (the PNG is RGB).
+std::vector<float> decoded_srgb8(const py::array& image) {
+  std::array<float, 256> table{};
+  for (int k = 0; k < 256; ++k) {
+    const double s = k / 255.0;
+    table[static_cast<std::size_t>(k)] =
+        static_cast<float>(s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4));
+  }
+  const auto bytes = image.unchecked<std::uint8_t, 3>();  // any strides
+  const py::ssize_t h = image.shape(0), w = image.shape(1);
+  std::vector<float> out(static_cast<std::size_t>(h) * static_cast<std::size_t>(w) * 3);
+  std::size_t i = 0;
+  for (py::ssize_t y = 0; y < h; ++y)
+    for (py::ssize_t x = 0; x < w; ++x)
+      for (py::ssize_t c = 0; c < 3; ++c) out[i++] = table[bytes(y, x, c)];
+  return out;
+}
+
 // The module's contents; PYBIND11_MODULE (at the end) calls it.
 void define_module(py::module_& m) {
   m.doc() = "Exact 2D soft shadows (Probabilistic Angular Radiance): scenes in, float32 RGB irradiance out.";
   m.attr("__version__") = par2d::kVersion;
 
-  // One exception type with the status code attached; its message is par2d's one line.
-  struct ErrorTag {};
-  static py::exception<ErrorTag> error(m, "Error", PyExc_Exception);
-  g_error_type = error.ptr();
+  define_errors(m);
 
   // pybind11 (2.10) sets up its NumPy API table on first use in a function-local static whose
   // initialization imports NumPy; two threads using an array for the first time at once can
@@ -60,19 +133,15 @@ void define_module(py::module_& m) {
   FloatArray({py::ssize_t{1}, py::ssize_t{1}, py::ssize_t{3}});
   py::array_t<std::uint8_t, py::array::c_style>({py::ssize_t{1}, py::ssize_t{1}, py::ssize_t{4}});
 
-  // A C++ allocation failure inside any call is par2d.Error("out_of_memory"), not MemoryError.
+  // A C++ allocation failure inside any call is par2d.OutOfMemoryError (a par2d.Error and a
+  // MemoryError) with code "out_of_memory".
   py::register_local_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const std::bad_alloc&) {
-      py::object e = py::reinterpret_borrow<py::object>(g_error_type)("out of memory");
-      e.attr("code") = "out_of_memory";
-      PyErr_SetObject(g_error_type, e.ptr());
+      set_error(par2d::StatusCode::out_of_memory, "out of memory");
     }
   });
-  error.doc() =
-      "A failed par2d call. str(e) is par2d's one-line message (`FILE: PLACE: what is wrong`); "
-      "e.code names the kind: invalid_scene, invalid_argument, io_error, out_of_memory, unsupported.";
 
   bind_scene(m);
 
@@ -109,18 +178,33 @@ void define_module(py::module_& m) {
       "write_png",
       [](const py::object& path_arg, const py::object& image_arg, const py::object& exposure_arg) {
         const std::string path = to_path(path_arg, "path");
+        const double exposure = to_double(exposure_arg, "exposure");
+        if (is_srgb8_image(image_arg)) {
+          // Already encoded (render_rgba8's bytes): an exposure would have to have been given there.
+          if (exposure != 1.0)
+            bad_argument("exposure", "applies to float images; a uint8 image is stored as it is (give the exposure "
+                                     "to render_rgba8)");
+          const std::vector<float> linear = decoded_srgb8(py::reinterpret_borrow<py::array>(image_arg));
+          const auto a = py::reinterpret_borrow<py::array>(image_arg);
+          par2d::ImageView view{const_cast<float*>(linear.data()), static_cast<int>(a.shape(1)),
+                                static_cast<int>(a.shape(0)), static_cast<std::ptrdiff_t>(3 * a.shape(1))};
+          check(par2d::write_png(path, view, 1.0));
+          return;
+        }
         const FloatArray image = FloatArray::ensure(image_arg);
         if (!image || image.ndim() != 3 || image.shape(2) != 3)
-          bad_argument("image", "needs a float32 array of shape (height, width, 3), got " + describe(image_arg));
-        const double exposure = to_double(exposure_arg, "exposure");
+          bad_argument("image", "needs a float32 array of shape (height, width, 3) or a uint8 array of shape "
+                                "(height, width, 4) or (height, width, 3), got " + describe(image_arg));
         // ImageView takes a mutable pointer but write_png only reads; the array is C-contiguous.
         par2d::ImageView view{const_cast<float*>(image.data()), static_cast<int>(image.shape(1)),
                               static_cast<int>(image.shape(0)), static_cast<std::ptrdiff_t>(3 * image.shape(1))};
         check(par2d::write_png(path, view, exposure));
       },
       py::arg("path"), py::arg("image"), py::arg("exposure") = 1.0,
-      "Writes clamp(exposure * image, 0, 1) as an 8-bit sRGB PNG (path: str or os.PathLike), atomically\n"
-      "(as `par2d render -o`).");
+      "Writes an image as an 8-bit sRGB PNG (path: str or os.PathLike), atomically (as `par2d render -o`):\n"
+      "a float array (height, width, 3) of linear values as clamp(exposure * image, 0, 1), or the uint8\n"
+      "array render_rgba8 returns, (height, width, 4) or (height, width, 3), byte for byte (the PNG is RGB:\n"
+      "alpha is not stored; exposure must stay 1).");
 
   m.def("detect_isa", [] { return std::string(par2d::isa_name(par2d::detect_isa())); },
         "The best SIMD level this CPU supports: scalar, sse4, avx2 or avx512.");

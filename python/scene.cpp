@@ -48,33 +48,69 @@ struct JsonProblem {
   std::string place, what;
 };
 
-std::optional<JsonProblem> find_json_problem(const py::handle& obj, const std::string& place, int depth) {
+// `obj` as plain JSON values (dict, list, str, int, float, bool, None) in `out`, or the first
+// value on the way that JSON cannot hold. NumPy arrays become (nested) lists and NumPy scalars
+// and 0-d arrays the Python numbers they hold, so a dict built with NumPy reads exactly as the
+// same dict built with lists; other numbers (anything with __index__ or __float__) become the
+// int or float they stand for.
+std::optional<JsonProblem> to_plain(const py::handle& obj, const std::string& place, int depth, py::object& out) {
   if (depth > kMaxJsonDepth) return JsonProblem{place, "nested too deeply (more than 64 levels)"};
   PyObject* p = obj.ptr();
+  out = py::reinterpret_borrow<py::object>(obj);
   if (p == Py_None || PyBool_Check(p) || PyUnicode_Check(p) || PyLong_Check(p)) return std::nullopt;
   if (PyFloat_Check(p)) {
     const double v = PyFloat_AS_DOUBLE(p);
     if (!std::isfinite(v)) return JsonProblem{place, "not a finite number (" + format_number(v) + ")"};
+    out = py::float_(v);  // numpy.float64 is a float subclass: written as a plain float
     return std::nullopt;
   }
   if (PyDict_Check(p)) {
+    py::dict plain;
     for (auto item : py::reinterpret_borrow<py::dict>(obj)) {
       if (!PyUnicode_Check(item.first.ptr()))
         return JsonProblem{place, "a key must be a string, not " + type_name(item.first)};
-      if (auto problem = find_json_problem(item.second, member_place(place, item.first), depth + 1)) return problem;
+      py::object value;
+      if (auto problem = to_plain(item.second, member_place(place, item.first), depth + 1, value)) return problem;
+      plain[item.first] = value;
     }
+    out = std::move(plain);
     return std::nullopt;
   }
   if (PyList_Check(p) || PyTuple_Check(p)) {
     const py::sequence seq = py::reinterpret_borrow<py::sequence>(obj);
-    for (std::size_t i = 0; i < seq.size(); ++i)
-      if (auto problem = find_json_problem(seq[i], place + "[" + std::to_string(i) + "]", depth + 1)) return problem;
+    py::list plain(seq.size());
+    for (std::size_t i = 0; i < seq.size(); ++i) {
+      py::object value;
+      if (auto problem = to_plain(seq[i], place + "[" + std::to_string(i) + "]", depth + 1, value)) return problem;
+      PyList_SET_ITEM(plain.ptr(), static_cast<Py_ssize_t>(i), value.release().ptr());
+    }
+    out = std::move(plain);
     return std::nullopt;
   }
-  // NumPy scalars and other numbers: written as what they are (see json_default).
-  if (PyIndex_Check(p)) return std::nullopt;
+  if (py::isinstance<py::array>(obj)) {
+    // tolist() gives Python numbers (a 0-d array: the one it holds), checked like any others.
+    PyObject* list = PyObject_CallMethod(p, "tolist", nullptr);
+    if (list == nullptr) {
+      PyErr_Clear();
+      return JsonProblem{place, a_type(obj) + " is not a JSON value"};
+    }
+    return to_plain(py::reinterpret_steal<py::object>(list), place, depth, out);
+  }
+  if (py::isinstance(obj, py::module_::import("numpy").attr("bool_"))) {
+    out = py::bool_(PyObject_IsTrue(p) == 1);
+    return std::nullopt;
+  }
+  if (PyIndex_Check(p)) {
+    PyObject* index = PyNumber_Index(p);
+    if (index != nullptr) {
+      out = py::reinterpret_steal<py::object>(index);
+      return std::nullopt;
+    }
+    PyErr_Clear();
+  }
   if (const std::optional<double> v = as_number(obj)) {
     if (!std::isfinite(*v)) return JsonProblem{place, "not a finite number (" + format_number(*v) + ")"};
+    out = py::float_(*v);
     return std::nullopt;
   }
   return JsonProblem{place, a_type(obj) + " is not a JSON value"};
@@ -82,18 +118,14 @@ std::optional<JsonProblem> find_json_problem(const py::handle& obj, const std::s
 
 }  // namespace
 
-// JSON text of a dict or list (already walked): numbers that are not int or float are
-// written as the int or float they stand for.
+// JSON text of a dict or list, converted to plain JSON values first (see to_plain).
 std::string json_text(const py::handle& obj, const std::string& name, const std::string& root) {
-  if (auto problem = find_json_problem(obj, root, 0))
+  py::object plain;
+  if (auto problem = to_plain(obj, root, 0, plain))
     raise(par2d::StatusCode::invalid_scene,
           name + ": " + (problem->place.empty() ? "" : problem->place + ": ") + problem->what);
-  const py::cpp_function json_default([](const py::handle& o) -> py::object {
-    if (PyIndex_Check(o.ptr())) return py::reinterpret_steal<py::object>(PyNumber_Index(o.ptr()));
-    return py::float_(PyFloat_AsDouble(o.ptr()));
-  });
   try {
-    return py::module_::import("json").attr("dumps")(obj, py::arg("default") = json_default).cast<std::string>();
+    return py::module_::import("json").attr("dumps")(plain).cast<std::string>();
   } catch (py::error_already_set& e) {
     raise(par2d::StatusCode::invalid_scene, name + ": " + one_line(e));
   }
