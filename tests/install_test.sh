@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs a par2d build into a temporary prefix, then builds and runs examples/embed against it
-# as a standalone project (find_package(par2d) + par2d::par2d), as a user of the package would.
+# as a standalone project (find_package(par2d) + par2d::par2d), as a user of the package would;
+# builds the C example with the README's pkg-config line (with its rpath) and runs it without
+# LD_LIBRARY_PATH; imports the installed Python module from the prefix.
 # Usage: install_test.sh CMAKE BUILD_DIR EXAMPLE_DIR [EXTRA_CXX_FLAGS]
 # Env (cross builds): PAR2D_TOOLCHAIN_FILE for the consumer's configure, PAR2D_CC for the C
 # example, PAR2D_EMULATOR to run them.
@@ -31,7 +33,29 @@ pc_dir=$(dirname "$(find "$work/prefix" -name par2d.pc | head -1)")
 [[ -f $pc_dir/par2d.pc ]] || { echo "par2d.pc was not installed" >&2; exit 1; }
 [[ $(dirname "$(find "$work/prefix" -path '*/cmake/par2d/par2dConfig.cmake' | head -1)") == "$(dirname "$pc_dir")/cmake/par2d" ]] ||
   { echo "par2d.pc is not next to the CMake package" >&2; exit 1; }
-read -r -a pc_flags <<<"$(PKG_CONFIG_PATH=$pc_dir pkg-config --cflags --libs par2d)"
-"${PAR2D_CC:-cc}" -std=c99 $extra_flags "$example_dir/../embed_c/game_loop.c" "${pc_flags[@]}" -lm -o "$work/game_loop_c" \
+# Built with the README's line, which records the library's folder in the binary (-Wl,-rpath):
+# it must run from this non-system prefix with no LD_LIBRARY_PATH.
+export PKG_CONFIG_PATH=$pc_dir
+read -r -a pc_flags <<<"$(pkg-config --cflags --libs par2d)"
+"${PAR2D_CC:-cc}" -std=c99 $extra_flags "$example_dir/../embed_c/game_loop.c" "${pc_flags[@]}" \
+  -Wl,-rpath,"$(pkg-config --variable=libdir par2d)" -lm -o "$work/game_loop_c" \
   >"$work/c_build.log" 2>&1 || { cat "$work/c_build.log"; exit 1; }
-LD_LIBRARY_PATH="$(dirname "$(find "$work/prefix" -name 'libpar2d.so' | head -1)")" ${PAR2D_EMULATOR:-} "$work/game_loop_c"
+env -u LD_LIBRARY_PATH ${PAR2D_EMULATOR:-} "$work/game_loop_c"
+
+# The Python module, when this build has one: installed under the prefix (lib/python3.X/
+# dist-packages or site-packages), importable from there alone and rendering.
+cache=$build_dir/CMakeCache.txt
+if grep -q '^PAR2D_BUILD_PYTHON:BOOL=ON' "$cache" 2>/dev/null; then
+  python=$(sed -n 's/^Python3_EXECUTABLE:[A-Z]*=//p' "$cache")
+  site=$(sed -n 's/^PAR2D_PYTHON_INSTALL_DIR:[A-Z]*=//p' "$cache")
+  [[ $site == /* ]] || site=$work/prefix/$site
+  compgen -G "$site/par2d*.so" >/dev/null || { echo "the Python module was not installed in $site" >&2; exit 1; }
+  (cd "$work" && PYTHONPATH=$site "$python" -s -c '
+import os, sys
+import par2d
+assert os.path.dirname(par2d.__file__) == sys.argv[1], par2d.__file__
+image = par2d.render({"width": 8, "height": 4, "lights": [{"circle": {"center": [2, 2], "radius": 1}}]})
+assert image.shape == (4, 8, 3) and image.max() > 0
+print("installed Python module:", par2d.__file__)
+' "$site")
+fi
