@@ -308,7 +308,7 @@ TEST_CASE("every bad lighting-model value is refused with a one-line message nam
                 "ambient reaches 2e+38 (at most 1e38, so that float32 output stays finite)");
   check_message(scene_with(R"("sun": [])"),
                 "s.json: sun: unknown key (expected width, height, view, lights, occluders, ambient, "
-                "directional_lights, normal, normal_map)");
+                "directional_lights, normal, normal_map, bounce)");
 }
 
 TEST_CASE("scenes built in code are checked for the same terms by validate_scene") {

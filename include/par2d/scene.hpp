@@ -91,6 +91,9 @@ struct Occluder {
   // Acts on a light only where the masks share a bit.
   std::uint32_t mask = kAllMaskBits;
   Interior interior = Interior::dark;
+  // Fraction of each channel its surface reflects, diffusely, once (docs/contract.md section 7),
+  // in [0, 1]. Default: 0 (reflects nothing; the scene is then exactly section 6).
+  Rgb albedo{0.0, 0.0, 0.0};
 };
 
 // A sun or sky: radiance `intensity * color` arriving along ray directions theta in
@@ -124,6 +127,14 @@ struct View {
 
 // Hard limits from docs/contract.md section 3.
 inline constexpr int kMaxImageSide = 16384;
+// The most boundary pieces a scene's reflecting occluders may be cut into (section 7).
+inline constexpr double kMaxBouncePieces = 1048576.0;
+
+// One bounce of indirect light (docs/contract.md section 7): the boundaries of occluders with a
+// non-zero albedo are cut into pieces about `piece` world units long, each a one-sided light.
+struct Bounce {
+  double piece = 4.0;  // > 0, world units. Default: 4.
+};
 
 struct Scene {
   int width = 0;   // 1 .. kMaxImageSide
@@ -137,6 +148,7 @@ struct Scene {
   // The normal source for shading; at most one of the two. Neither: plain irradiance.
   std::optional<Vec3> normal;  // world axes, one for every pixel (normalized; non-zero)
   std::optional<NormalMap> normal_map;
+  Bounce bounce;  // used only where some occluder has a non-zero albedo
 };
 
 // Checks a scene built in code against docs/contract.md section 3 (sizes, finite numbers,

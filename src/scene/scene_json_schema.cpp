@@ -9,6 +9,7 @@
 
 #include "par2d/scene.hpp"
 #include "scene/scene_json_builder.hpp"
+#include "geometry/bounce_pieces.hpp"
 #include "scene/scene_validate.hpp"
 
 namespace par2d::detail {
@@ -24,9 +25,11 @@ void SceneBuilder::check_key(const Frame& frame) {
   const std::string& k = frame.key;
   if (frame.role == Role::root) {
     if (k != "width" && k != "height" && k != "view" && k != "lights" && k != "occluders" && k != "ambient" &&
-        k != "directional_lights" && k != "normal" && k != "normal_map")
+        k != "directional_lights" && k != "normal" && k != "normal_map" && k != "bounce")
       fail(place, "unknown key (expected width, height, view, lights, occluders, ambient, directional_lights, "
-                  "normal, normal_map)");
+                  "normal, normal_map, bounce)");
+  } else if (frame.role == Role::bounce) {
+    if (k != "piece") fail(place, "unknown key (expected piece)");
   } else if (frame.role == Role::cone) {
     if (k != "direction" && k != "half_angle" && k != "fade")
       fail(place, "unknown key (expected direction, half_angle, fade)");
@@ -37,14 +40,14 @@ void SceneBuilder::check_key(const Frame& frame) {
     const bool shape = k == "polygon" || k == "circle" || k == "segment";
     const bool light_term = k == "color" || k == "intensity" || k == "range" || k == "cone" || k == "mask" ||
                             k == "elevation";
-    const bool occluder_term = k == "transmittance" || k == "mask" || k == "interior";
+    const bool occluder_term = k == "transmittance" || k == "mask" || k == "interior" || k == "albedo";
     if (!element_.light && (k == "color" || k == "intensity")) {
       fail(place, "occluders take no color or intensity");
     } else if (!shape && !(element_.light ? light_term : occluder_term)) {
       fail(place, element_.light
                       ? "unknown key (expected polygon, circle, segment, color, intensity, range, cone, mask, "
                         "elevation)"
-                      : "unknown key (expected polygon, circle, segment, transmittance, mask, interior)");
+                      : "unknown key (expected polygon, circle, segment, transmittance, mask, interior, albedo)");
     } else if (shape && element_.shape != nullptr) {
       // Named in a fixed order, whatever the order in the file.
       static constexpr const char* kShapes[] = {"polygon", "circle", "segment"};
@@ -77,6 +80,7 @@ bool SceneBuilder::scalar(const Scalar& v) {
         else if (frame.key == "ambient") fail(place, "expected [r, g, b]");
         else if (frame.key == "normal") fail(place, "expected [nx, ny, nz]");
         else if (frame.key == "normal_map") normal_map_path(v, place);
+        else if (frame.key == "bounce") fail(place, "expected {\"piece\": h}");
         else fail(frame.key, "expected an array");
         break;
       case Role::view:
@@ -120,6 +124,10 @@ bool SceneBuilder::scalar(const Scalar& v) {
           element_.cone.fade = v.number;
         }
         break;
+      case Role::bounce:
+        if (!v.is_number()) fail(place, "expected a number");
+        else scene_.bounce.piece = v.number;
+        break;
       case Role::skip: break;
     }
   }
@@ -143,7 +151,7 @@ void SceneBuilder::element_scalar(const Frame& frame, const Scalar& v, const std
     if (*v.text == "dark") e.occluder.interior = Interior::dark;
     else if (*v.text == "lit") e.occluder.interior = Interior::lit;
     else fail(place, "must be \"dark\" or \"lit\", got " + Json(*v.text).dump(-1, ' ', true, Json::error_handler_t::replace));
-  } else if (k == "color" || k == "transmittance") {
+  } else if (k == "color" || k == "transmittance" || k == "albedo") {
     fail(place, "expected [r, g, b]");
   } else if (k == "angles") {
     fail(place, "expected [a0, a1]");
@@ -183,6 +191,7 @@ SceneBuilder::Role SceneBuilder::container_role(bool object, const std::string& 
       if (k == "width" || k == "height") return refuse(place, "expected an integer");
       if (k == "view") return object ? refuse("view", "expected [x0, y0, x1, y1]") : Role::view;
       if (k == "normal_map") return refuse(place, "expected a PNG file path");
+      if (k == "bounce") return object ? Role::bounce : refuse(place, "expected {\"piece\": h}");
       if (k == "ambient") return numbers(object, place, scene_.ambient.data(), 3, "expected [r, g, b]");
       if (k == "normal") {
         has_normal_ = true;
@@ -209,6 +218,7 @@ SceneBuilder::Role SceneBuilder::container_role(bool object, const std::string& 
       }
       if (k == "transmittance")
         return numbers(object, place, element_.occluder.transmittance.data(), 3, "expected [r, g, b]");
+      if (k == "albedo") return numbers(object, place, element_.occluder.albedo.data(), 3, "expected [r, g, b]");
       if (k == "angles") {
         element_.has_angles = true;
         return numbers(object, place, element_.angles, 2, "expected [a0, a1]");
@@ -230,7 +240,8 @@ SceneBuilder::Role SceneBuilder::container_role(bool object, const std::string& 
       return refuse(place, "expected a number");  // radius
     case Role::point: return refuse(frame.place, "expected [x, y]");
     case Role::numbers: return refuse(frame.place, frame.numbers.expected);
-    case Role::cone: return refuse(place, "expected a number");
+    case Role::cone:
+    case Role::bounce: return refuse(place, "expected a number");
     case Role::skip: return Role::skip;
   }
   return Role::skip;
@@ -289,6 +300,7 @@ void SceneBuilder::finish(const Frame& frame) {
       }
       return;
     case Role::polygon:
+    case Role::bounce:
     case Role::skip: return;
   }
 }
@@ -320,11 +332,12 @@ void SceneBuilder::finish_element(const std::string& place) {
     // plain occluders; the few with other terms are kept aside with their index.
     const Occluder plain;
     if (occluder.transmittance != plain.transmittance || occluder.mask != plain.mask ||
-        occluder.interior != plain.interior) {
+        occluder.interior != plain.interior || occluder.albedo != plain.albedo) {
       Occluder terms;
       terms.transmittance = occluder.transmittance;
       terms.mask = occluder.mask;
       terms.interior = occluder.interior;
+      terms.albedo = occluder.albedo;
       occluder_terms_.emplace_back(occluder_shapes_.size(), std::move(terms));
     }
     occluder_shapes_.push_back(std::move(occluder.shape));
@@ -344,6 +357,14 @@ void SceneBuilder::finish_root() {
   }
   if (scene_.normal && scene_.normal_map) {
     return fail("normal_map", "the scene has both normal and normal_map (at most one normal source)");
+  }
+  if (auto problem = detail::check_bounce(scene_.bounce)) return fail(problem->place, problem->what);
+  // The reflecting occluders are among those kept aside with their terms.
+  double pieces = 0.0;
+  for (const auto& [index, terms] : occluder_terms_) {
+    if (terms.albedo == Rgb{0.0, 0.0, 0.0}) continue;
+    pieces += bounce_piece_count(occluder_shapes_[index], scene_.bounce.piece, kMaxBouncePieces);
+    if (pieces > kMaxBouncePieces) return fail("bounce.piece", bounce_pieces_text(pieces));
   }
 }
 

@@ -12,6 +12,7 @@
 #include <system_error>
 #include <vector>
 
+#include "geometry/bounce_pieces.hpp"
 #include "geometry/vec2.hpp"
 
 namespace par2d {
@@ -276,6 +277,35 @@ MaybeProblem check_occluder(const Occluder& occluder, const std::string& place) 
   if (occluder.interior != Interior::dark && occluder.interior != Interior::lit) {
     return SceneProblem{place + ".interior", "must be dark or lit"};
   }
+  for (std::size_t c = 0; c < occluder.albedo.size(); ++c) {
+    const double a = occluder.albedo[c];
+    if (a >= 0.0 && a <= 1.0) continue;
+    const std::string at = indexed(place + ".albedo", c);
+    if (auto problem = check_finite(a, at)) return problem;
+    return SceneProblem{at, "must be between 0 and 1, got " + format_number(a)};
+  }
+  return std::nullopt;
+}
+
+MaybeProblem check_bounce(const Bounce& bounce) {
+  if (std::isfinite(bounce.piece) && bounce.piece > 0.0) return std::nullopt;
+  if (auto problem = check_finite(bounce.piece, "bounce.piece")) return problem;
+  return SceneProblem{"bounce.piece", "must be > 0, got " + format_number(bounce.piece)};
+}
+
+std::string bounce_pieces_text(double pieces) {
+  return "cuts the reflecting occluders into more than 1048576 pieces (" +
+         (pieces < 1e15 ? std::to_string(static_cast<long long>(pieces)) : format_number(pieces)) +
+         " so far); use a longer piece";
+}
+
+MaybeProblem check_bounce_pieces(const Scene& scene) {
+  double pieces = 0.0;
+  for (const Occluder& o : scene.occluders) {
+    if (o.albedo == Rgb{0.0, 0.0, 0.0}) continue;
+    pieces += bounce_piece_count(o.shape, scene.bounce.piece, kMaxBouncePieces);
+    if (pieces > kMaxBouncePieces) return SceneProblem{"bounce.piece", bounce_pieces_text(pieces)};
+  }
   return std::nullopt;
 }
 
@@ -426,6 +456,8 @@ Status validate_scene(const Scene& scene, std::string_view name, NormalsCheck no
       problem = detail::check_directional(scene.directional_lights[i], "directional_lights[" + std::to_string(i) + "]");
     }
     if (!problem && scene.normal) problem = detail::check_normal(*scene.normal);
+    if (!problem) problem = detail::check_bounce(scene.bounce);
+    if (!problem) problem = detail::check_bounce_pieces(scene);
     if (!problem) problem = detail::check_scene_terms(scene, normals);
     if (problem) return detail::scene_error(name, *problem);
     return Status::success();

@@ -42,6 +42,11 @@ MaybeProblem check_occluder(const Occluder& occluder, const std::string& place);
 MaybeProblem check_ambient(const Rgb& ambient);
 MaybeProblem check_directional(const DirectionalLight& light, const std::string& place);
 MaybeProblem check_normal(const Vec3& normal);
+// One bounce (docs/contract.md section 7): the piece length, and how many pieces the
+// reflecting occluders are cut into (at most kMaxBouncePieces, the problem named bounce.piece).
+MaybeProblem check_bounce(const Bounce& bounce);
+MaybeProblem check_bounce_pieces(const Scene& scene);
+std::string bounce_pieces_text(double pieces);
 // Whether a normal map's check covers each normal, or only its size: a caller that has
 // converted the map (world_normals) has checked every normal in that pass already.
 enum class NormalsCheck { each, size_only };

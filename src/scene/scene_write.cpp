@@ -109,6 +109,11 @@ void put_occluder_terms(std::string& out, const Occluder& occluder) {
   }
   put_mask(out, occluder.mask);
   if (occluder.interior == Interior::lit) out += ", \"interior\": \"lit\"";
+  const Rgb& a = occluder.albedo;
+  if (std::signbit(a[0]) || std::signbit(a[1]) || std::signbit(a[2]) || a[0] != 0.0 || a[1] != 0.0 || a[2] != 0.0) {
+    out += ", \"albedo\": ";
+    put_triple(out, a.data());
+  }
 }
 
 // The scene-wide terms, each on its own line after the occluders.
@@ -146,6 +151,11 @@ void put_scene_terms(std::string& out, const Scene& scene) {
   if (scene.normal_map && !scene.normal_map->path.empty()) {
     out += ",\n  \"normal_map\": ";
     out += nlohmann::json(scene.normal_map->path).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  }
+  if (scene.bounce.piece != Bounce{}.piece) {
+    out += ",\n  \"bounce\": { \"piece\": ";
+    put_number(out, scene.bounce.piece);
+    out += " }";
   }
 }
 
