@@ -28,14 +28,15 @@ namespace {
 class PyRenderer {
  public:
   PyRenderer(const py::object& scene, const py::object& backend, const py::object& threads, const py::object& isa,
-             const py::object& spp, const py::object& culling) {
-    set_options(backend, threads, isa, spp, culling);
+             const py::object& spp, const py::object& culling, const py::object& shaded) {
+    set_options(backend, threads, isa, spp, culling, shaded);
     if (!scene.is_none()) set_scene(scene);
   }
 
   void set_options(const py::object& backend, const py::object& threads, const py::object& isa, const py::object& spp,
-                   const py::object& culling) {
-    const par2d::RenderOptions options = make_options(backend, threads, spp, 1024, isa, culling);
+                   const py::object& culling, const py::object& shaded) {
+    par2d::RenderOptions options = make_options(backend, threads, spp, 1024, isa, culling);
+    options.shaded = to_bool(shaded, "shaded");
     par2d::Status status;
     {
       WorldLock lock(mutex_);
@@ -156,6 +157,74 @@ class PyRenderer {
     d["index_updates"] = s.index_updates;
     d["reach_computations"] = s.reach_computations;
     d["full_prepares"] = s.full_prepares;
+    return d;
+  }
+
+  // The culling and kernel work of the last successful render (all zero before one).
+  py::dict frame_stats() const {
+    par2d::FrameStats s;
+    {
+      WorldLock lock(mutex_);
+      s = renderer_.frame_stats();
+    }
+    py::dict d;
+#define PAR2D_FRAME_STAT(name) d[#name] = s.name;
+    PAR2D_FRAME_STAT(pixels) PAR2D_FRAME_STAT(samples) PAR2D_FRAME_STAT(blocks) PAR2D_FRAME_STAT(block_lights)
+    PAR2D_FRAME_STAT(block_lights_out_of_reach) PAR2D_FRAME_STAT(block_candidates) PAR2D_FRAME_STAT(block_proofs_tried)
+    PAR2D_FRAME_STAT(block_proofs_succeeded) PAR2D_FRAME_STAT(block_proofs_skipped) PAR2D_FRAME_STAT(tiles)
+    PAR2D_FRAME_STAT(tile_lights) PAR2D_FRAME_STAT(tile_pairs) PAR2D_FRAME_STAT(tile_general_pairs)
+    PAR2D_FRAME_STAT(tile_proofs_tried) PAR2D_FRAME_STAT(tile_proofs_succeeded) PAR2D_FRAME_STAT(tile_proofs_skipped)
+    PAR2D_FRAME_STAT(umbra_tests) PAR2D_FRAME_STAT(umbra_hits) PAR2D_FRAME_STAT(tile_pairs_outside_hull)
+    PAR2D_FRAME_STAT(light_samples) PAR2D_FRAME_STAT(pair_samples) PAR2D_FRAME_STAT(scalar_tiles)
+#undef PAR2D_FRAME_STAT
+    return d;
+  }
+
+  // What a handle names, as last given, as a dict shaped like an entry of the scene file's
+  // lists (written by the scene writer, so add_light(r.light(h)) adds the same light).
+  py::object light(const py::object& handle) const {
+    const std::uint64_t id = handle_id(handle, "light");
+    par2d::Scene one;
+    one.width = one.height = 1;
+    one.lights.emplace_back();
+    par2d::Status status;
+    {
+      WorldLock lock(mutex_);
+      status = renderer_.light(par2d::LightHandle{id}, &one.lights[0]);
+    }
+    check(status);
+    return entry_dict(one, "lights");
+  }
+  py::object occluder(const py::object& handle) const {
+    const std::uint64_t id = handle_id(handle, "occluder");
+    par2d::Scene one;
+    one.width = one.height = 1;
+    one.occluders.emplace_back();
+    par2d::Status status;
+    {
+      WorldLock lock(mutex_);
+      status = renderer_.occluder(par2d::OccluderHandle{id}, &one.occluders[0]);
+    }
+    check(status);
+    return entry_dict(one, "occluders");
+  }
+
+  // The options in use: what isa and threads resolve to on this CPU, and the rest as set.
+  py::dict options() const {
+    par2d::RenderOptions o;
+    int threads = 0;
+    {
+      WorldLock lock(mutex_);
+      o = renderer_.options();
+      threads = renderer_.threads();
+    }
+    py::dict d;
+    d["backend"] = par2d::backend_name(o.backend);
+    d["threads"] = threads;
+    d["isa"] = par2d::isa_name(par2d::resolved_isa(o));
+    d["spp"] = o.spp;
+    d["culling"] = o.culling;
+    d["shaded"] = o.shaded;
     return d;
   }
 
@@ -316,6 +385,10 @@ class PyRenderer {
     return image;
   }
 
+  static py::object entry_dict(const par2d::Scene& one, const char* list) {
+    return py::module_::import("json").attr("loads")(par2d::scene_to_json(one))[list][py::int_(0)];
+  }
+
   mutable std::mutex mutex_;
   par2d::Renderer renderer_;
   std::vector<std::uint64_t> lights_, occluders_;
@@ -330,14 +403,21 @@ void bind_renderer(py::module_& m) {
                          "never rebuilds the occluder index. Lights and occluders are dicts shaped like one entry\n"
                          "of the scene file's lists. A refused update raises par2d.Error and changes nothing.")
       .def(py::init<const py::object&, const py::object&, const py::object&, const py::object&, const py::object&,
-                    const py::object&>(),
+                    const py::object&, const py::object&>(),
            py::arg("scene") = py::none(), py::kw_only(), py::arg("backend") = "auto", py::arg("threads") = 0,
-           py::arg("isa") = py::none(), py::arg("spp") = 1, py::arg("culling") = true,
+           py::arg("isa") = py::none(), py::arg("spp") = 1, py::arg("culling") = true, py::arg("shaded") = true,
            "A renderer holding `scene` (a Scene or a dict), or an empty world (then call set_frame).\n"
-           "backend: auto|simd|scalar (raycast is refused); threads: 0 = all.")
+           "backend: auto|simd|scalar (raycast is refused); threads: 0 = all; shaded=False: the plain\n"
+           "irradiance even with a normal source.")
       .def("set_options", &PyRenderer::set_options, py::kw_only(), py::arg("backend") = "auto", py::arg("threads") = 0,
-           py::arg("isa") = py::none(), py::arg("spp") = 1, py::arg("culling") = true,
-           "Backend, threads, isa cap, samples per pixel and culling for the next frames.")
+           py::arg("isa") = py::none(), py::arg("spp") = 1, py::arg("culling") = true, py::arg("shaded") = true,
+           "Backend, threads, isa cap, samples per pixel, culling and shading for the next frames.")
+      .def_property_readonly("options", &PyRenderer::options,
+                             "dict: backend, threads (workers used), isa (the level used on this CPU), spp, culling, shaded.")
+      .def("light", &PyRenderer::light, py::arg("handle"),
+           "The light a handle names, as a dict like an entry of the scene file's lights (color and intensity\n"
+           "always; the lighting-model terms where not default).")
+      .def("occluder", &PyRenderer::occluder, py::arg("handle"), "The occluder a handle names, as a dict.")
       .def("set_scene", &PyRenderer::set_scene, py::arg("scene"),
            "Replaces the whole world (frame included); returns (light handles, occluder handles) in the scene's order.")
       .def("set_frame", &PyRenderer::set_frame, py::arg("width"), py::arg("height"), py::arg("view") = py::none(),
@@ -372,6 +452,8 @@ void bind_renderer(py::module_& m) {
       .def("snapshot", &PyRenderer::snapshot, "The world as a Scene; par2d.render of it gives the same image.")
       .def_property_readonly("stats", &PyRenderer::stats,
                              "dict: frames, index_builds, index_updates, reach_computations, full_prepares.")
+      .def_property_readonly("frame_stats", &PyRenderer::frame_stats,
+                             "dict: the culling and kernel work of the last render (docs/api.md, FrameStats).")
       .def_property_readonly("lights", &PyRenderer::lights, "Handles of the lights, in the order they were added.")
       .def_property_readonly("occluders", &PyRenderer::occluders, "Handles of the occluders, in the order they were added.")
       .def_property_readonly("width", [](const PyRenderer& r) { return r.summary().width; })

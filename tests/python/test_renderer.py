@@ -258,3 +258,36 @@ def test_calls_from_two_threads_are_serialized():
     for f in frames:
         assert any(np.array_equal(f, e) for e in expected)
     assert np.array_equal(r.render(), expected[-1])
+
+
+def test_light_and_occluder_read_back_what_the_handles_name():
+    r = par2d.Renderer(small_example_dict(), threads=1)
+    light = {"circle": {"center": [40, 30], "radius": 5}, "color": [1, 0.5, 0.25], "intensity": 2, "range": 80,
+             "cone": {"direction": 45, "half_angle": 30, "fade": 10}, "mask": 5}
+    occluder = {"polygon": [[10, 10], [20, 10], [20, 20]], "transmittance": [0.5, 0.5, 0.5], "interior": "lit"}
+    h = r.add_light(light)
+    o = r.add_occluder(occluder)
+    assert r.light(h) == light
+    assert r.occluder(o) == occluder
+    # The scene's own handles too, and what is read back adds the same light again.
+    first = r.light(r.lights[0])
+    assert first == small_example_dict()["lights"][0]
+    assert r.light(r.add_light(first)) == first
+    with pytest.raises(par2d.InvalidArgumentError):
+        r.light(h + 12345)
+    with pytest.raises(par2d.InvalidArgumentError):
+        r.occluder(h)  # a light's handle names no occluder
+
+
+def test_options_and_frame_stats():
+    r = par2d.Renderer(small_example_dict(), threads=1, spp=2, isa="scalar", shaded=False)
+    o = r.options
+    assert o == {"backend": "auto", "threads": 1, "isa": "scalar", "spp": 2, "culling": True, "shaded": False}
+    assert r.frame_stats["pixels"] == 0
+    r.render()
+    s = r.frame_stats
+    assert s["pixels"] == 256 * 192 and s["tiles"] > 0 and set(s) >= {"samples", "tile_pairs", "umbra_hits"}
+    r.render(region=(0, 0, 32, 16))
+    assert r.frame_stats["pixels"] == 32 * 16
+    r.set_options(threads=1, backend="scalar")
+    assert r.options["backend"] == "scalar" and r.options["shaded"] is True
