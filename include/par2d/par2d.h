@@ -227,8 +227,8 @@ PAR2D_C_API par2d_status par2d_get_advanced_options(const par2d_renderer* render
 /* A refused value keeps every option as it was. */
 PAR2D_C_API par2d_status par2d_set_advanced_options(par2d_renderer* renderer, const par2d_advanced_options* options);
 /* The level the renderer's SIMD path runs at on this CPU with its options (PAR2D_ISA_SCALAR for
- * the scalar backend); the best level this CPU has; "scalar", "sse4", "avx2", "avx512",
- * "neon64" ("" for a value that is no level). */
+ * the scalar backend or a NULL renderer); the best level this CPU has; "scalar", "sse4",
+ * "avx2", "avx512", "neon64" ("" for a value that is no level). */
 PAR2D_C_API par2d_isa par2d_renderer_isa(const par2d_renderer* renderer);
 PAR2D_C_API par2d_isa par2d_detect_isa(void);
 PAR2D_C_API const char* par2d_isa_name(par2d_isa isa);
