@@ -13,6 +13,7 @@
 #include "render/scalar_tiles.hpp"
 #include "render/tile_setup.hpp"
 #include "render/tiling.hpp"
+#include "scalar/bounce_reference.hpp"
 #include "scalar/scalar_renderer.hpp"
 
 namespace par2d::detail {
@@ -71,6 +72,30 @@ void sample_needs(const PreparedScene& scene, const TileRect& part, const TileSe
   }
 }
 
+// Adds the bounce term (docs/contract.md section 7) to pixels `part` of the tile result: the
+// mean over each pixel's samples of the scalar reference's bounce_irradiance. No SIMD form
+// exists yet, so every backend adds the exact term here, after its direct light.
+void add_bounce(const PreparedScene& scene, const BounceFrame& bounce, int spp, bool shaded, const TileRect& part,
+                int tile_x0, int tile_y0, BounceScratch& scratch, TileResult& out) {
+  const bool shade = shading_active(scene, shaded);
+  const double inv_spp = 1.0 / spp;
+  for (int j = part.y0; j < part.y1; ++j) {
+    for (int i = part.x0; i < part.x1; ++i) {
+      const Vec3 normal = scene.normal_at(i, j);
+      Rgb sum{0.0, 0.0, 0.0};
+      for (int k = 0; k < spp; ++k) {
+        double sx, sy;
+        sample_offset(k, spp, sx, sy);
+        const Rgb e = bounce_irradiance(scene, bounce, sample_position(scene, i, j, sx, sy), shade ? &normal : nullptr,
+                                        scratch);
+        for (int c = 0; c < 3; ++c) sum[c] += e[c];
+      }
+      const std::size_t at = static_cast<std::size_t>(j - tile_y0) * kTileSize + static_cast<std::size_t>(i - tile_x0);
+      for (int c = 0; c < 3; ++c) out.rgb[c][at] += static_cast<float>(sum[c] * inv_spp);
+    }
+  }
+}
+
 }  // namespace
 
 // Everything one lane of blocks reuses from tile to tile and frame to frame.
@@ -79,6 +104,7 @@ struct FrameEngine::ThreadState {
   TileSetupScratch setup;
   CellListScratch cells;
   ScalarScratch scalar;
+  BounceScratch bounce;
   std::unique_ptr<float[]> scratch;  // 64-byte aligned view into it via `aligned`
   std::size_t scratch_floats = 0;
   float* aligned = nullptr;
@@ -112,6 +138,7 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
   const int columns = bx1 - bx0;
   const int blocks = columns * (by1 - by0);
   const bool cull = settings.culling && reach != nullptr;
+  const bool bouncing = scene.bounce;
   VectorTileStores stores;
   if (kernels) {
     stores = kernels->stores;
@@ -148,6 +175,8 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
         float* scratch = state.kernel_scratch(kernel_scratch_floats(state.work, kernels->lanes));
         kernels->render_tile(state.work, scratch, state.result);
       }
+      if (bouncing)
+        add_bounce(scene, *bounce_, settings.spp, settings.shaded, part, tile.x0, tile.y0, state.bounce, state.result);
       store_tile(state.result, tile.x0, tile.y0, part, target, stores);
     });
   };
@@ -159,6 +188,17 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
   // lanes per worker keep the load balanced.
   const int lanes = std::min(blocks, kLanesPerWorker * scheduler.workers());
   if (states_.size() < static_cast<std::size_t>(lanes)) states_.resize(static_cast<std::size_t>(lanes));
+  // The pieces' radiances first (they depend on every light and occluder), lane by lane.
+  if (bouncing) {
+    if (!bounce_) bounce_ = std::make_unique<BounceFrame>();
+    build_bounce_sources(scene, *bounce_);
+    const std::size_t pieces = bounce_->pieces.size();
+    scheduler.for_each_index(lanes, [&](int lane, int) {
+      const std::size_t lo = pieces * static_cast<std::size_t>(lane) / static_cast<std::size_t>(lanes);
+      const std::size_t hi = pieces * static_cast<std::size_t>(lane + 1) / static_cast<std::size_t>(lanes);
+      bounce_radiances(scene, *bounce_, lo, hi, states_[static_cast<std::size_t>(lane)].scalar);
+    });
+  }
   scheduler.for_each_index(lanes, [&](int lane, int) {
     ThreadState& state = states_[static_cast<std::size_t>(lane)];
     state.counts = FrameCounters{};

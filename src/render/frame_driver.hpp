@@ -2,6 +2,7 @@
 // buffer, tile by tile, with the kernels of kernel_table.hpp or the scalar reference.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "culling/light_reach.hpp"
@@ -12,6 +13,8 @@
 #include "world/prepared_scene.hpp"
 
 namespace par2d::detail {
+
+struct BounceFrame;
 
 // What one frame computes: samples per pixel, culling, and the kernel ISA (Isa::scalar:
 // the reference path, pixel by pixel).
@@ -43,6 +46,9 @@ class FrameEngine {
  private:
   struct ThreadState;
   std::vector<ThreadState> states_;
+  // One bounce (docs/contract.md section 7): the pieces and their radiances, made each frame of
+  // a scene with a reflecting occluder.
+  std::unique_ptr<BounceFrame> bounce_;
   SrgbBuckets srgb_;  // the last 8-bit sRGB target's exposure's, rebuilt when it changes
 };
 

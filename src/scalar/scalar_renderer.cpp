@@ -197,9 +197,12 @@ Rgb covered_integral(const PreparedScene& scene, const AngularProfile<double>& p
   return sum;
 }
 
-// docs/contract.md section 6 at x, shaded by `normal` when not null.
-Rgb model_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, ScalarScratch& scratch) {
-  Rgb e = scene.ambient;
+// docs/contract.md section 6 at x, shaded by `normal` when not null. Occluder `skip` (when a
+// valid index) is left out, as if absent, and the ambient term only added with `ambient`: a
+// bounce piece's direct light (section 7) is taken so on its own occluder's boundary.
+Rgb model_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, ScalarScratch& scratch,
+                     std::size_t skip = static_cast<std::size_t>(-1), bool ambient = true) {
+  Rgb e = ambient ? scene.ambient : Rgb{0.0, 0.0, 0.0};
   const std::size_t occluders = scene.occluders.size();
   scratch.occluder_spans.resize(occluders);
   scratch.inside.resize(occluders);
@@ -207,6 +210,9 @@ Rgb model_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, Sca
     scratch.occluder_spans[k] = angular_span(scene.occluders[k], x);
     scratch.inside[k] = scratch.occluder_spans[k].full ? 1 : 0;
   }
+  // Left out: contains nothing, and acts on no light (its mask bits are ignored below).
+  const bool skipping = skip < occluders;
+  if (skipping) scratch.inside[skip] = 0;
   AngularProfile<double> profile;
   for (const PreparedLight& light : scene.lights) {
     const LightTerms& terms = light.terms;
@@ -229,7 +235,7 @@ Rgb model_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, Sca
     // Inside the light (t_L = 0) only occluders containing x come first.
     if (!arc.full) {
       for (std::size_t k = 0; k < occluders; ++k) {
-        if (scratch.inside[k] || !acts(scene.occluder_terms[k], false, terms.mask)) continue;
+        if (scratch.inside[k] || k == skip || !acts(scene.occluder_terms[k], false, terms.mask)) continue;
         for_each_blocked_piece(light, scene.occluders[k], k, x, arc, scratch.occluder_spans[k], scratch,
                                [&](double lo, double hi) {
                                  scratch.piece_lo_hi.push_back({lo, hi});
@@ -251,7 +257,7 @@ Rgb model_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, Sca
     scratch.piece_lo_hi.clear();
     scratch.piece_occluder.clear();
     for (std::size_t k = 0; k < occluders; ++k) {
-      if (!acts(scene.occluder_terms[k], scratch.inside[k] != 0, sun.mask)) continue;
+      if (k == skip || !acts(scene.occluder_terms[k], scratch.inside[k] != 0, sun.mask)) continue;
       scratch.pieces.clear();
       clip_to_light_arc(arc, scratch.occluder_spans[k], scratch.pieces);
       for (const ArcInterval& piece : scratch.pieces) {
@@ -277,6 +283,16 @@ Rgb scalar_irradiance(const PreparedScene& scene, Vec2 x, ScalarScratch& scratch
 Rgb scalar_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, ScalarScratch& scratch) {
   if (!scene.model) return plain_irradiance(scene, x, scratch);
   return model_irradiance(scene, x, normal, scratch);
+}
+
+Rgb direct_without(const PreparedScene& scene, Vec2 x, const Vec3& normal, std::size_t skip, ScalarScratch& scratch) {
+  return model_irradiance(scene, x, &normal, scratch, skip, false);
+}
+
+void blocked_pieces(const PreparedLight& light, const ConvexShape& occluder, std::size_t k, Vec2 x, const AngularSpan& arc,
+                    const AngularSpan& span, ScalarScratch& scratch, std::vector<ArcInterval>& out) {
+  for_each_blocked_piece(light, occluder, k, x, arc, span, scratch,
+                         [&](double lo, double hi) { out.push_back({lo, hi}); });
 }
 
 }  // namespace par2d::detail

@@ -35,6 +35,18 @@ Rgb scalar_irradiance(const PreparedScene& scene, Vec2 x, ScalarScratch& scratch
 // take the section 1 path (the normal is then ignored: such scenes have no normal source).
 Rgb scalar_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, ScalarScratch& scratch);
 
+// Section 6's value at x without the ambient term, shaded by `normal`, with occluder `skip` left
+// out as if absent (docs/contract.md section 7: a piece's direct light on its own occluder's
+// boundary, approached from outside, where the shading keeps only the outward directions).
+Rgb direct_without(const PreparedScene& scene, Vec2 x, const Vec3& normal, std::size_t skip, ScalarScratch& scratch);
+
+// Appends to `out` the pieces (in the frame of `arc`, a part of the light's own arc seen from
+// x) that occluder k (`occluder`) is in front of, contacts counting as in front: the depth test
+// the reference uses for every light, with the overlap events of `light`. x in neither shape;
+// `span` is angular_span(occluder, x). Uses scratch.pieces and scratch.events.
+void blocked_pieces(const PreparedLight& light, const ConvexShape& occluder, std::size_t k, Vec2 x, const AngularSpan& arc,
+                    const AngularSpan& span, ScalarScratch& scratch, std::vector<ArcInterval>& out);
+
 // Radians of light `light`'s arc seen from x that no occluder blocks. `occluder_spans`
 // holds angular_span(occluder k, x) for every occluder; x must lie in no occluder.
 double visible_measure(const PreparedScene& scene, std::size_t light, Vec2 x,

@@ -165,11 +165,13 @@ LightTerms light_terms(const Light& light, double scale) noexcept {
   return t;
 }
 
-OccluderTerms occluder_terms(const Occluder& occluder) noexcept {
+OccluderTerms occluder_terms(const Occluder& occluder) {
   OccluderTerms t;
   t.transmittance = occluder.transmittance;
   t.mask = occluder.mask;
   t.lit_interior = occluder.interior == Interior::lit;
+  t.albedo = occluder.albedo;
+  if (t.reflects()) t.bounce_shape = occluder.shape;
   return t;
 }
 
@@ -180,10 +182,14 @@ void update_model_flag(PreparedScene& out) noexcept {
     model = model || l.terms.has_range() || l.terms.has_cone || l.terms.mask != kAllMaskBits;
   for (const OccluderTerms& o : out.occluder_terms) model = model || !o.plain();
   out.model = model;
+  bool bounce = false;
+  for (const OccluderTerms& o : out.occluder_terms) bounce = bounce || o.reflects();
+  out.bounce = bounce;
 }
 
 void prepare_model_terms(const Scene& scene, PreparedScene& out, std::shared_ptr<const WorldNormals> converted) {
   out.ambient = scene.ambient;
+  out.bounce_piece = scene.bounce.piece;
   out.directionals.clear();
   for (const DirectionalLight& d : scene.directional_lights) {
     PreparedDirectional p;
@@ -247,6 +253,7 @@ PreparedScene prepare_scene(const Scene& scene) {
   for (const ConvexShape& o : out.occluders) grow_largest(o);
   const double factor = scene_scale(scene.view, largest);
   out.view = {scene.view.x0 * factor, scene.view.y0 * factor, scene.view.x1 * factor, scene.view.y1 * factor};
+  out.scale = factor;
   for (PreparedLight& l : out.lights) scale_shape(l.shape, factor);
   for (ConvexShape& o : out.occluders) scale_shape(o, factor);
   for (std::size_t p = 0; p < lit.size(); ++p) out.lights[p].terms = light_terms(*lit[p], factor);

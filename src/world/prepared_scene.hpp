@@ -38,7 +38,13 @@ struct OccluderTerms {
   Rgb transmittance{0.0, 0.0, 0.0};
   std::uint32_t mask = kAllMaskBits;
   bool lit_interior = false;
+  // One bounce (docs/contract.md section 7): the reflected fraction, and for a reflecting
+  // occluder its shape as given (world units; a polygon keeps its collinear vertices, which
+  // cut pieces), from which its pieces are made.
+  Rgb albedo{0.0, 0.0, 0.0};
+  Shape bounce_shape;
 
+  bool reflects() const noexcept { return albedo[0] != 0.0 || albedo[1] != 0.0 || albedo[2] != 0.0; }
   bool opaque() const noexcept { return transmittance[0] == 0.0 && transmittance[1] == 0.0 && transmittance[2] == 0.0; }
   // Whether this occluder acts on a light with these terms' mask (docs/contract.md section 6).
   bool acts_on(std::uint32_t light_mask) const noexcept { return (mask & light_mask) != 0; }
@@ -46,7 +52,7 @@ struct OccluderTerms {
   bool plain() const noexcept { return opaque() && mask == kAllMaskBits && !lit_interior; }
 };
 
-OccluderTerms occluder_terms(const Occluder& occluder) noexcept;
+OccluderTerms occluder_terms(const Occluder& occluder);
 
 // A directional light: rays theta in [start, start + width] radians (width < 2 pi) arrive
 // with emission `emission` from infinitely far away.
@@ -144,6 +150,12 @@ struct PreparedScene {
   // keeps it across frames).
   std::shared_ptr<const WorldNormals> normal_map;
   bool model = false;
+  // One bounce (docs/contract.md section 7): whether some occluder reflects, the piece length
+  // in world units, and the power of two that took world coordinates to these (pieces are cut
+  // in world units, then scaled, so every path cuts them alike).
+  bool bounce = false;
+  double bounce_piece = 4.0;
+  double scale = 1.0;
 
   // The unit surface normal (world axes) at pixel (i, j); (0, 0, 1) without a source.
   Vec3 normal_at(int i, int j) const noexcept {

@@ -179,6 +179,7 @@ Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, st
   next.globals_.directional_lights = scene.directional_lights;
   next.globals_.normal = scene.normal;
   next.globals_.normal_map = scene.normal_map;
+  next.globals_.bounce = scene.bounce;
   next.reach_scratch_ = std::move(reach_scratch_);
   next.reprepare_all(std::move(converted));
   *this = std::move(next);
@@ -212,6 +213,7 @@ void World::reprepare_all(std::shared_ptr<const WorldNormals> converted) {
                                    std::abs(view_.y1)});
   factor_ = scene_scale(view_, largest);
   scene_.view = {view_.x0 * factor_, view_.y0 * factor_, view_.x1 * factor_, view_.y1 * factor_};
+  scene_.scale = factor_;
   for (PreparedLight& l : scene_.lights) scale_shape(l.shape, factor_);
   for (ConvexShape& o : scene_.occluders) scale_shape(o, factor_);
   for (std::size_t p = 0; p < light_sources_.size(); ++p) scene_.lights[p].terms = light_terms(light_sources_[p], factor_);
@@ -357,6 +359,7 @@ Status World::set_model_terms(const char* who, const Scene& terms) {
   next.normal = terms.normal;
   next.normal_map = terms.normal_map;
   next.view = view_;
+  next.bounce = globals_.bounce;  // not one of the terms set here (docs/contract.md section 7)
   PreparedScene staged;
   prepare_model_terms(next, staged, std::move(converted));
   globals_ = std::move(next);
@@ -613,6 +616,7 @@ Scene World::snapshot() const {
   out.directional_lights = globals_.directional_lights;
   out.normal = globals_.normal;
   out.normal_map = globals_.normal_map;
+  out.bounce = globals_.bounce;
   return out;
 }
 
