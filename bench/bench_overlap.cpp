@@ -9,7 +9,7 @@
 
 #include "bench_support.hpp"
 #include "par2d/par2d.hpp"
-#include "world/prepared_scene.hpp"
+#include "world/world.hpp"
 #include "torch_level.hpp"
 
 namespace {

@@ -9,7 +9,7 @@
 
 #include "par2d/par2d.hpp"
 #include "culling/light_reach.hpp"
-#include "world/prepared_scene.hpp"
+#include "world/world.hpp"
 #include "support/random_scenes.hpp"
 #include "support/test_tiers.hpp"
 

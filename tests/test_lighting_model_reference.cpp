@@ -29,7 +29,7 @@
 #include "support/random_scenes.hpp"
 #include "support/render_checks.hpp"
 #include "support/test_tiers.hpp"
-#include "world/prepared_scene.hpp"
+#include "world/world.hpp"
 
 namespace par2d::test {
 namespace {

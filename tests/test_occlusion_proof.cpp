@@ -12,7 +12,7 @@
 
 #include "culling/occlusion_proof.hpp"
 #include "culling/light_reach.hpp"
-#include "world/prepared_scene.hpp"
+#include "world/world.hpp"
 #include "scalar/scalar_renderer.hpp"
 #include "scattered_scene.hpp"
 #include "support/random_scenes.hpp"

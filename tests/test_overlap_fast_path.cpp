@@ -16,7 +16,7 @@
 
 #include "par2d/render.hpp"
 #include "raycast/raycast_renderer.hpp"
-#include "world/prepared_scene.hpp"
+#include "world/world.hpp"
 #include "render/tile_setup.hpp"
 #include "render/tiling.hpp"
 #include "support/random_scenes.hpp"

@@ -12,7 +12,7 @@
 
 #include "par2d/render.hpp"
 #include "render/kernel_table.hpp"
-#include "world/prepared_scene.hpp"
+#include "world/world.hpp"
 #include "scattered_scene.hpp"
 #include "support/random_scenes.hpp"
 #include "support/render_checks.hpp"

@@ -13,7 +13,7 @@
 #include "render/tile_setup.hpp"
 #include "support/random_scenes.hpp"
 #include "support/render_checks.hpp"
-#include "world/prepared_scene.hpp"
+#include "world/world.hpp"
 
 namespace {
 

@@ -17,7 +17,7 @@ enum class Backend {
   automatic,  // the fastest path this CPU supports (the SIMD path where there is one)
   simd,       // the vectorized tiled path at RenderOptions::isa (or the default ISA)
   scalar,     // the reference: double precision, exact trigonometry, one pixel at a time
-  raycast,    // brute force: `rays` stratified directions per sample, first hit decides
+  raycast,    // the brute-force baseline (render() calls render_raycast; a Renderer refuses it)
 };
 
 // "auto", "simd", "scalar", "raycast".
@@ -57,6 +57,10 @@ struct RenderOptions {
   // false: the plain irradiance even when the scene has a normal source (docs/contract.md
   // section 6), e.g. to output both. Default: true (the shaded value when there is a source).
   bool shaded = true;
+  // Also measure what pixels really need (FrameStats' sampled_* counts: one exact pixel per
+  // 16x16 tile, about a scalar pixel's cost per tile). render()'s FrameStats overload sets it;
+  // a Renderer fills them in frame_stats() when it is set. Default: false.
+  bool sample_needs = false;
 };
 
 // The worker count a render with these options uses from the calling thread: `threads`
@@ -83,7 +87,16 @@ void sample_offset(int k, int spp, double& dx, double& dy) noexcept;
 // Renders the linear irradiance E of `scene` (docs/contract.md section 1) into `image`,
 // whose size must equal the scene's width and height. Validates the scene and the
 // arguments first; on failure the image content is unspecified and a status says why.
+// One frame of a Renderer made for the call (Backend::raycast: render_raycast).
 Status render(const Scene& scene, const RenderOptions& options, const ImageView& image);
+
+// The brute-force baseline, sharing nothing with the renderers but the scene types and the
+// parallel loop: per sample (options.spp), options.rays stratified directions, each taking
+// the emission of the first light it meets through the transmittances of the occluders before
+// it (docs/contract.md sections 1 and 6). Converges to render()'s image as rays grow; for
+// tests and for measuring what the analytic renderers save. Reads spp, rays, threads and
+// shaded; the other options are checked and ignored.
+Status render_raycast(const Scene& scene, const RenderOptions& options, const ImageView& image);
 
 // What one frame's culling and kernel did: the numbers that say why a level costs what it
 // costs (`par2d bench --stats` prints them). Counts are totals over the frame; divide by
@@ -120,8 +133,8 @@ struct FrameStats {
   // direction reaches the light with no occluder in front; the lighting model's cone, range
   // and transmittance aside) and, for those lights, the occluders in front of a part of the
   // light's arc. Directional lights are not counted. Filled by render()'s
-  // FrameStats overload only (it costs about a scalar pixel per tile); zero from
-  // Renderer::frame_stats.
+  // FrameStats overload and by a Renderer whose options set sample_needs (it costs about a
+  // scalar pixel per tile); zero otherwise.
   std::uint64_t sampled_pixels = 0;
   std::uint64_t sampled_visible_lights = 0;
   std::uint64_t sampled_blocking_pairs = 0;

@@ -61,6 +61,10 @@ struct RendererStats {
   std::uint64_t full_prepares = 0;      // whole world re-prepared (frame or coordinate scale changed)
 };
 
+// One frame of `scene` in any pixel format: render() for a FrameBuffer (whole frame, the
+// scene's width x height). Backend::raycast is refused (render_raycast writes float RGB).
+Status render(const Scene& scene, const RenderOptions& options, const FrameBuffer& buffer);
+
 // A persistent world and renderer. Not thread-safe: one thread at a time calls its methods
 // (render itself runs on many threads). Every update is validated when it is made; a refused
 // update returns a Status naming the handle and the problem and leaves the world unchanged.
@@ -78,7 +82,8 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  // Backend (automatic, simd or scalar; raycast is refused), spp, isa, culling and threading.
+  // Backend (automatic, simd or scalar; raycast is refused: it is the baseline render_raycast),
+  // spp, isa, culling, threading, shading and sample_needs.
   // Creates the renderer's thread pool here (never per frame) unless
   // options.threading == Threading::caller_arena.
   Status set_options(const RenderOptions& options);

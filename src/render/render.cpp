@@ -1,56 +1,32 @@
-// The render entry point: checks arguments, prepares the scene, and runs the chosen
-// backend over image tiles on a TBB arena of the requested size.
+// The one-shot front door (a Renderer made for one frame), the ray-casting baseline, and the
+// argument checks every entry shares.
 #include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <new>
 #include <numeric>
 #include <string>
 #include <thread>
-#include <vector>
 
 #include "par2d/render.hpp"
-#include "render/frame_output.hpp"
-#include "render/frame_driver.hpp"
+#include "par2d/renderer.hpp"
 #include "render/render_arguments.hpp"
-#include "parallel/scheduler.hpp"
-#include "world/prepared_scene.hpp"
 #include "render/scalar_tiles.hpp"
 #include "render/tiling.hpp"
-#include "world/world.hpp"
+#include "scene/scene_validate.hpp"
+#include "status_guard.hpp"
 
 namespace par2d {
 namespace {
 
-using detail::PreparedScene;
-
 constexpr int kMaxSpp = 256;
 constexpr int kMaxRays = 1 << 20;
-
-Status check_arguments(const Scene& scene, const RenderOptions& options, const ImageView& image) {
-  auto bad = [](std::string message) { return Status(StatusCode::invalid_argument, std::move(message)); };
-  if (image.data == nullptr) return bad("render: image data is null");
-  if (image.width != scene.width || image.height != scene.height)
-    return bad("render: image is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
-               " but the scene is " + std::to_string(scene.width) + "x" + std::to_string(scene.height));
-  if (image.row_stride < 3 * static_cast<std::ptrdiff_t>(image.width))
-    return bad("render: row_stride " + std::to_string(image.row_stride) + " is less than 3 * width");
-  return detail::check_options(options, "render");
-}
 
 int worker_threads(int requested) noexcept {
   const int hardware = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   if (requested == 0) return tbb::this_task_arena::max_concurrency();
   return std::min(requested, hardware);  // more only adds scheduling overhead
-}
-
-void render_raycast(const Scene& scene, const RenderOptions& options, int threads, const ImageView& image) {
-  const detail::RaycastRenderer caster(scene);
-  detail::for_each_block(scene.width, scene.height, threads, [&](const detail::TileRect& block, int) {
-    detail::render_rect_raycast(scene, caster, options.spp, options.rays, block, image, options.shaded);
-  });
 }
 
 }  // namespace
@@ -119,6 +95,19 @@ Status check_options(const RenderOptions& options, const char* who) {
   return {};
 }
 
+Status check_image_view(const ImageView& image, int width, int height, const char* who, const char* what) {
+  auto bad = [who](std::string message) {
+    return Status(StatusCode::invalid_argument, std::string(who) + ": " + std::move(message));
+  };
+  if (image.data == nullptr) return bad("image data is null");
+  if (image.width != width || image.height != height)
+    return bad("image is " + std::to_string(image.width) + "x" + std::to_string(image.height) + " but the " + what +
+               " is " + std::to_string(width) + "x" + std::to_string(height));
+  if (image.row_stride < 3 * static_cast<std::ptrdiff_t>(image.width))
+    return bad("row_stride " + std::to_string(image.row_stride) + " is less than 3 * width");
+  return {};
+}
+
 Status check_frame_buffer(const FrameBuffer& buffer, const PixelRect& region, int width, int height, const char* who) {
   auto bad = [who](std::string message) {
     return Status(StatusCode::invalid_argument, std::string(who) + ": " + std::move(message));
@@ -143,40 +132,45 @@ Status check_frame_buffer(const FrameBuffer& buffer, const PixelRect& region, in
 
 namespace {
 
-Status render_frame(const Scene& scene, const RenderOptions& options, const ImageView& image, FrameStats* stats) {
-  try {
-    if (Status s = check_arguments(scene, options, image); !s.ok()) return s;
-    if (options.backend == Backend::raycast) {
-      if (Status s = validate_scene(scene); !s.ok()) return s;
-      render_raycast(scene, options, worker_threads(options.threads), image);
-      return {};
-    }
-    // The same machinery as a persistent Renderer, for one frame.
-    detail::World world;
-    if (Status s = world.set_scene(scene, nullptr, nullptr); !s.ok()) return s;
-    detail::Scheduler scheduler;
-    scheduler.configure(resolved_threads(options), options.threading);
-    const Isa isa = resolved_isa(options);
-    const bool culling = options.culling && isa != Isa::scalar;
-    const PreparedScene& prepared = world.commit(culling, scheduler);
-    detail::FrameTarget target;
-    target.data = reinterpret_cast<unsigned char*>(image.data);
-    target.format = PixelFormat::rgb_f32;
-    target.row_stride = image.row_stride * static_cast<std::ptrdiff_t>(sizeof(float));
-    target.region = {0, 0, scene.width, scene.height};
-    detail::FrameEngine engine;
-    engine.render(prepared, culling ? &world.reach() : nullptr,
-                  detail::FrameSettings{options.spp, culling, isa, options.shaded, stats != nullptr}, scheduler, target,
-                  stats);
+// One frame of `scene` by a Renderer made for it: the same path as a host's Renderer.
+Status render_once(const Scene& scene, const RenderOptions& options, const FrameBuffer& buffer, FrameStats* stats) {
+  return detail::guarded("render", [&]() -> Status {
+    Renderer renderer;
+    RenderOptions once = options;
+    once.sample_needs = options.sample_needs || stats != nullptr;
+    if (Status s = renderer.set_options(once); !s.ok()) return s;
+    if (Status s = renderer.set_scene(scene); !s.ok()) return s;
+    if (Status s = renderer.render(buffer); !s.ok()) return s;
+    if (stats) *stats = renderer.frame_stats();
     return {};
-  } catch (const std::bad_alloc&) {
-    return Status(StatusCode::out_of_memory, "render: out of memory");
-  } catch (const std::exception& e) {
-    return Status(StatusCode::invalid_argument, std::string("render: ") + e.what());
-  }
+  });
+}
+
+Status render_frame(const Scene& scene, const RenderOptions& options, const ImageView& image, FrameStats* stats) {
+  if (Status s = detail::check_image_view(image, scene.width, scene.height, "render", "scene"); !s.ok()) return s;
+  if (Status s = detail::check_options(options, "render"); !s.ok()) return s;
+  if (options.backend == Backend::raycast) return render_raycast(scene, options, image);
+  return render_once(scene, options, detail::frame_buffer_of(image), stats);
 }
 
 }  // namespace
+
+Status render_raycast(const Scene& scene, const RenderOptions& options, const ImageView& image) {
+  if (Status s = detail::check_image_view(image, scene.width, scene.height, "render_raycast", "scene"); !s.ok()) return s;
+  RenderOptions checked = options;
+  checked.backend = Backend::raycast;  // the rays' range is checked
+  if (Status s = detail::check_options(checked, "render_raycast"); !s.ok()) return s;
+  return detail::guarded("render_raycast", [&]() -> Status {
+    if (Status s = validate_scene(scene); !s.ok()) return s;
+    const detail::RaycastRenderer caster(scene);
+    detail::for_each_block(scene.width, scene.height, worker_threads(options.threads),
+                           [&](const detail::TileRect& block, int) {
+                             detail::render_rect_raycast(scene, caster, options.spp, options.rays, block, image,
+                                                         options.shaded);
+                           });
+    return {};
+  });
+}
 
 Status render(const Scene& scene, const RenderOptions& options, const ImageView& image) {
   return render_frame(scene, options, image, nullptr);
@@ -185,6 +179,13 @@ Status render(const Scene& scene, const RenderOptions& options, const ImageView&
 Status render(const Scene& scene, const RenderOptions& options, const ImageView& image, FrameStats& stats) {
   stats = FrameStats{};
   return render_frame(scene, options, image, &stats);
+}
+
+Status render(const Scene& scene, const RenderOptions& options, const FrameBuffer& buffer) {
+  if (Status s = detail::check_options(options, "render"); !s.ok()) return s;
+  if (options.backend == Backend::raycast)
+    return Status(StatusCode::unsupported, "render: the raycast baseline writes float RGB (call render_raycast)");
+  return render_once(scene, options, buffer, nullptr);
 }
 
 }  // namespace par2d

@@ -1,4 +1,5 @@
-// Argument checks shared by the one-shot render and par2d::Renderer (one wording for both).
+// Argument checks shared by the one-shot render, the ray-casting baseline and par2d::Renderer
+// (one wording for all).
 #pragma once
 
 #include "par2d/render.hpp"
@@ -13,5 +14,18 @@ Status check_options(const RenderOptions& options, const char* who);
 // Non-null data, known format, finite exposure >= 0, a non-empty region inside the
 // width x height frame, and a row stride that holds a row of the region.
 Status check_frame_buffer(const FrameBuffer& buffer, const PixelRect& region, int width, int height, const char* who);
+
+// Non-null data, the width x height size (`what` names whose size: "scene", "frame"), and a
+// row stride that holds a row.
+Status check_image_view(const ImageView& image, int width, int height, const char* who, const char* what);
+
+// The float RGB image as the frame buffer it is.
+inline FrameBuffer frame_buffer_of(const ImageView& image) noexcept {
+  FrameBuffer buffer;
+  buffer.data = image.data;
+  buffer.format = PixelFormat::rgb_f32;
+  buffer.row_stride = image.row_stride * static_cast<std::ptrdiff_t>(sizeof(float));
+  return buffer;
+}
 
 }  // namespace par2d::detail

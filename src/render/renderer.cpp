@@ -5,18 +5,25 @@
 #include <new>
 #include <string>
 
-#include "render/frame_output.hpp"
-#include "render/frame_driver.hpp"
-#include "render/render_arguments.hpp"
+#include "culling/reach_cache.hpp"
 #include "parallel/scheduler.hpp"
+#include "render/frame_driver.hpp"
+#include "render/frame_output.hpp"
+#include "render/render_arguments.hpp"
+#include "status_guard.hpp"
 #include "world/world.hpp"
 
 namespace par2d {
 
 struct Renderer::Impl {
+  Impl() { world.observe(&reach); }
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+
   RenderOptions options;
   Isa isa = Isa::scalar;
   detail::Scheduler scheduler;
+  detail::ReachCache reach;  // follows `world`'s changes (declared first: the world points at it)
   detail::World world;
   detail::FrameEngine engine;
   FrameStats frame_stats;  // the last successful render's
@@ -26,17 +33,7 @@ namespace {
 
 Status bad(std::string message) { return Status(StatusCode::invalid_argument, std::move(message)); }
 
-// Runs an update, turning exceptions (out of memory) into a status.
-template <class Fn>
-Status guarded(const char* what, Fn&& fn) {
-  try {
-    return fn();
-  } catch (const std::bad_alloc&) {
-    return Status(StatusCode::out_of_memory, std::string(what) + ": out of memory");
-  } catch (const std::exception& e) {
-    return Status(StatusCode::invalid_argument, std::string(what) + ": " + e.what());
-  }
-}
+using detail::guarded;
 
 }  // namespace
 
@@ -49,7 +46,8 @@ Status Renderer::set_options(const RenderOptions& options) {
   return guarded("set_options", [&]() -> Status {
     if (Status s = detail::check_options(options, "set_options"); !s.ok()) return s;
     if (options.backend == Backend::raycast)
-      return Status(StatusCode::unsupported, "set_options: the raycast backend is for one-shot render only");
+      return Status(StatusCode::unsupported,
+                    "set_options: the raycast backend is a baseline, not a renderer (call par2d::render_raycast)");
     impl_->scheduler.configure(resolved_threads(options), options.threading);
     impl_->options = options;
     impl_->isa = resolved_isa(options);
@@ -166,17 +164,8 @@ Status Renderer::render(const FrameBuffer& buffer) {
 }
 
 Status Renderer::render(const ImageView& image) {
-  if (image.data == nullptr) return bad("render: image data is null");
-  if (image.width != width() || image.height != height())
-    return bad("render: image is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
-               " but the frame is " + std::to_string(width()) + "x" + std::to_string(height()));
-  if (image.row_stride < 3 * static_cast<std::ptrdiff_t>(image.width))
-    return bad("render: row_stride " + std::to_string(image.row_stride) + " is less than 3 * width");
-  FrameBuffer buffer;
-  buffer.data = image.data;
-  buffer.format = PixelFormat::rgb_f32;
-  buffer.row_stride = image.row_stride * static_cast<std::ptrdiff_t>(sizeof(float));
-  return render(buffer);
+  if (Status s = detail::check_image_view(image, width(), height(), "render", "frame"); !s.ok()) return s;
+  return render(detail::frame_buffer_of(image));
 }
 
 Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
@@ -186,16 +175,18 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
   return guarded("render", [&]() -> Status {
     if (!impl.scheduler.configured()) impl.scheduler.configure(resolved_threads(impl.options), impl.options.threading);
     const bool culling = impl.options.culling && impl.isa != Isa::scalar;
-    const detail::PreparedScene& scene = impl.world.commit(culling, impl.scheduler);
+    const detail::PreparedScene& scene = impl.world.commit();
+    if (culling) impl.world.stats().reach_computations += impl.reach.update(scene, impl.scheduler);
     detail::FrameTarget target;
     target.data = static_cast<unsigned char*>(buffer.data);
     target.format = buffer.format;
     target.row_stride = buffer.row_stride;
     target.exposure = buffer.exposure;
     target.region = {region.x0, region.y0, region.x1, region.y1};
-    impl.engine.render(scene, culling ? &impl.world.reach() : nullptr,
-                       detail::FrameSettings{impl.options.spp, culling, impl.isa, impl.options.shaded}, impl.scheduler, target,
-                       &impl.frame_stats);
+    impl.engine.render(scene, culling ? &impl.reach.reach() : nullptr,
+                       detail::FrameSettings{impl.options.spp, culling, impl.isa, impl.options.shaded,
+                                             impl.options.sample_needs},
+                       impl.scheduler, target, &impl.frame_stats);
     ++impl.world.stats().frames;
     return {};
   });

@@ -223,56 +223,6 @@ void prepare_model_terms(const Scene& scene, PreparedScene& out, std::shared_ptr
   update_model_flag(out);
 }
 
-PreparedScene prepare_scene(const Scene& scene) {
-  PreparedScene out;
-  out.width = scene.width;
-  out.height = scene.height;
-  out.occluders.reserve(scene.occluders.size());
-  for (const Occluder& o : scene.occluders) {
-    out.occluders.push_back(make_convex_shape(o.shape));
-    out.occluder_terms.push_back(occluder_terms(o));
-  }
-  std::vector<const Light*> lit;
-  for (const Light& l : scene.lights) {
-    PreparedLight light;
-    for (int c = 0; c < 3; ++c) light.emission[c] = l.intensity * l.color[c];
-    const double e = std::max({light.emission[0], light.emission[1], light.emission[2]});
-    if (!(e > 0.0)) continue;  // contributes nothing anywhere
-    light.shape = make_convex_shape(l.shape);
-    out.lights.push_back(std::move(light));
-    lit.push_back(&l);
-  }
-
-  double largest = std::max({std::abs(scene.view.x0), std::abs(scene.view.x1), std::abs(scene.view.y0),
-                             std::abs(scene.view.y1)});
-  auto grow_largest = [&](const ConvexShape& s) {
-    largest = std::max({largest, std::abs(s.bounds_min.x), std::abs(s.bounds_min.y), std::abs(s.bounds_max.x),
-                        std::abs(s.bounds_max.y)});
-  };
-  for (const PreparedLight& l : out.lights) grow_largest(l.shape);
-  for (const ConvexShape& o : out.occluders) grow_largest(o);
-  const double factor = scene_scale(scene.view, largest);
-  out.view = {scene.view.x0 * factor, scene.view.y0 * factor, scene.view.x1 * factor, scene.view.y1 * factor};
-  out.scale = factor;
-  for (PreparedLight& l : out.lights) scale_shape(l.shape, factor);
-  for (ConvexShape& o : out.occluders) scale_shape(o, factor);
-  for (std::size_t p = 0; p < lit.size(); ++p) out.lights[p].terms = light_terms(*lit[p], factor);
-  prepare_model_terms(scene, out);
-
-  update_scene_bounds(out);
-
-  std::vector<Aabb> boxes;
-  boxes.reserve(out.occluders.size());
-  for (const ConvexShape& o : out.occluders)
-    boxes.push_back({o.bounds_min.x, o.bounds_min.y, o.bounds_max.x, o.bounds_max.y});
-  out.occluder_bvh.build(boxes);
-
-  std::vector<std::uint32_t> near;
-  for (PreparedLight& light : out.lights) find_light_overlaps(out, light, near);
-  out.separators.reset(out.lights.size(), out.occluders.size());
-  return out;
-}
-
 void update_scene_bounds(PreparedScene& out) noexcept {
   out.e_max = 0.0;
   for (const PreparedLight& l : out.lights) out.e_max += std::max({l.emission[0], l.emission[1], l.emission[2]});

@@ -124,7 +124,7 @@ class PairSeparators {
   std::unique_ptr<Line[]> lines_;
 };
 
-// Coordinates are the scene's times a power of two chosen in prepare_scene (exact, and
+// Coordinates are the scene's times a power of two chosen by scene_scale (exact, and
 // irradiance does not depend on scale), so that no scene's products of coordinates
 // underflow or overflow.
 struct PreparedScene {
@@ -180,10 +180,7 @@ inline bool shading_active(const PreparedScene& s, bool shaded) noexcept {
   return shaded && s.normal_source != NormalSource::none;
 }
 
-// Builds the prepared form of a scene that passed validate_scene.
-PreparedScene prepare_scene(const Scene& scene);
-
-// The pieces prepare_scene is made of, for worlds that change shape by shape.
+// The pieces a World prepares a scene with (world.hpp's prepare_scene), shape by shape.
 // The power of two all prepared coordinates are scaled by (see PreparedScene).
 double scene_scale(const View& view, double largest_coordinate) noexcept;
 void scale_shape(ConvexShape& shape, double factor) noexcept;

@@ -1,10 +1,12 @@
-// The persistent world: validated, prepared shape by shape; the occluder index and light reach
-// follow each change incrementally (docs/contract.md describes what is computed).
+// The persistent world: validated, prepared shape by shape; the occluder index follows each
+// change incrementally, and the observer hears of every change (docs/contract.md describes
+// what is computed).
 #include "world/world.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <string>
 
 #include "geometry/aabb.hpp"
@@ -56,6 +58,11 @@ void insert_overlap(PreparedLight& light, std::uint32_t k, LightOverlap overlap)
 }  // namespace
 
 World::World() { scene_.separators.reset(0, 0); }
+
+void World::observe(WorldObserver* observer) noexcept {
+  observer_ = observer;
+  if (observer_) observer_->lights_reset(scene_.lights.size());
+}
 
 std::uint64_t World::make_handle(std::uint32_t slot) const noexcept {
   return (static_cast<std::uint64_t>(slots_[slot].generation) << 32) | (static_cast<std::uint64_t>(slot) + 1);
@@ -113,8 +120,7 @@ Status World::set_frame(int width, int height, const View& view) {
     if (!mirrored) return Status(StatusCode::invalid_scene, "set_frame: normal_map: a normal does not convert to unit length");
     scene_.normal_map = std::move(mirrored);
   }
-  // Reach radii are measured in pixels and end at the view's corners.
-  std::fill(reach_stale_.begin(), reach_stale_.end(), 1);
+  if (observer_) observer_->frame_changed();
   return {};
 }
 
@@ -180,9 +186,10 @@ Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, st
   next.globals_.normal = scene.normal;
   next.globals_.normal_map = scene.normal_map;
   next.globals_.bounce = scene.bounce;
-  next.reach_scratch_ = std::move(reach_scratch_);
   next.reprepare_all(std::move(converted));
+  next.observer_ = observer_;
   *this = std::move(next);
+  if (observer_) observer_->lights_reset(scene_.lights.size());
   if (lights) *lights = std::move(light_handles);
   if (occluders) *occluders = std::move(occluder_handles);
   return {};
@@ -199,7 +206,7 @@ double World::largest_coordinate() const noexcept {
   return largest;
 }
 
-// Everything from the sources, exactly as prepare_scene does it for a whole scene.
+// Everything from the sources, for a whole scene (set_scene) or a new coordinate scale (commit).
 void World::reprepare_all(std::shared_ptr<const WorldNormals> converted) {
   scene_.lights.resize(light_sources_.size());
   scene_.occluders.resize(occluder_sources_.size());
@@ -224,11 +231,9 @@ void World::reprepare_all(std::shared_ptr<const WorldNormals> converted) {
   rebuild_index();
   for (PreparedLight& l : scene_.lights) find_light_overlaps(scene_, l, query_);
   scene_.separators.reset(scene_.lights.size(), scene_.occluders.size());
-  reach_.assign(scene_.lights.size(), LightReach{});
-  reach_depends_.assign(scene_.lights.size(), kEmptyBox);
-  reach_stale_.assign(scene_.lights.size(), 1);
   update_scene_bounds(scene_);
   ++stats_.full_prepares;
+  if (observer_) observer_->lights_reset(scene_.lights.size());
 }
 
 void World::rebuild_index() {
@@ -248,7 +253,7 @@ void World::prepare_lit(std::size_t p, const Light& light) {
   update_model_flag(scene_);
   find_light_overlaps(scene_, prepared, query_);
   scene_.separators.forget_light(p);
-  reach_stale_[p] = 1;
+  if (observer_) observer_->light_changed(p);
 }
 
 void World::push_lit(const Light& light, std::uint32_t slot) {
@@ -256,9 +261,7 @@ void World::push_lit(const Light& light, std::uint32_t slot) {
   light_sources_.push_back(light);
   light_slots_.push_back(slot);
   scene_.lights.emplace_back();
-  reach_.emplace_back();
-  reach_depends_.push_back(kEmptyBox);
-  reach_stale_.push_back(1);
+  if (observer_) observer_->light_added();
   scene_.separators.resize(p + 1, scene_.occluders.size());
   slots_[slot].list = kLit;
   slots_[slot].where = static_cast<std::int32_t>(p);
@@ -278,10 +281,6 @@ void World::erase_lit(std::size_t p) {
     std::swap(light_sources_[p], light_sources_[m]);
     light_slots_[p] = light_slots_[m];
     std::swap(scene_.lights[p], scene_.lights[m]);
-    reach_[p] = reach_[m];
-    reach_depends_[p] = reach_depends_[m];
-    reach_stale_[p] = reach_stale_[m];
-    if (m < reach_scratch_.size()) std::swap(reach_scratch_[p], reach_scratch_[m]);
     scene_.separators.move_light(m, p);
     slots_[light_slots_[p]].where = static_cast<std::int32_t>(p);
   }
@@ -289,9 +288,7 @@ void World::erase_lit(std::size_t p) {
   light_slots_.pop_back();
   scene_.lights.pop_back();
   update_model_flag(scene_);
-  reach_.pop_back();
-  reach_depends_.pop_back();
-  reach_stale_.pop_back();
+  if (observer_) observer_->light_erased(p);
   scene_.separators.forget_light(m);
   scene_.separators.resize(m, scene_.occluders.size());
 }
@@ -465,12 +462,6 @@ Status World::remove_light(LightHandle handle) {
   return {};
 }
 
-void World::touch_reach(const Aabb& box) noexcept {
-  for (std::size_t p = 0; p < reach_stale_.size(); ++p) {
-    if (!reach_stale_[p] && boxes_meet(reach_depends_[p], box)) reach_stale_[p] = 1;
-  }
-}
-
 // Occluder k has a new shape (or is new): its overlaps with lights, its separators and the
 // reach of lights whose proofs looked where it was or is.
 void World::occluder_changed(std::size_t k, const Aabb* old_box) {
@@ -485,8 +476,10 @@ void World::occluder_changed(std::size_t k, const Aabb* old_box) {
     insert_overlap(light, index, std::move(overlap));
   }
   scene_.separators.forget_occluder(k);
-  if (old_box) touch_reach(*old_box);
-  touch_reach(box);
+  if (observer_) {
+    if (old_box) observer_->region_changed(*old_box);
+    observer_->region_changed(box);
+  }
 }
 
 Status World::add_occluder(const Occluder& occluder, OccluderHandle* handle) {
@@ -531,7 +524,7 @@ Status World::remove_occluder(OccluderHandle handle) {
   if (!slot) return unknown_handle("occluder", handle.id);
   const auto k = static_cast<std::size_t>(slot->where);
   const std::size_t m = occluder_sources_.size() - 1;
-  touch_reach(bounds_of(scene_.occluders[k]));
+  if (observer_) observer_->region_changed(bounds_of(scene_.occluders[k]));
   // Occluder m takes index k everywhere.
   for (PreparedLight& light : scene_.lights) {
     erase_overlap(light, static_cast<std::uint32_t>(k));
@@ -564,31 +557,14 @@ Status World::remove_occluder(OccluderHandle handle) {
   return {};
 }
 
-const PreparedScene& World::commit(bool culling, const Scheduler& scheduler) {
-  // The coordinate scale follows the view and the largest coordinate (prepare_scene); when
+const PreparedScene& World::commit() {
+  // The coordinate scale follows the view and the largest coordinate (scene_scale); when
   // it changes, everything is prepared again (a zoom by a power of two, far-flung shapes).
   const double largest = std::max({largest_coordinate() / factor_, std::abs(view_.x0), std::abs(view_.x1),
                                    std::abs(view_.y0), std::abs(view_.y1)});
   if (scene_scale(view_, largest) != factor_) reprepare_all();
   update_scene_bounds(scene_);
   if (scene_.occluder_bvh.needs_rebuild()) rebuild_index();
-  if (!culling) return scene_;
-  stale_list_.clear();
-  for (std::size_t p = 0; p < reach_stale_.size(); ++p) {
-    if (reach_stale_[p]) stale_list_.push_back(static_cast<std::uint32_t>(p));
-  }
-  if (stale_list_.empty()) return scene_;
-  // Scratch per light, not per thread: a light's proofs need the same room each time it
-  // is proven at the same place, whichever thread runs them, so steady state allocates nothing.
-  if (reach_scratch_.size() < reach_.size()) reach_scratch_.resize(reach_.size());
-  scheduler.for_each_index(static_cast<int>(stale_list_.size()), [&](int i, int) {
-    const std::uint32_t p = stale_list_[static_cast<std::size_t>(i)];
-    LightReachScratch& scratch = reach_scratch_[p];
-    reach_[p] = compute_light_reach(scene_, p, scratch);
-    reach_depends_[p] = scratch.depends_on;
-  });
-  std::fill(reach_stale_.begin(), reach_stale_.end(), 0);
-  stats_.reach_computations += stale_list_.size();
   return scene_;
 }
 
@@ -618,6 +594,13 @@ Scene World::snapshot() const {
   out.normal_map = globals_.normal_map;
   out.bounce = globals_.bounce;
   return out;
+}
+
+PreparedScene prepare_scene(const Scene& scene) {
+  World world;
+  if (Status s = world.set_scene(scene, nullptr, nullptr); !s.ok()) throw std::invalid_argument(s.message());
+  world.commit();
+  return world.take_prepared();
 }
 
 }  // namespace par2d::detail

@@ -1,5 +1,6 @@
 // The persistent world behind par2d::Renderer: a PreparedScene kept up to date shape by shape,
-// with stable handles, an occluder index updated in place and per-light reach cached.
+// with stable handles and an occluder index updated in place. Render-time caches live with
+// their rooms (culling's ReachCache) and follow the World's change events (world_changes.hpp).
 #pragma once
 
 #include <cstdint>
@@ -10,9 +11,8 @@
 #include "par2d/renderer.hpp"
 #include "par2d/scene.hpp"
 #include "par2d/status.hpp"
-#include "culling/light_reach.hpp"
 #include "world/prepared_scene.hpp"
-#include "parallel/scheduler.hpp"
+#include "world/world_changes.hpp"
 #include "scene/scene_validate.hpp"
 
 namespace par2d::detail {
@@ -20,6 +20,10 @@ namespace par2d::detail {
 class World {
  public:
   World();
+
+  // The one observer told of every change from now on (nullptr: none); it is told
+  // lights_reset at once. Kept across set_scene.
+  void observe(WorldObserver* observer) noexcept;
 
   Status set_frame(int width, int height, const View& view);
   Status set_scene(const Scene& scene, std::vector<LightHandle>* lights, std::vector<OccluderHandle>* occluders);
@@ -47,12 +51,12 @@ class World {
   std::size_t light_count() const noexcept { return light_sources_.size() + dark_sources_.size(); }
   std::size_t occluder_count() const noexcept { return occluder_sources_.size(); }
 
-  // Brings everything derived up to date for a frame: coordinate scale, bounds, the index
-  // (rebuilt only when refits have degraded it), and with `culling` the reach of every light
-  // whose reach is stale. Allocates nothing in steady state.
-  const PreparedScene& commit(bool culling, const Scheduler& scheduler);
+  // Brings everything derived up to date for a frame: coordinate scale, bounds and the index
+  // (rebuilt only when refits have degraded it). Allocates nothing in steady state.
+  const PreparedScene& commit();
   const PreparedScene& prepared() const noexcept { return scene_; }
-  const std::vector<LightReach>& reach() const noexcept { return reach_; }
+  // The prepared scene, moved out (the World is left empty).
+  PreparedScene take_prepared() noexcept { return std::move(scene_); }
 
   Scene snapshot() const;
   RendererStats& stats() noexcept { return stats_; }
@@ -88,7 +92,6 @@ class World {
   void erase_dark(std::size_t q);
   void occluder_changed(std::size_t k, const Aabb* old_box);
   void refresh_light_overlaps_for(std::size_t k);
-  void touch_reach(const Aabb& box) noexcept;
   // `converted`: the normal map already converted for the view (see set_scene), if any.
   void reprepare_all(std::shared_ptr<const WorldNormals> converted = nullptr);
   void rebuild_index();
@@ -112,16 +115,17 @@ class World {
   std::vector<Occluder> occluder_sources_;
   std::vector<std::uint32_t> occluder_slots_;
 
-  std::vector<LightReach> reach_;
-  std::vector<Aabb> reach_depends_;
-  std::vector<std::uint8_t> reach_stale_;
-  std::vector<std::uint32_t> stale_list_;
-  std::vector<LightReachScratch> reach_scratch_;
+  WorldObserver* observer_ = nullptr;
 
   std::vector<std::uint32_t> query_;  // scratch for index queries
   std::vector<Aabb> boxes_;          // scratch for index builds
   ConvexShape shape_scratch_;
   RendererStats stats_;
 };
+
+// The prepared form of a scene as a World prepares it for a frame (set_scene, then commit):
+// for tests and benchmarks that call the renderers' lower rooms directly, so they check the
+// path the library runs. Throws std::invalid_argument when the scene does not validate.
+PreparedScene prepare_scene(const Scene& scene);
 
 }  // namespace par2d::detail

@@ -1,0 +1,77 @@
+// The light reach cache: change events mark lights stale, update proves them again.
+#include "culling/reach_cache.hpp"
+
+#include <algorithm>
+#include <utility>
+
+namespace par2d::detail {
+
+void ReachCache::lights_reset(std::size_t count) noexcept {
+  reset_pending_ = true;
+  reset_count_ = count;
+}
+
+void ReachCache::light_added() {
+  if (reset_pending_) {
+    ++reset_count_;
+    return;
+  }
+  reach_.emplace_back();
+  depends_.push_back(kEmptyBox);
+  stale_.push_back(1);
+}
+
+void ReachCache::light_changed(std::size_t p) noexcept {
+  if (!reset_pending_) stale_[p] = 1;
+}
+
+void ReachCache::light_erased(std::size_t p) noexcept {
+  if (reset_pending_) {
+    --reset_count_;
+    return;
+  }
+  const std::size_t m = reach_.size() - 1;
+  if (p != m) {
+    reach_[p] = reach_[m];
+    depends_[p] = depends_[m];
+    stale_[p] = stale_[m];
+    if (m < scratch_.size()) std::swap(scratch_[p], scratch_[m]);
+  }
+  reach_.pop_back();
+  depends_.pop_back();
+  stale_.pop_back();
+}
+
+void ReachCache::region_changed(const Aabb& box) noexcept {
+  if (reset_pending_) return;
+  for (std::size_t p = 0; p < stale_.size(); ++p) {
+    if (!stale_[p] && boxes_meet(depends_[p], box)) stale_[p] = 1;
+  }
+}
+
+void ReachCache::frame_changed() noexcept { std::fill(stale_.begin(), stale_.end(), 1); }
+
+std::size_t ReachCache::update(const PreparedScene& scene, const Scheduler& scheduler) {
+  if (reset_pending_) {
+    reach_.assign(reset_count_, LightReach{});
+    depends_.assign(reset_count_, kEmptyBox);
+    stale_.assign(reset_count_, 1);
+    reset_pending_ = false;
+  }
+  stale_list_.clear();
+  for (std::size_t p = 0; p < stale_.size(); ++p) {
+    if (stale_[p]) stale_list_.push_back(static_cast<std::uint32_t>(p));
+  }
+  if (stale_list_.empty()) return 0;
+  if (scratch_.size() < reach_.size()) scratch_.resize(reach_.size());
+  scheduler.for_each_index(static_cast<int>(stale_list_.size()), [&](int i, int) {
+    const std::uint32_t p = stale_list_[static_cast<std::size_t>(i)];
+    LightReachScratch& scratch = scratch_[p];
+    reach_[p] = compute_light_reach(scene, p, scratch);
+    depends_[p] = scratch.depends_on;
+  });
+  std::fill(stale_.begin(), stale_.end(), 0);
+  return stale_list_.size();
+}
+
+}  // namespace par2d::detail

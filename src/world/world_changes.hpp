@@ -1,0 +1,36 @@
+// What a World says when it changes, for the render-time caches kept beside it (culling's
+// light reach; later, per-block change tracking). The World holds no cache of its own: it
+// tells one observer what changed, in the terms its PreparedScene uses, and the observer
+// decides what that invalidates.
+#pragma once
+
+#include <cstddef>
+
+#include "geometry/aabb.hpp"
+
+namespace par2d::detail {
+
+// Lights are numbered as in PreparedScene::lights (emitting lights only). A light keeps its
+// number until it is erased; then the last light takes the erased one's number.
+class WorldObserver {
+ public:
+  // Every light is new (the whole world was prepared again: a new scene, a new coordinate
+  // scale); `count` lights. Must not throw: it is called after the new state is in place.
+  virtual void lights_reset(std::size_t count) noexcept = 0;
+  // A light was appended (number count - 1).
+  virtual void light_added() = 0;
+  // Light `p`'s shape or lighting-model terms changed (an emission change alone is not reported:
+  // nothing geometric depends on it).
+  virtual void light_changed(std::size_t p) noexcept = 0;
+  // Light `p` was erased; the last light, if it was not `p`, now has number `p`.
+  virtual void light_erased(std::size_t p) noexcept = 0;
+  // Occluders inside `box` (prepared coordinates) appeared, moved or disappeared.
+  virtual void region_changed(const Aabb& box) noexcept = 0;
+  // The frame's size or view changed (anything measured in pixels or bounded by the view).
+  virtual void frame_changed() noexcept = 0;
+
+ protected:
+  ~WorldObserver() = default;
+};
+
+}  // namespace par2d::detail
