@@ -1,14 +1,16 @@
 // Brute-force ray caster: exact ray/shape distances, stratified directions (the check on PAR).
 //
-// Deliberately shares no code with src/geometry beyond its vector arithmetic (vec2.hpp): it is
-// what the PAR renderer is tested against, so a bug in the shared tangent/interval code must not
-// hide here.
+// Deliberately shares no code with src/geometry beyond its vector arithmetic (vec2.hpp) and where
+// the bounce pieces lie (bounce_pieces.hpp, which the contract defines and its own tests pin): it
+// is what the PAR renderer is tested against, so a bug in the shared tangent/interval code must
+// not hide here.
 #include "raycast/raycast_renderer.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "geometry/bounce_pieces.hpp"
 #include "geometry/vec2.hpp"
 
 namespace par2d::detail {
@@ -254,6 +256,38 @@ RaycastRenderer::RaycastRenderer(const Scene& validated_scene) : scale_(scene_sc
   }
   ambient_ = scene.ambient;
   model_ = model_ || ambient_ != Rgb{0.0, 0.0, 0.0};
+  // One bounce: the reflecting occluders' pieces, where each edge's or face's run starts.
+  std::vector<BouncePiece> pieces;
+  const double h = scene.bounce.piece;
+  for (std::size_t b = 0; b < scene.occluders.size(); ++b) {
+    const Occluder& o = scene.occluders[b];
+    albedo_.push_back(o.albedo);
+    if (o.albedo == Rgb{0.0, 0.0, 0.0}) continue;
+    Reflector r;
+    r.occluder = b;
+    r.first = static_cast<std::uint32_t>(pieces.size());
+    bounce_pieces(o.shape, h, scale_, pieces);
+    r.count = static_cast<std::uint32_t>(pieces.size()) - r.first;
+    std::uint32_t at = r.first;
+    if (const auto* poly = std::get_if<Polygon>(&o.shape)) {
+      const auto& v = poly->vertices;
+      for (std::size_t i = 0; i < v.size(); ++i) {
+        const auto n = static_cast<std::uint32_t>(bounce_piece_count(Segment{v[i], v[(i + 1) % v.size()]}, h) / 2);
+        r.run_first.push_back(at);
+        r.run_count.push_back(n);
+        at += n;
+      }
+    } else if (std::holds_alternative<Segment>(o.shape)) {
+      const std::uint32_t n = r.count / 2;
+      r.run_first = {r.first, r.first + n};
+      r.run_count = {n, n};
+    }
+    reflectors_.push_back(std::move(r));
+  }
+  for (const BouncePiece& p : pieces) {
+    piece_mid_.push_back(p.mid);
+    piece_normal_.push_back(p.normal);
+  }
   if (scene.normal) {
     const Vec3 n = *scene.normal;
     const double len = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
@@ -353,7 +387,14 @@ Rgb RaycastRenderer::irradiance(Vec2 world, int rays, double jitter) const {
 }
 
 Rgb RaycastRenderer::irradiance(Vec2 world, int rays, double jitter, const Vec3* normal) const {
-  if (model_) return model_irradiance(world, rays, jitter, normal);
+  Rgb e = model_ ? model_irradiance(world, rays, jitter, normal) : plain_irradiance(world, rays, jitter);
+  if (reflectors_.empty()) return e;
+  const Rgb b = bounce_irradiance(world, rays, jitter, normal);
+  for (int c = 0; c < 3; ++c) e[c] += b[c];
+  return e;
+}
+
+Rgb RaycastRenderer::plain_irradiance(Vec2 world, int rays, double jitter) const {
   const Vec2 x{scale_ * world.x, scale_ * world.y};
   Rgb sum{0.0, 0.0, 0.0};
   if (rays <= 0 || lights_.empty()) return sum;
@@ -509,6 +550,202 @@ Rgb RaycastRenderer::model_irradiance(Vec2 world, int rays, double jitter, const
     for (int c3 = 0; c3 < 3; ++c3) sum[c3] += sun.emission[c3] * seen[c3] * width / (kTwoPi * rays);
   }
   for (int c3 = 0; c3 < 3; ++c3) sum[c3] += ambient_[c3];
+  return sum;
+}
+
+}  // namespace par2d::detail
+
+namespace par2d::detail {
+
+double RaycastRenderer::entry(const RayShape& s, Vec2 x, Vec2 d, std::uint32_t& edge) const noexcept {
+  edge = 0;
+  switch (s.kind) {
+    case Kind::circle:
+      if (power_of(s.p0, s.radius, x) <= 0.0) return kInf;
+      return hit_distance(s, x, d, kInf);
+    case Kind::segment: {
+      // The face toward x: perp = (e.y, -e.x) faces x where cross(a - x, e) < 0.
+      const double side = side_of(s.p0, s.p1, x);
+      if (side == 0.0) return kInf;
+      edge = side < 0.0 ? 0u : 1u;
+      return ray_segment(x, d, s.p0, s.p1);
+    }
+    case Kind::polygon: {
+      if (contains(s, x)) return kInf;
+      const Vec2* v = vertices_.data() + s.first;
+      double t = kInf;
+      for (std::uint32_t i = 0; i < s.count; ++i) {
+        const double ti = ray_segment(x, d, v[i], v[i + 1 == s.count ? 0 : i + 1]);
+        if (ti < t) {
+          t = ti;
+          edge = i;
+        }
+      }
+      return t;
+    }
+  }
+  return kInf;
+}
+
+std::uint32_t RaycastRenderer::piece_at(const Reflector& r, Vec2 x, Vec2 p, std::uint32_t edge) const noexcept {
+  const RayShape& s = occluders_[r.occluder];
+  (void)x;
+  if (s.kind == Kind::circle) {
+    double phi = std::atan2(p.y - s.p0.y, p.x - s.p0.x);
+    if (phi < 0.0) phi += kTwoPi;
+    const auto k = static_cast<std::uint32_t>(std::min<double>(r.count - 1, std::floor(phi / kTwoPi * r.count)));
+    return r.first + k;
+  }
+  Vec2 a = s.p0, b = s.p1;
+  if (s.kind == Kind::polygon) {
+    const Vec2* v = vertices_.data() + s.first;
+    a = v[edge];
+    b = v[edge + 1 == s.count ? 0 : edge + 1];
+  }
+  const std::uint32_t n = r.run_count[edge];
+  if (n == 0) return UINT32_MAX;
+  const Vec2 e = b - a;
+  const double u = std::clamp(dot(p - a, e) / dot(e, e), 0.0, 1.0);
+  return r.run_first[edge] + std::min<std::uint32_t>(n - 1, static_cast<std::uint32_t>(std::floor(u * n)));
+}
+
+Rgb RaycastRenderer::piece_direct(const Reflector& r, std::size_t piece, int rays) const {
+  const Vec2 x = piece_mid_[piece], n = piece_normal_[piece];
+  const std::size_t self = r.occluder, n_occ = occluders_.size();
+  std::vector<unsigned char> inside(n_occ);
+  for (std::size_t b = 0; b < n_occ; ++b) inside[b] = b != self && contains(occluders_[b], x) ? 1 : 0;
+  auto acting = [&](std::size_t b, std::uint32_t mask) {
+    return b != self && (occluder_terms_[b].mask & mask) != 0 && !(inside[b] && occluder_terms_[b].lit_interior);
+  };
+  // Section 7's shading: the piece's normal in the plane, the light's elevation.
+  auto shading = [&](Vec2 d, double elevation) { return std::max(0.0, std::cos(elevation) * dot(n, d)); };
+  std::vector<double> window(lights_.size(), 1.0);
+  for (std::size_t l = 0; l < lights_.size(); ++l) {
+    if (light_terms_[l].range <= 0.0) continue;
+    const double q = distance_to(lights_[l], x) / light_terms_[l].range;
+    const double w = std::clamp(1.0 - q * q, 0.0, 1.0);
+    window[l] = w * w;
+  }
+  std::vector<double> t_occ(n_occ);
+  Rgb sum{0.0, 0.0, 0.0};
+  // The outward half circle (the other half has s = 0), stratified, each ray pi / rays wide.
+  const double base = std::atan2(n.y, n.x) - 0.25 * kTwoPi;
+  for (int k = 0; k < rays; ++k) {
+    const double theta = base + 0.5 * kTwoPi * (k + 0.5) / rays;
+    const Vec2 d{std::cos(theta), std::sin(theta)};
+    for (std::size_t b = 0; b < n_occ; ++b)
+      t_occ[b] = b == self ? kInf : (inside[b] ? 0.0 : hit_distance(occluders_[b], x, d, kInf));
+    for (std::size_t l = 0; l < lights_.size(); ++l) {
+      if (!(window[l] > 0.0)) continue;
+      const double t_light = hit_distance(lights_[l], x, d, kInf);
+      if (!(t_light < kInf)) continue;
+      const LightModel& m = light_terms_[l];
+      double c = 1.0;
+      if (m.cone) {
+        const double delta = std::fabs(std::remainder(theta + 0.5 * kTwoPi - m.cone_direction, kTwoPi));
+        c = delta <= m.cone_half - m.cone_fade ? 1.0 : (delta >= m.cone_half ? 0.0 : (m.cone_half - delta) / m.cone_fade);
+      }
+      const double weight = window[l] * c * shading(d, m.elevation);
+      if (!(weight > 0.0)) continue;
+      Rgb v{1.0, 1.0, 1.0};
+      for (std::size_t b = 0; b < n_occ; ++b) {
+        if (!(t_occ[b] < kInf) || !acting(b, m.mask)) continue;
+        const double contact = kContactTolerance * std::max({t_occ[b], std::fabs(x.x), std::fabs(x.y)});
+        if (t_light >= t_occ[b] - contact)
+          for (int c3 = 0; c3 < 3; ++c3) v[c3] *= occluder_terms_[b].transmittance[c3];
+      }
+      for (int c3 = 0; c3 < 3; ++c3) sum[c3] += emission_[l][c3] * weight * v[c3];
+    }
+  }
+  // (1 / 2 pi) * (pi / rays) per ray.
+  for (int c3 = 0; c3 < 3; ++c3) sum[c3] *= 0.5 / rays;
+  for (const SunModel& sun : suns_) {
+    const double width = sun.angle1 - sun.angle0;
+    Rgb seen{0.0, 0.0, 0.0};
+    for (int k = 0; k < rays; ++k) {
+      const double theta = sun.angle0 + width * (k + 0.5) / rays;
+      const Vec2 d{std::cos(theta), std::sin(theta)};
+      const double s = shading(d, sun.elevation);
+      if (!(s > 0.0)) continue;
+      Rgb v{s, s, s};
+      for (std::size_t b = 0; b < n_occ; ++b) {
+        if (!acting(b, sun.mask)) continue;
+        if (inside[b] || hit_distance(occluders_[b], x, d, kInf) < kInf)
+          for (int c3 = 0; c3 < 3; ++c3) v[c3] *= occluder_terms_[b].transmittance[c3];
+      }
+      for (int c3 = 0; c3 < 3; ++c3) seen[c3] += v[c3];
+    }
+    for (int c3 = 0; c3 < 3; ++c3) sum[c3] += sun.emission[c3] * seen[c3] * width / (kTwoPi * rays);
+  }
+  return sum;
+}
+
+std::vector<Rgb> RaycastRenderer::bounce_radiances(int rays) const {
+  BounceCache& cache = *bounce_cache_;
+  std::lock_guard<std::mutex> lock(cache.mutex);
+  if (cache.rays != rays || cache.radiance.size() != piece_mid_.size()) {
+    cache.radiance.assign(piece_mid_.size(), Rgb{0.0, 0.0, 0.0});
+    for (const Reflector& r : reflectors_) {
+      const Rgb& albedo = albedo_[r.occluder];
+      for (std::uint32_t k = r.first; k < r.first + r.count; ++k) {
+        const Rgb s = piece_direct(r, k, rays);
+        for (int c = 0; c < 3; ++c) cache.radiance[k][c] = 0.5 * kTwoPi * albedo[c] * s[c];
+      }
+    }
+    cache.rays = rays;
+  }
+  return cache.radiance;
+}
+
+Rgb RaycastRenderer::bounce_irradiance(Vec2 world, int rays, double jitter, const Vec3* normal) const {
+  Rgb sum{0.0, 0.0, 0.0};
+  if (rays <= 0) return sum;
+  const Vec2 x{scale_ * world.x, scale_ * world.y};
+  // The radiances stay put while every caller asks with the same ray count (one frame).
+  const std::vector<Rgb>* radiance = nullptr;
+  {
+    BounceCache& cache = *bounce_cache_;
+    std::unique_lock<std::mutex> lock(cache.mutex);
+    if (cache.rays != rays) {
+      lock.unlock();
+      (void)bounce_radiances(rays);
+      lock.lock();
+    }
+    radiance = &cache.radiance;
+  }
+  const std::size_t n_occ = occluders_.size();
+  std::vector<unsigned char> inside(n_occ);
+  for (std::size_t b = 0; b < n_occ; ++b) inside[b] = contains(occluders_[b], x) ? 1 : 0;
+  std::vector<double> t_occ(n_occ);
+  for (int k = 0; k < rays; ++k) {
+    const double theta = kTwoPi * (k + jitter) / rays;
+    const Vec2 d{std::cos(theta), std::sin(theta)};
+    const double s = normal ? std::max(0.0, normal->x * d.x + normal->y * d.y) : 1.0;
+    if (!(s > 0.0)) continue;
+    for (std::size_t b = 0; b < n_occ; ++b) t_occ[b] = inside[b] ? 0.0 : hit_distance(occluders_[b], x, d, kInf);
+    for (const Reflector& r : reflectors_) {
+      if (inside[r.occluder]) continue;
+      std::uint32_t edge = 0;
+      const double t = entry(occluders_[r.occluder], x, d, edge);
+      if (!(t < kInf)) continue;
+      const std::uint32_t piece = piece_at(r, x, x + t * d, edge);
+      if (piece == UINT32_MAX) continue;
+      const Rgb& l = (*radiance)[piece];
+      if (!(std::max({l[0], l[1], l[2]}) > 0.0)) continue;
+      const OccluderModel& own = occluder_terms_[r.occluder];
+      Rgb v{s, s, s};
+      for (std::size_t b = 0; b < n_occ; ++b) {
+        if (b == r.occluder || !(t_occ[b] < kInf)) continue;
+        const OccluderModel& m = occluder_terms_[b];
+        if ((m.mask & own.mask) == 0 || (inside[b] && m.lit_interior)) continue;
+        const double contact = kContactTolerance * std::max({t_occ[b], std::fabs(x.x), std::fabs(x.y)});
+        if (t >= t_occ[b] - contact)
+          for (int c = 0; c < 3; ++c) v[c] *= m.transmittance[c];
+      }
+      for (int c = 0; c < 3; ++c) sum[c] += l[c] * v[c];
+    }
+  }
+  for (int c = 0; c < 3; ++c) sum[c] /= rays;
   return sum;
 }
 

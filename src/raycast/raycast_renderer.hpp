@@ -2,6 +2,8 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -29,6 +31,16 @@ class RaycastRenderer {
   // e_D * V_D * s * (a1 - a0) / (2 pi rays), V_D over the acting occluders the ray meets; then
   // the ambient term. s is the clamped cosine for `normal` (unit, world axes), or 1 when null.
   Rgb irradiance(Vec2 x, int rays, double jitter, const Vec3* normal) const;
+
+  // With reflecting occluders (docs/contract.md section 7) both overloads above add the bounce
+  // term, also ray by ray: each piece's radiance L_k = pi * albedo * S_k from `rays` stratified
+  // directions over the outward half circle at its midpoint (its own occluder left out, shaded
+  // by (n_k, 0) and each light's elevation); then along each of the `rays` directions from x,
+  // every reflecting occluder the ray enters from outside adds the radiance of the piece it
+  // enters by, times the transmittances of the acting occluders met no later (its own never)
+  // and the pixel's shading at elevation 0, over rays.
+  // The piece radiances for `rays` (cached for the last count asked).
+  std::vector<Rgb> bounce_radiances(int rays) const;
 
   // The surface normal of pixel (i, j) (unit, world axes) from the scene's normal source, or
   // empty when the scene has none (docs/contract.md section 6).
@@ -84,6 +96,31 @@ class RaycastRenderer {
     double elevation = 0.0;
   };
   Rgb model_irradiance(Vec2 x, int rays, double jitter, const Vec3* normal) const;
+  Rgb plain_irradiance(Vec2 x, int rays, double jitter) const;
+
+  // One bounce (docs/contract.md section 7). A reflecting occluder: its index, its pieces
+  // [first, first + count) of `pieces_`, and per polygon edge (as given) or segment face the
+  // first piece and count, so that a ray's entry point names its piece.
+  struct Reflector {
+    std::size_t occluder = 0;
+    std::uint32_t first = 0, count = 0;
+    std::vector<std::uint32_t> run_first, run_count;  // polygon: per edge; segment: per face
+  };
+  struct BounceCache {
+    std::mutex mutex;
+    int rays = 0;
+    std::vector<Rgb> radiance;
+  };
+  // Distance to the shape's boundary entry from outside along d, and which edge (polygon) it
+  // enters by; +inf when missed.
+  double entry(const RayShape& s, Vec2 x, Vec2 d, std::uint32_t& edge) const noexcept;
+  std::uint32_t piece_at(const Reflector& r, Vec2 x, Vec2 p, std::uint32_t edge) const noexcept;
+  Rgb piece_direct(const Reflector& r, std::size_t piece, int rays) const;
+  Rgb bounce_irradiance(Vec2 x, int rays, double jitter, const Vec3* normal) const;
+  std::vector<Reflector> reflectors_;
+  std::vector<Vec2> piece_mid_, piece_normal_;  // scaled coordinates
+  std::vector<Rgb> albedo_;                     // parallel to occluders_
+  std::unique_ptr<BounceCache> bounce_cache_ = std::make_unique<BounceCache>();
   double distance_to(const RayShape& s, Vec2 x) const noexcept;
 
   bool model_ = false;  // any term of section 6 differs from its default

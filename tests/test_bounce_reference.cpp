@@ -1,0 +1,323 @@
+// One bounce of indirect light (docs/contract.md section 7): the scalar reference against closed
+// forms, the ray caster converging to it, and every SIMD level within section 5 of it.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "par2d/render.hpp"
+#include "par2d/scene.hpp"
+#include "raycast/raycast_renderer.hpp"
+#include "scalar/bounce_reference.hpp"
+#include "support/random_scenes.hpp"
+#include "support/render_checks.hpp"
+#include "support/test_tiers.hpp"
+#include "world/world.hpp"
+
+namespace par2d::test {
+namespace {
+
+constexpr double kPiValue = 3.14159265358979323846;
+constexpr double kDegree = kPiValue / 180.0;
+
+Scene base_scene() {
+  Scene s;
+  s.width = 32;
+  s.height = 24;
+  s.view = {-80, -60, 80, 60};
+  return s;
+}
+
+Occluder reflector(Shape shape, Rgb albedo) {
+  Occluder o;
+  o.shape = std::move(shape);
+  o.albedo = albedo;
+  return o;
+}
+
+// The prepared scene, its bounce frame, and the bounce term at points (world coordinates).
+struct Bounced {
+  detail::PreparedScene prepared;
+  detail::BounceFrame frame;
+  detail::BounceScratch scratch;
+  explicit Bounced(const Scene& scene) : prepared(detail::prepare_scene(scene)) {
+    detail::prepare_bounce_frame(prepared, frame, scratch.scalar);
+  }
+  Rgb at(Vec2 world, const Vec3* normal = nullptr) {
+    const Vec2 x{world.x * prepared.scale, world.y * prepared.scale};
+    return detail::bounce_irradiance(prepared, frame, x, normal, scratch);
+  }
+};
+
+double angle_between(Vec2 a, Vec2 b, Vec2 x) {
+  const double ax = a.x - x.x, ay = a.y - x.y, bx = b.x - x.x, by = b.y - x.y;
+  return std::fabs(std::atan2(ax * by - ay * bx, ax * bx + ay * by));
+}
+
+// A sky of radiance `e` along every ray direction but (80, 100) degrees (straight down, give
+// or take 10), and a horizontal wall (-50, 0)-(50, 0) reflecting `albedo`.
+Scene sky_and_wall(Rgb albedo, double e) {
+  Scene s = base_scene();
+  DirectionalLight sky;
+  sky.angle0 = 100;
+  sky.angle1 = 440;
+  sky.intensity = e;
+  s.directional_lights.push_back(sky);
+  s.occluders.push_back(reflector(Segment{{-50, 0}, {50, 0}}, albedo));
+  s.bounce.piece = 10;
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("bounce: a white wall under a sky from all around reflects the sky's radiance") {
+  const Rgb albedo{1.0, 0.5, 0.25};
+  const double e = 2.0;
+  Bounced b(sky_and_wall(albedo, e));
+  REQUIRE(b.frame.pieces.size() == 20);  // two faces of 10
+  // The top face (normal up, -y) sees the whole sky: S = e / pi, L = albedo * e. The bottom
+  // face misses the 20 degrees around straight down: S = e (2 - 2 sin 10 deg) / (2 pi).
+  const double bottom = 1.0 - std::sin(10 * kDegree);
+  for (std::size_t k = 0; k < 20; ++k) {
+    CAPTURE(k);
+    const double expected = k < 10 ? e : e * bottom;
+    CHECK(b.frame.pieces[k].normal.y == (k < 10 ? -1.0 : 1.0));
+    for (int c = 0; c < 3; ++c) CHECK(b.frame.radiance[k][c] == doctest::Approx(albedo[c] * expected).epsilon(1e-12));
+  }
+  // Above the wall: the top face, a segment light of radiance albedo * e.
+  for (const Vec2 x : {Vec2{0, -10}, Vec2{-70, -3}, Vec2{31.5, -47.25}}) {
+    CAPTURE(x.x);
+    const Rgb got = b.at(x);
+    const double angle = angle_between({-50, 0}, {50, 0}, x) / (2 * kPiValue);
+    for (int c = 0; c < 3; ++c) CHECK(got[c] == doctest::Approx(albedo[c] * e * angle).epsilon(1e-12));
+    // Shaded: a normal facing the viewer catches no bounce light; one tilted toward the wall
+    // (down, +y) by phi catches sin(phi) * (cos t1 - cos t2) over the wall's directions.
+    const Vec3 facing{0, 0, 1};
+    const Rgb none = b.at(x, &facing);
+    for (int c = 0; c < 3; ++c) CHECK(none[c] == 0.0);
+    const double phi = 0.6;
+    const Vec3 tilted{0, std::sin(phi), std::cos(phi)};
+    const double t1 = std::atan2(0 - x.y, 50 - x.x), t2 = std::atan2(0 - x.y, -50 - x.x);
+    const double weight = std::sin(phi) * (std::cos(t1) - std::cos(t2)) / (2 * kPiValue);
+    const Rgb shaded = b.at(x, &tilted);
+    for (int c = 0; c < 3; ++c) CHECK(shaded[c] == doctest::Approx(albedo[c] * e * weight).epsilon(1e-12));
+  }
+  // Below: the bottom face.
+  const Rgb below = b.at({10, 20});
+  const double angle = angle_between({-50, 0}, {50, 0}, {10, 20}) / (2 * kPiValue);
+  for (int c = 0; c < 3; ++c) CHECK(below[c] == doctest::Approx(albedo[c] * e * bottom * angle).epsilon(1e-12));
+}
+
+TEST_CASE("bounce: a single lit segment's pieces in closed form, elevation included, the dark face 0") {
+  Scene s = base_scene();
+  Light light;
+  light.shape = Circle{{3, -20}, 2};
+  light.intensity = 3;
+  light.color = {1, 0.5, 1};
+  light.elevation = 60;  // cos = 1/2
+  s.lights.push_back(light);
+  s.occluders.push_back(reflector(Segment{{-10, 0}, {10, 0}}, {0.5, 1, 1}));
+  s.bounce.piece = 5.5;  // 20 / 5.5 = 3.6: 4 pieces per face
+  Bounced b(s);
+  REQUIRE(b.frame.pieces.size() == 8);
+  for (std::size_t k = 0; k < 8; ++k) {
+    CAPTURE(k);
+    const detail::BouncePiece& p = b.frame.pieces[k];
+    const double mx = p.mid.x / b.prepared.scale, my = p.mid.y / b.prepared.scale;
+    CHECK(mx == doctest::Approx(-10 + 5 * (static_cast<double>(k % 4) + 0.5)).epsilon(1e-15));
+    if (k >= 4) {  // facing down, away from the light
+      for (int c = 0; c < 3; ++c) CHECK(b.frame.radiance[k][c] == 0.0);
+      continue;
+    }
+    // S = e cos(el) / 2pi * integral over the light's arc of cos(theta - psi_n), psi_n = -90 deg.
+    const double dx = 3 - mx, dy = -20 - my;
+    const double phi = std::atan2(dy, dx), half = std::asin(2 / std::hypot(dx, dy));
+    const double psi = -kPiValue / 2;
+    const double integral = std::sin(phi + half - psi) - std::sin(phi - half - psi);
+    for (int c = 0; c < 3; ++c) {
+      const double expected = kPiValue * s.occluders[0].albedo[c] * 3 * light.color[c] * 0.5 * integral / (2 * kPiValue);
+      CHECK(b.frame.radiance[k][c] == doctest::Approx(expected).epsilon(1e-12));
+    }
+  }
+}
+
+TEST_CASE("bounce: one-sided behind a translucent occluder, and a translucent occluder in front scales it") {
+  // A translucent reflecting wall lit from above: below it the direct light comes through, the
+  // bounce does not (the lit face faces away and the face below is dark).
+  Scene s = base_scene();
+  Light light;
+  light.shape = Circle{{0, -30}, 4};
+  s.lights.push_back(light);
+  Occluder wall = reflector(Segment{{-40, 0}, {40, 0}}, {1, 1, 1});
+  wall.transmittance = {0.5, 0.5, 0.5};
+  s.occluders.push_back(wall);
+  Bounced b(s);
+  for (const Vec2 x : {Vec2{0, 10}, Vec2{-30, 2}, Vec2{25, 40}}) {
+    const Rgb got = b.at(x);
+    for (int c = 0; c < 3; ++c) CHECK(got[c] == 0.0);
+  }
+  CHECK(b.at({0, -10})[0] > 0.0);
+
+  // The sky and wall above, with a translucent bar between x and the wall that acts on the
+  // pieces (masks share bit 2) but not on the sky (mask 1): the bounce is scaled by its
+  // transmittance per channel, the pieces' radiances unchanged.
+  Scene t = sky_and_wall({1, 1, 1}, 1.0);
+  t.directional_lights[0].mask = 1;
+  t.occluders[0].mask = 3;
+  Occluder bar;
+  bar.shape = Polygon{{{-200, -12}, {200, -12}, {200, -11}, {-200, -11}}};
+  bar.transmittance = {0.5, 0.25, 1};
+  bar.mask = 2;
+  t.occluders.push_back(bar);
+  Bounced tb(t);
+  for (std::size_t k = 0; k < 10; ++k) CHECK(tb.frame.radiance[k][0] == doctest::Approx(1.0).epsilon(1e-12));
+  const Vec2 x{5, -20};
+  const double angle = angle_between({-50, 0}, {50, 0}, x) / (2 * kPiValue);
+  const Rgb got = tb.at(x);
+  for (int c = 0; c < 3; ++c) CHECK(got[c] == doctest::Approx(bar.transmittance[c] * angle).epsilon(1e-12));
+  // Inside the bar (x contained: every direction crosses it).
+  const Rgb in_bar = tb.at({5, -11.5});
+  const double angle_in = angle_between({-50, 0}, {50, 0}, {5, -11.5}) / (2 * kPiValue);
+  for (int c = 0; c < 3; ++c) CHECK(in_bar[c] == doctest::Approx(bar.transmittance[c] * angle_in).epsilon(1e-12));
+}
+
+TEST_CASE("bounce: pieces buried in another occluder get nothing and light nothing") {
+  Scene s = sky_and_wall({1, 1, 1}, 1.0);
+  // An opaque box swallowing the wall's left end: x in [-60, -27] around y = 0.
+  Occluder box;
+  box.shape = Polygon{{{-60, -5}, {-27, -5}, {-27, 5}, {-60, 5}}};
+  s.occluders.push_back(box);
+  Bounced b(s);
+  REQUIRE(b.frame.pieces.size() == 20);
+  for (std::size_t k = 0; k < 20; ++k) {
+    CAPTURE(k);
+    const double mid = b.frame.pieces[k].mid.x / b.prepared.scale;
+    if (mid < -27) {
+      CHECK(b.frame.radiance[k][0] == 0.0);
+    } else {
+      CHECK(b.frame.radiance[k][0] > 0.1);
+    }
+  }
+  // Straight above the buried part nothing of it shows; the pieces to the right light x.
+  const Vec2 x{-40, -30};
+  const Rgb got = b.at(x);
+  CHECK(got[0] > 0.0);
+  // The box hides the wall up to its corner (-27, -5) as seen from x; the rest is seen, top
+  // pieces only (all with radiance 1 but those the box shadows: their sky is cut).
+  CHECK(got[0] < angle_between({-27, 0}, {50, 0}, x) / (2 * kPiValue));
+}
+
+namespace {
+
+// A scene with every kind of reflector and a translucent and an opaque occluder.
+Scene mixed_scene() {
+  Scene s = base_scene();
+  Light a;
+  a.shape = Circle{{-30, -35}, 5};
+  a.intensity = 2;
+  a.color = {1, 0.8, 0.6};
+  s.lights.push_back(a);
+  Light b;
+  b.shape = Segment{{40, -50}, {60, -40}};
+  b.color = {0.3, 0.6, 1};
+  s.lights.push_back(b);
+  s.occluders.push_back(reflector(Polygon{{{-50, 10}, {-10, 10}, {10, 10}, {10, 25}, {-50, 25}}}, {0.9, 0.6, 0.3}));
+  s.occluders.push_back(reflector(Circle{{30, 5}, 9}, {0.2, 0.8, 0.4}));
+  s.occluders.push_back(reflector(Segment{{-60, -20}, {-45, 0}}, {1, 1, 1}));
+  Occluder glass;
+  glass.shape = Circle{{0, -15}, 6};
+  glass.transmittance = {0.6, 0.3, 0.9};
+  s.occluders.push_back(glass);
+  Occluder block;
+  block.shape = Polygon{{{50, 20}, {65, 20}, {65, 35}}};
+  s.occluders.push_back(block);
+  s.bounce.piece = 7;
+  return s;
+}
+
+// Worst difference of the ray caster's piece radiances (rays each) and bounce term at `points`
+// (its total minus its direct value, the same rays) from the reference, over e_max.
+struct Errors {
+  double radiance = 0.0, bounce = 0.0;
+};
+Errors raycast_errors(const Scene& scene, const std::vector<Vec2>& points, int rays) {
+  Bounced ref(scene);
+  const double e_max = emission_max_sum(scene);
+  const detail::RaycastRenderer caster(scene);
+  Scene direct = scene;
+  for (Occluder& o : direct.occluders) o.albedo = {0, 0, 0};
+  const detail::RaycastRenderer direct_caster(direct);
+  Errors err;
+  const std::vector<Rgb> radiance = caster.bounce_radiances(rays);
+  REQUIRE(radiance.size() == ref.frame.radiance.size());
+  for (std::size_t k = 0; k < radiance.size(); ++k)
+    for (int c = 0; c < 3; ++c)
+      err.radiance = std::max(err.radiance, std::fabs(radiance[k][c] - ref.frame.radiance[k][c]) / e_max);
+  for (const Vec2 x : points) {
+    const Rgb total = caster.irradiance(x, rays, 0.37), plain = direct_caster.irradiance(x, rays, 0.37);
+    const Rgb want = ref.at(x);
+    for (int c = 0; c < 3; ++c) err.bounce = std::max(err.bounce, std::fabs(total[c] - plain[c] - want[c]) / e_max);
+  }
+  return err;
+}
+
+const std::vector<Vec2> kPoints{{0, -30}, {-20, 0}, {25, -20}, {45, 15}, {-70, -40}, {5, 40}};
+
+}  // namespace
+
+TEST_CASE("bounce: the ray caster converges to the reference as its ray count grows") {
+  const Scene scene = mixed_scene();
+  Errors previous{1e300, 1e300};
+  for (const int rays : {250, 2500, 25000}) {
+    const Errors err = raycast_errors(scene, kPoints, rays);
+    MESSAGE("rays " << rays << ": radiance error " << err.radiance << " e_max, bounce error " << err.bounce << " e_max");
+    CHECK(err.radiance < previous.radiance);
+    CHECK(err.bounce < previous.bounce);
+    previous = err;
+  }
+  // Stratified rays misplace each jump of the integrand by at most one stratum (2 pi / rays).
+  CHECK(previous.radiance < 2e-4);
+  CHECK(previous.bounce < 2e-4);
+}
+
+TEST_CASE("bounce: the ray caster within 1e-6 e_max of the reference at 2^22 rays" * long_tier()) {
+  const Scene scene = mixed_scene();
+  const Errors err = raycast_errors(scene, kPoints, 1 << 22);
+  MESSAGE("rays 2^22: radiance error " << err.radiance << " e_max, bounce error " << err.bounce << " e_max");
+  CHECK(err.radiance < 1e-6);
+  CHECK(err.bounce < 1e-6);
+}
+
+TEST_CASE("bounce: every SIMD level within 1e-4 e_max of the scalar reference") {
+  Scene scene = mixed_scene();
+  scene.width = 40;
+  scene.height = 30;
+  const RenderedImage ref = render_or_fail(scene, options_for(Backend::scalar));
+  // The bounce is visible: the same scene without albedo differs.
+  Scene direct = scene;
+  for (Occluder& o : direct.occluders) o.albedo = {0, 0, 0};
+  const RenderedImage plain = render_or_fail(direct, options_for(Backend::scalar));
+  double gain = 0.0;
+  for (std::size_t p = 0; p < ref.pixels.size(); ++p) gain = std::max(gain, double(ref.pixels[p]) - plain.pixels[p]);
+  CHECK(gain > 0.01);
+  const double pixel = 160.0 / 40;
+  check_simd_against_scalar(
+      scene, ref, "bounce mixed scene", [&](Vec2 p) { return near_boundary(scene, p, 0.05 * pixel); }, 1000);
+}
+
+TEST_CASE("bounce: a scene whose albedos are all 0 renders the same bytes as one without the keys" * per_isa()) {
+  Scene scene = mixed_scene();
+  for (Occluder& o : scene.occluders) o.albedo = {0, 0, 0};
+  Scene bare = scene;
+  bare.bounce = Bounce{};
+  scene.bounce.piece = 0.5;
+  for (const Backend backend : {Backend::scalar, Backend::automatic}) {
+    const RenderedImage a = render_or_fail(scene, options_for(backend)), b = render_or_fail(bare, options_for(backend));
+    CHECK(a.pixels == b.pixels);
+  }
+}
+
+}  // namespace par2d::test
