@@ -146,6 +146,20 @@ class Renderer {
   // The whole frame as float RGB into an ImageView of the frame's size.
   Status render(const ImageView& image);
 
+  // Frames that cost what changed (docs/api.md, "Incremental frames"). Off by default: every
+  // whole-frame render computes every pixel. On: a whole-frame render computes only the
+  // 64x64 blocks whose inputs changed since the last whole frame and leaves the buffer's
+  // other pixels as they are, so the buffer must hold that last frame (same data pointer,
+  // format, row stride and exposure, or the frame is computed whole). The pixels equal a full
+  // render's byte for byte. Region renders compute their region whole and change nothing here.
+  Status set_incremental(bool on);
+  bool incremental() const noexcept;
+  // The next whole-frame render computes every pixel (after the host changed its buffer).
+  void force_full_frame() noexcept;
+  // The rectangles the last successful render wrote (merged block runs, in row order; empty
+  // when an incremental frame changed nothing): the parts of the buffer to upload.
+  const std::vector<PixelRect>& dirty_rects() const noexcept;
+
   // The world as a Scene: lights that emit (in the renderer's internal order), then dark
   // ones, then occluders. Rendering it with par2d::render gives the same image.
   Scene snapshot() const;

@@ -129,14 +129,27 @@ FrameEngine& FrameEngine::operator=(FrameEngine&&) noexcept = default;
 
 void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReach>* reach,
                          const FrameSettings& settings, const Scheduler& scheduler, const FrameTarget& target,
-                         FrameStats* stats) {
+                         FrameStats* stats, const std::vector<std::uint8_t>* dirty) {
   const KernelSet* kernels = kernels_for(settings.isa);
   const TileRect& region = target.region;
   // Blocks of the whole frame that meet the region.
   const int bx0 = region.x0 / kBlockSize, bx1 = (region.x1 - 1) / kBlockSize + 1;
   const int by0 = region.y0 / kBlockSize, by1 = (region.y1 - 1) / kBlockSize + 1;
   const int columns = bx1 - bx0;
-  const int blocks = columns * (by1 - by0);
+  int blocks = columns * (by1 - by0);
+  if (dirty) {  // only the flagged blocks, in the same order
+    const int frame_columns = (scene.width + kBlockSize - 1) / kBlockSize;
+    block_list_.clear();
+    for (int b = 0; b < blocks; ++b) {
+      const int bx = bx0 + b % columns, by = by0 + b / columns;
+      if ((*dirty)[static_cast<std::size_t>(by * frame_columns + bx)]) block_list_.push_back(b);
+    }
+    blocks = static_cast<int>(block_list_.size());
+    if (blocks == 0) {
+      if (stats) *stats = FrameStats{};
+      return;
+    }
+  }
   const bool cull = settings.culling && reach != nullptr;
   const bool bouncing = scene.bounce;
   VectorTileStores stores;
@@ -149,6 +162,7 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
   }
 
   auto render_block = [&](int b, ThreadState& state) {
+    if (dirty) b = block_list_[static_cast<std::size_t>(b)];
     const int x0 = (bx0 + b % columns) * kBlockSize, y0 = (by0 + b / columns) * kBlockSize;
     const TileRect block{x0, y0, std::min(x0 + kBlockSize, scene.width), std::min(y0 + kBlockSize, scene.height)};
     FrameCounters& counts = state.counts;

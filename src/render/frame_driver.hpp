@@ -2,6 +2,7 @@
 // buffer, tile by tile, with the kernels of kernel_table.hpp or the scalar reference.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -40,8 +41,11 @@ class FrameEngine {
   // target's format. Tiles and blocks are those of the whole frame, so a region's pixels
   // equal the same pixels of a whole frame bit for bit. `reach` (with culling): per light.
   // `stats`, when given, receives the frame's culling and kernel work (FrameStats).
+  // `dirty`, when given: one flag per kBlockSize block of the whole frame, row by row; only the
+  // flagged blocks are computed and stored, the rest of the target is not touched.
   void render(const PreparedScene& scene, const std::vector<LightReach>* reach, const FrameSettings& settings,
-              const Scheduler& scheduler, const FrameTarget& target, FrameStats* stats = nullptr);
+              const Scheduler& scheduler, const FrameTarget& target, FrameStats* stats = nullptr,
+              const std::vector<std::uint8_t>* dirty = nullptr);
 
  private:
   struct ThreadState;
@@ -49,6 +53,7 @@ class FrameEngine {
   // One bounce (docs/contract.md section 7): the pieces and their radiances, made each frame of
   // a scene with a reflecting occluder.
   std::unique_ptr<BounceFrame> bounce_;
+  std::vector<int> block_list_;  // the blocks of a frame with `dirty` flags, relative to the region's
   SrgbBuckets srgb_;  // the last 8-bit sRGB target's exposure's, rebuilt when it changes
 };
 

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "culling/reach_cache.hpp"
+#include "render/change_tracker.hpp"
 #include "parallel/scheduler.hpp"
 #include "render/frame_driver.hpp"
 #include "render/frame_output.hpp"
@@ -16,7 +17,10 @@
 namespace par2d {
 
 struct Renderer::Impl {
-  Impl() { world.observe(&reach); }
+  Impl() {
+    tracker.forward_to(&reach);
+    world.observe(&tracker);
+  }
   Impl(const Impl&) = delete;
   Impl& operator=(const Impl&) = delete;
 
@@ -24,6 +28,9 @@ struct Renderer::Impl {
   Isa isa = Isa::scalar;
   detail::Scheduler scheduler;
   detail::ReachCache reach;  // follows `world`'s changes (declared first: the world points at it)
+  detail::ChangeTracker tracker;  // observes `world` and passes every event on to `reach`
+  bool incremental = false;
+  std::vector<PixelRect> dirty_rects;  // the last successful render's
   detail::World world;
   detail::FrameEngine engine;
   FrameStats frame_stats;  // the last successful render's
@@ -183,14 +190,49 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
     target.row_stride = buffer.row_stride;
     target.exposure = buffer.exposure;
     target.region = {region.x0, region.y0, region.x1, region.y1};
-    impl.engine.render(scene, culling ? &impl.reach.reach() : nullptr,
-                       detail::FrameSettings{impl.options.spp, culling, impl.isa, impl.options.shaded,
-                                             impl.options.sample_needs},
-                       impl.scheduler, target, &impl.frame_stats);
+    const detail::FrameSettings settings{impl.options.spp, culling, impl.isa, impl.options.shaded,
+                                         impl.options.sample_needs};
+    const std::vector<detail::LightReach>* reach = culling ? &impl.reach.reach() : nullptr;
+    const bool whole = region.x0 == 0 && region.y0 == 0 && region.x1 == width() && region.y1 == height();
+    const std::vector<std::uint8_t>* dirty = nullptr;
+    if (impl.incremental && whole) {
+      // Only the blocks whose inputs changed since the last whole frame into this buffer.
+      detail::FrameKey key;
+      key.width = scene.width;
+      key.height = scene.height;
+      key.view = scene.view;
+      key.scale = scene.scale;
+      key.extent = scene.extent;
+      key.model = scene.model;
+      key.bounce = scene.bounce;
+      key.data = buffer.data;
+      key.format = buffer.format;
+      key.row_stride = buffer.row_stride;
+      key.exposure = buffer.exposure;
+      key.settings = settings;
+      dirty = impl.tracker.plan(scene, reach, key, impl.dirty_rects);
+    } else {
+      impl.dirty_rects.assign(1, region);
+    }
+    try {
+      impl.engine.render(scene, reach, settings, impl.scheduler, target, &impl.frame_stats, dirty);
+    } catch (...) {
+      impl.tracker.force_full();  // the buffer may hold part of a frame
+      throw;
+    }
     ++impl.world.stats().frames;
     return {};
   });
 }
+
+Status Renderer::set_incremental(bool on) {
+  impl_->incremental = on;
+  impl_->tracker.force_full();
+  return {};
+}
+bool Renderer::incremental() const noexcept { return impl_->incremental; }
+void Renderer::force_full_frame() noexcept { impl_->tracker.force_full(); }
+const std::vector<PixelRect>& Renderer::dirty_rects() const noexcept { return impl_->dirty_rects; }
 
 Scene Renderer::snapshot() const { return impl_->world.snapshot(); }
 

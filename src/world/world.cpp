@@ -367,6 +367,7 @@ Status World::set_model_terms(const char* who, const Scene& terms) {
   scene_.normal_map = std::move(staged.normal_map);
   update_model_flag(scene_);
   update_scene_bounds(scene_);
+  if (observer_) observer_->terms_changed();
   return {};
 }
 
@@ -438,6 +439,7 @@ Status World::set_light_emission(LightHandle handle, const Rgb& color, double in
   if (slot->list == kLit && now) {
     // Only the emission changes: shape, overlaps, separators and reach all stay.
     for (std::size_t c = 0; c < 3; ++c) scene_.lights[where].emission[c] = intensity * color[c];
+    if (observer_) observer_->light_emission_changed(where);
   } else if (slot->list == kLit) {
     const Light copy = source;
     erase_lit(where);
@@ -544,6 +546,7 @@ Status World::remove_occluder(OccluderHandle handle) {
     std::swap(scene_.occluder_terms[k], scene_.occluder_terms[m]);
     scene_.separators.move_occluder(m, k);
     slots_[occluder_slots_[k]].where = static_cast<std::int32_t>(k);
+    if (observer_) observer_->occluder_renumbered(bounds_of(scene_.occluders[k]));
   }
   occluder_sources_.pop_back();
   occluder_slots_.pop_back();

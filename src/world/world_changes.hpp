@@ -28,6 +28,14 @@ class WorldObserver {
   virtual void region_changed(const Aabb& box) noexcept = 0;
   // The frame's size or view changed (anything measured in pixels or bounded by the view).
   virtual void frame_changed() noexcept = 0;
+  // Light `p`'s emission (colour, intensity) changed and nothing else: nothing geometric
+  // depends on it, so the reach ignores it; pixels do (render/change_tracker.hpp).
+  virtual void light_emission_changed(std::size_t /*p*/) noexcept {}
+  // An occluder inside `box` took another number (the last one takes a removed one's): its
+  // shape is unchanged, but the order of a block's candidates may follow the numbers.
+  virtual void occluder_renumbered(const Aabb& /*box*/) noexcept {}
+  // The scene-wide terms (ambient, directional lights, normal source) were replaced.
+  virtual void terms_changed() noexcept {}
 
  protected:
   ~WorldObserver() = default;

@@ -1,0 +1,256 @@
+// The change tracker: events mark lights and regions, plan turns them into dirty blocks.
+#include "render/change_tracker.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "render/block_culling.hpp"
+#include "render/tiling.hpp"
+
+namespace par2d::detail {
+namespace {
+
+bool same_view(const View& a, const View& b) noexcept {
+  return a.x0 == b.x0 && a.y0 == b.y0 && a.x1 == b.x1 && a.y1 == b.y1;
+}
+
+bool same_reach(const LightReach& a, const LightReach& b) noexcept {
+  return a.center.x == b.center.x && a.center.y == b.center.y && a.radius == b.radius && a.reach == b.reach &&
+         a.nearest == b.nearest && a.farthest == b.farthest;
+}
+
+bool empty_box(const Aabb& b) noexcept { return !(b.min_x <= b.max_x && b.min_y <= b.max_y); }
+
+Aabb intersection(const Aabb& a, const Aabb& b) noexcept {
+  return {std::max(a.min_x, b.min_x), std::max(a.min_y, b.min_y), std::min(a.max_x, b.max_x),
+          std::min(a.max_y, b.max_y)};
+}
+
+}  // namespace
+
+bool FrameKey::operator==(const FrameKey& o) const noexcept {
+  return width == o.width && height == o.height && same_view(view, o.view) && scale == o.scale &&
+         extent == o.extent && model == o.model && bounce == o.bounce && data == o.data && format == o.format &&
+         row_stride == o.row_stride && exposure == o.exposure && settings.spp == o.settings.spp &&
+         settings.culling == o.settings.culling && settings.isa == o.settings.isa &&
+         settings.shaded == o.settings.shaded && settings.sample_needs == o.settings.sample_needs;
+}
+
+void ChangeTracker::lights_reset(std::size_t count) noexcept {
+  full_ = true;
+  any_ = true;
+  if (next_) next_->lights_reset(count);
+}
+
+void ChangeTracker::light_added() {
+  if (next_) next_->light_added();
+  any_ = true;
+  if (full_) return;  // the arrays are rebuilt at the next frame
+  influence_.push_back(kEmptyBox);
+  query_.push_back(kEmptyBox);
+  reach_.emplace_back();
+  changed_.push_back(1);
+}
+
+void ChangeTracker::light_changed(std::size_t p) noexcept {
+  if (next_) next_->light_changed(p);
+  any_ = true;
+  if (!full_ && p < changed_.size()) changed_[p] = 1;
+}
+
+void ChangeTracker::light_emission_changed(std::size_t p) noexcept {
+  if (next_) next_->light_emission_changed(p);
+  any_ = true;
+  if (!full_ && p < changed_.size()) changed_[p] = 1;
+}
+
+void ChangeTracker::light_erased(std::size_t p) noexcept {
+  if (next_) next_->light_erased(p);
+  any_ = true;
+  if (full_ || p >= changed_.size()) {
+    full_ = true;
+    return;
+  }
+  // The erased light's pixels, and the renumbered light's (a tile sums its lights in number
+  // order): its old I_l moves with it and it is marked changed.
+  if (!empty_box(influence_[p])) {
+    if (dirty_boxes_.size() == dirty_boxes_.capacity()) {
+      full_ = true;  // no allocation here
+      return;
+    }
+    dirty_boxes_.push_back(influence_[p]);
+  }
+  const std::size_t m = changed_.size() - 1;
+  if (p != m) {
+    influence_[p] = influence_[m];
+    query_[p] = query_[m];
+    reach_[p] = reach_[m];
+    changed_[p] = 1;
+  }
+  influence_.pop_back();
+  query_.pop_back();
+  reach_.pop_back();
+  changed_.pop_back();
+}
+
+void ChangeTracker::region(const Aabb& box) noexcept {
+  any_ = true;
+  if (full_) return;
+  if (regions_.size() == regions_.capacity()) {
+    full_ = true;
+    return;
+  }
+  regions_.push_back(box);
+}
+
+void ChangeTracker::region_changed(const Aabb& box) noexcept {
+  if (next_) next_->region_changed(box);
+  region(box);
+}
+
+void ChangeTracker::occluder_renumbered(const Aabb& box) noexcept {
+  if (next_) next_->occluder_renumbered(box);
+  region(box);
+}
+
+void ChangeTracker::frame_changed() noexcept {
+  if (next_) next_->frame_changed();
+  full_ = true;
+  any_ = true;
+}
+
+void ChangeTracker::terms_changed() noexcept {
+  if (next_) next_->terms_changed();
+  full_ = true;
+  any_ = true;
+}
+
+// Marks every block that meets `box` (prepared coordinates), with a pixel to spare.
+void ChangeTracker::mark(const PreparedScene& scene, const Aabb& box) {
+  if (empty_box(box)) return;
+  const int columns = (scene.width + kBlockSize - 1) / kBlockSize;
+  const int rows = (scene.height + kBlockSize - 1) / kBlockSize;
+  // Pixel coordinates of the box's sides (either axis may run either way).
+  const double sx = scene.width / (scene.view.x1 - scene.view.x0);
+  const double sy = scene.height / (scene.view.y1 - scene.view.y0);
+  double px0 = (box.min_x - scene.view.x0) * sx, px1 = (box.max_x - scene.view.x0) * sx;
+  double py0 = (box.min_y - scene.view.y0) * sy, py1 = (box.max_y - scene.view.y0) * sy;
+  if (px0 > px1) std::swap(px0, px1);
+  if (py0 > py1) std::swap(py0, py1);
+  if (!(px1 >= -2.0 && py1 >= -2.0 && px0 <= scene.width + 2.0 && py0 <= scene.height + 2.0)) {
+    if (std::isnan(px0) || std::isnan(px1) || std::isnan(py0) || std::isnan(py1))
+      std::fill(mask_.begin(), mask_.end(), std::uint8_t{1});
+    return;
+  }
+  const auto block_of = [](double p, int count) {
+    const double b = std::floor(p / kBlockSize);
+    return static_cast<int>(std::clamp(b, 0.0, static_cast<double>(count - 1)));
+  };
+  const int bx0 = block_of(px0 - 1.0, columns), bx1 = block_of(px1 + 1.0, columns);
+  const int by0 = block_of(py0 - 1.0, rows), by1 = block_of(py1 + 1.0, rows);
+  for (int by = by0; by <= by1; ++by)
+    std::fill(mask_.begin() + by * columns + bx0, mask_.begin() + by * columns + bx1 + 1, std::uint8_t{1});
+}
+
+const std::vector<std::uint8_t>* ChangeTracker::plan(const PreparedScene& scene, const std::vector<LightReach>* reach,
+                                                     const FrameKey& key, std::vector<PixelRect>& rects) {
+  const std::size_t lights = scene.lights.size();
+  const bool precise = reach != nullptr && reach->size() == lights && culling_trusted(scene) && !scene.bounce;
+  bool full = full_ || !have_key_ || !(key == key_) || changed_.size() != lights;
+  if (!full && any_ && !precise) full = true;
+  if (!full && !regions_.empty() && !scene.directionals.empty()) full = true;
+
+  new_influence_.assign(lights, kEmptyBox);
+  new_query_.assign(lights, kEmptyBox);
+  if (precise) {
+    const double bw = std::abs(scene.view.x1 - scene.view.x0) / scene.width * kBlockSize;
+    const double bh = std::abs(scene.view.y1 - scene.view.y0) / scene.height * kBlockSize;
+    for (std::size_t l = 0; l < lights; ++l) {
+      const LightReach& r = (*reach)[l];
+      const PreparedLight& light = scene.lights[l];
+      // Not hidden: within max(farthest, radius) of the center (LightReach::hides).
+      const double d = std::max(r.farthest, r.radius);
+      Aabb in{r.center.x - d, r.center.y - d, r.center.x + d, r.center.y + d};
+      if (scene.model && light.terms.has_range()) {  // not beyond_range: within range of the shape's box
+        const double g = light.terms.range;
+        in = intersection(in, {light.shape.bounds_min.x - g, light.shape.bounds_min.y - g,
+                               light.shape.bounds_max.x + g, light.shape.bounds_max.y + g});
+      }
+      new_influence_[l] = in;
+      Aabb q = empty_box(in) ? kEmptyBox : Aabb{in.min_x - bw, in.min_y - bh, in.max_x + bw, in.max_y + bh};
+      grow(q, bounds_of(light.shape));
+      new_query_[l] = q;
+    }
+  }
+
+  const int columns = (scene.width + kBlockSize - 1) / kBlockSize;
+  const int rows = (scene.height + kBlockSize - 1) / kBlockSize;
+  mask_.assign(static_cast<std::size_t>(columns) * static_cast<std::size_t>(rows), full ? 1 : 0);
+  if (!full && any_) {
+    for (std::size_t l = 0; l < lights; ++l) {
+      if (changed_[l] || !same_reach(reach_[l], (*reach)[l])) {
+        mark(scene, influence_[l]);
+        mark(scene, new_influence_[l]);
+      }
+    }
+    for (const Aabb& r : regions_) {
+      mark(scene, r);  // an occluder holding a pixel
+      for (std::size_t l = 0; l < lights; ++l) {
+        if (boxes_meet(query_[l], r) || boxes_meet(new_query_[l], r)) {
+          mark(scene, influence_[l]);
+          mark(scene, new_influence_[l]);
+        }
+      }
+    }
+    for (const Aabb& b : dirty_boxes_) mark(scene, b);
+  }
+
+  // This frame is now what the host's buffer holds.
+  influence_.swap(new_influence_);
+  query_.swap(new_query_);
+  if (precise) {
+    reach_.assign(reach->begin(), reach->end());
+  } else {
+    reach_.assign(lights, LightReach{});
+  }
+  changed_.assign(lights, 0);
+  dirty_boxes_.clear();
+  regions_.clear();
+  if (dirty_boxes_.capacity() < kMaxRegions) dirty_boxes_.reserve(kMaxRegions);
+  if (regions_.capacity() < kMaxRegions) regions_.reserve(kMaxRegions);
+  full_ = false;
+  any_ = false;
+  key_ = key;
+  have_key_ = true;
+
+  // The rectangles: runs of dirty blocks per block row, stacked where rows repeat a run.
+  rects.clear();
+  for (int by = 0; by < rows; ++by) {
+    const std::size_t first_of_row = rects.size();
+    for (int bx = 0; bx < columns;) {
+      if (!mask_[static_cast<std::size_t>(by * columns + bx)]) {
+        ++bx;
+        continue;
+      }
+      int end = bx;
+      while (end < columns && mask_[static_cast<std::size_t>(by * columns + end)]) ++end;
+      const PixelRect run{bx * kBlockSize, by * kBlockSize, std::min(end * kBlockSize, scene.width),
+                          std::min((by + 1) * kBlockSize, scene.height)};
+      // Extend the rectangle of the row above with the same columns, if it ends on this row.
+      bool merged = false;
+      for (std::size_t i = 0; i < first_of_row; ++i) {
+        PixelRect& r = rects[i];
+        if (r.x0 == run.x0 && r.x1 == run.x1 && r.y1 == run.y0) {
+          r.y1 = run.y1;
+          merged = true;
+          break;
+        }
+      }
+      if (!merged) rects.push_back(run);
+      bx = end;
+    }
+  }
+  return full ? nullptr : &mask_;
+}
+
+}  // namespace par2d::detail

@@ -1,0 +1,96 @@
+// Frames that cost what changed: which blocks of the frame a Renderer must compute again,
+// from the World's change events and what the last frame's lights reached.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "culling/light_reach.hpp"
+#include "par2d/isa.hpp"
+#include "par2d/renderer.hpp"
+#include "render/frame_driver.hpp"
+#include "world/prepared_scene.hpp"
+#include "world/world_changes.hpp"
+
+namespace par2d::detail {
+
+// Everything outside the shapes a block's pixels depend on; any difference: a full frame.
+struct FrameKey {
+  int width = 0, height = 0;
+  View view{};
+  double scale = 0.0, extent = 0.0;
+  bool model = false, bounce = false;
+  const void* data = nullptr;
+  PixelFormat format = PixelFormat::rgb_f32;
+  std::ptrdiff_t row_stride = 0;
+  double exposure = 0.0;
+  FrameSettings settings{};
+
+  bool operator==(const FrameKey& o) const noexcept;
+};
+
+// Observes a World (forwarding every event to `next`, the reach cache) and decides, at each
+// whole-frame render, which 64x64 blocks must be computed again. Exact-conservative: a block
+// is skipped only when nothing its pixels are computed from changed:
+//  - the frame key (size, view, coordinate scale, extent, the model flag, the host buffer,
+//    the output format and exposure, spp, ISA, culling, shading), the scene-wide terms and a
+//    reset of the world: every block;
+//  - without culling (the scalar reference, culling off, untrusted culling) or with one
+//    bounce, every light sees every pixel: any change is every block;
+//  - with culling, light l takes part in block B only where its reach does not hide B and
+//    B is within its range: the box I_l (reach's farthest distance, cut by the range's box).
+//    A light added, changed, re-emitting, renumbered or erased, or whose reach changed,
+//    dirties the blocks meeting its old and new I_l. An occluder appearing, moving,
+//    disappearing or renumbered inside box R dirties the blocks meeting R and, for each
+//    light whose old or new Q_l meets R, the blocks meeting its old and new I_l; Q_l holds
+//    every hull of a block meeting I_l with the light's shape (I_l grown by a block, and the
+//    shape's box): the only place a block's candidate query looks.
+// Directional lights are unbounded: with any, an occluder change is every block.
+class ChangeTracker final : public WorldObserver {
+ public:
+  // The observer events are passed on to (the reach cache); set before the World observes this.
+  void forward_to(WorldObserver* next) noexcept { next_ = next; }
+  // The next whole frame computes every block.
+  void force_full() noexcept { full_ = true; }
+
+  // For a whole-frame render of `scene` with `key`: returns the mask of blocks to compute
+  // (kBlockSize blocks of the frame, row by row), or nullptr for every block; fills `rects`
+  // with the rectangles those blocks cover, merged. `reach`: the reach the frame culls with
+  // (nullptr without culling). Then records this frame as the one the host's buffer holds.
+  const std::vector<std::uint8_t>* plan(const PreparedScene& scene, const std::vector<LightReach>* reach,
+                                        const FrameKey& key, std::vector<PixelRect>& rects);
+
+  void lights_reset(std::size_t count) noexcept override;
+  void light_added() override;
+  void light_changed(std::size_t p) noexcept override;
+  void light_erased(std::size_t p) noexcept override;
+  void region_changed(const Aabb& box) noexcept override;
+  void frame_changed() noexcept override;
+  void light_emission_changed(std::size_t p) noexcept override;
+  void occluder_renumbered(const Aabb& box) noexcept override;
+  void terms_changed() noexcept override;
+
+ private:
+  static constexpr std::size_t kMaxRegions = 64;  // more occluder changes in a frame: every block
+
+  void region(const Aabb& box) noexcept;
+  void mark(const PreparedScene& scene, const Aabb& box);
+
+  WorldObserver* next_ = nullptr;
+  bool full_ = true;  // every block at the next frame
+  bool any_ = false;  // some change since the last frame
+  bool have_key_ = false;
+  FrameKey key_{};
+  // Per light, as of the last frame (kept parallel to PreparedScene::lights by the events).
+  std::vector<Aabb> influence_, query_;  // I_l and Q_l
+  std::vector<LightReach> reach_;
+  std::vector<std::uint8_t> changed_;
+  // Boxes whose blocks are dirty whatever the lights (erased lights' I_l) and occluder regions.
+  std::vector<Aabb> dirty_boxes_, regions_;
+  bool regions_overflow_ = false;
+  std::vector<std::uint8_t> mask_;
+  std::vector<Aabb> new_influence_, new_query_;
+};
+
+}  // namespace par2d::detail

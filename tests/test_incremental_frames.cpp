@@ -1,0 +1,297 @@
+// Incremental frames (Renderer::set_incremental): random game-loop sequences of updates, every
+// frame byte for byte against a fresh one-shot render of the same state; untouched pixels,
+// dirty rectangles and no-change frames checked with canaries.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "par2d/renderer.hpp"
+#include "support/random_scenes.hpp"
+#include "support/test_tiers.hpp"
+
+namespace par2d::test {
+namespace {
+
+Shape box(double x0, double y0, double x1, double y1) { return Polygon{{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}}; }
+
+// A small level: wall boxes on a grid of cells, torches (most with a range) in the open.
+struct Level {
+  Scene scene;
+  std::vector<Light> lights;  // as given, parallel to the handles
+  std::vector<Occluder> occluders;
+  std::vector<LightHandle> light_handles;
+  std::vector<OccluderHandle> occluder_handles;
+};
+
+Light random_torch(PortableRandom& rng, double w, double h) {
+  Light l;
+  l.shape = Circle{{rng.uniform(0.0, w), rng.uniform(0.0, h)}, rng.uniform(0.5, 2.5)};
+  l.color = {rng.uniform(0.3, 1.0), rng.uniform(0.3, 1.0), rng.uniform(0.3, 1.0)};
+  l.intensity = rng.uniform(0.5, 3.0);
+  if (rng.chance(0.8)) l.range = rng.uniform(8.0, 50.0);
+  if (rng.chance(0.15)) l.cone = Cone{rng.uniform(0.0, 360.0), rng.uniform(20.0, 180.0), 0.0};
+  if (rng.chance(0.1)) l.mask = 1u + static_cast<std::uint32_t>(rng.integer(0, 2));
+  return l;
+}
+
+Occluder random_wall(PortableRandom& rng, double w, double h) {
+  const double x = rng.uniform(0.0, w), y = rng.uniform(0.0, h);
+  Occluder o;
+  if (rng.chance(0.5)) {
+    o.shape = box(x, y, x + rng.uniform(2.0, 24.0), y + rng.uniform(1.0, 4.0));
+  } else if (rng.chance(0.6)) {
+    o.shape = box(x, y, x + rng.uniform(1.0, 4.0), y + rng.uniform(2.0, 24.0));
+  } else {
+    o.shape = Circle{{x, y}, rng.uniform(1.0, 4.0)};
+  }
+  if (rng.chance(0.1)) o.transmittance = {rng.uniform(), rng.uniform(), rng.uniform()};
+  if (rng.chance(0.1)) o.mask = 1u + static_cast<std::uint32_t>(rng.integer(0, 2));
+  if (rng.chance(0.05)) o.interior = Interior::lit;
+  return o;
+}
+
+Shape moved(const Shape& shape, double dx, double dy) {
+  Shape out = shape;
+  if (auto* p = std::get_if<Polygon>(&out)) {
+    for (Vec2& v : p->vertices) v = {v.x + dx, v.y + dy};
+  } else if (auto* c = std::get_if<Circle>(&out)) {
+    c->center = {c->center.x + dx, c->center.y + dy};
+  }
+  return out;
+}
+
+std::vector<float> fresh_render(const Renderer& r, const RenderOptions& options) {
+  const Scene snap = r.snapshot();
+  std::vector<float> pixels(static_cast<std::size_t>(snap.width) * snap.height * 3, -1.0f);
+  const Status s = render(snap, options, ImageView{pixels.data(), snap.width, snap.height, static_cast<std::ptrdiff_t>(snap.width) * 3});
+  REQUIRE_MESSAGE(s.ok(), s.message());
+  return pixels;
+}
+
+struct Outcome {
+  int frames = 0, partial = 0, untouched = 0;
+};
+
+// `frames` frames of random updates on a random level; each frame's incremental buffer is
+// compared with a one-shot render, and the pixels outside the dirty rectangles with the
+// previous frame.
+Outcome run_sequence(std::uint32_t seed, int frames, RenderOptions options, int width, int height) {
+  PortableRandom rng(seed);
+  const double w = width, h = height;
+  Level level;
+  level.scene.width = width;
+  level.scene.height = height;
+  level.scene.view = View{0.0, 0.0, w, h};
+  for (int i = 0, n = rng.integer(10, 30); i < n; ++i) level.scene.occluders.push_back(random_wall(rng, w, h));
+  for (int i = 0, n = rng.integer(3, 10); i < n; ++i) level.scene.lights.push_back(random_torch(rng, w, h));
+  Renderer r;
+  REQUIRE(r.set_options(options).ok());
+  REQUIRE(r.set_scene(level.scene, &level.light_handles, &level.occluder_handles).ok());
+  level.lights = level.scene.lights;
+  level.occluders = level.scene.occluders;
+  REQUIRE(r.set_incremental(true).ok());
+  CHECK(r.incremental());
+
+  const std::size_t floats = static_cast<std::size_t>(width) * height * 3;
+  std::vector<float> buffer(floats, -1.0f), previous(floats);
+  const ImageView view{buffer.data(), width, height, static_cast<std::ptrdiff_t>(width) * 3};
+  Outcome out;
+  for (int frame = 0; frame < frames; ++frame) {
+    // 0 .. 3 updates, about a fifth of the frames none.
+    const int updates = rng.chance(0.2) ? 0 : rng.integer(1, 3);
+    std::string ops;
+    for (int u = 0; u < updates; ++u) {
+      const int op = rng.integer(0, 13);
+      const std::size_t nl = level.lights.size(), no = level.occluders.size();
+      const std::size_t li = nl ? static_cast<std::size_t>(rng.integer(0, static_cast<int>(nl) - 1)) : 0;
+      const std::size_t oi = no ? static_cast<std::size_t>(rng.integer(0, static_cast<int>(no) - 1)) : 0;
+      ops += std::to_string(op) + (op <= 10 ? "@" + std::to_string(op <= 8 ? li : oi) : std::string()) + " ";
+      if (op <= 2 && nl) {  // a torch moves
+        level.lights[li].shape = moved(level.lights[li].shape, rng.uniform(-4.0, 4.0), rng.uniform(-4.0, 4.0));
+        REQUIRE(r.update_light(level.light_handles[li], level.lights[li]).ok());
+      } else if (op <= 5 && nl) {  // flicker; sometimes dark (the light leaves the lit list) and back
+        level.lights[li].intensity = rng.chance(0.15) ? 0.0 : rng.uniform(0.2, 3.0);
+        REQUIRE(r.set_light_emission(level.light_handles[li], level.lights[li].color, level.lights[li].intensity).ok());
+      } else if (op == 6 && nl) {  // lighting-model keys of a light
+        Light& l = level.lights[li];
+        switch (rng.integer(0, 3)) {
+          case 0: l.range = rng.chance(0.2) ? std::optional<double>() : std::optional<double>(rng.uniform(5.0, 60.0)); break;
+          case 1: l.cone = rng.chance(0.3) ? std::optional<Cone>() : std::optional<Cone>(Cone{rng.uniform(0.0, 360.0), rng.uniform(10.0, 180.0), 0.0}); break;
+          case 2: l.mask = rng.chance(0.5) ? kAllMaskBits : 1u + static_cast<std::uint32_t>(rng.integer(0, 2)); break;
+          default: l.color = {rng.uniform(), rng.uniform(), rng.uniform()}; break;
+        }
+        REQUIRE(r.update_light(level.light_handles[li], l).ok());
+      } else if (op == 7 && nl > 1) {  // a torch goes out for good
+        REQUIRE(r.remove_light(level.light_handles[li]).ok());
+        level.lights.erase(level.lights.begin() + static_cast<std::ptrdiff_t>(li));
+        level.light_handles.erase(level.light_handles.begin() + static_cast<std::ptrdiff_t>(li));
+      } else if (op == 8 && nl < 14) {  // a torch is lit
+        LightHandle handle;
+        const Light l = random_torch(rng, w, h);
+        REQUIRE(r.add_light(l, &handle).ok());
+        level.lights.push_back(l);
+        level.light_handles.push_back(handle);
+      } else if (op == 9 && no) {  // a door moves
+        level.occluders[oi].shape = moved(level.occluders[oi].shape, rng.uniform(-6.0, 6.0), rng.uniform(-6.0, 6.0));
+        if (rng.chance(0.2)) level.occluders[oi].transmittance = {rng.uniform(), rng.uniform(), rng.uniform()};
+        REQUIRE(r.update_occluder(level.occluder_handles[oi], level.occluders[oi]).ok());
+      } else if (op == 10 && no > 1) {  // a wall is destroyed
+        REQUIRE(r.remove_occluder(level.occluder_handles[oi]).ok());
+        level.occluders.erase(level.occluders.begin() + static_cast<std::ptrdiff_t>(oi));
+        level.occluder_handles.erase(level.occluder_handles.begin() + static_cast<std::ptrdiff_t>(oi));
+      } else if (op == 11 && no < 40) {  // a wall is built
+        OccluderHandle handle;
+        const Occluder o = random_wall(rng, w, h);
+        REQUIRE(r.add_occluder(o, &handle).ok());
+        level.occluders.push_back(o);
+        level.occluder_handles.push_back(handle);
+      } else if (op == 12 && rng.chance(0.3)) {  // scene-wide terms: rare
+        switch (rng.integer(0, 3)) {
+          case 0: REQUIRE(r.set_ambient({rng.uniform(0.0, 0.1), rng.uniform(0.0, 0.1), 0.0}).ok()); break;
+          case 1: REQUIRE(r.set_normal({rng.uniform(-0.5, 0.5), rng.uniform(-0.5, 0.5), 1.0}).ok()); break;
+          case 2: REQUIRE(r.clear_normal_source().ok()); break;
+          default:
+            REQUIRE(r.set_directional_lights(rng.chance(0.5) ? std::vector<DirectionalLight>{}
+                                                               : std::vector<DirectionalLight>{DirectionalLight{30.0, 60.0, {1.0, 0.9, 0.7}, 0.2}})
+                        .ok());
+            break;
+        }
+      } else if (op == 13 && rng.chance(0.1)) {
+        r.force_full_frame();
+      }
+    }
+    std::memcpy(previous.data(), buffer.data(), floats * sizeof(float));
+    const Status s = r.render(view);
+    REQUIRE_MESSAGE(s.ok(), s.message());
+    const std::vector<float> expected = fresh_render(r, options);
+    INFO("seed ", seed, " threads ", options.threads, " frame ", frame, " ops ", ops);
+    if (std::memcmp(buffer.data(), expected.data(), floats * sizeof(float)) != 0) {
+      std::size_t p = 0;
+      while (buffer[p] == expected[p]) ++p;
+      MESSAGE("first difference at pixel ", (p / 3) % width, ",", (p / 3) / width, ": ", buffer[p], " vs ", expected[p],
+              "; computed ", r.frame_stats().pixels, " pixels in ", r.dirty_rects().size(), " rects");
+    }
+    REQUIRE(std::memcmp(buffer.data(), expected.data(), floats * sizeof(float)) == 0);
+    // The rectangles: inside the frame, disjoint, exactly the pixels computed; every pixel
+    // outside them is the previous frame's, bit for bit (never written).
+    std::vector<unsigned char> inside(static_cast<std::size_t>(width) * height, 0);
+    std::uint64_t area = 0;
+    for (const PixelRect& rect : r.dirty_rects()) {
+      REQUIRE(0 <= rect.x0);
+      REQUIRE(rect.x0 < rect.x1);
+      REQUIRE(rect.x1 <= width);
+      REQUIRE(0 <= rect.y0);
+      REQUIRE(rect.y0 < rect.y1);
+      REQUIRE(rect.y1 <= height);
+      for (int y = rect.y0; y < rect.y1; ++y)
+        for (int x = rect.x0; x < rect.x1; ++x) {
+          REQUIRE(inside[static_cast<std::size_t>(y) * width + x] == 0);
+          inside[static_cast<std::size_t>(y) * width + x] = 1;
+        }
+      area += static_cast<std::uint64_t>(rect.x1 - rect.x0) * static_cast<std::uint64_t>(rect.y1 - rect.y0);
+    }
+    CHECK(area == r.frame_stats().pixels);
+    if (frame > 0) {
+      for (std::size_t p = 0; p < inside.size(); ++p) {
+        if (!inside[p]) REQUIRE(std::memcmp(&buffer[3 * p], &previous[3 * p], 3 * sizeof(float)) == 0);
+      }
+    }
+    if (area < inside.size()) ++out.partial;
+    // Sometimes a frame with no change, into canaries: nothing may be written.
+    if (rng.chance(0.1)) {
+      std::memcpy(previous.data(), buffer.data(), floats * sizeof(float));
+      std::fill(buffer.begin(), buffer.end(), 12345.0f);
+      REQUIRE(r.render(view).ok());
+      CHECK(r.dirty_rects().empty());
+      CHECK(r.frame_stats().pixels == 0);
+      REQUIRE(std::all_of(buffer.begin(), buffer.end(), [](float v) { return v == 12345.0f; }));
+      std::memcpy(buffer.data(), previous.data(), floats * sizeof(float));
+      ++out.untouched;
+    }
+    ++out.frames;
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("incremental frames equal fresh full renders byte for byte over 500 random game-loop frames, 1 and 2 threads" * per_isa()) {
+  // The scalar reference recomputes whole frames on any change: fewer frames keep it quick.
+  const bool scalar = resolved_isa(RenderOptions{}) == Isa::scalar;
+  for (int threads = 1; threads <= 2; ++threads) {
+    RenderOptions options;
+    options.threads = threads;
+    const Outcome o = run_sequence(20261206u + static_cast<std::uint32_t>(threads), scalar ? 60 : 500, options, 128, 96);
+    CHECK(o.frames == (scalar ? 60 : 500));
+    CHECK(o.untouched > 0);
+    if (!scalar) CHECK(o.partial > o.frames / 4);  // most frames recompute part of the frame
+  }
+}
+
+TEST_CASE("incremental frames over longer sequences and more levels, every ISA" * long_tier()) {
+  std::vector<Isa> isas{Isa::scalar};
+  for (Isa isa : kSimdIsas)
+    if (isa_supported(isa)) isas.push_back(isa);
+  for (Isa isa : isas) {
+    for (std::uint32_t seed = 1; seed <= 6; ++seed) {
+      for (int threads = 1; threads <= 2; ++threads) {
+        RenderOptions options;
+        options.backend = isa == Isa::scalar ? Backend::scalar : Backend::simd;
+        options.isa = isa;
+        options.threads = threads;
+        run_sequence(seed * 7919u, isa == Isa::scalar ? 200 : 1500, options, 96 + 37 * static_cast<int>(seed),
+                     80 + 29 * static_cast<int>(seed));
+      }
+    }
+  }
+}
+
+TEST_CASE("a frame with nothing changed writes no pixel; a forced frame writes them all" * per_isa()) {
+  Scene scene;
+  scene.width = 130;
+  scene.height = 70;
+  scene.view = View{0.0, 0.0, 130.0, 70.0};
+  scene.lights.push_back(Light{Circle{{20.0, 30.0}, 2.0}, {1.0, 0.8, 0.6}, 2.0, 40.0});
+  scene.occluders.push_back(Occluder{box(40.0, 10.0, 44.0, 60.0)});
+  Renderer r;
+  REQUIRE(r.set_scene(scene).ok());
+  REQUIRE(r.set_incremental(true).ok());
+  std::vector<unsigned char> buffer(static_cast<std::size_t>(130) * 70 * 4, 0);
+  FrameBuffer fb{buffer.data(), PixelFormat::rgba8_srgb, 130 * 4, 1.0};
+  REQUIRE(r.render(fb).ok());
+  REQUIRE(r.dirty_rects().size() == 1);
+  CHECK(r.dirty_rects()[0].x1 == 130);
+  CHECK(r.dirty_rects()[0].y1 == 70);
+  std::fill(buffer.begin(), buffer.end(), static_cast<unsigned char>(0xA5));
+  for (int i = 0; i < 3; ++i) {
+    REQUIRE(r.render(fb).ok());
+    CHECK(r.dirty_rects().empty());
+    REQUIRE(std::all_of(buffer.begin(), buffer.end(), [](unsigned char v) { return v == 0xA5; }));
+  }
+  // A new exposure changes every byte's meaning: the whole frame.
+  fb.exposure = 2.0;
+  REQUIRE(r.render(fb).ok());
+  CHECK(r.frame_stats().pixels == 130u * 70u);
+  std::fill(buffer.begin(), buffer.end(), static_cast<unsigned char>(0xA5));
+  r.force_full_frame();
+  REQUIRE(r.render(fb).ok());
+  CHECK(r.frame_stats().pixels == 130u * 70u);
+  for (std::size_t p = 3; p < buffer.size(); p += 4) REQUIRE(buffer[p] == 255);  // alpha of every pixel written
+  // Region renders compute their region and leave the tracking alone.
+  std::vector<float> part(static_cast<std::size_t>(20) * 10 * 3, -1.0f);
+  REQUIRE(r.render(FrameBuffer{part.data(), PixelFormat::rgb_f32, 20 * 12, 1.0}, PixelRect{5, 5, 25, 15}).ok());
+  REQUIRE(r.dirty_rects().size() == 1);
+  CHECK(r.dirty_rects()[0].x0 == 5);
+  std::fill(buffer.begin(), buffer.end(), static_cast<unsigned char>(0xA5));
+  REQUIRE(r.render(fb).ok());
+  CHECK(r.dirty_rects().empty());
+  // Off again: every pixel each frame.
+  REQUIRE(r.set_incremental(false).ok());
+  REQUIRE(r.render(fb).ok());
+  CHECK(r.frame_stats().pixels == 130u * 70u);
+}
+
+}  // namespace par2d::test
