@@ -316,6 +316,26 @@ PAR2D_C_API par2d_status par2d_get_frame_stats(const par2d_renderer* renderer, p
 PAR2D_C_API par2d_status par2d_render(par2d_renderer* renderer, void* pixels, par2d_pixel_format format,
                                       ptrdiff_t row_stride, double exposure, const int* region);
 
+/* Incremental frames (docs/api.md, "Incremental frames"). Off by default. With `on` non-zero,
+ * a whole-frame par2d_render computes only the 64x64 blocks whose inputs changed since the
+ * last whole frame and leaves the buffer's other pixels as they are (so the buffer must hold
+ * that frame; a new pointer, format, row stride or exposure computes the whole frame); the
+ * pixels equal a full render's byte for byte. par2d_force_full_frame makes the next whole
+ * frame compute every pixel. */
+PAR2D_C_API par2d_status par2d_set_incremental(par2d_renderer* renderer, int on);
+PAR2D_C_API par2d_status par2d_force_full_frame(par2d_renderer* renderer);
+
+/* Pixel columns [x0, x1) and rows [y0, y1). */
+typedef struct par2d_rect {
+  int x0, y0, x1, y1;
+} par2d_rect;
+/* The rectangles the last successful par2d_render wrote (merged block runs; none when an
+ * incremental frame changed nothing): the parts of the buffer to upload. Copies
+ * min(count, capacity) of them into `out` (NULL allowed with capacity 0) and sets *count to
+ * how many there are. */
+PAR2D_C_API par2d_status par2d_dirty_rects(const par2d_renderer* renderer, par2d_rect* out, size_t capacity,
+                                           size_t* count);
+
 #ifdef __cplusplus
 }
 #endif

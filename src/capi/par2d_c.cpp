@@ -400,6 +400,31 @@ par2d_status par2d_render(par2d_renderer* r, void* pixels, par2d_pixel_format fo
   });
 }
 
+par2d_status par2d_set_incremental(par2d_renderer* r, int on) {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  return to_c(fn, r->renderer.set_incremental(on != 0));
+}
+
+par2d_status par2d_force_full_frame(par2d_renderer* r) {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  r->renderer.force_full_frame();
+  return to_c(fn, par2d::Status());
+}
+
+par2d_status par2d_dirty_rects(const par2d_renderer* r, par2d_rect* out, size_t capacity, size_t* count) {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (count == nullptr) return fail(fn, "count is null");
+  if (out == nullptr && capacity != 0) return fail(fn, "out is null with capacity " + std::to_string(capacity));
+  const std::vector<par2d::PixelRect>& rects = r->renderer.dirty_rects();
+  for (std::size_t i = 0; i < rects.size() && i < capacity; ++i)
+    out[i] = par2d_rect{rects[i].x0, rects[i].y0, rects[i].x1, rects[i].y1};
+  *count = rects.size();
+  return to_c(fn, par2d::Status());
+}
+
 void par2d_light_terms_default(par2d_light_terms* terms) {
   if (terms == nullptr) return;
   *terms = par2d_light_terms{};

@@ -535,6 +535,82 @@ static void check_parity_with_the_cpp_renderer(const char* dir) {
   remove(path);
 }
 
+/* Incremental frames: the first frame is whole, a frame with no change writes nothing (the
+ * canaries stay), a ranged torch flickering rewrites only the blocks it reaches and says which,
+ * and the result equals a full frame of a second renderer byte for byte. */
+static void check_incremental_frames(void) {
+  enum { IW = 256, IH = 192 };
+  par2d_options options;
+  par2d_options_default(&options);
+  options.threads = 2;
+  par2d_renderer *r = NULL, *full = NULL;
+  CHECK(par2d_renderer_create(&options, &r) == PAR2D_OK);
+  CHECK(par2d_renderer_create(&options, &full) == PAR2D_OK);
+  if (r == NULL || full == NULL) return;
+  par2d_renderer* both[2] = {r, full};
+  const double white[3] = {1.0, 0.9, 0.8};
+  par2d_shape torch;
+  memset(&torch, 0, sizeof torch);
+  torch.kind = PAR2D_SHAPE_CIRCLE;
+  torch.circle[0] = 30.0;
+  torch.circle[1] = 30.0;
+  torch.circle[2] = 2.0;
+  par2d_light_terms terms;
+  par2d_light_terms_default(&terms);
+  terms.range = 20.0;
+  par2d_light lights[2] = {0, 0};
+  for (int i = 0; i < 2; ++i) {
+    CHECK(par2d_set_frame(both[i], IW, IH, NULL) == PAR2D_OK);
+    CHECK(par2d_add_light(both[i], &torch, white, 2.0, &lights[i]) == PAR2D_OK);
+    CHECK(par2d_set_light_terms(both[i], lights[i], &terms) == PAR2D_OK);
+  }
+  CHECK(par2d_set_incremental(r, 1) == PAR2D_OK);
+  CHECK(par2d_set_incremental(NULL, 1) == PAR2D_INVALID_ARGUMENT);
+  unsigned char* a = malloc((size_t)IW * IH * 4);
+  unsigned char* b = malloc((size_t)IW * IH * 4);
+  if (a == NULL || b == NULL) return;
+  par2d_rect rects[8];
+  size_t count = 99;
+  CHECK(par2d_render(r, a, PAR2D_RGBA8_SRGB, IW * 4, 1.0, NULL) == PAR2D_OK);
+  CHECK(par2d_dirty_rects(r, rects, 8, &count) == PAR2D_OK);
+  CHECK(count == 1 && rects[0].x0 == 0 && rects[0].y0 == 0 && rects[0].x1 == IW && rects[0].y1 == IH);
+  CHECK(par2d_dirty_rects(r, NULL, 0, &count) == PAR2D_OK && count == 1);
+  CHECK(par2d_dirty_rects(r, NULL, 1, &count) == PAR2D_INVALID_ARGUMENT);
+
+  /* Nothing changed: no pixel written, no rectangle. */
+  unsigned char* saved = malloc((size_t)IW * IH * 4);
+  if (saved == NULL) return;
+  memcpy(saved, a, (size_t)IW * IH * 4);
+  memset(a, 0xA5, (size_t)IW * IH * 4);
+  CHECK(par2d_render(r, a, PAR2D_RGBA8_SRGB, IW * 4, 1.0, NULL) == PAR2D_OK);
+  CHECK(par2d_dirty_rects(r, rects, 8, &count) == PAR2D_OK && count == 0);
+  int untouched = 1;
+  for (size_t i = 0; i < (size_t)IW * IH * 4; ++i) untouched = untouched && a[i] == 0xA5;
+  CHECK(untouched);
+  memcpy(a, saved, (size_t)IW * IH * 4);
+
+  /* The torch flickers: only the top-left block it reaches (range 20 around (30, 30)). */
+  for (int i = 0; i < 2; ++i) CHECK(par2d_set_light_emission(both[i], lights[i], white, 1.5) == PAR2D_OK);
+  CHECK(par2d_render(r, a, PAR2D_RGBA8_SRGB, IW * 4, 1.0, NULL) == PAR2D_OK);
+  CHECK(par2d_render(full, b, PAR2D_RGBA8_SRGB, IW * 4, 1.0, NULL) == PAR2D_OK);
+  CHECK(memcmp(a, b, (size_t)IW * IH * 4) == 0);
+  CHECK(par2d_dirty_rects(r, rects, 8, &count) == PAR2D_OK);
+  CHECK(count == 1 && rects[0].x0 == 0 && rects[0].y0 == 0 && rects[0].x1 == 64 && rects[0].y1 == 64);
+  par2d_frame_stats stats;
+  CHECK(par2d_get_frame_stats(r, &stats) == PAR2D_OK && stats.pixels == 64 * 64);
+
+  /* Forced: the whole frame again. */
+  CHECK(par2d_force_full_frame(r) == PAR2D_OK);
+  CHECK(par2d_render(r, a, PAR2D_RGBA8_SRGB, IW * 4, 1.0, NULL) == PAR2D_OK);
+  CHECK(par2d_dirty_rects(r, rects, 8, &count) == PAR2D_OK && count == 1 && rects[0].x1 == IW && rects[0].y1 == IH);
+  CHECK(memcmp(a, b, (size_t)IW * IH * 4) == 0);
+  free(saved);
+  free(a);
+  free(b);
+  par2d_renderer_destroy(r);
+  par2d_renderer_destroy(full);
+}
+
 int main(void) {
   int major = -1, minor = -1, patch = -1;
   char expected[32];
@@ -550,6 +626,7 @@ int main(void) {
   if (r == NULL) return 1;
   CHECK(par2d_renderer_threads(r) >= 1 && par2d_renderer_threads(r) <= 2);
   CHECK(par2d_set_frame(r, W, H, NULL) == PAR2D_OK);
+  check_incremental_frames();
 
   /* A circle light of radius 2 at (10, 10) with emission 3 (white), and a box occluder. */
   par2d_shape light_shape;
