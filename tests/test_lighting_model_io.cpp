@@ -277,7 +277,7 @@ TEST_CASE("every bad lighting-model value is refused with a one-line message nam
   check_message(occluder_with(R"("interior": true)"), R"(s.json: occluders[0].interior: expected "dark" or "lit")");
   check_message(occluder_with(R"("range": 3)"),
                 "s.json: occluders[0].range: unknown key (expected polygon, circle, segment, transmittance, mask, "
-                "interior)");
+                "interior, albedo)");
   check_message(occluder_with(R"("mask": 1, "mask": 2)"), "s.json: occluders[0].mask: duplicate key");
   // Directional lights.
   check_message(directional_with(R"("angles": [10, 10])"),
