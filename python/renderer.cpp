@@ -160,6 +160,29 @@ class PyRenderer {
     return d;
   }
 
+  void set_incremental(bool on) {
+    WorldLock lock(mutex_);
+    check(renderer_.set_incremental(on));
+  }
+  bool incremental() const {
+    WorldLock lock(mutex_);
+    return renderer_.incremental();
+  }
+  void force_full_frame() {
+    WorldLock lock(mutex_);
+    renderer_.force_full_frame();
+  }
+  py::list dirty_rects() const {
+    std::vector<par2d::PixelRect> rects;
+    {
+      WorldLock lock(mutex_);
+      rects = renderer_.dirty_rects();
+    }
+    py::list out;
+    for (const par2d::PixelRect& r : rects) out.append(py::make_tuple(r.x0, r.y0, r.x1, r.y1));
+    return out;
+  }
+
   // The culling and kernel work of the last successful render (all zero before one).
   py::dict frame_stats() const {
     par2d::FrameStats s;
@@ -377,6 +400,8 @@ class PyRenderer {
         buffer.format = format;
         buffer.row_stride = static_cast<std::ptrdiff_t>(image.strides(0));
         buffer.exposure = exposure;
+        // A new array holds no earlier frame (even at an earlier array's address).
+        if (!out_given) renderer_.force_full_frame();
         py::gil_scoped_release release;
         status = region ? renderer_.render(buffer, rect) : renderer_.render(buffer);
       }
@@ -452,6 +477,14 @@ void bind_renderer(py::module_& m) {
       .def("snapshot", &PyRenderer::snapshot, "The world as a Scene; par2d.render of it gives the same image.")
       .def_property_readonly("stats", &PyRenderer::stats,
                              "dict: frames, index_builds, index_updates, reach_computations, full_prepares.")
+      .def_property("incremental", &PyRenderer::incremental, &PyRenderer::set_incremental,
+                    "bool (default False): a whole-frame render into out= computes only the 64x64 blocks whose\n"
+                    "inputs changed since the last whole frame into that array and leaves its other pixels as they\n"
+                    "are; byte-identical to a full render. A render without out= computes every pixel.")
+      .def("force_full_frame", &PyRenderer::force_full_frame, "The next whole-frame render computes every pixel.")
+      .def_property_readonly("dirty_rects", &PyRenderer::dirty_rects,
+                             "list of (x0, y0, x1, y1): the pixels the last render wrote (merged 64x64 blocks); empty\n"
+                             "when an incremental frame changed nothing.")
       .def_property_readonly("frame_stats", &PyRenderer::frame_stats,
                              "dict: the culling and kernel work of the last render (docs/api.md, FrameStats).")
       .def_property_readonly("lights", &PyRenderer::lights, "Handles of the lights, in the order they were added.")

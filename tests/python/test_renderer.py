@@ -291,3 +291,38 @@ def test_options_and_frame_stats():
     assert r.frame_stats["pixels"] == 32 * 16
     r.set_options(threads=1, backend="scalar")
     assert r.options["backend"] == "scalar" and r.options["shaded"] is True
+
+
+def test_incremental_frames_write_only_dirty_rects_and_equal_full_renders():
+    d = {"width": 256, "height": 192,
+         "lights": [{"circle": {"center": [30, 30], "radius": 2}, "range": 20, "intensity": 2},
+                    {"circle": {"center": [200, 150], "radius": 3}, "range": 25}],
+         "occluders": [{"polygon": [[100, 20], [110, 20], [110, 170], [100, 170]]}]}
+    r = par2d.Renderer(d, threads=2)
+    assert r.incremental is False
+    r.incremental = True
+    assert r.incremental is True
+    out = np.zeros((192, 256, 3), dtype=np.float32)
+    r.render(out=out)
+    assert r.dirty_rects == [(0, 0, 256, 192)]
+    # Nothing changed: nothing written (canaries stay), no rectangle.
+    saved = out.copy()
+    out.fill(12345.0)
+    r.render(out=out)
+    assert r.dirty_rects == []
+    assert r.frame_stats["pixels"] == 0
+    assert np.all(out == 12345.0)
+    out[...] = saved
+    # One torch flickers: only its block is computed, and the frame equals a full render.
+    torch = r.lights[0]
+    r.set_light_emission(torch, (1.0, 0.5, 0.25), 3.0)
+    r.render(out=out)
+    assert r.dirty_rects == [(0, 0, 64, 64)]
+    assert r.frame_stats["pixels"] == 64 * 64
+    assert out.tobytes() == par2d.render(r.snapshot()).tobytes()
+    # Without out= every pixel is computed (a new array holds no earlier frame).
+    r.render()
+    assert r.dirty_rects == [(0, 0, 256, 192)]
+    r.force_full_frame()
+    r.render(out=out)
+    assert r.frame_stats["pixels"] == 256 * 192
