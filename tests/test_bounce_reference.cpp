@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "par2d/render.hpp"
+#include "par2d/renderer.hpp"
 #include "par2d/scene.hpp"
 #include "raycast/raycast_renderer.hpp"
 #include "scalar/bounce_reference.hpp"
@@ -318,6 +319,51 @@ TEST_CASE("bounce: a scene whose albedos are all 0 renders the same bytes as one
     const RenderedImage a = render_or_fail(scene, options_for(backend)), b = render_or_fail(bare, options_for(backend));
     CHECK(a.pixels == b.pixels);
   }
+}
+
+}  // namespace par2d::test
+
+namespace par2d::test {
+namespace {
+
+std::vector<float> renderer_frame(Renderer& r, int width, int height) {
+  std::vector<float> pixels(static_cast<std::size_t>(width) * height * 3, -1.0f);
+  REQUIRE(r.render(ImageView{pixels.data(), width, height, static_cast<std::ptrdiff_t>(width) * 3}).ok());
+  return pixels;
+}
+
+}  // namespace
+
+TEST_CASE("bounce: a Renderer after moving a light, a reflecting wall and the ambient equals a one-shot render" *
+          per_isa()) {
+  Scene scene = mixed_scene();
+  scene.width = 24;
+  scene.height = 18;
+  Renderer r;
+  std::vector<LightHandle> lights;
+  std::vector<OccluderHandle> occluders;
+  REQUIRE(r.set_scene(scene, &lights, &occluders).ok());
+  const std::vector<float> first = renderer_frame(r, 24, 18);
+  CHECK(first == render_or_fail(scene, RenderOptions{}).pixels);
+
+  // A moved light changes every piece's radiance, so pixels it cannot reach directly change too.
+  Light moved = scene.lights[0];
+  moved.shape = Circle{{-20, 40}, 5};
+  REQUIRE(r.update_light(lights[0], moved).ok());
+  const std::vector<float> second = renderer_frame(r, 24, 18);
+  CHECK(second == render_or_fail(r.snapshot(), RenderOptions{}).pixels);
+  CHECK(second != first);
+
+  // A moved reflecting wall moves its pieces.
+  Occluder wall = scene.occluders[0];
+  wall.shape = Polygon{{{-50, 20}, {10, 20}, {10, 30}, {-50, 30}}};
+  REQUIRE(r.update_occluder(occluders[0], wall).ok());
+  CHECK(renderer_frame(r, 24, 18) == render_or_fail(r.snapshot(), RenderOptions{}).pixels);
+
+  // Scene-wide terms set on their own keep the piece length.
+  REQUIRE(r.set_ambient({0.01, 0.02, 0.03}).ok());
+  CHECK(r.snapshot().bounce.piece == 7.0);
+  CHECK(renderer_frame(r, 24, 18) == render_or_fail(r.snapshot(), RenderOptions{}).pixels);
 }
 
 }  // namespace par2d::test
