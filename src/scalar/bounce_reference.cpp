@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geometry/aabb.hpp"
 #include "lighting/angular_profile.hpp"
 
 namespace par2d::detail {
@@ -146,9 +147,20 @@ void bounce_radiances(const PreparedScene& scene, BounceFrame& frame, std::size_
   }
 }
 
+void finish_bounce_frame(BounceFrame& frame) noexcept {
+  for (BounceSource& source : frame.sources) {
+    source.lit = false;
+    for (std::uint32_t k = source.first; k < source.first + source.count && !source.lit; ++k) {
+      const Rgb& l = frame.radiance[k];
+      source.lit = std::max({l[0], l[1], l[2]}) > 0.0;
+    }
+  }
+}
+
 void prepare_bounce_frame(const PreparedScene& scene, BounceFrame& frame, ScalarScratch& scratch) {
   build_bounce_sources(scene, frame);
   bounce_radiances(scene, frame, 0, frame.pieces.size(), scratch);
+  finish_bounce_frame(frame);
 }
 
 Rgb bounce_irradiance(const PreparedScene& scene, const BounceFrame& frame, Vec2 x, const Vec3* normal,
@@ -158,23 +170,43 @@ Rgb bounce_irradiance(const PreparedScene& scene, const BounceFrame& frame, Vec2
   const std::size_t occluders = scene.occluders.size();
   auto& spans = scratch.scalar.occluder_spans;
   auto& inside = scratch.scalar.inside;
-  spans.resize(occluders);
-  inside.resize(occluders);
-  for (std::size_t k = 0; k < occluders; ++k) {
-    spans[k] = angular_span(scene.occluders[k], x);
-    inside[k] = spans[k].full ? 1 : 0;
+  if (spans.size() < occluders || scratch.span_stamp.size() < occluders) {
+    spans.resize(occluders);
+    inside.resize(occluders);
+    scratch.span_stamp.assign(occluders, 0);
+    scratch.stamp = 0;
   }
+  if (++scratch.stamp == 0) {  // wrapped: forget every stamp
+    std::fill(scratch.span_stamp.begin(), scratch.span_stamp.end(), 0u);
+    scratch.stamp = 1;
+  }
+  // An occluder's span from x, once per point.
+  const auto span_of = [&](std::uint32_t k) -> const AngularSpan& {
+    if (scratch.span_stamp[k] != scratch.stamp) {
+      scratch.span_stamp[k] = scratch.stamp;
+      spans[k] = angular_span(scene.occluders[k], x);
+      inside[k] = spans[k].full ? 1 : 0;
+    }
+    return spans[k];
+  };
+  // The occluders containing x (their boxes contain it).
+  scratch.containing.clear();
+  scratch.near.clear();
+  scene.occluder_bvh.query_box({x.x, x.y, x.x, x.y}, scratch.near);
+  for (const std::uint32_t k : scratch.near)
+    if (span_of(k).full) scratch.containing.push_back(k);
   AngularProfile<double> profile;
   for (const BounceSource& source : frame.sources) {
-    const std::size_t j = source.occluder;
-    const AngularSpan& arc = spans[j];
+    if (!source.lit) continue;
+    const std::uint32_t j = source.occluder;
+    const AngularSpan& arc = span_of(j);
     // Inside its own occluder x meets no piece from the front; seen edge-on, none at all.
     if (arc.full || !(arc.width > 0.0)) continue;
     const std::uint32_t mask = scene.occluder_terms[j].mask;
     // Acting occluders containing x come first along every direction.
     Rgb factor{1.0, 1.0, 1.0};
-    for (std::size_t k = 0; k < occluders; ++k) {
-      if (!inside[k] || !acts(scene.occluder_terms[k], true, mask)) continue;
+    for (const std::uint32_t k : scratch.containing) {
+      if (!acts(scene.occluder_terms[k], true, mask)) continue;
       for (int c = 0; c < 3; ++c) factor[c] *= scene.occluder_terms[k].transmittance[c];
     }
     if (!(std::max({factor[0], factor[1], factor[2]}) > 0.0)) continue;
@@ -185,14 +217,21 @@ Rgb bounce_irradiance(const PreparedScene& scene, const BounceFrame& frame, Vec2
       piece_directions(frame.pieces[k], k, x, arc, scratch.emitters);
     }
     if (scratch.emitters.empty()) continue;
+    // Only an occluder meeting a segment from x to a point of the reflector can come first:
+    // its box meets the box around x and the reflector.
+    const ConvexShape& shape = scene.occluders[j];
+    const Aabb around{std::min(x.x, shape.bounds_min.x), std::min(x.y, shape.bounds_min.y),
+                      std::max(x.x, shape.bounds_max.x), std::max(x.y, shape.bounds_max.y)};
+    scratch.near.clear();
+    scene.occluder_bvh.query_box(around, scratch.near);
     scratch.blocked.clear();
     scratch.blocked_occluder.clear();
-    for (std::size_t k = 0; k < occluders; ++k) {
-      if (k == j || inside[k] || !acts(scene.occluder_terms[k], false, mask)) continue;
-      const std::size_t before = scratch.blocked.size();
-      blocked_pieces(source.light, scene.occluders[k], k, x, arc, spans[k], scratch.scalar, scratch.blocked);
-      scratch.blocked_occluder.resize(scratch.blocked.size(), static_cast<std::uint32_t>(k));
-      (void)before;
+    for (const std::uint32_t k : scratch.near) {
+      if (k == j) continue;
+      const AngularSpan& span = span_of(k);
+      if (inside[k] || !acts(scene.occluder_terms[k], false, mask)) continue;
+      blocked_pieces(source.light, scene.occluders[k], k, x, arc, span, scratch.scalar, scratch.blocked);
+      scratch.blocked_occluder.resize(scratch.blocked.size(), k);
     }
     build_coverage(scene, arc.width, scratch);
     if (scratch.coverage.empty()) continue;

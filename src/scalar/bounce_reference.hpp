@@ -24,6 +24,7 @@ struct BounceSource {
   std::uint32_t occluder = 0;
   std::uint32_t first = 0, count = 0;
   PreparedLight light;
+  bool lit = false;  // some piece has a non-zero radiance (finish_bounce_frame)
 };
 
 // What a frame's bounce needs, built once per frame: the pieces (prepared coordinates) and
@@ -51,6 +52,12 @@ struct BounceScratch {
     std::uint32_t piece;
   };
   std::vector<Emitter> emitters;
+  // The occluders the index finds near x and the segments to a reflector, each one's span
+  // from x found once per point (span_stamp == stamp).
+  std::vector<std::uint32_t> near;
+  std::vector<std::uint32_t> containing;
+  std::vector<std::uint32_t> span_stamp;
+  std::uint32_t stamp = 0;
 };
 
 // The pieces and sources of `scene` (radiances sized, not computed). Nothing when the scene
@@ -62,7 +69,10 @@ void build_bounce_sources(const PreparedScene& scene, BounceFrame& frame);
 void bounce_radiances(const PreparedScene& scene, BounceFrame& frame, std::size_t first, std::size_t last,
                       ScalarScratch& scratch);
 
-// Both, on this thread.
+// Which sources have a lit piece, once every radiance is in.
+void finish_bounce_frame(BounceFrame& frame) noexcept;
+
+// All three, on this thread.
 void prepare_bounce_frame(const PreparedScene& scene, BounceFrame& frame, ScalarScratch& scratch);
 
 // The bounce term at x: sum over pieces of L_k (1/2pi) * integral of V_k F_k s, shaded by
