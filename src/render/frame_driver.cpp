@@ -212,6 +212,7 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
       const std::size_t hi = pieces * static_cast<std::size_t>(lane + 1) / static_cast<std::size_t>(lanes);
       bounce_radiances(scene, *bounce_, lo, hi, states_[static_cast<std::size_t>(lane)].scalar);
     });
+    finish_bounce_frame(*bounce_);
   }
   scheduler.for_each_index(lanes, [&](int lane, int) {
     ThreadState& state = states_[static_cast<std::size_t>(lane)];
