@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "render/block_culling.hpp"
+#include "render/kernel_shapes.hpp"
 #include "render/tiling.hpp"
 
 namespace par2d::detail {
@@ -17,6 +19,10 @@ bool same_view(const View& a, const View& b) noexcept {
 bool same_reach(const LightReach& a, const LightReach& b) noexcept {
   return a.center.x == b.center.x && a.center.y == b.center.y && a.radius == b.radius && a.reach == b.reach &&
          a.nearest == b.nearest && a.farthest == b.farthest;
+}
+
+bool same_box(const Aabb& a, const Aabb& b) noexcept {
+  return a.min_x == b.min_x && a.min_y == b.min_y && a.max_x == b.max_x && a.max_y == b.max_y;
 }
 
 bool empty_box(const Aabb& b) noexcept { return !(b.min_x <= b.max_x && b.min_y <= b.max_y); }
@@ -46,9 +52,7 @@ void ChangeTracker::light_added() {
   if (next_) next_->light_added();
   any_ = true;
   if (full_) return;  // the arrays are rebuilt at the next frame
-  influence_.push_back(kEmptyBox);
-  query_.push_back(kEmptyBox);
-  reach_.emplace_back();
+  old_.emplace_back();
   changed_.push_back(1);
 }
 
@@ -72,24 +76,20 @@ void ChangeTracker::light_erased(std::size_t p) noexcept {
     return;
   }
   // The erased light's pixels, and the renumbered light's (a tile sums its lights in number
-  // order): its old I_l moves with it and it is marked changed.
-  if (!empty_box(influence_[p])) {
-    if (dirty_boxes_.size() == dirty_boxes_.capacity()) {
+  // order): its old footprint moves with it and it is marked changed.
+  if (!empty_box(old_[p].influence)) {
+    if (erased_.size() == erased_.capacity()) {
       full_ = true;  // no allocation here
       return;
     }
-    dirty_boxes_.push_back(influence_[p]);
+    erased_.push_back(old_[p]);
   }
   const std::size_t m = changed_.size() - 1;
   if (p != m) {
-    influence_[p] = influence_[m];
-    query_[p] = query_[m];
-    reach_[p] = reach_[m];
+    old_[p] = old_[m];
     changed_[p] = 1;
   }
-  influence_.pop_back();
-  query_.pop_back();
-  reach_.pop_back();
+  old_.pop_back();
   changed_.pop_back();
 }
 
@@ -125,6 +125,15 @@ void ChangeTracker::terms_changed() noexcept {
   any_ = true;
 }
 
+bool ChangeTracker::Footprint::takes_part(const Aabb& box, bool model) const noexcept {
+  if (empty_box(influence) || !boxes_meet(influence, box) || reach.hides(box)) return false;
+  if (!model || !(range < std::numeric_limits<double>::infinity())) return true;
+  // beyond_range (render/model_terms.hpp) on the shape's box, as cull_block tests it.
+  const double dx = std::max({bounds.min_x - box.max_x, 0.0, box.min_x - bounds.max_x});
+  const double dy = std::max({bounds.min_y - box.max_y, 0.0, box.min_y - bounds.max_y});
+  return !(std::hypot(dx, dy) >= range);
+}
+
 // Marks every block that meets `box` (prepared coordinates), with a pixel to spare.
 void ChangeTracker::mark(const PreparedScene& scene, const Aabb& box) {
   if (empty_box(box)) return;
@@ -135,13 +144,13 @@ void ChangeTracker::mark(const PreparedScene& scene, const Aabb& box) {
   const double sy = scene.height / (scene.view.y1 - scene.view.y0);
   double px0 = (box.min_x - scene.view.x0) * sx, px1 = (box.max_x - scene.view.x0) * sx;
   double py0 = (box.min_y - scene.view.y0) * sy, py1 = (box.max_y - scene.view.y0) * sy;
-  if (px0 > px1) std::swap(px0, px1);
-  if (py0 > py1) std::swap(py0, py1);
-  if (!(px1 >= -2.0 && py1 >= -2.0 && px0 <= scene.width + 2.0 && py0 <= scene.height + 2.0)) {
-    if (std::isnan(px0) || std::isnan(px1) || std::isnan(py0) || std::isnan(py1))
-      std::fill(mask_.begin(), mask_.end(), std::uint8_t{1});
+  if (std::isnan(px0) || std::isnan(px1) || std::isnan(py0) || std::isnan(py1)) {
+    std::fill(mask_.begin(), mask_.end(), std::uint8_t{1});
     return;
   }
+  if (px0 > px1) std::swap(px0, px1);
+  if (py0 > py1) std::swap(py0, py1);
+  if (!(px1 >= -2.0 && py1 >= -2.0 && px0 <= scene.width + 2.0 && py0 <= scene.height + 2.0)) return;
   const auto block_of = [](double p, int count) {
     const double b = std::floor(p / kBlockSize);
     return static_cast<int>(std::clamp(b, 0.0, static_cast<double>(count - 1)));
@@ -152,6 +161,17 @@ void ChangeTracker::mark(const PreparedScene& scene, const Aabb& box) {
     std::fill(mask_.begin() + by * columns + bx0, mask_.begin() + by * columns + bx1 + 1, std::uint8_t{1});
 }
 
+void ChangeTracker::mark_light(const PreparedScene& scene, const Footprint& f, const Aabb* region) {
+  if (empty_box(f.influence)) return;
+  for (std::size_t b = 0; b < block_boxes_.size(); ++b) {
+    if (mask_[b]) continue;
+    const Aabb& box = block_boxes_[b];
+    if (!f.takes_part(box, scene.model)) continue;
+    if (region && !boxes_meet(*region, box_union(box, f.bounds))) continue;
+    mask_[b] = 1;
+  }
+}
+
 const std::vector<std::uint8_t>* ChangeTracker::plan(const PreparedScene& scene, const std::vector<LightReach>* reach,
                                                      const FrameKey& key, std::vector<PixelRect>& rects) {
   const std::size_t lights = scene.lights.size();
@@ -160,26 +180,29 @@ const std::vector<std::uint8_t>* ChangeTracker::plan(const PreparedScene& scene,
   if (!full && any_ && !precise) full = true;
   if (!full && !regions_.empty() && !scene.directionals.empty()) full = true;
 
-  new_influence_.assign(lights, kEmptyBox);
-  new_query_.assign(lights, kEmptyBox);
+  new_.assign(lights, Footprint{});
   if (precise) {
     const double bw = std::abs(scene.view.x1 - scene.view.x0) / scene.width * kBlockSize;
     const double bh = std::abs(scene.view.y1 - scene.view.y0) / scene.height * kBlockSize;
     for (std::size_t l = 0; l < lights; ++l) {
       const LightReach& r = (*reach)[l];
       const PreparedLight& light = scene.lights[l];
+      Footprint& f = new_[l];
+      f.reach = r;
+      f.bounds = bounds_of(light.shape);
+      f.range = light.terms.range;
       // Not hidden: within max(farthest, radius) of the center (LightReach::hides).
       const double d = std::max(r.farthest, r.radius);
       Aabb in{r.center.x - d, r.center.y - d, r.center.x + d, r.center.y + d};
       if (scene.model && light.terms.has_range()) {  // not beyond_range: within range of the shape's box
         const double g = light.terms.range;
-        in = intersection(in, {light.shape.bounds_min.x - g, light.shape.bounds_min.y - g,
-                               light.shape.bounds_max.x + g, light.shape.bounds_max.y + g});
+        in = intersection(in, {f.bounds.min_x - g, f.bounds.min_y - g, f.bounds.max_x + g, f.bounds.max_y + g});
       }
-      new_influence_[l] = in;
+      f.influence = in;
+      // Every block's hull with the light lies in Q_l.
       Aabb q = empty_box(in) ? kEmptyBox : Aabb{in.min_x - bw, in.min_y - bh, in.max_x + bw, in.max_y + bh};
-      grow(q, bounds_of(light.shape));
-      new_query_[l] = q;
+      grow(q, f.bounds);
+      f.query = q;
     }
   }
 
@@ -187,42 +210,45 @@ const std::vector<std::uint8_t>* ChangeTracker::plan(const PreparedScene& scene,
   const int rows = (scene.height + kBlockSize - 1) / kBlockSize;
   mask_.assign(static_cast<std::size_t>(columns) * static_cast<std::size_t>(rows), full ? 1 : 0);
   if (!full && any_) {
-    for (std::size_t l = 0; l < lights; ++l) {
-      if (changed_[l] || !same_reach(reach_[l], (*reach)[l])) {
-        mark(scene, influence_[l]);
-        mark(scene, new_influence_[l]);
+    block_boxes_.resize(mask_.size());
+    for (int by = 0; by < rows; ++by) {
+      for (int bx = 0; bx < columns; ++bx) {
+        const TileRect block{bx * kBlockSize, by * kBlockSize, std::min((bx + 1) * kBlockSize, scene.width),
+                             std::min((by + 1) * kBlockSize, scene.height)};
+        block_boxes_[static_cast<std::size_t>(by * columns + bx)] = bounds_of(tile_corners(scene, block));
       }
     }
+    // A light changed, renumbered or with another reach: wherever it took part or takes part.
+    for (std::size_t l = 0; l < lights; ++l) {
+      if (changed_[l] || !same_reach(old_[l].reach, new_[l].reach) || !same_box(old_[l].bounds, new_[l].bounds) ||
+          old_[l].range != new_[l].range) {
+        mark_light(scene, old_[l], nullptr);
+        mark_light(scene, new_[l], nullptr);
+      }
+    }
+    for (const Footprint& f : erased_) mark_light(scene, f, nullptr);
+    // An occluder changed in `r`: a candidate of light l in block B only if `r` meets the box
+    // of B and the light, where l takes part in B.
     for (const Aabb& r : regions_) {
       mark(scene, r);  // an occluder holding a pixel
       for (std::size_t l = 0; l < lights; ++l) {
-        if (boxes_meet(query_[l], r) || boxes_meet(new_query_[l], r)) {
-          mark(scene, influence_[l]);
-          mark(scene, new_influence_[l]);
-        }
+        if (boxes_meet(old_[l].query, r)) mark_light(scene, old_[l], &r);
+        if (boxes_meet(new_[l].query, r)) mark_light(scene, new_[l], &r);
       }
     }
-    for (const Aabb& b : dirty_boxes_) mark(scene, b);
   }
 
   // This frame is now what the host's buffer holds.
-  influence_.swap(new_influence_);
-  query_.swap(new_query_);
-  if (precise) {
-    reach_.assign(reach->begin(), reach->end());
-  } else {
-    reach_.assign(lights, LightReach{});
-  }
+  old_.swap(new_);
   changed_.assign(lights, 0);
-  dirty_boxes_.clear();
+  erased_.clear();
   regions_.clear();
-  if (dirty_boxes_.capacity() < kMaxRegions) dirty_boxes_.reserve(kMaxRegions);
+  if (erased_.capacity() < kMaxRegions) erased_.reserve(kMaxRegions);
   if (regions_.capacity() < kMaxRegions) regions_.reserve(kMaxRegions);
   full_ = false;
   any_ = false;
   key_ = key;
   have_key_ = true;
-
   // The rectangles: runs of dirty blocks per block row, stacked where rows repeat a run.
   rects.clear();
   for (int by = 0; by < rows; ++by) {

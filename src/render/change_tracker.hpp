@@ -72,10 +72,25 @@ class ChangeTracker final : public WorldObserver {
   void terms_changed() noexcept override;
 
  private:
-  static constexpr std::size_t kMaxRegions = 64;  // more occluder changes in a frame: every block
+  static constexpr std::size_t kMaxRegions = 64;  // more changes in a frame: every block
+
+  // What decides whether a light takes part in a block, as of one frame: cull_block skips the
+  // light where `reach` hides the block or the block is beyond `range` of `bounds`.
+  struct Footprint {
+    Aabb influence = kEmptyBox;  // I_l (empty: no light)
+    Aabb query = kEmptyBox;      // Q_l
+    LightReach reach;
+    Aabb bounds = kEmptyBox;     // the shape's box
+    double range = 0.0;          // infinity: none
+    // Whether the light takes part in the block with box `box` (the frame's model flag given).
+    bool takes_part(const Aabb& box, bool model) const noexcept;
+  };
 
   void region(const Aabb& box) noexcept;
   void mark(const PreparedScene& scene, const Aabb& box);
+  // Marks the blocks where `f` takes part and (when given) whose box joined with the light's
+  // meets `region`: where an occluder in `region` may be one of the light's candidates.
+  void mark_light(const PreparedScene& scene, const Footprint& f, const Aabb* region);
 
   WorldObserver* next_ = nullptr;
   bool full_ = true;  // every block at the next frame
@@ -83,14 +98,14 @@ class ChangeTracker final : public WorldObserver {
   bool have_key_ = false;
   FrameKey key_{};
   // Per light, as of the last frame (kept parallel to PreparedScene::lights by the events).
-  std::vector<Aabb> influence_, query_;  // I_l and Q_l
-  std::vector<LightReach> reach_;
+  std::vector<Footprint> old_;
   std::vector<std::uint8_t> changed_;
-  // Boxes whose blocks are dirty whatever the lights (erased lights' I_l) and occluder regions.
-  std::vector<Aabb> dirty_boxes_, regions_;
-  bool regions_overflow_ = false;
+  // Erased lights' footprints and occluder regions since the last frame.
+  std::vector<Footprint> erased_;
+  std::vector<Aabb> regions_;
   std::vector<std::uint8_t> mask_;
-  std::vector<Aabb> new_influence_, new_query_;
+  std::vector<Aabb> block_boxes_;  // each block's box as cull_block sees it
+  std::vector<Footprint> new_;
 };
 
 }  // namespace par2d::detail
