@@ -1,6 +1,7 @@
 // SDL2 + OpenGL example: par2d lights a sprite layer on the GPU. Each frame the torches move
-// or flicker, par2d renders the lightmap into the host's pixel buffer, only what changed is
-// uploaded with glTexSubImage2D, and a fragment shader composites the light over the sprites:
+// or flicker, par2d renders the lightmap into the host's pixel buffer (incremental frames: only
+// the blocks whose inputs changed), only the rectangles it changed are uploaded with
+// glTexSubImage2D, and a fragment shader composites the light over the sprites:
 //   multiply: sprite (sRGB bytes) x lightmap (PixelFormat::rgba8_srgb, exposure applied by par2d)
 //   hdr:      linear sprite x exposure x E (PixelFormat::rgba_f32 as a float texture),
 //             Reinhard tone curve x / (1 + x), sRGB-encoded by the shader
@@ -133,8 +134,11 @@ int main(int argc, char** argv) {
   }
 
   // --- The lighting world: walls, a pillar, two moving torches and a flickering brazier.
+  // Incremental frames: each frame computes only the blocks whose inputs changed and reports
+  // them as rectangles, which are all the GPU needs re-uploaded.
   par2d::Renderer renderer;
   if (par2d::Status s = renderer.set_frame(kWidth, kHeight); !s) return fail(s.message());
+  if (par2d::Status s = renderer.set_incremental(true); !s) return fail(s.message());
   auto wall = [&](double x0, double y0, double x1, double y1) {
     par2d::OccluderHandle h;
     return renderer.add_occluder({par2d::Polygon{{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}}}, &h);
@@ -146,9 +150,19 @@ int main(int argc, char** argv) {
   if (par2d::Status s = renderer.add_occluder({par2d::Circle{{470, 180}, 18}}, &pillar); !s) return fail(s.message());
   par2d::LightHandle torch_a, torch_b, brazier;
   const par2d::Rgb warm{1.0, 0.75, 0.45}, cool{0.55, 0.7, 1.0}, fire{1.0, 0.55, 0.25};
-  if (par2d::Status s = renderer.add_light({par2d::Circle{{150, 120}, 5}, warm, 3.0}, &torch_a); !s) return fail(s.message());
-  if (par2d::Status s = renderer.add_light({par2d::Circle{{520, 260}, 4}, cool, 2.5}, &torch_b); !s) return fail(s.message());
-  if (par2d::Status s = renderer.add_light({par2d::Circle{{160, 290}, 8}, fire, 2.0}, &brazier); !s) return fail(s.message());
+  // Game torches have a range: light fades to nothing at `range` units from the shape, so a
+  // torch that moves changes only the blocks within its range (old and new place).
+  auto torch = [](double x, double y, double radius, const par2d::Rgb& color, double intensity, double range) {
+    par2d::Light light;
+    light.shape = par2d::Circle{{x, y}, radius};
+    light.color = color;
+    light.intensity = intensity;
+    light.range = range;
+    return light;
+  };
+  if (par2d::Status s = renderer.add_light(torch(150, 120, 5, warm, 4.0, 130), &torch_a); !s) return fail(s.message());
+  if (par2d::Status s = renderer.add_light(torch(520, 260, 4, cool, 3.5, 150), &torch_b); !s) return fail(s.message());
+  if (par2d::Status s = renderer.add_light(torch(160, 300, 8, fire, 2.5, 90), &brazier); !s) return fail(s.message());
 
   // The host's light buffer, tightly packed rows, in the format the shader reads.
   const par2d::PixelFormat format = hdr ? par2d::PixelFormat::rgba_f32 : par2d::PixelFormat::rgba8_srgb;
@@ -199,23 +213,22 @@ int main(int argc, char** argv) {
 
   // --- The loop.
   bool running = true;
+  long long uploaded = 0;  // texels sent to the GPU
   for (int frame = 0; running && (frames < 0 || frame < frames); ++frame) {
     SDL_Event event;
     while (SDL_PollEvent(&event))
       if (event.type == SDL_QUIT) running = false;
     const double t = frame / 60.0;
-    // Torch A walks a circle; torch B paces; the brazier only flickers (emission alone).
-    par2d::Status s = renderer.update_light(
-        torch_a, {par2d::Circle{{150 + 60 * std::cos(t), 150 + 60 * std::sin(t)}, 5}, warm, 3.0});
-    if (s) s = renderer.update_light(torch_b, {par2d::Circle{{520 + 50 * std::sin(0.7 * t), 260}, 4}, cool, 2.5});
-    if (s) s = renderer.set_light_emission(brazier, fire, 2.0 * (0.85 + 0.15 * std::sin(13.0 * t)));
+    // Torch A walks a circle, torch B stays put, the brazier only flickers (emission alone).
+    par2d::Status s = renderer.update_light(torch_a, torch(150 + 60 * std::cos(t), 150 + 60 * std::sin(t), 5, warm, 4.0, 130));
+    if (s) s = renderer.set_light_emission(brazier, fire, 2.5 * (0.85 + 0.15 * std::sin(13.0 * t)));
     if (s) s = renderer.render(buffer);
     if (!s) return fail(s.message());
 
-    // Upload what changed. The whole frame here; with change tracking, only its rectangles.
-    const par2d::PixelRect changed[] = {{0, 0, kWidth, kHeight}};
+    // Upload only what changed (the first frame: all of it; a frame where nothing moved: nothing).
     glActiveTexture(GL_TEXTURE1);
-    for (const par2d::PixelRect& r : changed) {
+    for (const par2d::PixelRect& r : renderer.dirty_rects()) {
+      uploaded += static_cast<long long>(r.x1 - r.x0) * (r.y1 - r.y0);
       glPixelStorei(GL_UNPACK_SKIP_PIXELS, r.x0);
       glPixelStorei(GL_UNPACK_SKIP_ROWS, r.y0);
       glTexSubImage2D(GL_TEXTURE_2D, 0, r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0, GL_RGBA,
@@ -239,6 +252,9 @@ int main(int argc, char** argv) {
     SDL_GL_SwapWindow(window);
   }
   if (const GLenum error = glGetError(); error != GL_NO_ERROR) return fail("GL error " + std::to_string(error));
+  if (frames > 0)
+    std::printf("par2d_lightmap_gl: %d frames, %.1f %% of their texels uploaded\n", frames,
+                100.0 * static_cast<double>(uploaded) / (static_cast<double>(frames) * kWidth * kHeight));
 
   if (!sprites_out.empty()) {
     std::vector<unsigned char> rgb(static_cast<std::size_t>(kWidth) * kHeight * 3);
