@@ -102,6 +102,7 @@ void cull_block(const PreparedScene& scene, const std::array<Vec2, 4>& corners, 
   block_shadowed.assign(scene.lights.size(), 0);
   const Aabb box = bounds_of(corners);
   if (reach && !culling_trusted(scene)) reach = nullptr;
+  scratch.visible.update(scene);
   BlockCullingScratch::TileProofRecord block_proofs;  // this block's block proofs so far
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
     std::vector<std::uint32_t>& candidates = block_candidates[l];
@@ -139,8 +140,10 @@ void cull_block(const PreparedScene& scene, const std::array<Vec2, 4>& corners, 
       ++scratch.counts.block_proofs_skipped;
     } else if (prover_count != 0) {
       ++block_proofs.tried;
-      if (rect_hidden_from_light({box.min_x, box.min_y}, {box.max_x, box.max_y}, light, scene.occluders, provers,
-                                 prover_count, kBlockStripBudget, occlusion)) {
+      // A light poking into a wall: only its part outside needs hiding (the cap reaches no
+      // point outside the wall, and a point inside sees nothing).
+      if (rect_hidden_from_light({box.min_x, box.min_y}, {box.max_x, box.max_y}, scratch.visible.shape(scene, l),
+                                 scene.occluders, provers, prover_count, kBlockStripBudget, occlusion)) {
         candidates.clear();
         block_shadowed[l] = 1;
         ++block_proofs.succeeded;
@@ -166,8 +169,8 @@ bool tile_proof_hides_light(const PreparedScene& scene, std::size_t l, const Aab
   for (std::uint32_t p = first_pair; p < work.pairs.size(); ++p)
     if (!scene.model || proves_shadow(scene, work.pairs[p].occluder, light.terms.mask))
       scratch.provers.push_back(work.pairs[p].occluder);
-  const bool shadowed = rect_hidden_from_light({box.min_x, box.min_y}, {box.max_x, box.max_y}, light.shape,
-                                               scene.occluders, scratch.provers.data(), scratch.provers.size(),
+  const bool shadowed = rect_hidden_from_light({box.min_x, box.min_y}, {box.max_x, box.max_y},
+                                               scratch.visible.shape(scene, l), scene.occluders, scratch.provers.data(), scratch.provers.size(),
                                                kTileStripBudget, occlusion);
   ++light_proofs.tried;
   ++block_proofs.tried;

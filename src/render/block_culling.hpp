@@ -13,6 +13,7 @@
 
 #include "culling/light_reach.hpp"
 #include "culling/occlusion_proof.hpp"
+#include "culling/visible_light.hpp"
 #include "render/frame_counters.hpp"
 #include "simd/tile_work.hpp"
 #include "world/prepared_scene.hpp"
@@ -33,6 +34,9 @@ struct BlockCullingScratch {
   };
   std::vector<TileProofRecord> tile_proof_records;
   TileProofRecord block_proof_record;
+  // Each light's part outside the occluder it sits in (filled by cull_block per block): the
+  // shape the block and tile proofs and the pair separators see.
+  VisibleLights visible;
   // Its counts (block_proofs_skipped, tile_proofs_skipped: proofs the adaptive rule did not
   // try), accumulated until the owner clears them.
   FrameCounters counts;

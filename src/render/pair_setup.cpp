@@ -255,16 +255,45 @@ int corners_in_front(const Line& line, const std::array<Vec2, 4>& corners) noexc
   return front;
 }
 
+// How many corners lie strictly on the occluder's side of the line.
+int corners_beyond(const Line& line, const std::array<Vec2, 4>& corners) noexcept {
+  int beyond = 0;
+  for (Vec2 p : corners) beyond += line.side(p) > 0.0;
+  return beyond;
+}
+
+// Whether all of `shape` lies on the closed positive side of `line`.
+bool on_positive_side(const ConvexShape& shape, const Line& line) noexcept {
+  if (shape.kind == ShapeKind::circle) return line.side(shape.vertices[0]) - shape.radius >= 0.0;
+  for (const Vec2 v : shape.vertices)
+    if (!(line.side(v) >= 0.0)) return false;
+  return true;
+}
+
 // The separating line of light l and its block candidate `candidate` (occluder k), through
 // the block's entries (PairSetupScratch::block_separators; `candidates`: the light's block
 // candidate count, `serial`: the block's).
+// `clip_line`: a clipped light's clip line (VisibleLights). An occluder wholly on the far
+// side of it, like the next box of the wall a torch pokes into, is separated from the kept
+// part of the light by the clip line itself: the whole room in front of the wall is then
+// on the light's side, where the closest points' bisector would stand across the room.
+// (The occluder does not meet the light, so it meets none of the kept part: from a point on
+// the light's side no segment to a kept point reaches it, from the other side it comes first.)
+// Other occluders take the scene's line for the whole light, which separates the kept part
+// too; lines made for the kept part would outlive it in the scene's table when the clipping
+// occluder moves (the World forgets only the moved occluder's lines).
 std::optional<Line> block_separator(const PreparedScene& scene, std::size_t l, std::size_t candidate, std::uint32_t k,
-                                    std::size_t candidates, std::uint64_t serial, PairSetupScratch& scratch) {
+                                    std::size_t candidates, std::uint64_t serial, const Line* clip_line,
+                                    PairSetupScratch& scratch) {
   if (scratch.block_separator_block[l] != serial) {
     scratch.block_separator_block[l] = serial;
     scratch.block_separators[l].assign(candidates, PairSetupScratch::BlockSeparator{});
   }
   PairSetupScratch::BlockSeparator& entry = scratch.block_separators[l][candidate];
+  if (entry.state < 0 && clip_line && on_positive_side(scene.occluders[k], *clip_line)) {
+    entry.state = 1;
+    entry.line = *clip_line;
+  }
   if (entry.state < 0) {
     const std::optional<Line> line = scene.separators.get(l, k, scene.lights[l].shape, scene.occluders[k]);
     entry.state = line ? 1 : 0;
@@ -276,9 +305,12 @@ std::optional<Line> block_separator(const PreparedScene& scene, std::size_t l, s
 
 }  // namespace
 
-void build_light_pairs(const PreparedScene& scene, std::size_t l, const std::vector<std::uint32_t>& candidates,
-                       const TileView& tile, const BlockView& block, PairSetupScratch& scratch,
-                       KernelShapeScratch& shapes, TileWork& work, LightPairs& out) {
+namespace {
+
+// build_light_pairs; `each_tile`: every pair separated on this tile's shapes, as far pairs are.
+void build_pairs(const PreparedScene& scene, std::size_t l, const std::vector<std::uint32_t>& candidates,
+                 const TileView& tile, const BlockView& block, PairSetupScratch& scratch, KernelShapeScratch& shapes,
+                 TileWork& work, LightPairs& out, const VisibleLights::Entry* visible, bool each_tile) {
   const PreparedLight& light = scene.lights[l];
   const bool model = scene.model;
   const bool culling = tile.culling;
@@ -297,7 +329,7 @@ void build_light_pairs(const PreparedScene& scene, std::size_t l, const std::vec
   bool clipped = false;
   if (hull_test) tile_hull.assign(box, bounds_of(light.shape));
   const Vec2 tile_center = 0.5 * (corners[0] + corners[2]);
-  const bool light_far = !candidates.empty() && reaches_far(light.shape, frame, tile_center);
+  const bool light_far = !candidates.empty() && (each_tile || reaches_far(light.shape, frame, tile_center));
   const ConvexShape* light_near = nullptr;
   const std::uint32_t first_pair = static_cast<std::uint32_t>(work.pairs.size());
   out.first_pair = first_pair;
@@ -335,11 +367,14 @@ void build_light_pairs(const PreparedScene& scene, std::size_t l, const std::vec
                             frame.scale);
       if (line) overlapping = false;
     } else if (!overlapping) {
-      line = block_separator(scene, l, candidate, k, candidates.size(), block.serial, scratch);
+      line = block_separator(scene, l, candidate, k, candidates.size(), block.serial,
+                             visible ? &visible->line : nullptr, scratch);
     }
-    // Clipping drops the cap inside the occluder: only where the occluder hides it.
+    // Clipping drops the cap inside the occluder: only where the occluder hides it. A light
+    // with a visible part is clipped by the occluder that part was cut by, the one whose
+    // clip its other pairs' lines rely on.
     if (!line && overlapping && !clipped && prover) {
-      if (overlap_info->clips) {
+      if (visible ? k == visible->occluder : overlap_info->clips) {
         clip = overlap_info->clip;
         clipped = true;
         line = clip.line;  // separates the light's near part from the occluder
@@ -372,7 +407,10 @@ void build_light_pairs(const PreparedScene& scene, std::size_t l, const std::vec
     pair.c = frame.line_offset(line->normal, line->point);
     if (culling) {
       const int front = corners_in_front(*line, corners);
-      if (front == 0) continue;  // the light comes first everywhere in the tile
+      // The light comes first everywhere in the tile: every corner on its side, or on the
+      // line (the samples lie inside the tile, so on the light's side then; tilemaps put
+      // walls' faces, and so a clipped torch's clip line, on tile edges).
+      if (front == 0 || corners_beyond(*line, corners) == 0) continue;
       if (front == 4) {
         pair.nx = pair.ny = 0.0f;
         pair.c = -1.0f;
@@ -436,6 +474,34 @@ void build_light_pairs(const PreparedScene& scene, std::size_t l, const std::vec
   out.shadowed = shadowed;
   out.general = general;
   out.clipped = clipped;
+}
+
+}  // namespace
+
+void build_light_pairs(const PreparedScene& scene, std::size_t l, const std::vector<std::uint32_t>& candidates,
+                       const TileView& tile, const BlockView& block, PairSetupScratch& scratch,
+                       KernelShapeScratch& shapes, TileWork& work, LightPairs& out,
+                       const VisibleLights::Entry* visible) {
+  if (visible) {
+    // The clip line separates the other occluders only where the kernel clips the light at
+    // its occluder, which the far pairs' per-tile test may not do: such tiles separate every
+    // pair anew.
+    const Vec2 tile_center = 0.5 * (tile.corners[0] + tile.corners[2]);
+    if (reaches_far(scene.lights[l].shape, tile.frame, tile_center) ||
+        reaches_far(scene.occluders[visible->occluder], tile.frame, tile_center)) {
+      build_pairs(scene, l, candidates, tile, block, scratch, shapes, work, out, nullptr, true);
+      return;
+    }
+  }
+  build_pairs(scene, l, candidates, tile, block, scratch, shapes, work, out, visible, false);
+  if (visible && !out.shadowed && !out.clipped) {
+    // The clipping occluder was not among the pairs (it always is: it meets the light), so
+    // the clip line may not separate the others: the tile separates each pair anew.
+    work.pairs.resize(out.first_pair);
+    work.point_x.resize(out.first_point);
+    work.point_y.resize(out.first_point);
+    build_pairs(scene, l, candidates, tile, block, scratch, shapes, work, out, nullptr, true);
+  }
 }
 
 bool clip_needless(const ConvexShape& light, const TileView& tile, LightPairs& pairs) noexcept {

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "culling/visible_light.hpp"
 #include "render/frame_counters.hpp"
 #include "render/kernel_shapes.hpp"
 #include "render/tiling.hpp"
@@ -122,9 +123,13 @@ struct LightPairs {
 // With tile.culling, occluders behind the light for the whole tile and occluders outside
 // the hull of the tile and the light are dropped, and a light in the umbra of one occluder
 // over the whole tile comes back shadowed.
+// `visible` (VisibleLights, or nullptr): a light clipped by its designated occluder, whose
+// clip line then also separates every other occluder lying wholly beyond it (the kernel
+// clips the light there; where the tile cannot, each pair is separated per tile).
 void build_light_pairs(const PreparedScene& scene, std::size_t l, const std::vector<std::uint32_t>& candidates,
                        const TileView& tile, const BlockView& block, PairSetupScratch& scratch,
-                       KernelShapeScratch& shapes, TileWork& work, LightPairs& out);
+                       KernelShapeScratch& shapes, TileWork& work, LightPairs& out,
+                       const VisibleLights::Entry* visible = nullptr);
 
 // Whether a clipped light's clip changes nothing over the tile: over a tile wholly before the
 // clip line that sees no light point past it, the clipped light's arc is the whole light's

@@ -61,7 +61,7 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     const PreparedLight& light = scene.lights[l];
     if (model && beyond_range(box, light.shape, light.terms)) continue;
     build_light_pairs(scene, l, scratch.block_candidates[l], view, scratch.block, scratch.pairs, scratch.shapes,
-                      work, light_pairs);
+                      work, light_pairs, scratch.culling.visible.clipped(l));
     if (!light_pairs.shadowed && culling && work.pairs.size() - light_pairs.first_pair >= kTileProofMinPairs)
       light_pairs.shadowed = tile_proof_hides_light(scene, l, box, work, light_pairs.first_pair, scratch.culling,
                                                     scratch.occlusion);

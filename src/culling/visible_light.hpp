@@ -1,0 +1,50 @@
+// The part of a light outside the occluder it sits in: what reach, proofs and pair separators
+// use for a light poking into a wall (issue 39), since the cap inside the wall reaches no one.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "geometry/convex_shape.hpp"
+#include "world/prepared_scene.hpp"
+
+namespace par2d::detail {
+
+// The one clip every renderer stage uses for `light`: the first of its overlaps (in the order
+// of overlapping_occluders) whose occluder cuts off a cap of the light (LightOverlap::clips)
+// and hides what lies behind it for this light (opaque, dark inside, acting on its mask: the
+// cap then reaches no point outside the occluder, and a point inside sees nothing).
+// An index into light.overlaps, or -1.
+int designated_clip(const PreparedScene& scene, const PreparedLight& light) noexcept;
+
+// A convex polygon P with (light minus the clip's cap) inside P inside the clip line's closed
+// negative side: the light clipped at the line, a circle as its circumscribed 16-gon first.
+// Every segment from a point outside the occluder to a light point outside P ends in the cap,
+// inside the occluder: so a proof that P is hidden hides the light, and a line separating P
+// from another occluder separates every light point that the kernel's clipped light keeps.
+// False (out untouched) for a segment light or when nothing of the light is left.
+bool visible_part(const ConvexShape& light, const LightClip& clip, ConvexShape& out, std::vector<Vec2>& scratch);
+
+// Per block and thread: each light's visible part when it has a designated clip.
+struct VisibleLights {
+  struct Entry {
+    int clip = -1;               // designated_clip, or -1: the light is used whole
+    std::uint32_t occluder = 0;  // the clipping occluder when clip >= 0
+    Line line;                   // its clip line (the light's kept part on side <= 0)
+    ConvexShape shape;           // visible_part when clip >= 0
+  };
+  std::vector<Entry> entries;
+  std::vector<Vec2> points;
+
+  // Fills entries for every light of the scene (cheap for lights without overlaps).
+  void update(const PreparedScene& scene);
+  // The shape stages after the overlap test see: the visible part, or the light itself.
+  const ConvexShape& shape(const PreparedScene& scene, std::size_t l) const noexcept {
+    return l < entries.size() && entries[l].clip >= 0 ? entries[l].shape : scene.lights[l].shape;
+  }
+  const Entry* clipped(std::size_t l) const noexcept {
+    return l < entries.size() && entries[l].clip >= 0 ? &entries[l] : nullptr;
+  }
+};
+
+}  // namespace par2d::detail

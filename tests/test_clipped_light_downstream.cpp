@@ -1,0 +1,78 @@
+// Lights poking into walls (issue 39): the pairs, proofs and separating lines use the part of
+// the light outside the wall it sits in (culling/visible_light.hpp, render/pair_setup.cpp).
+// Levels as 2D games build them, against the scalar reference on every ISA, culling on and off.
+#include <doctest/doctest.h>
+
+#include <string>
+
+#include "grid_levels.hpp"
+#include "support/render_checks.hpp"
+#include "support/test_tiers.hpp"
+
+using namespace par2d;
+using namespace par2d::test;
+
+namespace {
+
+void check_level(const bench::WallLevel& level, const std::string& what) {
+  const Scene scene = bench::wall_level(level);
+  REQUIRE(validate_scene(scene).ok());
+  REQUIRE(!scene.lights.empty());
+  const RenderedImage ref = render_or_fail(scene, options_for(Backend::scalar, Isa::scalar));
+  const double exempt = 0.05 * pixel_width(scene);
+  check_simd_against_scalar(
+      scene, ref, what, [&](Vec2 p) { return near_boundary(scene, p, exempt); }, scene.width * scene.height / 2);
+}
+
+bench::WallLevel small_level(std::uint32_t seed) {
+  bench::WallLevel level;
+  level.width = 112;
+  level.height = 80;
+  level.tile = 16;
+  level.torches = 3;
+  level.seed = seed;
+  return level;
+}
+
+}  // namespace
+
+TEST_CASE("torches poking into tilemap walls match the scalar reference (every ISA, culling on and off)") {
+  struct Case {
+    double radius, overlap;
+    bench::WallStyle style;
+    double range;
+  };
+  const Case cases[] = {{5.0, 1.0, bench::WallStyle::tilemap, 0.0},
+                        {6.0, 3.0, bench::WallStyle::free_form, 0.0},
+                        {2.5, 0.1, bench::WallStyle::tilemap, 40.0}};
+  std::uint32_t seed = 3901;
+  for (const Case& c : cases) {
+    bench::WallLevel level = small_level(seed++);
+    level.torch_radius = c.radius;
+    level.overlap = c.overlap;
+    level.style = c.style;
+    if (c.range > 0.0) level.range = c.range;
+    check_level(level, "seed " + std::to_string(level.seed) + " radius " + std::to_string(c.radius) + " overlap " +
+                           std::to_string(c.overlap));
+  }
+}
+
+TEST_CASE("torches poking into walls over the grid's tile sizes, depths and styles match the scalar reference" *
+          par2d::test::long_tier()) {
+  std::uint32_t seed = 3950;
+  for (const double tile : {16.0, 24.0, 32.0}) {
+    for (const double overlap : {0.1, 1.0, 2.5}) {
+      for (const bench::WallStyle style : {bench::WallStyle::tilemap, bench::WallStyle::tilemap_merged,
+                                           bench::WallStyle::free_form}) {
+        bench::WallLevel level = small_level(seed++);
+        level.width = 160;
+        level.height = 96;
+        level.tile = tile;
+        level.overlap = overlap;
+        level.style = style;
+        level.torches = 4;
+        check_level(level, "seed " + std::to_string(level.seed));
+      }
+    }
+  }
+}
