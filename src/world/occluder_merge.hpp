@@ -1,0 +1,29 @@
+// Occluder merging for tilemaps (issue 39, item 2): runs of equal axis-aligned wall boxes that
+// share whole edges, each replaced by the one box that is their union. A pure function; the
+// World is to keep the groups behind its handles (see the note in occluder_merge.cpp).
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "par2d/scene.hpp"
+
+namespace par2d::detail {
+
+// One occluder of the merged list: `occluder` is the exact union of the source occluders
+// `sources` (indices into the list given, ascending); a group of one is the source as given.
+struct MergedOccluder {
+  Occluder occluder;
+  std::vector<std::size_t> sources;
+};
+
+// Every occluder in exactly one group, groups in the order of their first source. A group of
+// two or more holds axis-aligned rectangles (a polygon of 4 vertices on two x and two y
+// values) with equal transmittance, mask, interior and albedo (albedo 0 only: a reflecting
+// wall's boundary pieces follow its given vertices, docs/contract.md section 7), that a row
+// (same y0 and y1, each box's x1 the next one's x0) or, for the boxes no row took, a column
+// joins end to end. Coordinates are compared exactly, so the union is exactly the merged box
+// and every renderer sees the same occluded set: merging changes no image beyond rounding.
+std::vector<MergedOccluder> merge_tilemap_boxes(const std::vector<Occluder>& occluders);
+
+}  // namespace par2d::detail
