@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "geometry/aabb.hpp"
 #include "lighting/angular_profile.hpp"
@@ -25,15 +26,25 @@ bool acts(const OccluderTerms& terms, bool x_inside, std::uint32_t mask) noexcep
 
 // The directions (frame of `arc`) along which the walk from x meets `piece` from its front.
 // Appends at most three intervals (an arc piece can wrap past the seen half of its circle).
+// The last end point whose direction was found: consecutive straight pieces share one.
+struct LastEnd {
+  Vec2 point{std::numeric_limits<double>::quiet_NaN(), 0.0};
+  double angle = 0.0;
+};
+
 void piece_directions(const BouncePiece& piece, std::uint32_t index, Vec2 x, const AngularSpan& arc,
-                      std::vector<BounceScratch::Emitter>& out) {
+                      std::vector<BounceScratch::Emitter>& out, LastEnd& last) {
   const auto push = [&](Vec2 p, Vec2 q) {
     const double u = frame_angle(arc, p - x), v = frame_angle(arc, q - x);
     if (u != v) out.push_back({std::min(u, v), std::max(u, v), index});
   };
   if (!piece.arc) {
     // A straight piece is met from its front exactly from the open half-plane its normal faces.
-    if (dot(piece.normal, x - piece.mid) > 0.0) push(piece.a, piece.b);
+    if (!(dot(piece.normal, x - piece.mid) > 0.0)) return;
+    const double u = piece.a.x == last.point.x && piece.a.y == last.point.y ? last.angle : frame_angle(arc, piece.a - x);
+    const double v = frame_angle(arc, piece.b - x);
+    last = {piece.b, v};
+    if (u != v) out.push_back({std::min(u, v), std::max(u, v), index});
     return;
   }
   // An arc is met from its front where the circle is first entered: the points within
@@ -211,19 +222,18 @@ Rgb bounce_irradiance(const PreparedScene& scene, const BounceFrame& frame, Vec2
     }
     if (!(std::max({factor[0], factor[1], factor[2]}) > 0.0)) continue;
     scratch.emitters.clear();
+    LastEnd last;
     for (std::uint32_t k = source.first; k < source.first + source.count; ++k) {
       const Rgb& l = frame.radiance[k];
       if (!(std::max({l[0], l[1], l[2]}) > 0.0)) continue;
-      piece_directions(frame.pieces[k], k, x, arc, scratch.emitters);
+      piece_directions(frame.pieces[k], k, x, arc, scratch.emitters, last);
     }
     if (scratch.emitters.empty()) continue;
     // Only an occluder meeting a segment from x to a point of the reflector can come first:
-    // its box meets the box around x and the reflector.
-    const ConvexShape& shape = scene.occluders[j];
-    const Aabb around{std::min(x.x, shape.bounds_min.x), std::min(x.y, shape.bounds_min.y),
-                      std::max(x.x, shape.bounds_max.x), std::max(x.y, shape.bounds_max.y)};
+    // its box meets the convex hull of x and the reflector.
+    hull_with_shape(&x, 1, scene.occluders[j], scratch.hull_points, scratch.hull);
     scratch.near.clear();
-    scene.occluder_bvh.query_box(around, scratch.near);
+    scene.occluder_bvh.query_convex(scratch.hull.data(), static_cast<int>(scratch.hull.size()), scratch.near);
     scratch.blocked.clear();
     scratch.blocked_occluder.clear();
     for (const std::uint32_t k : scratch.near) {

@@ -58,6 +58,7 @@ struct BounceScratch {
   std::vector<std::uint32_t> containing;
   std::vector<std::uint32_t> span_stamp;
   std::uint32_t stamp = 0;
+  std::vector<Vec2> hull_points, hull;  // the hull of x and a reflector
 };
 
 // The pieces and sources of `scene` (radiances sized, not computed). Nothing when the scene
