@@ -106,8 +106,20 @@ void VisibleLights::update(const PreparedScene& scene) {
     const PreparedLight& light = scene.lights[l];
     if (light.overlaps.empty()) continue;
     const int clip = designated_clip(scene, light);
-    if (clip < 0 || !visible_part(light.shape, light.overlaps[static_cast<std::size_t>(clip)].clip, e.shape, points))
-      continue;
+    if (clip < 0) continue;
+    const LightClip& c = light.overlaps[static_cast<std::size_t>(clip)].clip;
+    const bool same = e.made_radius == light.shape.radius && e.made_line.normal.x == c.line.normal.x &&
+                      e.made_line.normal.y == c.line.normal.y && e.made_line.point.x == c.line.point.x &&
+                      e.made_line.point.y == c.line.point.y && e.made_from.size() == light.shape.vertices.size() &&
+                      std::equal(e.made_from.begin(), e.made_from.end(), light.shape.vertices.begin(),
+                                 [](Vec2 a, Vec2 b) { return a.x == b.x && a.y == b.y; });
+    if (!same) {
+      e.made_from.assign(light.shape.vertices.begin(), light.shape.vertices.end());
+      e.made_radius = light.shape.radius;
+      e.made_line = c.line;
+      if (!visible_part(light.shape, c, e.shape, points)) e.made_radius = -2.0;  // none: the light stays whole
+    }
+    if (e.made_radius == -2.0) continue;
     e.clip = clip;
     e.occluder = light.overlapping_occluders[static_cast<std::size_t>(clip)];
     e.line = light.overlaps[static_cast<std::size_t>(clip)].clip.line;

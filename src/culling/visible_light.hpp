@@ -32,6 +32,12 @@ struct VisibleLights {
     std::uint32_t occluder = 0;  // the clipping occluder when clip >= 0
     Line line;                   // its clip line (the light's kept part on side <= 0)
     ConvexShape shape;           // visible_part when clip >= 0
+    // What `shape` was made from (the light's vertices and radius, the clip line): kept from
+    // block to block and frame to frame while they stay (making it cost a frame of the
+    // benchmark's free-form level 0.7 M instructions when made per block).
+    std::vector<Vec2> made_from;
+    double made_radius = -1.0;
+    Line made_line{};
   };
   std::vector<Entry> entries;
   std::vector<Vec2> points;
