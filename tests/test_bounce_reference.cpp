@@ -367,3 +367,29 @@ TEST_CASE("bounce: a Renderer after moving a light, a reflecting wall and the am
 }
 
 }  // namespace par2d::test
+
+namespace par2d::test {
+
+TEST_CASE("bounce: a Renderer whose updates pass 1048576 pieces refuses the frame in one line, and recovers" *
+          per_isa()) {
+  Scene scene = mixed_scene();
+  scene.width = 8;
+  scene.height = 6;
+  Renderer r;
+  REQUIRE(r.set_scene(scene).ok());
+  std::vector<float> pixels(8 * 6 * 3);
+  const ImageView image{pixels.data(), 8, 6, 8 * 3};
+  REQUIRE(r.render(image).ok());
+  // 2 pi 1e6 / 7 = 897 598 pieces more than the scene's: past the limit.
+  OccluderHandle huge;
+  REQUIRE(r.add_occluder(reflector(Circle{{0, 0}, 1.2e6}, {1, 1, 1}), &huge).ok());
+  const Status status = r.render(image);
+  CHECK_FALSE(status.ok());
+  CHECK(status.message().find("bounce.piece: the reflecting occluders make more than 1048576 pieces") !=
+        std::string::npos);
+  CHECK(status.message().find('\n') == std::string::npos);
+  REQUIRE(r.remove_occluder(huge).ok());
+  CHECK(r.render(image).ok());
+}
+
+}  // namespace par2d::test

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "geometry/aabb.hpp"
 #include "lighting/angular_profile.hpp"
@@ -119,6 +120,15 @@ void build_bounce_sources(const PreparedScene& scene, BounceFrame& frame) {
   frame.sources.clear();
   frame.radiance.clear();
   if (!scene.bounce) return;
+  // Scene files and validate_scene refuse more pieces than the contract allows; a Renderer's
+  // updates check one occluder at a time, so its frame refuses them here, before allocating.
+  double count = 0.0;
+  for (const OccluderTerms& terms : scene.occluder_terms) {
+    if (!terms.reflects()) continue;
+    count += bounce_piece_count(terms.bounce_shape, scene.bounce_piece, kMaxBouncePieces);
+    if (!(count <= kMaxBouncePieces))
+      throw std::length_error("bounce.piece: the reflecting occluders make more than 1048576 pieces; use a longer piece");
+  }
   std::vector<std::uint32_t> near;
   for (std::size_t j = 0; j < scene.occluders.size(); ++j) {
     const OccluderTerms& terms = scene.occluder_terms[j];
