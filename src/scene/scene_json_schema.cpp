@@ -338,9 +338,20 @@ void SceneBuilder::finish_element(const std::string& place) {
       terms.mask = occluder.mask;
       terms.interior = occluder.interior;
       terms.albedo = occluder.albedo;
-      occluder_terms_.emplace_back(occluder_shapes_.size(), std::move(terms));
+      // A reflecting occluder's shape is kept with its terms too, for the piece count.
+      if (occluder.albedo != plain.albedo) terms.shape = occluder.shape;
+      occluder_terms_.emplace_back(occluder_kinds_.size(), std::move(terms));
     }
-    occluder_shapes_.push_back(std::move(occluder.shape));
+    if (auto* p = std::get_if<Polygon>(&occluder.shape)) {
+      occluder_kinds_.push_back(0);
+      occluder_polygons_.push_back(std::move(*p));
+    } else if (auto* c = std::get_if<Circle>(&occluder.shape)) {
+      occluder_kinds_.push_back(1);
+      occluder_circles_.push_back(*c);
+    } else {
+      occluder_kinds_.push_back(2);
+      occluder_segments_.push_back(std::get<Segment>(occluder.shape));
+    }
   }
 }
 
@@ -361,9 +372,10 @@ void SceneBuilder::finish_root() {
   if (auto problem = detail::check_bounce(scene_.bounce)) return fail(problem->place, problem->what);
   // The reflecting occluders are among those kept aside with their terms.
   double pieces = 0.0;
-  for (const auto& [index, terms] : occluder_terms_) {
+  for (const auto& entry : occluder_terms_) {
+    const Occluder& terms = entry.second;
     if (terms.albedo == Rgb{0.0, 0.0, 0.0}) continue;
-    pieces += bounce_piece_count(occluder_shapes_[index], scene_.bounce.piece, kMaxBouncePieces);
+    pieces += bounce_piece_count(terms.shape, scene_.bounce.piece, kMaxBouncePieces);
     if (pieces > kMaxBouncePieces) return fail("bounce.piece", bounce_pieces_text(pieces));
   }
 }
@@ -371,16 +383,26 @@ void SceneBuilder::finish_root() {
 void SceneBuilder::build_occluders() {
   std::vector<Occluder>& out = scene_.occluders;
   out.clear();
-  out.reserve(occluder_shapes_.size());
+  out.reserve(occluder_kinds_.size());
   std::size_t next_terms = 0;
-  while (!occluder_shapes_.empty()) {
+  while (!occluder_kinds_.empty()) {
     Occluder occluder;
     if (next_terms < occluder_terms_.size() && occluder_terms_[next_terms].first == out.size()) {
       occluder = std::move(occluder_terms_[next_terms].second);
       ++next_terms;
     }
-    occluder.shape = std::move(occluder_shapes_.front());
-    occluder_shapes_.pop_front();
+    const std::uint8_t kind = occluder_kinds_.front();
+    occluder_kinds_.pop_front();
+    if (kind == 0) {
+      occluder.shape = std::move(occluder_polygons_.front());
+      occluder_polygons_.pop_front();
+    } else if (kind == 1) {
+      occluder.shape = occluder_circles_.front();
+      occluder_circles_.pop_front();
+    } else {
+      occluder.shape = occluder_segments_.front();
+      occluder_segments_.pop_front();
+    }
     out.push_back(std::move(occluder));
   }
   occluder_terms_.clear();
