@@ -284,10 +284,10 @@ TEST_CASE("bounce: the ray caster converges to the reference as its ray count gr
   CHECK(previous.bounce < 2e-4);
 }
 
-TEST_CASE("bounce: the ray caster within 1e-6 e_max of the reference at 2^22 rays" * long_tier()) {
+TEST_CASE("bounce: the ray caster within 1e-6 e_max of the reference at 2^21 rays" * long_tier()) {
   const Scene scene = mixed_scene();
-  const Errors err = raycast_errors(scene, kPoints, 1 << 22);
-  MESSAGE("rays 2^22: radiance error " << err.radiance << " e_max, bounce error " << err.bounce << " e_max");
+  const Errors err = raycast_errors(scene, kPoints, 1 << 21);
+  MESSAGE("rays 2^21: radiance error " << err.radiance << " e_max, bounce error " << err.bounce << " e_max");
   CHECK(err.radiance < 1e-6);
   CHECK(err.bounce < 1e-6);
 }
