@@ -167,7 +167,12 @@ void ChangeTracker::mark_light(const PreparedScene& scene, const Footprint& f, c
     if (mask_[b]) continue;
     const Aabb& box = block_boxes_[b];
     if (!f.takes_part(box, scene.model)) continue;
-    if (region && !boxes_meet(*region, box_union(box, f.bounds))) continue;
+    if (region) {
+      // The candidate query's hull lies in this box; a pixel to spare for rounding.
+      Aabb reach_box = box_union(box, f.bounds);
+      reach_box = {reach_box.min_x - pixel_, reach_box.min_y - pixel_, reach_box.max_x + pixel_, reach_box.max_y + pixel_};
+      if (!boxes_meet(*region, reach_box)) continue;
+    }
     mask_[b] = 1;
   }
 }
@@ -181,6 +186,8 @@ const std::vector<std::uint8_t>* ChangeTracker::plan(const PreparedScene& scene,
   if (!full && !regions_.empty() && !scene.directionals.empty()) full = true;
 
   new_.assign(lights, Footprint{});
+  pixel_ = std::max(std::abs(scene.view.x1 - scene.view.x0) / scene.width,
+                    std::abs(scene.view.y1 - scene.view.y0) / scene.height);
   if (precise) {
     const double bw = std::abs(scene.view.x1 - scene.view.x0) / scene.width * kBlockSize;
     const double bh = std::abs(scene.view.y1 - scene.view.y0) / scene.height * kBlockSize;
@@ -202,7 +209,7 @@ const std::vector<std::uint8_t>* ChangeTracker::plan(const PreparedScene& scene,
       // Every block's hull with the light lies in Q_l.
       Aabb q = empty_box(in) ? kEmptyBox : Aabb{in.min_x - bw, in.min_y - bh, in.max_x + bw, in.max_y + bh};
       grow(q, f.bounds);
-      f.query = q;
+      f.query = {q.min_x - pixel_, q.min_y - pixel_, q.max_x + pixel_, q.max_y + pixel_};
     }
   }
 

@@ -105,6 +105,7 @@ class ChangeTracker final : public WorldObserver {
   std::vector<Aabb> regions_;
   std::vector<std::uint8_t> mask_;
   std::vector<Aabb> block_boxes_;  // each block's box as cull_block sees it
+  double pixel_ = 0.0;             // a pixel's larger side, prepared units
   std::vector<Footprint> new_;
 };
 

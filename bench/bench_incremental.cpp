@@ -1,0 +1,74 @@
+// Google Benchmark: incremental frames (Renderer::set_incremental) on the torch hall
+// (bench/torch_hall.hpp: 1280x720, 64 ranged torches, 300 walls and crates, a door), one
+// iteration per frame, updates included: full (2 torches move, every pixel computed), a
+// (nothing changes), b (2 torches move), c (8 torches flicker, 2 move), d (the door moves).
+// 100 frames each. Counters: median and p99 frame time, pixels recomputed per frame. Run with
+// --benchmark_filter=incremental; bench/incremental_frames.cpp is the same loop for callgrind.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "par2d/par2d.hpp"
+#include "torch_hall.hpp"
+
+namespace {
+
+void incremental(benchmark::State& state, char scenario, int threads) {
+  const int width = 1280, height = 720;
+  par2d::Renderer r;
+  par2d::RenderOptions options;
+  options.threads = threads;
+  std::vector<par2d::LightHandle> torches;
+  std::vector<par2d::OccluderHandle> occluders;
+  std::vector<float> pixels(static_cast<std::size_t>(width) * height * 3);
+  const par2d::FrameBuffer buffer{pixels.data(), par2d::PixelFormat::rgb_f32, static_cast<std::ptrdiff_t>(width) * 12, 1.0};
+  if (!r.set_options(options).ok() || !r.set_scene(par2d::bench::torch_hall(width, height), &torches, &occluders).ok() ||
+      !r.set_incremental(true).ok() || !r.render(buffer).ok())
+    return state.SkipWithError("setup failed");
+  const par2d::OccluderHandle door = occluders[par2d::bench::hall_door_index()];
+  std::vector<double> ms;
+  double pixels_sum = 0.0;
+  int f = 1;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    if (scenario == 'f' || scenario == 'b' || scenario == 'c')
+      for (int t : {5, 42}) r.update_light(torches[static_cast<std::size_t>(t)], par2d::bench::hall_torch(t, f, false));
+    if (scenario == 'c') {
+      for (int t = 16; t < 24; ++t) {
+        const par2d::Light l = par2d::bench::hall_torch(t, f);
+        r.set_light_emission(torches[static_cast<std::size_t>(t)], l.color, l.intensity);
+      }
+    }
+    if (scenario == 'd') r.update_occluder(door, par2d::bench::hall_door(f));
+    if (scenario == 'f') r.force_full_frame();
+    if (!r.render(buffer).ok()) return state.SkipWithError("render failed");
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    pixels_sum += static_cast<double>(r.frame_stats().pixels);
+    ++f;
+  }
+  std::sort(ms.begin(), ms.end());
+  state.counters["median_ms"] = ms[ms.size() / 2];
+  state.counters["p99_ms"] = ms[std::min(ms.size() - 1, (ms.size() * 99) / 100)];
+  state.counters["pixels"] = pixels_sum / static_cast<double>(ms.size());
+}
+
+void register_incremental() {
+  const struct {
+    const char* name;
+    char scenario;
+  } scenarios[] = {{"full", 'f'}, {"a_nothing", 'a'}, {"b_2_move", 'b'}, {"c_8_flicker_2_move", 'c'}, {"d_door", 'd'}};
+  for (int threads : {1, 2})
+    for (const auto& s : scenarios)
+      benchmark::RegisterBenchmark(("incremental/" + std::string(s.name) + "/threads:" + std::to_string(threads)).c_str(),
+                                   [=](benchmark::State& st) { incremental(st, s.scenario, threads); })
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime()
+          ->Iterations(100);  // one setup (scene, reach, a whole first frame) per run, not per estimate
+}
+
+const int registered = (register_incremental(), 0);
+
+}  // namespace
