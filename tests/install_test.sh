@@ -46,7 +46,9 @@ env -u LD_LIBRARY_PATH ${PAR2D_EMULATOR:-} "$work/game_loop_c"
 # dist-packages or site-packages), importable from there alone and rendering.
 cache=$build_dir/CMakeCache.txt
 if grep -q '^PAR2D_BUILD_PYTHON:BOOL=ON' "$cache" 2>/dev/null; then
-  python=$(sed -n 's/^Python3_EXECUTABLE:[A-Z]*=//p' "$cache")
+  # Python3_EXECUTABLE when the user set it, else what FindPython3 chose (its internal entry).
+  python=$(sed -n 's/^_\{0,1\}Python3_EXECUTABLE:[A-Z]*=//p' "$cache" | head -n 1)
+  [[ -n $python ]] || { echo "no Python3_EXECUTABLE in $cache" >&2; exit 1; }
   site=$(sed -n 's/^PAR2D_PYTHON_INSTALL_DIR:[A-Z]*=//p' "$cache")
   [[ $site == /* ]] || site=$work/prefix/$site
   compgen -G "$site/par2d*.so" >/dev/null || { echo "the Python module was not installed in $site" >&2; exit 1; }

@@ -71,8 +71,10 @@ Status render(const Scene& scene, const RenderOptions& options, const FrameBuffe
 //
 // Cost model: changing a light (shape, position, color, intensity) never touches the occluder
 // index; changing an occluder updates the index in place and re-proves the reach of the lights
-// whose earlier proofs looked at its old or new place. After the first frame at a given size,
-// a frame allocates no memory and creates no threads.
+// whose earlier proofs looked at its old or new place. A frame creates no threads. It
+// allocates no memory once the per-thread scratch has grown to what the level needs: a frame
+// like earlier ones allocates nothing; lights moved to new places can still grow the scratch
+// now and then (docs/performance.md, "Allocations per frame").
 class Renderer {
  public:
   Renderer();

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <new>
+#include <optional>
 #include <string>
 
 #include "culling/reach_cache.hpp"
@@ -25,7 +26,9 @@ struct Renderer::Impl {
   Impl& operator=(const Impl&) = delete;
 
   RenderOptions options;
-  Isa isa = Isa::scalar;
+  // resolved_isa(options), resolved at the first frame after set_options: a Renderer that
+  // never renders never probes the CPU or reads PAR2D_ISA.
+  std::optional<Isa> isa;
   detail::Scheduler scheduler;
   detail::ReachCache reach;  // follows `world`'s changes (declared first: the world points at it)
   detail::ChangeTracker tracker;  // observes `world` and passes every event on to `reach`
@@ -44,7 +47,7 @@ using detail::guarded;
 
 }  // namespace
 
-Renderer::Renderer() : impl_(std::make_unique<Impl>()) { impl_->isa = resolved_isa(impl_->options); }
+Renderer::Renderer() : impl_(std::make_unique<Impl>()) {}
 Renderer::~Renderer() = default;
 Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
@@ -57,7 +60,7 @@ Status Renderer::set_options(const RenderOptions& options) {
                     "set_options: the raycast backend is a baseline, not a renderer (call par2d::render_raycast)");
     impl_->scheduler.configure(resolved_threads(options), options.threading);
     impl_->options = options;
-    impl_->isa = resolved_isa(options);
+    impl_->isa.reset();  // resolved at the next frame
     return {};
   });
 }
@@ -181,7 +184,9 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
   if (Status s = detail::check_frame_buffer(buffer, region, width(), height(), "render"); !s.ok()) return s;
   return guarded("render", [&]() -> Status {
     if (!impl.scheduler.configured()) impl.scheduler.configure(resolved_threads(impl.options), impl.options.threading);
-    const bool culling = impl.options.culling && impl.isa != Isa::scalar;
+    if (!impl.isa) impl.isa = resolved_isa(impl.options);
+    const Isa isa = *impl.isa;
+    const bool culling = impl.options.culling && isa != Isa::scalar;
     const detail::PreparedScene& scene = impl.world.commit();
     if (culling) impl.world.stats().reach_computations += impl.reach.update(scene, impl.scheduler);
     detail::FrameTarget target;
@@ -190,7 +195,7 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
     target.row_stride = buffer.row_stride;
     target.exposure = buffer.exposure;
     target.region = {region.x0, region.y0, region.x1, region.y1};
-    const detail::FrameSettings settings{impl.options.spp, culling, impl.isa, impl.options.shaded,
+    const detail::FrameSettings settings{impl.options.spp, culling, isa, impl.options.shaded,
                                          impl.options.sample_needs};
     const std::vector<detail::LightReach>* reach = culling ? &impl.reach.reach() : nullptr;
     const bool whole = region.x0 == 0 && region.y0 == 0 && region.x1 == width() && region.y1 == height();

@@ -303,6 +303,7 @@ bool clip_light_by_occluder(const ConvexShape& light, const ConvexShape& occlude
 }  // namespace
 
 void describe_overlap(const ConvexShape& light, const ConvexShape& occluder, LightOverlap& out) {
+  out.points.clear();
   boundary_intersections(light, occluder, out.points);
   out.contained = contained_within_contact(light, occluder);
   out.clips = clip_light_by_occluder(light, occluder, out.clip);
@@ -310,7 +311,11 @@ void describe_overlap(const ConvexShape& light, const ConvexShape& occluder, Lig
 
 void find_light_overlaps(const PreparedScene& scene, PreparedLight& light, std::vector<std::uint32_t>& near) {
   light.overlapping_occluders.clear();
-  light.overlaps.clear();
+  // The old overlaps go to the spares (buffers and all), the new ones come from there.
+  while (!light.overlaps.empty()) {
+    light.spare_overlaps.push_back(std::move(light.overlaps.back()));
+    light.overlaps.pop_back();
+  }
   near.clear();
   const ConvexShape& ls = light.shape;
   scene.occluder_bvh.query_box({ls.bounds_min.x, ls.bounds_min.y, ls.bounds_max.x, ls.bounds_max.y}, near);
@@ -318,7 +323,12 @@ void find_light_overlaps(const PreparedScene& scene, PreparedLight& light, std::
     const ConvexShape& occ = scene.occluders[k];
     if (!meets_within_contact(ls, occ)) continue;
     light.overlapping_occluders.push_back(k);
-    light.overlaps.emplace_back();
+    if (light.spare_overlaps.empty()) {
+      light.overlaps.emplace_back();
+    } else {
+      light.overlaps.push_back(std::move(light.spare_overlaps.back()));
+      light.spare_overlaps.pop_back();
+    }
     describe_overlap(ls, occ, light.overlaps.back());
   }
 }

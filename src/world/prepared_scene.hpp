@@ -94,6 +94,9 @@ struct PreparedLight {
   std::vector<std::uint32_t> overlapping_occluders;
   // For each of those, in the same order: how the two shapes meet.
   std::vector<LightOverlap> overlaps;
+  // Overlaps no longer in use, kept with their buffers: a light that moves re-finds its
+  // overlaps in these, so moving it to new places does not allocate once they have grown.
+  std::vector<LightOverlap> spare_overlaps;
 };
 
 // Separating lines of disjoint light/occluder pairs (occluder on the positive side),
