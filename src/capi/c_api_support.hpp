@@ -1,0 +1,206 @@
+// What the C API's files share (src/capi/): the renderer handle's C++ side, the per-thread
+// last error, and the conversions and the one exception-to-status wrapper at the C boundary.
+#pragma once
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <new>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "par2d/par2d.h"
+#include "par2d/renderer.hpp"
+
+struct par2d_renderer {
+  par2d::Renderer renderer;
+  par2d::Light light;        // conversion buffers, reused from call to call
+  par2d::Occluder occluder;
+  // The world's handles in the order par2d_get_*_handles reports them: the C++ Renderer
+  // returns a scene's handles only from set_scene, so the C side keeps the list.
+  std::vector<par2d_light> lights;
+  std::vector<par2d_occluder> occluders;
+  std::vector<double> vertices_out;  // par2d_get_light/_occluder's polygon vertices
+};
+
+namespace par2d::capi {
+
+inline thread_local std::string g_last_error;
+
+// The message with the C function's name in front (`par2d_add_light: shape is null`). A
+// library message that already starts with the C++ call's name (`set_ambient: ...` from
+// par2d_set_ambient) gets the C name in its place rather than a second name.
+inline std::string named(const char* function, const std::string& message) {
+  const char* stem = function + std::strlen("par2d_");
+  const std::size_t n = std::strlen(stem);
+  if (std::strncmp(function, "par2d_", 6) == 0 && message.size() > n + 2 && message.compare(0, n, stem) == 0 &&
+      message.compare(n, 2, ": ") == 0)
+    return "par2d_" + message;
+  return std::string(function) + ": " + message;
+}
+
+inline par2d_status to_c(const char* function, const par2d::Status& s) {
+  if (s.ok()) return PAR2D_OK;
+  try {
+    g_last_error = named(function, s.message());
+  } catch (...) {
+    g_last_error.clear();
+  }
+  switch (s.code()) {
+    case par2d::StatusCode::ok: return PAR2D_OK;
+    case par2d::StatusCode::invalid_argument: return PAR2D_INVALID_ARGUMENT;
+    case par2d::StatusCode::invalid_scene: return PAR2D_INVALID_SCENE;
+    case par2d::StatusCode::io_error: return PAR2D_IO_ERROR;
+    case par2d::StatusCode::out_of_memory: return PAR2D_OUT_OF_MEMORY;
+    case par2d::StatusCode::unsupported: return PAR2D_UNSUPPORTED;
+  }
+  return PAR2D_INVALID_ARGUMENT;
+}
+
+inline par2d_status fail(const char* function, const std::string& message) {
+  return to_c(function, par2d::Status(par2d::StatusCode::invalid_argument, message));
+}
+
+// Runs fn, turning exceptions into statuses (nothing may unwind into C). Counts and sizes are
+// checked before anything is allocated, so these are real failures, not misuse.
+template <class Fn>
+inline par2d_status guarded(const char* function, Fn&& fn) noexcept {
+  try {
+    return fn();
+  } catch (const std::bad_alloc&) {
+    return to_c(function, par2d::Status(par2d::StatusCode::out_of_memory, "out of memory"));
+  } catch (const std::exception& e) {
+    return fail(function, std::string("internal error: ") + e.what());
+  } catch (...) {
+    return fail(function, "internal error");
+  }
+}
+
+// The value a C caller stored in an enum field or parameter, read as its bytes. A C caller may
+// store any int there; in C++, loading an enum object whose value lies outside its
+// enumerators' range is undefined (UBSan's enum check stops on it), so the value is checked
+// as an integer before it is ever read as the enum.
+template <class E>
+long long raw_enum(const E& field) noexcept {
+  std::underlying_type_t<E> value;
+  std::memcpy(&value, &field, sizeof value);
+  return static_cast<long long>(value);
+}
+
+// Converts into `out`, reusing a polygon's vertex buffer when the shape stays a polygon.
+// Everything about the C struct is checked before its vertices are read or copied.
+inline par2d_status convert_shape(const char* function, const par2d_shape* in, par2d::Shape& out) {
+  if (in == nullptr) return fail(function, "shape is null");
+  switch (raw_enum(in->kind)) {
+    case PAR2D_SHAPE_POLYGON: {
+      if (in->vertex_count > PAR2D_MAX_POLYGON_VERTICES)
+        return fail(function, "shape vertex_count " + std::to_string(in->vertex_count) + " is more than " +
+                                  std::to_string(PAR2D_MAX_POLYGON_VERTICES));
+      if (in->vertices == nullptr && in->vertex_count > 0) return fail(function, "shape vertices are null");
+      if (!std::holds_alternative<par2d::Polygon>(out)) out = par2d::Polygon{};
+      auto& v = std::get<par2d::Polygon>(out).vertices;
+      v.resize(in->vertex_count);
+      for (std::size_t i = 0; i < in->vertex_count; ++i) v[i] = {in->vertices[2 * i], in->vertices[2 * i + 1]};
+      return PAR2D_OK;
+    }
+    case PAR2D_SHAPE_CIRCLE:
+      out = par2d::Circle{{in->circle[0], in->circle[1]}, in->circle[2]};
+      return PAR2D_OK;
+    case PAR2D_SHAPE_SEGMENT:
+      out = par2d::Segment{{in->segment[0], in->segment[1]}, {in->segment[2], in->segment[3]}};
+      return PAR2D_OK;
+  }
+  return fail(function, "shape kind " + std::to_string(raw_enum(in->kind)) +
+                            " is not PAR2D_SHAPE_POLYGON, _CIRCLE or _SEGMENT");
+}
+
+inline par2d_status fill_light(const char* function, par2d_renderer* r, const par2d_shape* shape, const double color[3],
+                        double intensity) {
+  if (color == nullptr) return fail(function, "color is null");
+  if (par2d_status s = convert_shape(function, shape, r->light.shape); s != PAR2D_OK) return s;
+  r->light.color = {color[0], color[1], color[2]};
+  r->light.intensity = intensity;
+  return PAR2D_OK;
+}
+
+inline void set_default_terms(par2d::Light& light) {
+  light.range.reset();
+  light.cone.reset();
+  light.mask = par2d::kAllMaskBits;
+  light.elevation = 0.0;
+}
+
+inline void set_default_terms(par2d::Occluder& occluder) {
+  occluder.transmittance = {0.0, 0.0, 0.0};
+  occluder.mask = par2d::kAllMaskBits;
+  occluder.interior = par2d::Interior::dark;
+}
+
+inline par2d::DirectionalLight from_c(const par2d_directional_light& in) {
+  par2d::DirectionalLight out;
+  out.angle0 = in.angles[0];
+  out.angle1 = in.angles[1];
+  out.color = {in.color[0], in.color[1], in.color[2]};
+  out.intensity = in.intensity;
+  out.mask = in.mask;
+  out.elevation = in.elevation;
+  return out;
+}
+
+
+// The par2d_options fields into `o` (its other fields stay), the backend checked as an integer.
+inline par2d_status apply_options(const char* fn, const par2d_options& in, par2d::RenderOptions& o) {
+  switch (raw_enum(in.backend)) {
+    case PAR2D_BACKEND_AUTO: o.backend = par2d::Backend::automatic; break;
+    case PAR2D_BACKEND_SIMD: o.backend = par2d::Backend::simd; break;
+    case PAR2D_BACKEND_SCALAR: o.backend = par2d::Backend::scalar; break;
+    default:
+      return fail(fn, "backend " + std::to_string(raw_enum(in.backend)) + " is not PAR2D_BACKEND_AUTO, _SIMD or _SCALAR");
+  }
+  o.threads = in.threads;
+  o.spp = in.spp;
+  o.culling = in.culling != 0;
+  return PAR2D_OK;
+}
+
+// `out` is written only once the vertices are copied, so a failed copy leaves it as it was.
+inline void to_c_shape(const par2d::Shape& in, std::vector<double>& vertices, par2d_shape& out) {
+  if (const auto* p = std::get_if<par2d::Polygon>(&in)) {
+    vertices.clear();
+    for (const par2d::Vec2& v : p->vertices) {
+      vertices.push_back(v.x);
+      vertices.push_back(v.y);
+    }
+  }
+  out = par2d_shape{};
+  if (const auto* p = std::get_if<par2d::Polygon>(&in)) {
+    out.kind = PAR2D_SHAPE_POLYGON;
+    out.vertices = vertices.data();
+    out.vertex_count = p->vertices.size();
+  } else if (const auto* c = std::get_if<par2d::Circle>(&in)) {
+    out.kind = PAR2D_SHAPE_CIRCLE;
+    out.circle[0] = c->center.x;
+    out.circle[1] = c->center.y;
+    out.circle[2] = c->radius;
+  } else if (const auto* g = std::get_if<par2d::Segment>(&in)) {
+    out.kind = PAR2D_SHAPE_SEGMENT;
+    out.segment[0] = g->a.x;
+    out.segment[1] = g->a.y;
+    out.segment[2] = g->b.x;
+    out.segment[3] = g->b.y;
+  }
+}
+
+// Writes the first min(capacity, list size) ids and the total; NULL `out` only with capacity 0.
+template <class Id>
+inline par2d_status copy_ids(const char* fn, const std::vector<Id>& ids, Id* out, size_t capacity, size_t* count) {
+  if (count == nullptr) return fail(fn, "count is null");
+  if (out == nullptr && capacity > 0) return fail(fn, "out is null but capacity is " + std::to_string(capacity));
+  std::copy_n(ids.begin(), std::min(capacity, ids.size()), out);
+  *count = ids.size();
+  return PAR2D_OK;
+}
+
+}  // namespace par2d::capi
