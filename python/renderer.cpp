@@ -28,15 +28,17 @@ namespace {
 class PyRenderer {
  public:
   PyRenderer(const py::object& scene, const py::object& backend, const py::object& threads, const py::object& isa,
-             const py::object& spp, const py::object& culling, const py::object& shaded) {
-    set_options(backend, threads, isa, spp, culling, shaded);
+             const py::object& spp, const py::object& culling, const py::object& shaded,
+             const py::object& sample_needs) {
+    set_options(backend, threads, isa, spp, culling, shaded, sample_needs);
     if (!scene.is_none()) set_scene(scene);
   }
 
   void set_options(const py::object& backend, const py::object& threads, const py::object& isa, const py::object& spp,
-                   const py::object& culling, const py::object& shaded) {
+                   const py::object& culling, const py::object& shaded, const py::object& sample_needs) {
     par2d::RenderOptions options = make_options(backend, threads, spp, 1024, isa, culling);
     options.shaded = to_bool(shaded, "shaded");
+    options.sample_needs = to_bool(sample_needs, "sample_needs");
     par2d::Status status;
     {
       WorldLock lock(mutex_);
@@ -199,6 +201,7 @@ class PyRenderer {
     PAR2D_FRAME_STAT(tile_proofs_tried) PAR2D_FRAME_STAT(tile_proofs_succeeded) PAR2D_FRAME_STAT(tile_proofs_skipped)
     PAR2D_FRAME_STAT(umbra_tests) PAR2D_FRAME_STAT(umbra_hits) PAR2D_FRAME_STAT(tile_pairs_outside_hull)
     PAR2D_FRAME_STAT(light_samples) PAR2D_FRAME_STAT(pair_samples) PAR2D_FRAME_STAT(scalar_tiles)
+    PAR2D_FRAME_STAT(sampled_pixels) PAR2D_FRAME_STAT(sampled_visible_lights) PAR2D_FRAME_STAT(sampled_blocking_pairs)
 #undef PAR2D_FRAME_STAT
     return d;
   }
@@ -248,6 +251,7 @@ class PyRenderer {
     d["spp"] = o.spp;
     d["culling"] = o.culling;
     d["shaded"] = o.shaded;
+    d["sample_needs"] = o.sample_needs;
     return d;
   }
 
@@ -428,17 +432,20 @@ void bind_renderer(py::module_& m) {
                          "never rebuilds the occluder index. Lights and occluders are dicts shaped like one entry\n"
                          "of the scene file's lists. A refused update raises par2d.Error and changes nothing.")
       .def(py::init<const py::object&, const py::object&, const py::object&, const py::object&, const py::object&,
-                    const py::object&, const py::object&>(),
+                    const py::object&, const py::object&, const py::object&>(),
            py::arg("scene") = py::none(), py::kw_only(), py::arg("backend") = "auto", py::arg("threads") = 0,
            py::arg("isa") = py::none(), py::arg("spp") = 1, py::arg("culling") = true, py::arg("shaded") = true,
+           py::arg("sample_needs") = false,
            "A renderer holding `scene` (a Scene or a dict), or an empty world (then call set_frame).\n"
            "backend: auto|simd|scalar (raycast is refused); threads: 0 = all; shaded=False: the plain\n"
-           "irradiance even with a normal source.")
+           "irradiance even with a normal source; sample_needs=True: frame_stats' sampled_* counts too.")
       .def("set_options", &PyRenderer::set_options, py::kw_only(), py::arg("backend") = "auto", py::arg("threads") = 0,
            py::arg("isa") = py::none(), py::arg("spp") = 1, py::arg("culling") = true, py::arg("shaded") = true,
-           "Backend, threads, isa cap, samples per pixel, culling and shading for the next frames.")
+           py::arg("sample_needs") = false,
+           "Backend, threads, isa cap, samples per pixel, culling, shading and sampled needs for the next frames.")
       .def_property_readonly("options", &PyRenderer::options,
-                             "dict: backend, threads (workers used), isa (the level used on this CPU), spp, culling, shaded.")
+                             "dict: backend, threads (workers used), isa (the level used on this CPU), spp, culling, shaded,\n"
+                             "sample_needs.")
       .def("light", &PyRenderer::light, py::arg("handle"),
            "The light a handle names, as a dict like an entry of the scene file's lights (color and intensity\n"
            "always; the lighting-model terms where not default).")

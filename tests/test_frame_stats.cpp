@@ -63,7 +63,7 @@ Scene closed_room() {
 
 }  // namespace
 
-TEST_CASE("FrameStats follow the frame's blocks and tiles, and the kernel's work per tile" * par2d::test::per_isa()) {
+TEST_CASE("FrameStats follow the frame's blocks and tiles, and the kernel's work per tile") {
   const Scene scene = bench::scattered_scene(12, 90, 7, 200, 136);
   RenderOptions options = simd_options();
   options.threads = 2;

@@ -542,7 +542,7 @@ TEST_CASE("a PNG normal map is read relative to the scene file, decoded as 2 rgb
   CHECK(map.normals[2] == 1.0f);
 }
 
-TEST_CASE("Renderer setters for the scene-wide terms refuse bad values and keep the previous ones" * par2d::test::per_isa()) {
+TEST_CASE("Renderer setters for the scene-wide terms refuse bad values and keep the previous ones") {
   par2d::Renderer renderer;
   REQUIRE(renderer.set_frame(4, 3).ok());
   REQUIRE(renderer.set_ambient({0.25, 0.5, 0}).ok());

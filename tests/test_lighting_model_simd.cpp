@@ -270,7 +270,7 @@ TEST_CASE("model SIMD: a spot cone weights the light's arc by its trapezoid prof
       2.5);
 }
 
-TEST_CASE("model SIMD: a persistent Renderer with moving ranged torches equals one-shot renders" * par2d::test::per_isa()) {
+TEST_CASE("model SIMD: a persistent Renderer with moving ranged torches equals one-shot renders") {
   Scene s = empty_scene(96, 64);
   for (int k = 0; k < 6; ++k) {
     Light l = circle_light({10.0 + 15.0 * k, 12.0 + 7.0 * (k % 3)}, 1.5, {1.0, 0.6 + 0.05 * k, 0.3}, 1.0 + 0.2 * k);

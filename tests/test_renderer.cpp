@@ -70,7 +70,7 @@ Shape moved(const Shape& shape, double dx, double dy) {
 
 }  // namespace
 
-TEST_CASE("Renderer after random light and occluder updates equals a one-shot render of its snapshot, bit for bit" * par2d::test::per_isa()) {
+TEST_CASE("Renderer after random light and occluder updates equals a one-shot render of its snapshot, bit for bit") {
   for (Isa isa : isas_here()) {
     for (std::uint32_t seed = 1; seed <= 12; ++seed) {
       RandomSceneOptions opt;
@@ -138,7 +138,7 @@ TEST_CASE("Renderer after random light and occluder updates equals a one-shot re
   }
 }
 
-TEST_CASE("moving and flickering lights never rebuilds or updates the occluder index" * par2d::test::per_isa()) {
+TEST_CASE("moving and flickering lights never rebuilds or updates the occluder index") {
   for (Isa isa : isas_here()) {
     Renderer r;
     REQUIRE(r.set_options(options_for(isa)).ok());
@@ -298,7 +298,7 @@ TEST_CASE("the lights' total emission stays within 1e38 per channel through ever
   CHECK(std::all_of(pixels.begin(), pixels.end(), [](float v) { return std::isfinite(v) && v >= 0.0f; }));
 }
 
-TEST_CASE("every pixel format and any region equal the same pixels of the whole float frame" * par2d::test::per_isa()) {
+TEST_CASE("every pixel format and any region equal the same pixels of the whole float frame") {
   const Scene level = bench::game_level(150, 83);
   for (Isa isa : isas_here()) {
     Renderer r;
@@ -503,7 +503,7 @@ TEST_CASE("8-bit sRGB table look-up equals the threshold search at every thresho
 
 namespace par2d::test {
 
-TEST_CASE("a segment light cut from an occluder's edge stays hidden when the occluder is added to a persistent Renderer" * par2d::test::per_isa()) {
+TEST_CASE("a segment light cut from an occluder's edge stays hidden when the occluder is added to a persistent Renderer") {
   // A light within the contact tolerance of an occluder touches it (docs/contract.md section 5):
   // the edge piece here rounded 1e-16 of its length outside the edge's line, and the SIMD path
   // showed 7 % to 31 % of the light (tests/fuzz/FINDINGS.md #9). The occluder arrives through
@@ -536,7 +536,7 @@ TEST_CASE("a segment light cut from an occluder's edge stays hidden when the occ
 // boundaries meet, whether the light lies inside, the edge that clips it: LightOverlap), made
 // once per change of either shape. Every update path must keep it in step: the frames must
 // equal one-shot renders, which prepare it afresh, bit for bit.
-TEST_CASE("a torch overlapping a wall keeps its clip and containment in step through moves and removals" * par2d::test::per_isa()) {
+TEST_CASE("a torch overlapping a wall keeps its clip and containment in step through moves and removals") {
   Scene scene;
   scene.width = 64;
   scene.height = 48;
@@ -590,7 +590,7 @@ namespace par2d::test {
 // The tile-relative sample offsets are kept between tiles and frames while the sampling,
 // the pixel size and the scale stay (TileWork::sample_grid): one Renderer taken through
 // changes of each must still equal a one-shot render of every frame, bit for bit.
-TEST_CASE("Renderer through spp, view and size changes equals one-shot renders bit for bit" * par2d::test::per_isa()) {
+TEST_CASE("Renderer through spp, view and size changes equals one-shot renders bit for bit") {
   for (Isa isa : isas_here()) {
     RandomSceneOptions opt;
     opt.width = 53;

@@ -220,6 +220,8 @@ typedef struct par2d_advanced_options {
   par2d_threading threading; /* default PAR2D_THREADING_OWN_POOL */
   int shaded;                /* nonzero (default): the normal-shaded value when there is a normal
                                 source; 0: the plain irradiance */
+  int sample_needs;          /* nonzero: also measure what pixels need (par2d_frame_stats'
+                                sampled_* fields; about one scalar pixel per 16x16 tile); default 0 */
 } par2d_advanced_options;
 
 PAR2D_C_API void par2d_advanced_options_default(par2d_advanced_options* options);
@@ -306,6 +308,9 @@ typedef struct par2d_frame_stats {
   uint64_t tile_proofs_tried, tile_proofs_succeeded, tile_proofs_skipped;
   uint64_t umbra_tests, umbra_hits, tile_pairs_outside_hull;
   uint64_t light_samples, pair_samples, scalar_tiles;
+  /* Only with par2d_advanced_options.sample_needs (else 0): at each tile's middle pixel, by
+   * exact double geometry, the lights visible there and the occluders cutting into their arcs. */
+  uint64_t sampled_pixels, sampled_visible_lights, sampled_blocking_pairs;
 } par2d_frame_stats;
 PAR2D_C_API par2d_status par2d_get_frame_stats(const par2d_renderer* renderer, par2d_frame_stats* out);
 

@@ -46,6 +46,7 @@ void par2d_advanced_options_default(par2d_advanced_options* options) {
   options->isa = PAR2D_ISA_DEFAULT;
   options->threading = PAR2D_THREADING_OWN_POOL;
   options->shaded = 1;
+  options->sample_needs = 0;
 }
 
 par2d_status par2d_get_advanced_options(const par2d_renderer* r, par2d_advanced_options* out) {
@@ -58,6 +59,7 @@ par2d_status par2d_get_advanced_options(const par2d_renderer* r, par2d_advanced_
   out->threading = o.threading == par2d::Threading::caller_arena ? PAR2D_THREADING_CALLER_ARENA
                                                                  : PAR2D_THREADING_OWN_POOL;
   out->shaded = o.shaded ? 1 : 0;
+  out->sample_needs = o.sample_needs ? 1 : 0;
   return PAR2D_OK;
 }
 
@@ -78,6 +80,7 @@ par2d_status par2d_set_advanced_options(par2d_renderer* r, const par2d_advanced_
     o.threading = threading == PAR2D_THREADING_CALLER_ARENA ? par2d::Threading::caller_arena
                                                             : par2d::Threading::own_pool;
     o.shaded = options->shaded != 0;
+    o.sample_needs = options->sample_needs != 0;
     return to_c(fn, r->renderer.set_options(o));
   });
 }
@@ -255,7 +258,10 @@ par2d_status par2d_get_frame_stats(const par2d_renderer* r, par2d_frame_stats* o
                            s.tile_pairs_outside_hull,
                            s.light_samples,
                            s.pair_samples,
-                           s.scalar_tiles};
+                           s.scalar_tiles,
+                           s.sampled_pixels,
+                           s.sampled_visible_lights,
+                           s.sampled_blocking_pairs};
   return PAR2D_OK;
 }
 

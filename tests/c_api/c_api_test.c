@@ -481,6 +481,16 @@ static void check_parity_with_the_cpp_renderer(const char* dir) {
   const int region[4] = {8, 4, 24, 20};
   CHECK(par2d_render(r, other, PAR2D_RGB_F32, 16 * 12, 1.0, region) == PAR2D_OK);
   CHECK(par2d_get_frame_stats(r, &frame) == PAR2D_OK && frame.pixels == 16 * 16);
+  CHECK(frame.sampled_pixels == 0); /* off by default */
+  /* What pixels need, on request: one sampled pixel per 16x16 tile (none from the scalar path). */
+  CHECK(par2d_get_advanced_options(r, &advanced) == PAR2D_OK && advanced.sample_needs == 0);
+  advanced.sample_needs = 1;
+  CHECK(par2d_set_advanced_options(r, &advanced) == PAR2D_OK);
+  CHECK(par2d_render(r, pool, PAR2D_RGB_F32, 40 * 12, 1.0, NULL) == PAR2D_OK);
+  CHECK(par2d_get_frame_stats(r, &frame) == PAR2D_OK);
+  CHECK((frame.sampled_pixels == frame.tiles) == (par2d_renderer_isa(r) != PAR2D_ISA_SCALAR));
+  advanced.sample_needs = 0;
+  CHECK(par2d_set_advanced_options(r, &advanced) == PAR2D_OK);
   CHECK_ERROR(par2d_get_stats(r, NULL), PAR2D_INVALID_ARGUMENT, "par2d_get_stats: out is null");
 
   /* Scene-wide terms read back. */

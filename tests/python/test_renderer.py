@@ -282,7 +282,8 @@ def test_light_and_occluder_read_back_what_the_handles_name():
 def test_options_and_frame_stats():
     r = par2d.Renderer(small_example_dict(), threads=1, spp=2, isa="scalar", shaded=False)
     o = r.options
-    assert o == {"backend": "auto", "threads": 1, "isa": "scalar", "spp": 2, "culling": True, "shaded": False}
+    assert o == {"backend": "auto", "threads": 1, "isa": "scalar", "spp": 2, "culling": True, "shaded": False,
+                 "sample_needs": False}
     assert r.frame_stats["pixels"] == 0
     r.render()
     s = r.frame_stats
@@ -291,6 +292,21 @@ def test_options_and_frame_stats():
     assert r.frame_stats["pixels"] == 32 * 16
     r.set_options(threads=1, backend="scalar")
     assert r.options["backend"] == "scalar" and r.options["shaded"] is True
+
+
+def test_sampled_needs_on_request_equal_the_one_shot_counts():
+    d = small_example_dict()
+    r = par2d.Renderer(d, threads=1, backend="simd", isa="avx2")
+    r.render()
+    assert r.frame_stats["sampled_pixels"] == 0  # off by default
+    r.set_options(threads=1, backend="simd", isa="avx2", sample_needs=True)
+    assert r.options["sample_needs"] is True
+    r.render()
+    s = r.frame_stats
+    if r.options["isa"] == "scalar":  # a CPU with no SIMD level: the reference counts no needs
+        assert s["sampled_pixels"] == 0
+    else:
+        assert s["sampled_pixels"] == s["tiles"] and s["sampled_visible_lights"] > 0
 
 
 def test_incremental_frames_write_only_dirty_rects_and_equal_full_renders():
