@@ -467,24 +467,17 @@ double RaycastRenderer::distance_to(const RayShape& s, Vec2 x) const noexcept {
   return kInf;
 }
 
-Rgb RaycastRenderer::model_irradiance(Vec2 world, int rays, double jitter, const Vec3* normal) const {
-  const Vec2 x{scale_ * world.x, scale_ * world.y};
-  Rgb sum{0.0, 0.0, 0.0};
-  if (rays <= 0) return sum;
+// Occluder b acts on a light with `mask` seen from a point `inside` says which occluders hold
+// (section 6: masks share a bit, and a lit interior is ignored from inside); `self` never acts.
+bool RaycastRenderer::acting(std::size_t b, std::uint32_t mask, std::size_t self,
+                             const std::vector<unsigned char>& inside) const noexcept {
+  return b != self && (occluder_terms_[b].mask & mask) != 0 && !(inside[b] && occluder_terms_[b].lit_interior);
+}
+
+template <class Shade>
+Rgb RaycastRenderer::lights_along_rays(Vec2 x, double start, double span, int rays, double jitter, std::size_t self,
+                                       const std::vector<unsigned char>& inside, const Shade& shade) const {
   const std::size_t n_occ = occluders_.size();
-  std::vector<unsigned char> inside(n_occ);
-  for (std::size_t b = 0; b < n_occ; ++b) inside[b] = contains(occluders_[b], x) ? 1 : 0;
-  // Occluder B acts on a light with mask m at x (section 6: masks share a bit, and a lit
-  // interior is ignored from inside).
-  auto acting = [&](std::size_t b, std::uint32_t mask) {
-    return (occluder_terms_[b].mask & mask) != 0 && !(inside[b] && occluder_terms_[b].lit_interior);
-  };
-  auto shading = [&](double theta, double elevation) {
-    if (!normal) return 1.0;
-    const double ce = std::cos(elevation);
-    return std::max(0.0, normal->x * ce * std::cos(theta) + normal->y * ce * std::sin(theta) +
-                             normal->z * std::sin(elevation));
-  };
   // Range windows, once per point: w = clamp(1 - (d/R)^2, 0, 1)^2.
   std::vector<double> window(lights_.size(), 1.0);
   for (std::size_t l = 0; l < lights_.size(); ++l) {
@@ -496,9 +489,10 @@ Rgb RaycastRenderer::model_irradiance(Vec2 world, int rays, double jitter, const
   std::vector<double> t_occ(n_occ);
   Rgb lit{0.0, 0.0, 0.0};
   for (int k = 0; k < rays; ++k) {
-    const double theta = kTwoPi * (k + jitter) / rays;
+    const double theta = start + span * (k + jitter) / rays;
     const Vec2 d{std::cos(theta), std::sin(theta)};
-    for (std::size_t b = 0; b < n_occ; ++b) t_occ[b] = inside[b] ? 0.0 : hit_distance(occluders_[b], x, d, kInf);
+    for (std::size_t b = 0; b < n_occ; ++b)
+      t_occ[b] = b == self ? kInf : (inside[b] ? 0.0 : hit_distance(occluders_[b], x, d, kInf));
     for (std::size_t l = 0; l < lights_.size(); ++l) {
       if (!(window[l] > 0.0)) continue;
       const double t_light = hit_distance(lights_[l], x, d, kInf);
@@ -515,11 +509,11 @@ Rgb RaycastRenderer::model_irradiance(Vec2 world, int rays, double jitter, const
         else
           c = (m.cone_half - delta) / m.cone_fade;
       }
-      const double weight = window[l] * c * shading(theta, m.elevation);
+      const double weight = window[l] * c * shade(theta, d, m.elevation);
       if (!(weight > 0.0)) continue;
       Rgb v{1.0, 1.0, 1.0};
       for (std::size_t b = 0; b < n_occ; ++b) {
-        if (!(t_occ[b] < kInf) || !acting(b, m.mask)) continue;
+        if (!(t_occ[b] < kInf) || !acting(b, m.mask, self, inside)) continue;
         // In front when t_B <= t_L, contacts (as in section 1's path above) included.
         const double contact = kContactTolerance * std::max({t_occ[b], std::fabs(x.x), std::fabs(x.y)});
         if (t_light >= t_occ[b] - contact)
@@ -528,20 +522,26 @@ Rgb RaycastRenderer::model_irradiance(Vec2 world, int rays, double jitter, const
       for (int c3 = 0; c3 < 3; ++c3) lit[c3] += emission_[l][c3] * weight * v[c3];
     }
   }
-  for (int c3 = 0; c3 < 3; ++c3) sum[c3] = lit[c3] / rays;
-  // Directional lights: their own stratified rays over [a0, a1]; every acting occluder a ray
-  // meets (t_B < inf, containing x included) is in front of a light at infinity.
+  return lit;
+}
+
+// Directional lights: their own stratified rays over [a0, a1]; every acting occluder a ray
+// meets (t_B < inf, containing x included) is in front of a light at infinity.
+template <class Shade>
+void RaycastRenderer::add_directional(Vec2 x, int rays, double jitter, std::size_t self,
+                                      const std::vector<unsigned char>& inside, const Shade& shade, Rgb& sum) const {
+  const std::size_t n_occ = occluders_.size();
   for (const SunModel& sun : suns_) {
     const double width = sun.angle1 - sun.angle0;
     Rgb seen{0.0, 0.0, 0.0};
     for (int k = 0; k < rays; ++k) {
       const double theta = sun.angle0 + width * (k + jitter) / rays;
       const Vec2 d{std::cos(theta), std::sin(theta)};
-      const double s = shading(theta, sun.elevation);
+      const double s = shade(theta, d, sun.elevation);
       if (!(s > 0.0)) continue;
       Rgb v{s, s, s};
       for (std::size_t b = 0; b < n_occ; ++b) {
-        if (!acting(b, sun.mask)) continue;
+        if (!acting(b, sun.mask, self, inside)) continue;
         if (inside[b] || hit_distance(occluders_[b], x, d, kInf) < kInf)
           for (int c3 = 0; c3 < 3; ++c3) v[c3] *= occluder_terms_[b].transmittance[c3];
       }
@@ -549,6 +549,24 @@ Rgb RaycastRenderer::model_irradiance(Vec2 world, int rays, double jitter, const
     }
     for (int c3 = 0; c3 < 3; ++c3) sum[c3] += sun.emission[c3] * seen[c3] * width / (kTwoPi * rays);
   }
+}
+
+Rgb RaycastRenderer::model_irradiance(Vec2 world, int rays, double jitter, const Vec3* normal) const {
+  const Vec2 x{scale_ * world.x, scale_ * world.y};
+  Rgb sum{0.0, 0.0, 0.0};
+  if (rays <= 0) return sum;
+  const std::size_t n_occ = occluders_.size();
+  std::vector<unsigned char> inside(n_occ);
+  for (std::size_t b = 0; b < n_occ; ++b) inside[b] = contains(occluders_[b], x) ? 1 : 0;
+  auto shading = [&](double theta, Vec2, double elevation) {
+    if (!normal) return 1.0;
+    const double ce = std::cos(elevation);
+    return std::max(0.0, normal->x * ce * std::cos(theta) + normal->y * ce * std::sin(theta) +
+                             normal->z * std::sin(elevation));
+  };
+  const Rgb lit = lights_along_rays(x, 0.0, kTwoPi, rays, jitter, kNoOccluder, inside, shading);
+  for (int c3 = 0; c3 < 3; ++c3) sum[c3] = lit[c3] / rays;
+  add_directional(x, rays, jitter, kNoOccluder, inside, shading, sum);
   for (int c3 = 0; c3 < 3; ++c3) sum[c3] += ambient_[c3];
   return sum;
 }
@@ -614,69 +632,14 @@ Rgb RaycastRenderer::piece_direct(const Reflector& r, std::size_t piece, int ray
   const std::size_t self = r.occluder, n_occ = occluders_.size();
   std::vector<unsigned char> inside(n_occ);
   for (std::size_t b = 0; b < n_occ; ++b) inside[b] = b != self && contains(occluders_[b], x) ? 1 : 0;
-  auto acting = [&](std::size_t b, std::uint32_t mask) {
-    return b != self && (occluder_terms_[b].mask & mask) != 0 && !(inside[b] && occluder_terms_[b].lit_interior);
-  };
   // Section 7's shading: the piece's normal in the plane, the light's elevation.
-  auto shading = [&](Vec2 d, double elevation) { return std::max(0.0, std::cos(elevation) * dot(n, d)); };
-  std::vector<double> window(lights_.size(), 1.0);
-  for (std::size_t l = 0; l < lights_.size(); ++l) {
-    if (light_terms_[l].range <= 0.0) continue;
-    const double q = distance_to(lights_[l], x) / light_terms_[l].range;
-    const double w = std::clamp(1.0 - q * q, 0.0, 1.0);
-    window[l] = w * w;
-  }
-  std::vector<double> t_occ(n_occ);
-  Rgb sum{0.0, 0.0, 0.0};
-  // The outward half circle (the other half has s = 0), stratified, each ray pi / rays wide.
-  const double base = std::atan2(n.y, n.x) - 0.25 * kTwoPi;
-  for (int k = 0; k < rays; ++k) {
-    const double theta = base + 0.5 * kTwoPi * (k + 0.5) / rays;
-    const Vec2 d{std::cos(theta), std::sin(theta)};
-    for (std::size_t b = 0; b < n_occ; ++b)
-      t_occ[b] = b == self ? kInf : (inside[b] ? 0.0 : hit_distance(occluders_[b], x, d, kInf));
-    for (std::size_t l = 0; l < lights_.size(); ++l) {
-      if (!(window[l] > 0.0)) continue;
-      const double t_light = hit_distance(lights_[l], x, d, kInf);
-      if (!(t_light < kInf)) continue;
-      const LightModel& m = light_terms_[l];
-      double c = 1.0;
-      if (m.cone) {
-        const double delta = std::fabs(std::remainder(theta + 0.5 * kTwoPi - m.cone_direction, kTwoPi));
-        c = delta <= m.cone_half - m.cone_fade ? 1.0 : (delta >= m.cone_half ? 0.0 : (m.cone_half - delta) / m.cone_fade);
-      }
-      const double weight = window[l] * c * shading(d, m.elevation);
-      if (!(weight > 0.0)) continue;
-      Rgb v{1.0, 1.0, 1.0};
-      for (std::size_t b = 0; b < n_occ; ++b) {
-        if (!(t_occ[b] < kInf) || !acting(b, m.mask)) continue;
-        const double contact = kContactTolerance * std::max({t_occ[b], std::fabs(x.x), std::fabs(x.y)});
-        if (t_light >= t_occ[b] - contact)
-          for (int c3 = 0; c3 < 3; ++c3) v[c3] *= occluder_terms_[b].transmittance[c3];
-      }
-      for (int c3 = 0; c3 < 3; ++c3) sum[c3] += emission_[l][c3] * weight * v[c3];
-    }
-  }
+  auto shading = [&](double, Vec2 d, double elevation) { return std::max(0.0, std::cos(elevation) * dot(n, d)); };
+  // The outward half circle (the other half has s = 0), stratified, each ray pi / rays wide:
   // (1 / 2 pi) * (pi / rays) per ray.
+  const double base = std::atan2(n.y, n.x) - 0.25 * kTwoPi;
+  Rgb sum = lights_along_rays(x, base, 0.5 * kTwoPi, rays, 0.5, self, inside, shading);
   for (int c3 = 0; c3 < 3; ++c3) sum[c3] *= 0.5 / rays;
-  for (const SunModel& sun : suns_) {
-    const double width = sun.angle1 - sun.angle0;
-    Rgb seen{0.0, 0.0, 0.0};
-    for (int k = 0; k < rays; ++k) {
-      const double theta = sun.angle0 + width * (k + 0.5) / rays;
-      const Vec2 d{std::cos(theta), std::sin(theta)};
-      const double s = shading(d, sun.elevation);
-      if (!(s > 0.0)) continue;
-      Rgb v{s, s, s};
-      for (std::size_t b = 0; b < n_occ; ++b) {
-        if (!acting(b, sun.mask)) continue;
-        if (inside[b] || hit_distance(occluders_[b], x, d, kInf) < kInf)
-          for (int c3 = 0; c3 < 3; ++c3) v[c3] *= occluder_terms_[b].transmittance[c3];
-      }
-      for (int c3 = 0; c3 < 3; ++c3) seen[c3] += v[c3];
-    }
-    for (int c3 = 0; c3 < 3; ++c3) sum[c3] += sun.emission[c3] * seen[c3] * width / (kTwoPi * rays);
-  }
+  add_directional(x, rays, 0.5, self, inside, shading, sum);
   return sum;
 }
 

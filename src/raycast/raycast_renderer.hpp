@@ -96,6 +96,22 @@ class RaycastRenderer {
     double elevation = 0.0;
   };
   Rgb model_irradiance(Vec2 x, int rays, double jitter, const Vec3* normal) const;
+  // Section 6 at x (prepared coordinates), shared by the pixels' direct light and the bounce
+  // pieces' radiances. `inside[b]`: x lies in occluder b; occluder `self` never acts (a piece's
+  // own; kNoOccluder: none); shade(theta, d, elevation) weights a direction.
+  static constexpr std::size_t kNoOccluder = static_cast<std::size_t>(-1);
+  bool acting(std::size_t b, std::uint32_t mask, std::size_t self, const std::vector<unsigned char>& inside) const noexcept;
+  // Over `rays` stratified directions theta_k = start + span (k + jitter) / rays, the sum of
+  // each light's emission x range window x cone x shade x the transmittances of the acting
+  // occluders in front of it (unnormalized: the caller divides by its rays' measure).
+  template <class Shade>
+  Rgb lights_along_rays(Vec2 x, double start, double span, int rays, double jitter, std::size_t self,
+                        const std::vector<unsigned char>& inside, const Shade& shade) const;
+  // Adds each directional light's part to `sum`: its own `rays` stratified directions over its
+  // angles, through the acting occluders each meets.
+  template <class Shade>
+  void add_directional(Vec2 x, int rays, double jitter, std::size_t self, const std::vector<unsigned char>& inside,
+                       const Shade& shade, Rgb& sum) const;
   Rgb plain_irradiance(Vec2 x, int rays, double jitter) const;
 
   // One bounce (docs/contract.md section 7). A reflecting occluder: its index, its pieces
