@@ -289,7 +289,11 @@ RaycastRenderer::RaycastRenderer(const Scene& validated_scene) : scale_(scene_sc
     piece_normal_.push_back(p.normal);
   }
   if (scene.normal) {
-    const Vec3 n = *scene.normal;
+    // Divided by its largest component first (as the renderers do): the squares of components
+    // near 1e-300 underflow to a zero length, and the normal would come out infinite.
+    const Vec3 g = *scene.normal;
+    const double largest = std::max({std::fabs(g.x), std::fabs(g.y), std::fabs(g.z)});
+    const Vec3 n{g.x / largest, g.y / largest, g.z / largest};
     const double len = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
     normal_ = Vec3{n.x / len, n.y / len, n.z / len};
     model_ = true;
