@@ -201,6 +201,7 @@ class PyRenderer {
     PAR2D_FRAME_STAT(tile_proofs_tried) PAR2D_FRAME_STAT(tile_proofs_succeeded) PAR2D_FRAME_STAT(tile_proofs_skipped)
     PAR2D_FRAME_STAT(umbra_tests) PAR2D_FRAME_STAT(umbra_hits) PAR2D_FRAME_STAT(tile_pairs_outside_hull)
     PAR2D_FRAME_STAT(light_samples) PAR2D_FRAME_STAT(pair_samples) PAR2D_FRAME_STAT(scalar_tiles)
+    PAR2D_FRAME_STAT(layer_tiles_reused) PAR2D_FRAME_STAT(layer_tiles_filled)
     PAR2D_FRAME_STAT(sampled_pixels) PAR2D_FRAME_STAT(sampled_visible_lights) PAR2D_FRAME_STAT(sampled_blocking_pairs)
 #undef PAR2D_FRAME_STAT
     return d;

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -73,13 +74,28 @@ std::vector<float> fresh_render(const Renderer& r, const RenderOptions& options)
 
 struct Outcome {
   int frames = 0, partial = 0, untouched = 0;
+  std::uint64_t reused = 0, filled = 0;  // light-layer tiles over the frames
+  double worst = 0.0;  // with the light-layer cache: the largest |cached - full| / e_max seen
 };
+
+// The brightest emission of a state (intensity x colour channel, directional lights too).
+double brightest_emission(const Scene& scene) {
+  double e = 0.0;
+  for (const Light& l : scene.lights)
+    for (double c : l.color) e = std::max(e, l.intensity * c);
+  for (const DirectionalLight& d : scene.directional_lights)
+    for (double c : d.color) e = std::max(e, d.intensity * c);
+  return e;
+}
 
 // `frames` frames of random updates on a random level; each frame's incremental buffer is
 // compared with a one-shot render, and the pixels outside the dirty rectangles with the
 // previous frame. The frames alternate between 1 and 2 threads (options.threads is replaced):
-// which frame computed a block must not matter.
-Outcome run_sequence(std::uint32_t seed, int frames, RenderOptions options, int width, int height) {
+// which frame computed a block must not matter. With a `layer_budget`, the light-layer cache
+// is on: every frame within 1e-6 x the brightest emission of the one-shot render (docs/api.md)
+// instead of byte-equal, and the layers within the budget.
+Outcome run_sequence(std::uint32_t seed, int frames, RenderOptions options, int width, int height,
+                     std::size_t layer_budget = 0) {
   PortableRandom rng(seed);
   const double w = width, h = height;
   Level level;
@@ -95,6 +111,8 @@ Outcome run_sequence(std::uint32_t seed, int frames, RenderOptions options, int 
   level.occluders = level.scene.occluders;
   REQUIRE(r.set_incremental(true).ok());
   CHECK(r.incremental());
+  if (layer_budget) REQUIRE(r.set_light_layer_budget(layer_budget).ok());
+  CHECK(r.light_layer_budget() == layer_budget);
 
   const std::size_t floats = static_cast<std::size_t>(width) * height * 3;
   std::vector<float> buffer(floats, -1.0f), previous(floats);
@@ -171,13 +189,30 @@ Outcome run_sequence(std::uint32_t seed, int frames, RenderOptions options, int 
     REQUIRE_MESSAGE(s.ok(), s.message());
     const std::vector<float> expected = fresh_render(r, options);
     INFO("seed ", seed, " threads ", options.threads, " frame ", frame, " ops ", ops);
-    if (std::memcmp(buffer.data(), expected.data(), floats * sizeof(float)) != 0) {
+    out.reused += r.frame_stats().layer_tiles_reused;
+    out.filled += r.frame_stats().layer_tiles_filled;
+    if (layer_budget) {
+      REQUIRE(r.light_layer_bytes() <= layer_budget);
+      const double e_max = brightest_emission(r.snapshot());
+      double worst = 0.0;
+      std::size_t at = 0;
+      for (std::size_t p = 0; p < floats; ++p) {
+        const double error = std::abs(static_cast<double>(buffer[p]) - expected[p]);
+        if (!(error <= worst)) {  // NaN too
+          worst = error;
+          at = p;
+        }
+      }
+      INFO("pixel ", (at / 3) % width, ",", (at / 3) / width, ": ", buffer[at], " vs ", expected[at]);
+      REQUIRE(worst <= 1e-6 * e_max);
+      if (e_max > 0.0) out.worst = std::max(out.worst, worst / e_max);
+    } else if (std::memcmp(buffer.data(), expected.data(), floats * sizeof(float)) != 0) {
       std::size_t p = 0;
       while (buffer[p] == expected[p]) ++p;
       MESSAGE("first difference at pixel ", (p / 3) % width, ",", (p / 3) / width, ": ", buffer[p], " vs ", expected[p],
               "; computed ", r.frame_stats().pixels, " pixels in ", r.dirty_rects().size(), " rects");
     }
-    REQUIRE(std::memcmp(buffer.data(), expected.data(), floats * sizeof(float)) == 0);
+    if (!layer_budget) REQUIRE(std::memcmp(buffer.data(), expected.data(), floats * sizeof(float)) == 0);
     // The rectangles: inside the frame, disjoint, exactly the pixels computed; every pixel
     // outside them is the previous frame's, bit for bit (never written).
     std::vector<unsigned char> inside(static_cast<std::size_t>(width) * height, 0);
@@ -295,6 +330,83 @@ TEST_CASE("a frame with nothing changed writes no pixel; a forced frame writes t
   REQUIRE(r.set_incremental(false).ok());
   REQUIRE(r.render(fb).ok());
   CHECK(r.frame_stats().pixels == 130u * 70u);
+}
+
+TEST_CASE("light-layer cache: 500 random game-loop frames within 1e-6 of the brightest emission, 1 and 2 threads" * per_isa()) {
+  const bool scalar = resolved_isa(RenderOptions{}) == Isa::scalar;
+  const int frames = scalar ? 40 : 500;
+  // Room for every layer, then a budget a few blocks' layers fill (the rest computed as without).
+  const Outcome roomy = run_sequence(20261207u, frames, RenderOptions{}, 128, 96, std::size_t{64} << 20);
+  const Outcome tight = run_sequence(20261208u, frames / 2, RenderOptions{}, 128, 96, 6 * 48 * 1024);
+  MESSAGE("largest difference from full renders: ", roomy.worst, " and ", tight.worst, " x e_max");
+  if (scalar) {  // the scalar reference computes every light itself
+    CHECK(roomy.reused + roomy.filled == 0u);
+    return;
+  }
+  CHECK(roomy.reused > 0u);
+  CHECK(roomy.filled > 0u);
+  CHECK(tight.reused > 0u);
+  CHECK(tight.filled > 0u);
+  CHECK(roomy.partial > roomy.frames / 4);
+}
+
+TEST_CASE("light-layer cache: a flicker recombines stored layers; the image does not depend on threads" * per_isa()) {
+  if (resolved_isa(RenderOptions{}) == Isa::scalar) return;  // no layers on the scalar path (checked above)
+  Scene scene;
+  scene.width = 200;
+  scene.height = 140;
+  scene.view = View{0.0, 0.0, 200.0, 140.0};
+  scene.lights.push_back(Light{Circle{{30.0, 40.0}, 2.0}, {1.0, 0.8, 0.6}, 2.0, 60.0});
+  scene.lights.push_back(Light{Circle{{150.0, 90.0}, 3.0}, {0.5, 0.8, 1.0}, 1.5, 70.0});
+  scene.occluders.push_back(Occluder{box(60.0, 20.0, 64.0, 120.0)});
+  Occluder glass{box(100.0, 60.0, 130.0, 64.0)};
+  glass.transmittance = {0.9, 0.5, 0.2};  // coloured: three planes where it shades the light
+  scene.occluders.push_back(glass);
+  const std::size_t floats = static_cast<std::size_t>(200) * 140 * 3;
+  std::vector<LightHandle> handles;
+  Renderer r[2];
+  std::vector<float> buffer[2] = {std::vector<float>(floats), std::vector<float>(floats)};
+  for (int i = 0; i < 2; ++i) {
+    RenderOptions options;
+    options.threads = 1 + i;
+    REQUIRE(r[i].set_options(options).ok());
+    REQUIRE(r[i].set_scene(scene, &handles).ok());
+    REQUIRE(r[i].set_incremental(true).ok());
+    REQUIRE(r[i].set_light_layer_budget(std::size_t{16} << 20).ok());
+  }
+  for (int frame = 0; frame < 6; ++frame) {
+    for (int i = 0; i < 2; ++i) {
+      if (frame > 0) REQUIRE(r[i].set_light_emission(handles[frame % 2], {1.0, 0.9, 0.8}, 0.5 + frame).ok());
+      REQUIRE(r[i].render(ImageView{buffer[i].data(), 200, 140, 200 * 3}).ok());
+      const FrameStats st = r[i].frame_stats();
+      INFO("frame ", frame, " threads ", i + 1);
+      if (frame == 0) {
+        CHECK(st.layer_tiles_filled > 0u);
+        CHECK(st.layer_tiles_reused == 0u);
+      } else {  // only an emission changed: every share of the dirty blocks comes from a layer
+        CHECK(st.layer_tiles_filled == 0u);
+        CHECK(st.layer_tiles_reused > 0u);
+        CHECK(st.tile_lights == 0u);  // nothing handed to the kernel
+        CHECK(st.pixels > 0u);
+        CHECK(st.pixels < 200u * 140u);
+      }
+      CHECK(r[i].light_layer_bytes() > 0u);
+      CHECK(r[i].light_layer_bytes() <= r[i].light_layer_budget());
+    }
+    CHECK(std::memcmp(buffer[0].data(), buffer[1].data(), floats * sizeof(float)) == 0);
+    const std::vector<float> expected = fresh_render(r[0], RenderOptions{});
+    const double bound = 1e-6 * brightest_emission(r[0].snapshot());
+    double worst = 0.0;
+    for (std::size_t p = 0; p < floats; ++p) worst = std::max(worst, std::abs(static_cast<double>(buffer[0][p]) - expected[p]));
+    CHECK(worst <= bound);
+  }
+  // Off: freed, and the next frame is whole and byte-equal to a full render.
+  REQUIRE(r[0].set_light_layer_budget(0).ok());
+  CHECK(r[0].light_layer_bytes() == 0u);
+  REQUIRE(r[0].render(ImageView{buffer[0].data(), 200, 140, 200 * 3}).ok());
+  CHECK(r[0].frame_stats().pixels == 200u * 140u);
+  const std::vector<float> expected = fresh_render(r[0], RenderOptions{});
+  CHECK(std::memcmp(buffer[0].data(), expected.data(), floats * sizeof(float)) == 0);
 }
 
 }  // namespace par2d::test

@@ -308,6 +308,9 @@ typedef struct par2d_frame_stats {
   uint64_t tile_proofs_tried, tile_proofs_succeeded, tile_proofs_skipped;
   uint64_t umbra_tests, umbra_hits, tile_pairs_outside_hull;
   uint64_t light_samples, pair_samples, scalar_tiles;
+  /* The light-layer cache (par2d_set_light_layer_budget): (tile, light) shares added from a
+   * stored layer, and shares computed alone to be stored. */
+  uint64_t layer_tiles_reused, layer_tiles_filled;
   /* Only with par2d_advanced_options.sample_needs (else 0): at each tile's middle pixel, by
    * exact double geometry, the lights visible there and the occluders cutting into their arcs. */
   uint64_t sampled_pixels, sampled_visible_lights, sampled_blocking_pairs;

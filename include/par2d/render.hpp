@@ -128,6 +128,10 @@ struct FrameStats {
   std::uint64_t light_samples = 0;        // light arcs the kernel evaluates: sum over tiles (or their cells) of lights x samples
   std::uint64_t pair_samples = 0;         // pairs likewise: sum over tiles (or their cells) of pairs x samples
   std::uint64_t scalar_tiles = 0;         // tiles computed by the scalar reference (only with Isa::scalar)
+  // The light-layer cache (Renderer::set_light_layer_budget): (tile, light) shares added from
+  // a stored layer instead of computed, and shares computed alone to be stored.
+  std::uint64_t layer_tiles_reused = 0;
+  std::uint64_t layer_tiles_filled = 0;
   // What pixels really need, by the exact double geometry at one pixel per tile (the tile's
   // middle pixel), for comparison with the kernel's work above: lights visible there (some
   // direction reaches the light with no occluder in front; the lighting model's cone, range

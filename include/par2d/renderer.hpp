@@ -158,6 +158,19 @@ class Renderer {
   bool incremental() const noexcept;
   // The next whole-frame render computes every pixel (after the host changed its buffer).
   void force_full_frame() noexcept;
+  // Cached light layers for incremental frames (docs/api.md, "Light-layer cache"). With a
+  // budget above 0 bytes, an incremental frame keeps, per 64x64 block and light, the light's
+  // share of the block before its emission is applied, so a frame in which lights only change
+  // intensity or colour recombines their blocks instead of computing visibility again. At most
+  // `bytes` are held; blocks beyond the budget are computed as without the cache. Pixels are
+  // then within 1e-6 x the brightest emission of a full render's (float rounding of the
+  // recombination), no longer byte-identical; 0 (the default) turns the cache off and frees
+  // it. The next whole frame is computed whole either way. Needs incremental frames, culling
+  // and a SIMD ISA; scenes with one bounce do without.
+  Status set_light_layer_budget(std::size_t bytes);
+  std::size_t light_layer_budget() const noexcept;
+  // Bytes the layers hold after the last frame (at most the budget).
+  std::size_t light_layer_bytes() const noexcept;
   // The rectangles the last successful render wrote (merged block runs, in row order; empty
   // when an incremental frame changed nothing): the parts of the buffer to upload.
   const std::vector<PixelRect>& dirty_rects() const noexcept;

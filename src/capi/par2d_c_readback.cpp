@@ -259,6 +259,8 @@ par2d_status par2d_get_frame_stats(const par2d_renderer* r, par2d_frame_stats* o
                            s.light_samples,
                            s.pair_samples,
                            s.scalar_tiles,
+                           s.layer_tiles_reused,
+                           s.layer_tiles_filled,
                            s.sampled_pixels,
                            s.sampled_visible_lights,
                            s.sampled_blocking_pairs};

@@ -98,7 +98,8 @@ void whole_tile_cell(TileWork& work) {
 }  // namespace
 
 void build_cell_lists(const PreparedScene& scene, const TileRect& tile, int lanes, const TileSetupScratch& setup,
-                      TileWork& work, CellListScratch& scratch) {
+                      TileWork& work, CellListScratch& scratch, const std::uint32_t* tile_lights) {
+  if (tile_lights == nullptr) tile_lights = setup.tile_lights.data();
   if (!setup.plan.cells) {
     if (work.model) whole_tile_cell(work);
     return;
@@ -170,7 +171,7 @@ void build_cell_lists(const PreparedScene& scene, const TileRect& tile, int lane
       // A directional light is at infinity (its shape unused): its pairs keep every cell.
       const bool directional = work.model && work.light_terms[i].directional;
       const CellListScratch::Disc light_disc =
-          directional ? CellListScratch::Disc{} : bounding_disc(scene.lights[setup.tile_lights[i]].shape);
+          directional ? CellListScratch::Disc{} : bounding_disc(scene.lights[tile_lights[i]].shape);
       for (std::uint32_t p = 0; p < light.pair_count; ++p) {
         const KernelPair& pair = work.pairs[light.first_pair + p];
         unsigned cells = live;

@@ -36,7 +36,9 @@ struct CellListScratch {
 // keep the tile's lists, other game-model tiles get them as one cell over the whole tile (the
 // model kernel reads only cells). The image is the same either way: a pair an occluder
 // cannot form over the cell blocks nothing there.
+// `tile_lights`: the scene index of each of work.lights (null: setup.tile_lights, the tile's
+// own; the light-layer path hands the kernel a part of the tile's lights at a time).
 void build_cell_lists(const PreparedScene& scene, const TileRect& tile, int lanes, const TileSetupScratch& setup,
-                      TileWork& work, CellListScratch& scratch);
+                      TileWork& work, CellListScratch& scratch, const std::uint32_t* tile_lights = nullptr);
 
 }  // namespace par2d::detail

@@ -53,19 +53,19 @@ void ChangeTracker::light_added() {
   any_ = true;
   if (full_) return;  // the arrays are rebuilt at the next frame
   old_.emplace_back();
-  changed_.push_back(1);
+  changed_.push_back(kChanged);
 }
 
 void ChangeTracker::light_changed(std::size_t p) noexcept {
   if (next_) next_->light_changed(p);
   any_ = true;
-  if (!full_ && p < changed_.size()) changed_[p] = 1;
+  if (!full_ && p < changed_.size()) changed_[p] |= kChanged;
 }
 
 void ChangeTracker::light_emission_changed(std::size_t p) noexcept {
   if (next_) next_->light_emission_changed(p);
   any_ = true;
-  if (!full_ && p < changed_.size()) changed_[p] = 1;
+  if (!full_ && p < changed_.size()) changed_[p] |= kEmission;
 }
 
 void ChangeTracker::light_erased(std::size_t p) noexcept {
@@ -87,7 +87,7 @@ void ChangeTracker::light_erased(std::size_t p) noexcept {
   const std::size_t m = changed_.size() - 1;
   if (p != m) {
     old_[p] = old_[m];
-    changed_[p] = 1;
+    changed_[p] = kChanged;
   }
   old_.pop_back();
   changed_.pop_back();
@@ -146,6 +146,7 @@ void ChangeTracker::mark(const PreparedScene& scene, const Aabb& box) {
   double py0 = (box.min_y - scene.view.y0) * sy, py1 = (box.max_y - scene.view.y0) * sy;
   if (std::isnan(px0) || std::isnan(px1) || std::isnan(py0) || std::isnan(py1)) {
     std::fill(mask_.begin(), mask_.end(), std::uint8_t{1});
+    if (layered_) layers_->clear();
     return;
   }
   if (px0 > px1) std::swap(px0, px1);
@@ -157,14 +158,19 @@ void ChangeTracker::mark(const PreparedScene& scene, const Aabb& box) {
   };
   const int bx0 = block_of(px0 - 1.0, columns), bx1 = block_of(px1 + 1.0, columns);
   const int by0 = block_of(py0 - 1.0, rows), by1 = block_of(py1 + 1.0, rows);
-  for (int by = by0; by <= by1; ++by)
+  for (int by = by0; by <= by1; ++by) {
     std::fill(mask_.begin() + by * columns + bx0, mask_.begin() + by * columns + bx1 + 1, std::uint8_t{1});
+    if (layered_)
+      for (int bx = bx0; bx <= bx1; ++bx) layers_->drop_block(static_cast<std::size_t>(by * columns + bx));
+  }
 }
 
-void ChangeTracker::mark_light(const PreparedScene& scene, const Footprint& f, const Aabb* region) {
+void ChangeTracker::mark_light(const PreparedScene& scene, const Footprint& f, const Aabb* region,
+                               std::size_t light) {
   if (empty_box(f.influence)) return;
+  const bool drop = region != nullptr && layered_;
   for (std::size_t b = 0; b < block_boxes_.size(); ++b) {
-    if (mask_[b]) continue;
+    if (mask_[b] && !drop) continue;
     const Aabb& box = block_boxes_[b];
     if (!f.takes_part(box, scene.model)) continue;
     if (region) {
@@ -174,7 +180,18 @@ void ChangeTracker::mark_light(const PreparedScene& scene, const Footprint& f, c
       if (!boxes_meet(*region, reach_box)) continue;
     }
     mask_[b] = 1;
+    if (drop) layers_->drop(b, light);
   }
+}
+
+void ChangeTracker::plan_layer_fills(const PreparedScene& scene, bool full) {
+  wanted_.assign(block_boxes_.size(), 0);
+  for (std::size_t b = 0; b < block_boxes_.size(); ++b) {
+    if (!full && !mask_[b]) continue;
+    for (std::size_t l = 0; l < old_.size(); ++l)
+      if (old_[l].takes_part(block_boxes_[b], scene.model) && !layers_->has(b, l)) ++wanted_[b];
+  }
+  layers_->plan_fills(full ? nullptr : &mask_, wanted_);
 }
 
 const std::vector<std::uint8_t>* ChangeTracker::plan(const PreparedScene& scene, const std::vector<LightReach>* reach,
@@ -216,7 +233,11 @@ const std::vector<std::uint8_t>* ChangeTracker::plan(const PreparedScene& scene,
   const int columns = (scene.width + kBlockSize - 1) / kBlockSize;
   const int rows = (scene.height + kBlockSize - 1) / kBlockSize;
   mask_.assign(static_cast<std::size_t>(columns) * static_cast<std::size_t>(rows), full ? 1 : 0);
-  if (!full && any_) {
+  // The layers: kept only where culling says which lights take part in which block.
+  layered_ = layers_ != nullptr && layers_->budget() != 0 && precise;
+  if (layers_ && (!layered_ || full)) layers_->clear();
+  if (layered_) layers_->set_block_count(mask_.size());
+  if ((!full && any_) || layered_) {
     block_boxes_.resize(mask_.size());
     for (int by = 0; by < rows; ++by) {
       for (int bx = 0; bx < columns; ++bx) {
@@ -225,28 +246,34 @@ const std::vector<std::uint8_t>* ChangeTracker::plan(const PreparedScene& scene,
         block_boxes_[static_cast<std::size_t>(by * columns + bx)] = bounds_of(tile_corners(scene, block));
       }
     }
+  }
+  if (!full && any_) {
     // A light changed, renumbered or with another reach: wherever it took part or takes part.
     for (std::size_t l = 0; l < lights; ++l) {
-      if (changed_[l] || !same_reach(old_[l].reach, new_[l].reach) || !same_box(old_[l].bounds, new_[l].bounds) ||
-          old_[l].range != new_[l].range) {
-        mark_light(scene, old_[l], nullptr);
-        mark_light(scene, new_[l], nullptr);
+      const bool moved = (changed_[l] & kChanged) || !same_reach(old_[l].reach, new_[l].reach) ||
+                         !same_box(old_[l].bounds, new_[l].bounds) || old_[l].range != new_[l].range;
+      if (moved || changed_[l]) {
+        mark_light(scene, old_[l], nullptr, l);
+        mark_light(scene, new_[l], nullptr, l);
       }
+      if (moved && layered_) layers_->drop_light(l);
     }
-    for (const Footprint& f : erased_) mark_light(scene, f, nullptr);
+    if (layered_) layers_->drop_lights_from(lights);
+    for (const Footprint& f : erased_) mark_light(scene, f, nullptr, 0);
     // An occluder changed in `r`: a candidate of light l in block B only if `r` meets the box
     // of B and the light, where l takes part in B.
     for (const Aabb& r : regions_) {
       mark(scene, r);  // an occluder holding a pixel
       for (std::size_t l = 0; l < lights; ++l) {
-        if (boxes_meet(old_[l].query, r)) mark_light(scene, old_[l], &r);
-        if (boxes_meet(new_[l].query, r)) mark_light(scene, new_[l], &r);
+        if (boxes_meet(old_[l].query, r)) mark_light(scene, old_[l], &r, l);
+        if (boxes_meet(new_[l].query, r)) mark_light(scene, new_[l], &r, l);
       }
     }
   }
 
   // This frame is now what the host's buffer holds.
   old_.swap(new_);
+  if (layered_) plan_layer_fills(scene, full);
   changed_.assign(lights, 0);
   erased_.clear();
   regions_.clear();

@@ -10,6 +10,7 @@
 #include "par2d/isa.hpp"
 #include "par2d/renderer.hpp"
 #include "render/frame_driver.hpp"
+#include "render/light_layers.hpp"
 #include "world/prepared_scene.hpp"
 #include "world/world_changes.hpp"
 
@@ -47,12 +48,19 @@ struct FrameKey {
 //    every hull of a block meeting I_l with the light's shape (I_l grown by a block, and the
 //    shape's box): the only place a block's candidate query looks.
 // Directional lights are unbounded: with any, an occluder change is every block.
+// With a light-layer cache (set_layers, budget above 0) and culling, plan also drops the layers
+// those rules make stale (light_layers.hpp: an emission change dirties blocks but keeps them)
+// and decides which dirty blocks may store new ones.
 class ChangeTracker final : public WorldObserver {
  public:
   // The observer events are passed on to (the reach cache); set before the World observes this.
   void forward_to(WorldObserver* next) noexcept { next_ = next; }
   // The next whole frame computes every block.
   void force_full() noexcept { full_ = true; }
+  // The light-layer cache plan keeps (may be null).
+  void set_layers(LightLayerCache* layers) noexcept { layers_ = layers; }
+  // Whether the frame last planned may use the layers (a budget, culling, no bounce).
+  bool layered() const noexcept { return layered_; }
 
   // For a whole-frame render of `scene` with `key`: returns the mask of blocks to compute
   // (kBlockSize blocks of the frame, row by row), or nullptr for every block; fills `rects`
@@ -87,12 +95,23 @@ class ChangeTracker final : public WorldObserver {
   };
 
   void region(const Aabb& box) noexcept;
+  // Marks the blocks meeting `box` (and drops their layers).
   void mark(const PreparedScene& scene, const Aabb& box);
   // Marks the blocks where `f` takes part and (when given) whose box joined with the light's
-  // meets `region`: where an occluder in `region` may be one of the light's candidates.
-  void mark_light(const PreparedScene& scene, const Footprint& f, const Aabb* region);
+  // meets `region`: where an occluder in `region` may be one of the light's candidates; there,
+  // light `light`'s layers are dropped.
+  void mark_light(const PreparedScene& scene, const Footprint& f, const Aabb* region, std::size_t light);
+  // Per block, the lights that take part in it without a layer: what plan_fills reserves for.
+  void plan_layer_fills(const PreparedScene& scene, bool full);
+
+  // changed_ flags: the light's geometry, terms or number changed (its layers are stale), or
+  // only its emission (they stay).
+  static constexpr std::uint8_t kChanged = 1, kEmission = 2;
 
   WorldObserver* next_ = nullptr;
+  LightLayerCache* layers_ = nullptr;
+  bool layered_ = false;
+  std::vector<std::uint32_t> wanted_;
   bool full_ = true;  // every block at the next frame
   bool any_ = false;  // some change since the last frame
   bool have_key_ = false;

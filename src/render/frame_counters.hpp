@@ -40,6 +40,10 @@ struct FrameCounters {
   std::uint64_t light_samples = 0;
   std::uint64_t pair_samples = 0;
   std::uint64_t scalar_tiles = 0;
+  // The light-layer cache (layered_tiles.cpp): (tile, light) shares added from a layer, and
+  // those computed alone to be stored.
+  std::uint64_t layer_tiles_reused = 0;
+  std::uint64_t layer_tiles_filled = 0;
   // One exact pixel per tile (FrameSettings::sample_needs; frame_driver.cpp).
   std::uint64_t sampled_pixels = 0;
   std::uint64_t sampled_visible_lights = 0;
@@ -68,6 +72,8 @@ struct FrameCounters {
     light_samples += o.light_samples;
     pair_samples += o.pair_samples;
     scalar_tiles += o.scalar_tiles;
+    layer_tiles_reused += o.layer_tiles_reused;
+    layer_tiles_filled += o.layer_tiles_filled;
     sampled_pixels += o.sampled_pixels;
     sampled_visible_lights += o.sampled_visible_lights;
     sampled_blocking_pairs += o.sampled_blocking_pairs;
@@ -75,7 +81,7 @@ struct FrameCounters {
   }
 };
 // A new field must be added above too.
-static_assert(sizeof(FrameCounters) == 25 * sizeof(std::uint64_t), "FrameCounters::operator+= adds every field");
+static_assert(sizeof(FrameCounters) == 27 * sizeof(std::uint64_t), "FrameCounters::operator+= adds every field");
 
 // The public report of a frame's counts: the one place FrameCounters map to FrameStats.
 inline FrameStats to_frame_stats(const FrameCounters& c) noexcept {
@@ -102,6 +108,8 @@ inline FrameStats to_frame_stats(const FrameCounters& c) noexcept {
   s.light_samples = c.light_samples;
   s.pair_samples = c.pair_samples;
   s.scalar_tiles = c.scalar_tiles;
+  s.layer_tiles_reused = c.layer_tiles_reused;
+  s.layer_tiles_filled = c.layer_tiles_filled;
   s.sampled_pixels = c.sampled_pixels;
   s.sampled_visible_lights = c.sampled_visible_lights;
   s.sampled_blocking_pairs = c.sampled_blocking_pairs;

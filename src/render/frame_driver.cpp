@@ -10,6 +10,8 @@
 #include "render/cell_lists.hpp"
 #include "render/frame_counters.hpp"
 #include "render/kernel_table.hpp"
+#include "render/layered_tiles.hpp"
+#include "render/light_layers.hpp"
 #include "render/scalar_tiles.hpp"
 #include "render/tile_setup.hpp"
 #include "render/tiling.hpp"
@@ -99,7 +101,7 @@ void add_bounce(const PreparedScene& scene, const BounceFrame& bounce, int spp, 
 }  // namespace
 
 // Everything one lane of blocks reuses from tile to tile and frame to frame.
-struct FrameEngine::ThreadState {
+struct FrameEngine::ThreadState final : TileKernelRunner {
   TileWork work;
   TileSetupScratch setup;
   CellListScratch cells;
@@ -109,7 +111,15 @@ struct FrameEngine::ThreadState {
   std::size_t scratch_floats = 0;
   float* aligned = nullptr;
   TileResult result;
+  LayeredTileScratch layered;
   FrameCounters counts;  // this lane's counts in this frame (its setup's added when the lane ends)
+  const KernelSet* kernels = nullptr;  // this frame's
+
+  // Counts the work and runs the kernel on it.
+  void run(const TileWork& tile_work, TileResult& out) override {
+    count_tile_work(tile_work, counts);
+    kernels->render_tile(tile_work, kernel_scratch(kernel_scratch_floats(tile_work, kernels->lanes)), out);
+  }
 
   float* kernel_scratch(std::size_t floats) {
     if (floats > scratch_floats) {
@@ -129,16 +139,17 @@ FrameEngine& FrameEngine::operator=(FrameEngine&&) noexcept = default;
 
 void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReach>* reach,
                          const FrameSettings& settings, const Scheduler& scheduler, const FrameTarget& target,
-                         FrameStats* stats, const std::vector<std::uint8_t>* dirty) {
+                         FrameStats* stats, const std::vector<std::uint8_t>* dirty, LightLayerCache* layers) {
   const KernelSet* kernels = kernels_for(settings.isa);
   const TileRect& region = target.region;
   // Blocks of the whole frame that meet the region.
   const int bx0 = region.x0 / kBlockSize, bx1 = (region.x1 - 1) / kBlockSize + 1;
   const int by0 = region.y0 / kBlockSize, by1 = (region.y1 - 1) / kBlockSize + 1;
   const int columns = bx1 - bx0;
+  const int frame_columns = (scene.width + kBlockSize - 1) / kBlockSize;
   int blocks = columns * (by1 - by0);
+  if (!kernels) layers = nullptr;  // the scalar reference computes every light itself
   if (dirty) {  // only the flagged blocks, in the same order
-    const int frame_columns = (scene.width + kBlockSize - 1) / kBlockSize;
     block_list_.clear();
     for (int b = 0; b < blocks; ++b) {
       const int bx = bx0 + b % columns, by = by0 + b / columns;
@@ -166,6 +177,8 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
     const int x0 = (bx0 + b % columns) * kBlockSize, y0 = (by0 + b / columns) * kBlockSize;
     const TileRect block{x0, y0, std::min(x0 + kBlockSize, scene.width), std::min(y0 + kBlockSize, scene.height)};
     FrameCounters& counts = state.counts;
+    const std::size_t frame_block = static_cast<std::size_t>((bx0 + b % columns) + (by0 + b / columns) * frame_columns);
+    if (layers) start_layered_block(scene.lights.size(), layers->block(frame_block), state.layered);
     if (kernels) {
       const std::uint64_t tried = state.setup.occlusion.proofs_tried;
       const std::uint64_t succeeded = state.setup.occlusion.proofs_succeeded;
@@ -181,13 +194,17 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
       if (!kernels) {  // Isa::scalar: the reference, tile by tile
         ++counts.scalar_tiles;
         render_tile_scalar(scene, settings.spp, part, tile.x0, tile.y0, state.scalar, state.result, settings.shaded);
+      } else if (layers) {
+        build_tile_work(scene, tile, settings.spp, cull, state.work, state.setup, settings.shaded);
+        if (settings.sample_needs) sample_needs(scene, part, state.setup, state.scalar, counts);
+        const int t = (tile.y0 - y0) / kTileSize * kBlockTiles + (tile.x0 - x0) / kTileSize;
+        render_layered_tile(scene, tile, t, *kernels, layers->may_fill(frame_block), state.work, state.setup,
+                            state.cells, layers->block(frame_block), state.layered, state, state.result, counts);
       } else {
         build_tile_work(scene, tile, settings.spp, cull, state.work, state.setup, settings.shaded);
         build_cell_lists(scene, tile, kernels->lanes, state.setup, state.work, state.cells);
-        count_tile_work(state.work, counts);
         if (settings.sample_needs) sample_needs(scene, part, state.setup, state.scalar, counts);
-        float* scratch = state.kernel_scratch(kernel_scratch_floats(state.work, kernels->lanes));
-        kernels->render_tile(state.work, scratch, state.result);
+        state.run(state.work, state.result);
       }
       if (bouncing)
         add_bounce(scene, *bounce_, settings.spp, settings.shaded, part, tile.x0, tile.y0, state.bounce, state.result);
@@ -216,11 +233,13 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
   }
   scheduler.for_each_index(lanes, [&](int lane, int) {
     ThreadState& state = states_[static_cast<std::size_t>(lane)];
+    state.kernels = kernels;
     state.counts = FrameCounters{};
     state.setup.clear_counts();
     for (int b = lane; b < blocks; b += lanes) render_block(b, state);
     state.counts += state.setup.counts();
   });
+  if (layers) layers->finish_frame();
   if (!stats) return;
   FrameCounters sum;
   for (int lane = 0; lane < lanes; ++lane) sum += states_[static_cast<std::size_t>(lane)].counts;

@@ -16,6 +16,7 @@
 namespace par2d::detail {
 
 struct BounceFrame;
+class LightLayerCache;
 
 // What one frame computes: samples per pixel, culling, and the kernel ISA (Isa::scalar:
 // the reference path, pixel by pixel).
@@ -43,9 +44,11 @@ class FrameEngine {
   // `stats`, when given, receives the frame's culling and kernel work (FrameStats).
   // `dirty`, when given: one flag per kBlockSize block of the whole frame, row by row; only the
   // flagged blocks are computed and stored, the rest of the target is not touched.
+  // `layers`, when given (a whole frame with culling and a SIMD ISA): tiles are computed
+  // through the light-layer cache (render/layered_tiles.hpp), as its plan allows.
   void render(const PreparedScene& scene, const std::vector<LightReach>* reach, const FrameSettings& settings,
               const Scheduler& scheduler, const FrameTarget& target, FrameStats* stats = nullptr,
-              const std::vector<std::uint8_t>* dirty = nullptr);
+              const std::vector<std::uint8_t>* dirty = nullptr, LightLayerCache* layers = nullptr);
 
  private:
   struct ThreadState;

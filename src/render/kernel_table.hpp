@@ -21,6 +21,9 @@ struct KernelSet {
   void (*union_measure)(float* lo, float* hi, std::size_t count, const float* width, const float* reach0,
                         float* out) noexcept;
   void (*atan2)(const float* y, const float* x, float* out, int domain) noexcept;
+  // out += emission[c] x layer plane c (plane 0 for every channel when `mono`): the light-layer
+  // cache's recombination (render/light_layers.hpp).
+  void (*add_light_layer)(const float* layer, bool mono, const float* emission, TileResult& out) noexcept;
   // Vector tile stores into the host's pixel formats (the buckets of 8-bit sRGB come with
   // each frame's exposure).
   VectorTileStores stores;

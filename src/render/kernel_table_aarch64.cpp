@@ -9,7 +9,7 @@ namespace {
 
 constexpr KernelSet kKernels[] = {
     {Isa::neon64, 4, simd::render_tile_neon64, simd::union_measure_neon64, simd::atan2_neon64,
-     PAR2D_TILE_STORES(neon64)},
+     simd::add_light_layer_neon64, PAR2D_TILE_STORES(neon64)},
 };
 
 }  // namespace

@@ -11,11 +11,11 @@ namespace {
 
 constexpr KernelSet kKernels[] = {
     {Isa::sse4_2, 4, simd::render_tile_sse4_2, simd::union_measure_sse4_2, simd::atan2_sse4_2,
-     PAR2D_TILE_STORES(sse4_2)},
+     simd::add_light_layer_sse4_2, PAR2D_TILE_STORES(sse4_2)},
     {Isa::avx2, 8, simd::render_tile_avx2, simd::union_measure_avx2, simd::atan2_avx2,
-     PAR2D_TILE_STORES(avx2)},
+     simd::add_light_layer_avx2, PAR2D_TILE_STORES(avx2)},
     {Isa::avx512, 16, simd::render_tile_avx512, simd::union_measure_avx512, simd::atan2_avx512,
-     PAR2D_TILE_STORES(avx512)},
+     simd::add_light_layer_avx512, PAR2D_TILE_STORES(avx512)},
 };
 
 }  // namespace

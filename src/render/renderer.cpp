@@ -11,6 +11,7 @@
 #include "parallel/scheduler.hpp"
 #include "render/frame_driver.hpp"
 #include "render/frame_output.hpp"
+#include "render/light_layers.hpp"
 #include "render/render_arguments.hpp"
 #include "status_guard.hpp"
 #include "world/world.hpp"
@@ -20,6 +21,7 @@ namespace par2d {
 struct Renderer::Impl {
   Impl() {
     tracker.forward_to(&reach);
+    tracker.set_layers(&layers);
     world.observe(&tracker);
   }
   Impl(const Impl&) = delete;
@@ -32,6 +34,7 @@ struct Renderer::Impl {
   detail::Scheduler scheduler;
   detail::ReachCache reach;  // follows `world`'s changes (declared first: the world points at it)
   detail::ChangeTracker tracker;  // observes `world` and passes every event on to `reach`
+  detail::LightLayerCache layers;  // kept by `tracker`'s plans (budget 0: off)
   bool incremental = false;
   std::vector<PixelRect> dirty_rects;  // the last successful render's
   detail::World world;
@@ -200,6 +203,7 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
     const std::vector<detail::LightReach>* reach = culling ? &impl.reach.reach() : nullptr;
     const bool whole = region.x0 == 0 && region.y0 == 0 && region.x1 == width() && region.y1 == height();
     const std::vector<std::uint8_t>* dirty = nullptr;
+    detail::LightLayerCache* layers = nullptr;
     if (impl.incremental && whole) {
       // Only the blocks whose inputs changed since the last whole frame into this buffer.
       detail::FrameKey key;
@@ -216,13 +220,14 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
       key.exposure = buffer.exposure;
       key.settings = settings;
       dirty = impl.tracker.plan(scene, reach, key, impl.dirty_rects);
+      if (impl.tracker.layered()) layers = &impl.layers;
     } else {
       impl.dirty_rects.assign(1, region);
     }
     try {
-      impl.engine.render(scene, reach, settings, impl.scheduler, target, &impl.frame_stats, dirty);
+      impl.engine.render(scene, reach, settings, impl.scheduler, target, &impl.frame_stats, dirty, layers);
     } catch (...) {
-      impl.tracker.force_full();  // the buffer may hold part of a frame
+      impl.tracker.force_full();  // the buffer may hold part of a frame (the plan drops the layers)
       throw;
     }
     ++impl.world.stats().frames;
@@ -233,9 +238,19 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
 Status Renderer::set_incremental(bool on) {
   impl_->incremental = on;
   impl_->tracker.force_full();
+  impl_->layers.clear();  // kept again from the next incremental frame
   return {};
 }
 bool Renderer::incremental() const noexcept { return impl_->incremental; }
+Status Renderer::set_light_layer_budget(std::size_t bytes) {
+  return guarded("set_light_layer_budget", [&] {
+    impl_->layers.set_budget(bytes);
+    impl_->tracker.force_full();  // no pixel of the buffer mixes the two ways
+    return Status::success();
+  });
+}
+std::size_t Renderer::light_layer_budget() const noexcept { return impl_->layers.budget(); }
+std::size_t Renderer::light_layer_bytes() const noexcept { return impl_->layers.bytes(); }
 void Renderer::force_full_frame() noexcept { impl_->tracker.force_full(); }
 const std::vector<PixelRect>& Renderer::dirty_rects() const noexcept { return impl_->dirty_rects; }
 

@@ -11,6 +11,7 @@
   void render_tile_##suffix(const detail::TileWork&, float*, detail::TileResult&) noexcept;                \
   void union_measure_##suffix(float*, float*, std::size_t, const float*, const float*, float*) noexcept; \
   void atan2_##suffix(const float*, const float*, float*, int) noexcept;                                   \
+  void add_light_layer_##suffix(const float*, bool, const float*, detail::TileResult&) noexcept;           \
   void store_rgb_f32_##suffix(const detail::TileResult&, int, int, int, int, unsigned char*, std::ptrdiff_t, bool) noexcept; \
   void store_rgba_f32_##suffix(const detail::TileResult&, int, int, int, int, unsigned char*, std::ptrdiff_t, bool) noexcept; \
   void store_rgba8_srgb_##suffix(const detail::TileResult&, int, int, int, int, unsigned char*, std::ptrdiff_t,         \

@@ -35,6 +35,21 @@ void PAR2D_CONCAT(atan2_, PAR2D_KERNEL_SUFFIX)(const float* y, const float* x, f
   r.store_unaligned(out);
 }
 
+// out += emission x layer, per channel (one plane for all three when `mono`), with the
+// kernel's own multiply-add: the light-layer cache's recombination (render/light_layers.hpp).
+void PAR2D_CONCAT(add_light_layer_, PAR2D_KERNEL_SUFFIX)(const float* layer, bool mono, const float* emission,
+                                                         detail::TileResult& out) noexcept {
+  using B = xsimd::batch<float, PAR2D_KERNEL_ARCH>;
+  constexpr std::size_t W = B::size;
+  for (std::size_t c = 0; c < 3; ++c) {
+    const float* plane = layer + (mono ? 0 : c * detail::kTilePixels);
+    const B e(emission[c]);
+    float* sum = out.rgb[c];
+    for (std::size_t p = 0; p < detail::kTilePixels; p += W)
+      xsimd::fma(e, B::load_unaligned(plane + p), B::load_aligned(sum + p)).store_aligned(sum + p);
+  }
+}
+
 void PAR2D_CONCAT(store_rgb_f32_, PAR2D_KERNEL_SUFFIX)(const TileResult& tile, int first_column, int first_row, int rows,
                                                        int count, unsigned char* host, std::ptrdiff_t row_stride,
                                                        bool stream) noexcept {

@@ -1,0 +1,98 @@
+// A tile through the light-layer cache: see layered_tiles.hpp.
+#include "render/layered_tiles.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+namespace par2d::detail {
+
+void start_layered_block(std::size_t scene_lights, const std::vector<LightLayer>& layers, LayeredTileScratch& scratch) {
+  scratch.layer_of.assign(scene_lights, -1);
+  for (std::size_t k = 0; k < layers.size(); ++k)
+    if (layers[k].light < scene_lights) scratch.layer_of[layers[k].light] = static_cast<std::int32_t>(k);
+}
+
+void render_layered_tile(const PreparedScene& scene, const TileRect& tile, int t, const KernelSet& kernels, bool fill,
+                         TileWork& work, const TileSetupScratch& setup, CellListScratch& cells,
+                         std::vector<LightLayer>& layers, LayeredTileScratch& scratch, TileKernelRunner& runner,
+                         TileResult& out, FrameCounters& counts) {
+  // The tile's lights (scene lights first, in number order, then directional ones) move aside;
+  // work.lights holds what each kernel call computes.
+  scratch.all_lights.swap(work.lights);
+  scratch.all_terms.swap(work.light_terms);
+  const std::size_t count = scratch.all_lights.size();
+  const std::size_t scene_lights = setup.tile_lights.size();
+  const bool model = work.model;
+  float ambient[3];
+  std::copy(std::begin(work.ambient), std::end(work.ambient), ambient);
+  scratch.rest.clear();
+  scratch.added.clear();
+  scratch.added_layer.clear();
+  for (std::size_t i = 0; i < count; ++i) {
+    if (i >= scene_lights) {  // a directional light: no layer (it reaches every block)
+      scratch.rest.push_back(static_cast<std::uint32_t>(i));
+      continue;
+    }
+    const std::uint32_t l = setup.tile_lights[i];
+    std::int32_t k = scratch.layer_of[l];
+    if (k >= 0 && layers[static_cast<std::size_t>(k)].offset[t] >= 0) {
+      scratch.added.push_back(static_cast<std::uint32_t>(i));
+      scratch.added_layer.push_back(static_cast<std::uint32_t>(k));
+      ++counts.layer_tiles_reused;
+      continue;
+    }
+    if (!fill) {
+      scratch.rest.push_back(static_cast<std::uint32_t>(i));
+      continue;
+    }
+    if (k < 0) {
+      k = static_cast<std::int32_t>(layers.size());
+      layers.emplace_back();
+      layers.back().clear(l);
+      scratch.layer_of[l] = k;
+    }
+    // The light alone at unit emission, without the ambient term: its share.
+    work.lights.assign(1, scratch.all_lights[i]);
+    std::fill(std::begin(work.lights[0].emission), std::end(work.lights[0].emission), 1.0f);
+    work.light_terms.clear();
+    if (model) work.light_terms.push_back(scratch.all_terms[i]);
+    std::fill(std::begin(work.ambient), std::end(work.ambient), 0.0f);
+    scratch.part_scene.assign(1, l);
+    build_cell_lists(scene, tile, kernels.lanes, setup, work, cells, scratch.part_scene.data());
+    runner.run(work, scratch.single);
+    const float* const planes[3] = {scratch.single.rgb[0], scratch.single.rgb[1], scratch.single.rgb[2]};
+    const bool mono = std::memcmp(planes[0], planes[1], sizeof(scratch.single.rgb[0])) == 0 &&
+                      std::memcmp(planes[0], planes[2], sizeof(scratch.single.rgb[0])) == 0;
+    layers[static_cast<std::size_t>(k)].store(t, planes, mono ? 1 : 3);
+    scratch.added.push_back(static_cast<std::uint32_t>(i));
+    scratch.added_layer.push_back(static_cast<std::uint32_t>(k));
+    ++counts.layer_tiles_filled;
+  }
+
+  // The rest with their own emissions, and the ambient term.
+  std::copy(std::begin(ambient), std::end(ambient), work.ambient);
+  if (!scratch.rest.empty()) {
+    work.lights.clear();
+    work.light_terms.clear();
+    scratch.part_scene.clear();
+    for (const std::uint32_t i : scratch.rest) {
+      work.lights.push_back(scratch.all_lights[i]);
+      if (model) work.light_terms.push_back(scratch.all_terms[i]);
+      scratch.part_scene.push_back(i < scene_lights ? setup.tile_lights[i] : 0u);  // unread for directional lights
+    }
+    build_cell_lists(scene, tile, kernels.lanes, setup, work, cells, scratch.part_scene.data());
+    runner.run(work, out);
+  } else {
+    for (int c = 0; c < 3; ++c) std::fill(std::begin(out.rgb[c]), std::end(out.rgb[c]), ambient[c]);
+  }
+  // The stored shares times their lights' emissions, in light order.
+  for (std::size_t j = 0; j < scratch.added.size(); ++j) {
+    const LightLayer& layer = layers[scratch.added_layer[j]];
+    kernels.add_light_layer(layer.data.data() + layer.offset[t], ((layer.mono >> t) & 1u) != 0,
+                            scratch.all_lights[scratch.added[j]].emission, out);
+  }
+  scratch.all_lights.swap(work.lights);
+  scratch.all_terms.swap(work.light_terms);
+}
+
+}  // namespace par2d::detail

@@ -1,0 +1,97 @@
+// The light-layer cache's bookkeeping: see light_layers.hpp.
+#include "render/light_layers.hpp"
+
+#include <algorithm>
+
+namespace par2d::detail {
+
+void LightLayer::clear(std::uint32_t l) noexcept {
+  light = l;
+  std::fill(std::begin(offset), std::end(offset), -1);
+  mono = 0;
+  data.clear();
+}
+
+void LightLayer::store(int t, const float* const rgb[3], int planes) {
+  const std::size_t at = data.size(), need = at + static_cast<std::size_t>(planes) * kTilePixels;
+  if (need > data.capacity()) data.reserve(std::min(std::max(need, 2 * data.capacity()), kMaxLayerFloats));
+  for (int c = 0; c < planes; ++c) data.insert(data.end(), rgb[c], rgb[c] + kTilePixels);
+  offset[t] = static_cast<std::int32_t>(at);
+  if (planes == 1) mono |= 1u << t;
+}
+
+void LightLayerCache::set_budget(std::size_t bytes) {
+  budget_ = bytes;
+  clear();
+}
+
+void LightLayerCache::clear() noexcept {
+  for (std::vector<LightLayer>& b : blocks_) b.clear();
+  fill_.assign(fill_.size(), 0);
+  bytes_ = 0;
+}
+
+void LightLayerCache::set_block_count(std::size_t blocks) {
+  if (blocks_.size() == blocks) return;
+  blocks_.clear();
+  blocks_.resize(blocks);
+  fill_.assign(blocks, 0);
+  bytes_ = 0;
+}
+
+void LightLayerCache::drop_light(std::size_t light) noexcept {
+  for (std::size_t b = 0; b < blocks_.size(); ++b) drop(b, light);
+}
+
+void LightLayerCache::drop_lights_from(std::size_t count) noexcept {
+  for (std::vector<LightLayer>& layers : blocks_)
+    layers.erase(std::remove_if(layers.begin(), layers.end(), [&](const LightLayer& y) { return y.light >= count; }),
+                 layers.end());
+  recount();
+}
+
+void LightLayerCache::drop_block(std::size_t block) noexcept {
+  if (block >= blocks_.size()) return;
+  for (const LightLayer& y : blocks_[block]) bytes_ -= y.bytes();
+  blocks_[block].clear();
+}
+
+void LightLayerCache::drop(std::size_t block, std::size_t light) noexcept {
+  if (block >= blocks_.size()) return;
+  std::vector<LightLayer>& layers = blocks_[block];
+  for (std::size_t i = 0; i < layers.size(); ++i) {
+    if (layers[i].light != light) continue;
+    bytes_ -= layers[i].bytes();
+    layers.erase(layers.begin() + static_cast<std::ptrdiff_t>(i));
+    return;
+  }
+}
+
+bool LightLayerCache::has(std::size_t block, std::size_t light) const noexcept {
+  if (block >= blocks_.size()) return false;
+  for (const LightLayer& y : blocks_[block])
+    if (y.light == light) return true;
+  return false;
+}
+
+void LightLayerCache::plan_fills(const std::vector<std::uint8_t>* dirty, const std::vector<std::uint32_t>& wanted) {
+  fill_.assign(blocks_.size(), 0);
+  std::size_t planned = bytes_;
+  for (std::size_t b = 0; b < blocks_.size() && b < wanted.size(); ++b) {
+    if (dirty && !(*dirty)[b]) continue;
+    const std::size_t need = static_cast<std::size_t>(wanted[b]) * kMaxLayerBytes;
+    if (need > budget_ || planned > budget_ - need) continue;
+    planned += need;
+    fill_[b] = 1;
+  }
+}
+
+void LightLayerCache::finish_frame() noexcept { recount(); }
+
+void LightLayerCache::recount() noexcept {
+  bytes_ = 0;
+  for (const std::vector<LightLayer>& layers : blocks_)
+    for (const LightLayer& y : layers) bytes_ += y.bytes();
+}
+
+}  // namespace par2d::detail

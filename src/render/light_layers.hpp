@@ -1,0 +1,91 @@
+// Cached light layers (opt-in, Renderer::set_light_layer_budget): per (block, light), the
+// light's share of each of the block's tiles before its emission is applied, so that a frame
+// in which a light only flickers (or changes colour) recombines the block from its layers
+// instead of computing every light's visibility again.
+//
+// Why it is exact enough: a tile's irradiance is ambient + sum over its lights of emission x
+// share, and a light's share (visible measure, cone, range window, transmittance, normals)
+// depends on the light's geometry, its occluders and the pixel, never on any emission. A layer
+// is the kernel's result for the tile with that light alone at unit emission; recombining
+// multiplies it by the light's emission and adds, in float, in the order the kernel would.
+// What differs from the kernel is float rounding (a product rounded once more per light), far
+// inside 1e-6 of the brightest emission (docs/api.md states the bound; the tests check it).
+//
+// Who drops a layer: the change tracker (render/change_tracker.hpp), with the same rules that
+// dirty blocks: a light whose geometry, reach or number changed loses every layer; an occluder
+// change loses the layers of the blocks it meets and of the (block, light) pairs whose
+// candidate query it meets; a new frame key, terms or world loses all. An emission change
+// dirties the light's blocks but keeps its layers: that is what they are for.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "render/tiling.hpp"
+
+namespace par2d::detail {
+
+inline constexpr int kBlockTileCount = kBlockTiles * kBlockTiles;
+// The most one layer holds: three planes for every tile of its block.
+inline constexpr std::size_t kMaxLayerFloats = static_cast<std::size_t>(kBlockTileCount) * 3 * kTilePixels;
+inline constexpr std::size_t kMaxLayerBytes = kMaxLayerFloats * sizeof(float);
+
+// One light's share of one block's tiles.
+struct LightLayer {
+  std::uint32_t light = 0;  // index into PreparedScene::lights
+  // Per tile of the block (row by row): where its planes start in `data`, or -1 (not stored:
+  // the light was not among the tile's lights when the layer was filled).
+  std::int32_t offset[kBlockTileCount];
+  // Bit t: tile t holds one plane, the same for all three channels (no coloured transmittance
+  // in front of the light there), else three.
+  std::uint32_t mono = 0;
+  std::vector<float> data;
+
+  LightLayer() { clear(0); }
+  void clear(std::uint32_t l) noexcept;
+  // Stores tile `t`'s planes (`planes` of them, kTilePixels floats each, from `rgb`), keeping
+  // the capacity within kMaxLayerFloats.
+  void store(int t, const float* const rgb[3], int planes);
+  std::size_t bytes() const noexcept { return data.capacity() * sizeof(float); }
+};
+
+class LightLayerCache {
+ public:
+  // At most `bytes` of layers (0: no cache). Drops every layer.
+  void set_budget(std::size_t bytes);
+  std::size_t budget() const noexcept { return budget_; }
+  // Bytes the layers hold now (as of the last finish_frame or drop).
+  std::size_t bytes() const noexcept { return bytes_; }
+
+  // Drops, called by the change tracker while it plans a frame.
+  void clear() noexcept;                            // every layer
+  void set_block_count(std::size_t blocks);         // a frame of another size: every layer
+  void drop_light(std::size_t light) noexcept;      // light `light`'s layers, in every block
+  void drop_lights_from(std::size_t count) noexcept;  // layers of lights numbered `count` or more
+  void drop_block(std::size_t block) noexcept;      // every layer of the block
+  void drop(std::size_t block, std::size_t light) noexcept;
+  bool has(std::size_t block, std::size_t light) const noexcept;
+
+  // Which of this frame's blocks may store new layers: in block order, each dirty block
+  // (`dirty` null: every block) whose `wanted[b]` missing layers, at kMaxLayerBytes each, fit
+  // in what the budget leaves. Decided before the frame so that the image does not depend on
+  // which thread reaches a block first.
+  void plan_fills(const std::vector<std::uint8_t>* dirty, const std::vector<std::uint32_t>& wanted);
+  bool may_fill(std::size_t block) const noexcept { return block < fill_.size() && fill_[block] != 0; }
+
+  // The layers of `block`: only the thread rendering the block touches them during a frame.
+  std::vector<LightLayer>& block(std::size_t b) noexcept { return blocks_[b]; }
+  // After a frame: counts what the layers hold.
+  void finish_frame() noexcept;
+
+ private:
+  void recount() noexcept;
+
+  std::size_t budget_ = 0;
+  std::size_t bytes_ = 0;
+  std::vector<std::vector<LightLayer>> blocks_;
+  std::vector<std::uint8_t> fill_;
+};
+
+}  // namespace par2d::detail
