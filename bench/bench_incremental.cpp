@@ -16,7 +16,7 @@
 
 namespace {
 
-void incremental(benchmark::State& state, char scenario, int threads) {
+void incremental(benchmark::State& state, char scenario, int threads, std::size_t layer_bytes) {
   const int width = 1280, height = 720;
   par2d::Renderer r;
   par2d::RenderOptions options;
@@ -26,7 +26,7 @@ void incremental(benchmark::State& state, char scenario, int threads) {
   std::vector<float> pixels(static_cast<std::size_t>(width) * height * 3);
   const par2d::FrameBuffer buffer{pixels.data(), par2d::PixelFormat::rgb_f32, static_cast<std::ptrdiff_t>(width) * 12, 1.0};
   if (!r.set_options(options).ok() || !r.set_scene(par2d::bench::torch_hall(width, height), &torches, &occluders).ok() ||
-      !r.set_incremental(true).ok() || !r.render(buffer).ok())
+      !r.set_incremental(true).ok() || !r.set_light_layer_budget(layer_bytes).ok() || !r.render(buffer).ok())
     return state.SkipWithError("setup failed");
   const par2d::OccluderHandle door = occluders[par2d::bench::hall_door_index()];
   std::vector<double> ms;
@@ -60,13 +60,19 @@ void register_incremental() {
     const char* name;
     char scenario;
   } scenarios[] = {{"full", 'f'}, {"a_nothing", 'a'}, {"b_2_move", 'b'}, {"c_8_flicker_2_move", 'c'}, {"d_door", 'd'}};
+  // Without and (1 thread) with the light-layer cache, 64 MiB (the hall's layers take about 20).
   for (int threads : {1, 2})
-    for (const auto& s : scenarios)
-      benchmark::RegisterBenchmark(("incremental/" + std::string(s.name) + "/threads:" + std::to_string(threads)).c_str(),
-                                   [=](benchmark::State& st) { incremental(st, s.scenario, threads); })
-          ->Unit(benchmark::kMillisecond)
-          ->UseRealTime()
-          ->Iterations(100);  // one setup (scene, reach, a whole first frame) per run, not per estimate
+    for (const std::size_t layers : {std::size_t{0}, std::size_t{64} << 20}) {
+      if (layers && threads != 1) continue;
+      for (const auto& s : scenarios)
+        benchmark::RegisterBenchmark((std::string(layers ? "incremental_layers/" : "incremental/") + s.name +
+                                      "/threads:" + std::to_string(threads))
+                                         .c_str(),
+                                     [=](benchmark::State& st) { incremental(st, s.scenario, threads, layers); })
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime()
+            ->Iterations(100);  // one setup (scene, reach, a whole first frame) per run, not per estimate
+    }
 }
 
 const int registered = (register_incremental(), 0);

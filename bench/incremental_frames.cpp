@@ -2,9 +2,10 @@
 // for a fixed number of frames after an untimed first one, with the per-frame time, the
 // pixels recomputed, and a function for callgrind to count exactly the frames:
 //   valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*timed_frames*'
-//       par2d_incremental_frames SCENARIO FRAMES [THREADS]
+//       par2d_incremental_frames SCENARIO FRAMES [THREADS [LAYER_MIB]]
 // SCENARIO: full (2 torches move, every pixel computed: the baseline), a (nothing changes),
-// b (2 torches move), c (8 torches flicker and 2 move), d (the door moves).
+// b (2 torches move), c (8 torches flicker and 2 move), d (the door moves). LAYER_MIB: the
+// light-layer cache's budget in MiB (default 0: off); the first, untimed frame fills it.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -53,13 +54,14 @@ __attribute__((noinline)) bool timed_frames(par2d::Renderer& r, const std::vecto
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 3 || argc > 4 || std::strchr("fullabcd", argv[1][0]) == nullptr) {
-    std::fprintf(stderr, "usage: %s full|a|b|c|d FRAMES [THREADS]\n", argv[0]);
+  if (argc < 3 || argc > 5 || std::strchr("fullabcd", argv[1][0]) == nullptr) {
+    std::fprintf(stderr, "usage: %s full|a|b|c|d FRAMES [THREADS [LAYER_MIB]]\n", argv[0]);
     return 2;
   }
   const char scenario = argv[1][0];
   const int frames = std::atoi(argv[2]);
-  const int threads = argc == 4 ? std::atoi(argv[3]) : 1;
+  const int threads = argc >= 4 ? std::atoi(argv[3]) : 1;
+  const std::size_t layer_mib = argc == 5 ? static_cast<std::size_t>(std::atoi(argv[4])) : 0;
   const int width = 1280, height = 720;
   const par2d::Scene scene = par2d::bench::torch_hall(width, height);
   std::vector<float> pixels(static_cast<std::size_t>(width) * height * 3);
@@ -70,7 +72,7 @@ int main(int argc, char** argv) {
   std::vector<par2d::LightHandle> torches;
   std::vector<par2d::OccluderHandle> occluders;
   bool ok = r.set_options(options).ok() && r.set_scene(scene, &torches, &occluders).ok() &&
-            r.set_incremental(true).ok() && r.render(buffer).ok();
+            r.set_incremental(true).ok() && r.set_light_layer_budget(layer_mib << 20).ok() && r.render(buffer).ok();
   FrameLog log;
   ok = ok && timed_frames(r, torches, occluders[par2d::bench::hall_door_index()], scenario, buffer, frames, log);
   if (!ok || log.seconds.empty()) {
@@ -81,8 +83,8 @@ int main(int argc, char** argv) {
   std::sort(s.begin(), s.end());
   const double median = s[s.size() / 2];
   const double p99 = s[std::min(s.size() - 1, static_cast<std::size_t>(0.99 * static_cast<double>(s.size())))];
-  std::printf("%s: %d frames, %d threads: median %.3f ms, p99 %.3f ms, %.0f pixels recomputed per frame (%.1f%%), %.1f rects\n",
-              argv[1], frames, threads, 1e3 * median, 1e3 * p99, static_cast<double>(log.pixels) / frames,
+  std::printf("%s (layers %zu MiB, %.1f MiB held): %d frames, %d threads: median %.3f ms, p99 %.3f ms, %.0f pixels recomputed per frame (%.1f%%), %.1f rects\n",
+              argv[1], layer_mib, static_cast<double>(r.light_layer_bytes()) / (1 << 20), frames, threads, 1e3 * median, 1e3 * p99, static_cast<double>(log.pixels) / frames,
               100.0 * static_cast<double>(log.pixels) / frames / (width * height), static_cast<double>(log.rects) / frames);
   return 0;
 }

@@ -170,6 +170,18 @@ class PyRenderer {
     WorldLock lock(mutex_);
     return renderer_.incremental();
   }
+  void set_light_layer_budget(std::size_t bytes) {
+    WorldLock lock(mutex_);
+    check(renderer_.set_light_layer_budget(bytes));
+  }
+  std::size_t light_layer_budget() const {
+    WorldLock lock(mutex_);
+    return renderer_.light_layer_budget();
+  }
+  std::size_t light_layer_bytes() const {
+    WorldLock lock(mutex_);
+    return renderer_.light_layer_bytes();
+  }
   void force_full_frame() {
     WorldLock lock(mutex_);
     renderer_.force_full_frame();
@@ -490,6 +502,12 @@ void bind_renderer(py::module_& m) {
                     "inputs changed since the last whole frame into that array and leaves its other pixels as they\n"
                     "are; byte-identical to a full render. A render without out= computes every pixel.")
       .def("force_full_frame", &PyRenderer::force_full_frame, "The next whole-frame render computes every pixel.")
+      .def_property("light_layer_budget", &PyRenderer::light_layer_budget, &PyRenderer::set_light_layer_budget,
+                    "int bytes (default 0: off): the light-layer cache of incremental frames. Per 64x64 block and\n"
+                    "light, the light's share before its emission, so blocks where lights only flicker or change\n"
+                    "colour are recombined; pixels within 1e-6 x the brightest emission of a full render.")
+      .def_property_readonly("light_layer_bytes", &PyRenderer::light_layer_bytes,
+                             "int: bytes the light-layer cache holds after the last render (at most the budget).")
       .def_property_readonly("dirty_rects", &PyRenderer::dirty_rects,
                              "list of (x0, y0, x1, y1): the pixels the last render wrote (merged 64x64 blocks); empty\n"
                              "when an incremental frame changed nothing.")

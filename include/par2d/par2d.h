@@ -332,6 +332,16 @@ PAR2D_C_API par2d_status par2d_render(par2d_renderer* renderer, void* pixels, pa
  * frame compute every pixel. */
 PAR2D_C_API par2d_status par2d_set_incremental(par2d_renderer* renderer, int on);
 PAR2D_C_API par2d_status par2d_force_full_frame(par2d_renderer* renderer);
+/* The light-layer cache (docs/api.md, "Light-layer cache"): with a budget above 0 bytes and
+ * incremental frames on, each light's share of each 64x64 block is kept before its emission is
+ * applied, so a frame where lights only change intensity or colour recombines their blocks.
+ * Pixels are then within 1e-6 x the brightest emission of a full render (no longer byte for
+ * byte); at most `bytes` are held. 0 (the default) turns it off and frees it. The next whole
+ * frame is computed whole either way. */
+PAR2D_C_API par2d_status par2d_set_light_layer_budget(par2d_renderer* renderer, size_t bytes);
+/* The budget as set, and the bytes the layers hold after the last frame (0 for a NULL renderer). */
+PAR2D_C_API size_t par2d_light_layer_budget(const par2d_renderer* renderer);
+PAR2D_C_API size_t par2d_light_layer_bytes(const par2d_renderer* renderer);
 
 /* Pixel columns [x0, x1) and rows [y0, y1). */
 typedef struct par2d_rect {

@@ -225,6 +225,15 @@ par2d_status par2d_force_full_frame(par2d_renderer* r) {
   return to_c(fn, par2d::Status());
 }
 
+par2d_status par2d_set_light_layer_budget(par2d_renderer* r, size_t bytes) {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  return to_c(fn, r->renderer.set_light_layer_budget(bytes));
+}
+
+size_t par2d_light_layer_budget(const par2d_renderer* r) { return r ? r->renderer.light_layer_budget() : 0; }
+size_t par2d_light_layer_bytes(const par2d_renderer* r) { return r ? r->renderer.light_layer_bytes() : 0; }
+
 par2d_status par2d_dirty_rects(const par2d_renderer* r, par2d_rect* out, size_t capacity, size_t* count) {
   const char* const fn = __func__;
   if (r == nullptr) return fail(fn, "renderer is null");

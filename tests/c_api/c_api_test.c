@@ -614,6 +614,26 @@ static void check_incremental_frames(void) {
   CHECK(par2d_render(r, a, PAR2D_RGBA8_SRGB, IW * 4, 1.0, NULL) == PAR2D_OK);
   CHECK(par2d_dirty_rects(r, rects, 8, &count) == PAR2D_OK && count == 1 && rects[0].x1 == IW && rects[0].y1 == IH);
   CHECK(memcmp(a, b, (size_t)IW * IH * 4) == 0);
+
+  /* The light-layer cache: a flicker's block comes from the stored layers (nothing handed to
+   * the kernel), within one 8-bit level of the full render. The scalar path keeps no layers. */
+  const int simd = par2d_renderer_isa(r) != PAR2D_ISA_SCALAR;
+  CHECK(par2d_set_light_layer_budget(NULL, 1) == PAR2D_INVALID_ARGUMENT);
+  CHECK(par2d_set_light_layer_budget(r, (size_t)8 << 20) == PAR2D_OK);
+  CHECK(par2d_light_layer_budget(r) == (size_t)8 << 20 && par2d_light_layer_budget(NULL) == 0);
+  CHECK(par2d_render(r, a, PAR2D_RGBA8_SRGB, IW * 4, 1.0, NULL) == PAR2D_OK);
+  CHECK(par2d_get_frame_stats(r, &stats) == PAR2D_OK && (stats.layer_tiles_filled > 0) == simd &&
+        stats.layer_tiles_reused == 0);
+  CHECK((par2d_light_layer_bytes(r) > 0) == simd && par2d_light_layer_bytes(r) <= (size_t)8 << 20);
+  for (int i = 0; i < 2; ++i) CHECK(par2d_set_light_emission(both[i], lights[i], white, 0.75) == PAR2D_OK);
+  CHECK(par2d_render(r, a, PAR2D_RGBA8_SRGB, IW * 4, 1.0, NULL) == PAR2D_OK);
+  CHECK(par2d_render(full, b, PAR2D_RGBA8_SRGB, IW * 4, 1.0, NULL) == PAR2D_OK);
+  CHECK(par2d_get_frame_stats(r, &stats) == PAR2D_OK && (stats.layer_tiles_reused > 0) == simd &&
+        stats.layer_tiles_filled == 0 && (stats.tile_lights == 0) == simd && stats.pixels == 64 * 64);
+  int close = 1;
+  for (size_t i = 0; i < (size_t)IW * IH * 4; ++i) close = close && abs((int)a[i] - (int)b[i]) <= 1;
+  CHECK(close);
+  CHECK(par2d_set_light_layer_budget(r, 0) == PAR2D_OK && par2d_light_layer_bytes(r) == 0);
   free(saved);
   free(a);
   free(b);

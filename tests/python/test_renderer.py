@@ -342,3 +342,33 @@ def test_incremental_frames_write_only_dirty_rects_and_equal_full_renders():
     r.force_full_frame()
     r.render(out=out)
     assert r.frame_stats["pixels"] == 256 * 192
+
+
+def test_light_layer_cache_recombines_a_flicker_within_its_bound():
+    d = {"width": 256, "height": 192,
+         "lights": [{"circle": {"center": [30, 30], "radius": 2}, "range": 40, "intensity": 2},
+                    {"circle": {"center": [200, 150], "radius": 3}, "range": 25}],
+         "occluders": [{"polygon": [[50, 10], [54, 10], [54, 60], [50, 60]]}]}
+    r = par2d.Renderer(d, threads=2)
+    assert r.light_layer_budget == 0
+    with pytest.raises((TypeError, OverflowError)):
+        r.light_layer_budget = -1
+    r.incremental = True
+    r.light_layer_budget = 8 << 20
+    assert r.light_layer_budget == 8 << 20
+    out = np.zeros((192, 256, 3), dtype=np.float32)
+    r.render(out=out)
+    simd = r.options["isa"] != "scalar"
+    assert (r.frame_stats["layer_tiles_filled"] > 0) == simd
+    assert 0 <= r.light_layer_bytes <= 8 << 20
+    torch = r.lights[0]
+    r.set_light_emission(torch, (1.0, 0.5, 0.25), 3.0)
+    r.render(out=out)
+    s = r.frame_stats
+    assert (s["layer_tiles_reused"] > 0) == simd and s["layer_tiles_filled"] == 0
+    full = par2d.render(r.snapshot())
+    assert np.max(np.abs(out - full)) <= 1e-6 * 3.0
+    r.light_layer_budget = 0
+    assert r.light_layer_bytes == 0
+    r.render(out=out)
+    assert out.tobytes() == par2d.render(r.snapshot()).tobytes()
