@@ -157,8 +157,8 @@ TEST_CASE("every lighting-model key of a scene file is read into the scene") {
     "directional_lights": [{"angles": [-30, 45.5], "color": [1, 0.5, 0.25], "intensity": 2, "mask": 6, "elevation": 30},
                            {"angles": [10, 20]}],
     "normal": [0, -1, 2],
-    "lights": [{"circle": {"center": [1, 1], "radius": 1}, "range": 50, "cone": {"direction": 90, "half_angle": 40,
-                "fade": 10}, "mask": 5.0, "elevation": 15},
+    "lights": [{"circle": {"center": [1, 1], "radius": 1}, "range": 50, "falloff": 0.5, "cone": {"direction": 90,
+                "half_angle": 40, "fade": 10}, "mask": 5.0, "elevation": 15},
                {"segment": [[0, 0], [1, 0]], "cone": {"direction": -45, "half_angle": 180}}],
     "occluders": [{"circle": {"center": [2, 2], "radius": 1}},
                   {"polygon": [[0, 0], [1, 0], [0, 1]], "transmittance": [0.5, 0.25, 1], "mask": 4294967295,
@@ -193,6 +193,7 @@ TEST_CASE("every lighting-model key of a scene file is read into the scene") {
   const par2d::Light& spot = scene.lights[0];
   REQUIRE(spot.range.has_value());
   CHECK(*spot.range == 50.0);
+  CHECK(spot.falloff == 0.5);
   REQUIRE(spot.cone.has_value());
   CHECK(spot.cone->direction == 90.0);
   CHECK(spot.cone->half_angle == 40.0);
@@ -204,6 +205,7 @@ TEST_CASE("every lighting-model key of a scene file is read into the scene") {
   REQUIRE(wide.cone.has_value());
   CHECK(wide.cone->fade == 0.0);  // fade defaults to 0
   CHECK(wide.mask == par2d::kAllMaskBits);
+  CHECK(wide.falloff == 2.0);  // the default
 
   // The compact store hands each occluder its own terms, in file order.
   REQUIRE(scene.occluders.size() == 4);
@@ -244,6 +246,9 @@ TEST_CASE("every bad lighting-model value is refused with a one-line message nam
   check_message(light_with(R"("range": 0)"), "s.json: lights[0].range: must be > 0, got 0");
   check_message(light_with(R"("range": -2)"), "s.json: lights[0].range: must be > 0, got -2");
   check_message(light_with(R"("range": "far")"), "s.json: lights[0].range: expected a number");
+  check_message(light_with(R"("falloff": 16.5)"), "s.json: lights[0].falloff: must be between 0 and 16, got 16.5");
+  check_message(light_with(R"("falloff": -0.5)"), "s.json: lights[0].falloff: must be between 0 and 16, got -0.5");
+  check_message(light_with(R"("falloff": "fast")"), "s.json: lights[0].falloff: expected a number");
   check_message(light_with(R"("elevation": 90.5)"), "s.json: lights[0].elevation: must be between 0 and 90, got 90.5");
   check_message(light_with(R"("elevation": -1)"), "s.json: lights[0].elevation: must be between 0 and 90, got -1");
   check_message(light_with(R"("cone": {"direction": 0, "half_angle": 0})"),
@@ -264,7 +269,7 @@ TEST_CASE("every bad lighting-model value is refused with a one-line message nam
                 R"(s.json: lights[0].cone: expected {"direction": d, "half_angle": h, "fade": f})");
   check_message(light_with(R"("transmittance": [1, 1, 1])"),
                 "s.json: lights[0].transmittance: unknown key (expected polygon, circle, segment, color, intensity, "
-                "range, cone, mask, elevation)");
+                "range, falloff, cone, mask, elevation)");
   // Occluders.
   check_message(occluder_with(R"("transmittance": [0.5, 1.5, 0])"),
                 "s.json: occluders[0].transmittance[1]: must be between 0 and 1, got 1.5");
@@ -384,6 +389,7 @@ TEST_CASE("scene_to_json writes every lighting-model term so that the scene load
   par2d::Light light;
   light.shape = par2d::Circle{{1, 1}, 0.7};
   light.range = 0.1 + 0.2;
+  light.falloff = 1.0 / 3.0;
   light.cone = par2d::Cone{-170.5, 12.5, 2.5};
   light.mask = 0x80000000u;
   light.elevation = 89.99;
@@ -425,6 +431,8 @@ TEST_CASE("scene_to_json writes every lighting-model term so that the scene load
   REQUIRE(back.lights.size() == 2);
   REQUIRE(back.lights[0].range.has_value());
   CHECK(same(*back.lights[0].range, 0.1 + 0.2));
+  CHECK(same(back.lights[0].falloff, 1.0 / 3.0));
+  CHECK(back.lights[1].falloff == 2.0);
   REQUIRE(back.lights[0].cone.has_value());
   CHECK(same(back.lights[0].cone->direction, -170.5));
   CHECK(same(back.lights[0].cone->half_angle, 12.5));

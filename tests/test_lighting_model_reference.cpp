@@ -366,6 +366,33 @@ TEST_CASE("closed form: range windows at known distances (circle and segment lig
   CHECK(vertex_region > 20);
 }
 
+TEST_CASE("closed form: range windows with falloff exponents 0, 1, 3.5 and 16") {
+  for (const double falloff : {0.0, 1.0, 3.5, 16.0}) {
+    Scene scene;
+    scene.width = 24;
+    scene.height = 16;
+    scene.view = {0, 0, 24, 16};
+    Light circle{Circle{{30, 6}, 3}, {0.5, 1.0, 0.25}, 2.0};
+    circle.range = 25.0;
+    circle.falloff = falloff;
+    scene.lights = {circle};
+    const Rgb e = emission(circle);
+    int beyond = 0;
+    INFO("falloff ", falloff);
+    const int compared = check_against(scene, render_scalar(scene), [&](int, int, Vec2 x) {
+      const double dc = std::hypot(x.x - 30, x.y - 6);
+      const double d = dc - 3.0;
+      beyond += d >= 25.0;
+      const double q = d / 25.0;
+      const double w = d >= 25.0 ? 0.0 : std::pow(1.0 - q * q, falloff);
+      const double f = w * 2.0 * std::asin(3.0 / dc) / (2.0 * kPi);
+      return Rgb{e[0] * f, e[1] * f, e[2] * f};
+    });
+    CHECK(compared == 24 * 16);
+    CHECK(beyond > 10);
+  }
+}
+
 TEST_CASE("closed form: a sun through a slit lights the width of the slit's angular interval") {
   // Two walls on y = -5 leave a slit from x = 5 to x = 9; the sun's rays cover [a0, a1].
   const double arcs[][2] = {{250, 290}, {-110, -70}, {200, 340}, {266, 268}};

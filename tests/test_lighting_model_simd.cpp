@@ -346,6 +346,7 @@ struct Feature {
 
 const Feature kFeatures[] = {
     {"range", [](RandomSceneOptions& o) { o.ranges = true; }},
+    {"falloff", [](RandomSceneOptions& o) { o.ranges = o.falloffs = true; }},
     {"cone", [](RandomSceneOptions& o) { o.cones = true; }},
     {"mask", [](RandomSceneOptions& o) { o.masks = true; }},
     {"translucent", [](RandomSceneOptions& o) { o.translucent = true; }},

@@ -134,6 +134,8 @@ typedef struct par2d_light_terms {
   double cone_fade;       /* 0 <= fade <= half_angle */
   uint32_t mask;
   double elevation;       /* 0..90, default 0; used only with a normal source */
+  double falloff;         /* the range window's exponent, 0..16; default 2 (start from
+                             par2d_light_terms_default: a zeroed struct means 0, a hard disc) */
 } par2d_light_terms;
 
 typedef enum par2d_interior {

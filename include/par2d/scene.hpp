@@ -68,8 +68,12 @@ struct Light {
   Shape shape;
   Rgb color{1.0, 1.0, 1.0};  // each channel >= 0. Default: white.
   double intensity = 1.0;    // >= 0. Default: 1.
-  // The smooth window clamp(1 - (d/range)^2, 0, 1)^2, d the distance to the shape. Empty: none.
+  // The smooth window clamp(1 - (d/range)^2, 0, 1)^falloff, d the distance to the shape (0
+  // at and beyond the range). Empty: none.
   std::optional<double> range;
+  // The range window's exponent, 0 .. 16: 2 (default) eases out to the range, 1 is softer near
+  // the light, higher values fall faster, 0 is a hard disc of full weight. Only with a range.
+  double falloff = 2.0;
   std::optional<Cone> cone;  // Empty: every direction.
   // Occluders shadow this light only where their masks share a bit with this one.
   std::uint32_t mask = kAllMaskBits;

@@ -251,6 +251,7 @@ void par2d_light_terms_default(par2d_light_terms* terms) {
   *terms = par2d_light_terms{};
   terms->cone_half_angle = 180.0;
   terms->mask = par2d::kAllMaskBits;
+  terms->falloff = 2.0;
 }
 
 void par2d_occluder_terms_default(par2d_occluder_terms* terms) {
@@ -276,6 +277,7 @@ par2d_status par2d_get_light_terms(par2d_renderer* r, par2d_light light, par2d_l
     if (par2d::Status s = r->renderer.light(par2d::LightHandle{light}, &r->light); !s.ok()) return to_c(fn, s);
     par2d_light_terms_default(out);
     out->range = r->light.range ? *r->light.range : 0.0;
+    out->falloff = r->light.falloff;
     out->has_cone = r->light.cone ? 1 : 0;
     if (r->light.cone) {
       out->cone_direction = r->light.cone->direction;
@@ -297,6 +299,7 @@ par2d_status par2d_set_light_terms(par2d_renderer* r, par2d_light light, const p
     // 0 means no range; anything else (negative, NaN) goes to validation and is refused there.
     if (terms->range == 0.0) r->light.range.reset();
     else r->light.range = terms->range;
+    r->light.falloff = terms->falloff;
     if (terms->has_cone) r->light.cone = par2d::Cone{terms->cone_direction, terms->cone_half_angle, terms->cone_fade};
     else r->light.cone.reset();
     r->light.mask = terms->mask;

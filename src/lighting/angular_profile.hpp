@@ -249,17 +249,30 @@ T profile_cumulative(const AngularProfile<T>& p, const T& u) noexcept {
   return sum;
 }
 
-// The range window w(d) = clamp(1 - (d / range)^2, 0, 1)^2, range > 0. Divided, not multiplied
-// by 1 / range: a range near the number type's smallest values has no finite inverse (0 * inf
-// would be NaN inside the light). d >= range gives 0 directly, so the quotient is in [0, 1);
-// d = 0 (inside the light) gives 1 even where the range itself rounded to 0.
-template <class T>
-T range_window(const T& distance, const T& range) noexcept {
+// The range window w(d) = clamp(1 - (d / range)^2, 0, 1)^falloff for d < range, 0 beyond,
+// range > 0, falloff in [0, 16]. Divided, not multiplied by 1 / range: a range near the number
+// type's smallest values has no finite inverse (0 * inf would be NaN inside the light). d >=
+// range gives 0 directly, so the quotient is in [0, 1); d = 0 (inside the light) gives 1 even
+// where the range itself rounded to 0. The default falloff 2 is a product, any other a power
+// (`power(base)`: base^falloff in the number type, base in (0, 1]).
+template <class T, class Power>
+T range_window(const T& distance, const T& range, double falloff, const Power& power) noexcept {
   const auto within = distance < range;
   const T q = profile_select(within, distance / profile_select(within, range, T(1.0)), T(1.0));
   const T w = T(1.0) - q * q;
-  const T window = w * w;
+  T window = w * w;
+  if (falloff != 2.0) {
+    // w is 0 only at or beyond the range (0^0 would be 1 there); the power of a positive base.
+    const auto positive = w > T(0.0);
+    window = profile_select(positive, power(profile_select(positive, w, T(1.0))), T(0.0));
+  }
   return profile_select(distance > T(0.0), window, T(1.0));
+}
+
+// The default falloff's window, clamp(1 - (d / range)^2, 0, 1)^2.
+template <class T>
+T range_window(const T& distance, const T& range) noexcept {
+  return range_window(distance, range, 2.0, [](const T& base) { return base; });
 }
 
 }  // namespace par2d::detail

@@ -232,6 +232,7 @@ RaycastRenderer::RaycastRenderer(const Scene& validated_scene) : scale_(scene_sc
   for (const auto& l : scene.lights) {
     LightModel m;
     if (l.range) m.range = *l.range * scale_;
+    m.falloff = l.falloff;
     if (l.cone) {
       m.cone = true;
       m.cone_direction = l.cone->direction * kRadians;
@@ -482,13 +483,14 @@ template <class Shade>
 Rgb RaycastRenderer::lights_along_rays(Vec2 x, double start, double span, int rays, double jitter, std::size_t self,
                                        const std::vector<unsigned char>& inside, const Shade& shade) const {
   const std::size_t n_occ = occluders_.size();
-  // Range windows, once per point: w = clamp(1 - (d/R)^2, 0, 1)^2.
+  // Range windows, once per point: w = clamp(1 - (d/R)^2, 0, 1)^falloff, 0 from d = R on.
   std::vector<double> window(lights_.size(), 1.0);
   for (std::size_t l = 0; l < lights_.size(); ++l) {
     if (light_terms_[l].range <= 0.0) continue;
-    const double q = distance_to(lights_[l], x) / light_terms_[l].range;
+    const double d = distance_to(lights_[l], x);
+    const double q = d / light_terms_[l].range;
     const double w = std::clamp(1.0 - q * q, 0.0, 1.0);
-    window[l] = w * w;
+    window[l] = d >= light_terms_[l].range ? 0.0 : d == 0.0 ? 1.0 : std::pow(w, light_terms_[l].falloff);
   }
   std::vector<double> t_occ(n_occ);
   Rgb lit{0.0, 0.0, 0.0};

@@ -79,6 +79,7 @@ class RaycastRenderer {
   // The game lighting model's terms (docs/contract.md section 6), in radians and scaled lengths.
   struct LightModel {
     double range = 0.0;  // 0: none
+    double falloff = 2.0;
     bool cone = false;
     double cone_direction = 0.0, cone_half = 0.0, cone_fade = 0.0;  // world emission directions
     std::uint32_t mask = 0xFFFFFFFFu;

@@ -41,6 +41,7 @@ void finish_light_terms(const LightTerms& light, bool ranged, double scale, Kern
   if (ranged) {
     terms.ranged = true;
     terms.range = static_cast<float>(light.range * scale);
+    terms.falloff = static_cast<float>(light.falloff);
   }
   terms.cone = light.has_cone;
   terms.cone_center = light.cone_center;

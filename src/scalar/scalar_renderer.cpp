@@ -218,7 +218,8 @@ Rgb model_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, Sca
     const LightTerms& terms = light.terms;
     double window = 1.0;
     if (terms.has_range()) {
-      window = range_window(point_distance(light.shape, x), terms.range);
+      window = range_window(point_distance(light.shape, x), terms.range, terms.falloff,
+                            [&](double base) { return std::pow(base, terms.falloff); });
       if (!(window > 0.0)) continue;
     }
     // Acting occluders containing x: t_B = 0 <= t_L along every direction.

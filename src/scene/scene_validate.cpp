@@ -247,6 +247,10 @@ MaybeProblem check_light(const Light& light, const std::string& place) {
     if (auto problem = check_finite(*light.range, place + ".range")) return problem;
     return SceneProblem{place + ".range", "must be > 0, got " + format_number(*light.range)};
   }
+  if (!(light.falloff >= 0.0 && light.falloff <= 16.0)) {
+    if (auto problem = check_finite(light.falloff, place + ".falloff")) return problem;
+    return SceneProblem{place + ".falloff", "must be between 0 and 16, got " + format_number(light.falloff)};
+  }
   if (light.cone) {
     const Cone& cone = *light.cone;
     if (!std::isfinite(cone.direction)) return check_finite(cone.direction, place + ".cone.direction");

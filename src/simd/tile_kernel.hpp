@@ -1108,7 +1108,8 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
     const std::size_t pair_count = cell_lights[i].pair_count;
     B window(1.0f);
     if (terms.ranged) {
-      window = detail::range_window(shape_distance<A>(work, light.shape, px, py), B(terms.range));
+      window = detail::range_window(shape_distance<A>(work, light.shape, px, py), B(terms.range), terms.falloff,
+                                    [&](const B& base) { return xsimd::pow(base, B(terms.falloff)); });
       if (!xsimd::any(window > B(0.0f))) continue;
     }
     if (!kShaded && !terms.cone && pair_count == 0 && !terms.directional) {

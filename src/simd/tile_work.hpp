@@ -111,6 +111,7 @@ struct KernelLightTerms {
   float dir_start = 0, dir_width = 0;
   bool ranged = false;
   float range = 0;  // in tile frame units when ranged (may round to 0: range_window copes)
+  float falloff = 2;  // the window's exponent
   bool cone = false;
   double cone_center = 0, cone_half = 0, cone_fade = 0;
   double sin_elevation = 0, cos_elevation = 1;

@@ -152,6 +152,7 @@ double wrap_angle(double radians) noexcept {
 LightTerms light_terms(const Light& light, double scale) noexcept {
   LightTerms t;
   if (light.range) t.range = *light.range * scale;
+  t.falloff = light.falloff;
   if (light.cone) {
     t.has_cone = true;
     // Emitted along phi, the light arrives along phi + pi.

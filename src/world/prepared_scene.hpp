@@ -19,6 +19,7 @@ namespace par2d::detail {
 // radians, ray directions, prepared (scaled) lengths. The defaults are "no term".
 struct LightTerms {
   double range = std::numeric_limits<double>::infinity();  // scaled like the shapes; inf: none
+  double falloff = 2.0;  // the range window's exponent
   bool has_cone = false;
   // The cone as seen in ray directions theta (light arrives along theta when it was emitted
   // along theta + pi): full weight within `cone_half - cone_fade` of `cone_center`, zero

@@ -327,6 +327,16 @@ static void check_errors_name_the_call(par2d_renderer* r) {
                      "par2d_load_scene: /nonexistent/par2d/scene.json");
   par2d_light_terms terms;
   par2d_light_terms_default(&terms);
+  CHECK(terms.falloff == 2.0);
+  terms.falloff = 17.0;
+  CHECK_ERROR_PREFIX(par2d_set_light_terms(r, light, &terms), PAR2D_INVALID_SCENE, "par2d_set_light_terms: ");
+  CHECK(strstr(par2d_last_error(), "falloff") != NULL);
+  terms.falloff = 3.5;
+  terms.range = 40.0;
+  CHECK(par2d_set_light_terms(r, light, &terms) == PAR2D_OK);
+  par2d_light_terms back;
+  CHECK(par2d_get_light_terms(r, light, &back) == PAR2D_OK && back.falloff == 3.5 && back.range == 40.0);
+  terms.falloff = 2.0;
   terms.elevation = 95.0;
   CHECK_ERROR_PREFIX(par2d_set_light_terms(r, light, &terms), PAR2D_INVALID_SCENE, "par2d_set_light_terms: ");
   CHECK_ERROR_PREFIX(par2d_get_light_terms(r, light + 777, &terms), PAR2D_INVALID_ARGUMENT, "par2d_get_light_terms: ");

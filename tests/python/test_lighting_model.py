@@ -102,3 +102,26 @@ def test_light_and_occluder_dicts_carry_their_terms_with_placed_errors():
     snap = r.snapshot().to_dict()
     assert snap["lights"][0]["range"] == 3 and snap["lights"][0]["mask"] == 1
     assert snap["occluders"][0]["transmittance"] == [1, 1, 1] and snap["occluders"][0]["mask"] == 2
+
+
+def test_falloff_shapes_the_range_window_and_is_refused_out_of_range():
+    def scene(falloff):
+        light = {"circle": {"center": [4.5, 8.5], "radius": 1}, "range": 40}
+        if falloff is not None:
+            light["falloff"] = falloff
+        return {"width": 48, "height": 16, "lights": [light]}
+    default, two = par2d.render(scene(None)), par2d.render(scene(2))
+    assert default.tobytes() == two.tobytes()
+    assert "falloff" not in par2d.Scene.from_dict(scene(2)).to_dict()["lights"][0]
+    assert par2d.Scene.from_dict(scene(0.5)).to_dict()["lights"][0]["falloff"] == 0.5
+    # The pixel 20 units right of the light's edge: window (1 - (d/R)^2)^falloff times the plain value.
+    plain = par2d.render({"width": 48, "height": 16,
+                          "lights": [{"circle": {"center": [4.5, 8.5], "radius": 1}}]})[8, 25, 0]
+    d = 25.5 - 4.5 - 1.0
+    for falloff in (0.0, 1.0, 3.5):
+        got = par2d.render(scene(falloff))[8, 25, 0]
+        assert got == pytest.approx(plain * (1 - (d / 40) ** 2) ** falloff, rel=1e-5)
+    r = par2d.Renderer(scene(1))
+    with pytest.raises(par2d.Error) as e:
+        r.update_light(r.lights[0], {"circle": {"center": [1, 1], "radius": 1}, "range": 5, "falloff": 17})
+    assert str(e.value) == f"light {r.lights[0]}: falloff: must be between 0 and 16, got 17"

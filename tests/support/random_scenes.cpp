@@ -106,7 +106,13 @@ void add_model_terms(std::uint32_t seed, const RandomSceneOptions& o, Scene& sce
   PortableRandom rng(seed ^ 0x6d2b79f5u);
   const double size = std::min(std::fabs(scene.view.x1 - scene.view.x0), std::fabs(scene.view.y1 - scene.view.y0));
   for (Light& light : scene.lights) {
-    if (o.ranges && rng.chance(0.5)) light.range = size * rng.uniform(0.2, 1.5);
+    if (o.ranges && rng.chance(0.5)) {
+      light.range = size * rng.uniform(0.2, 1.5);
+      if (o.falloffs) {
+        const int pick = rng.integer(0, 5);
+        light.falloff = pick <= 2 ? pick : rng.uniform(0.0, 6.0);
+      }
+    }
     if (o.cones && rng.chance(0.5)) {
       Cone cone;
       cone.direction = rng.uniform(-360.0, 360.0);
@@ -195,7 +201,10 @@ void add_extreme_values(std::uint32_t seed, const RandomSceneOptions& o, Scene& 
   for (DirectionalLight& sun : scene.directional_lights) {
     const int pick = rng.integer(0, 2);
     if (pick == 0) sun.angle1 = sun.angle0 + 1e-9 * std::max(1.0, std::fabs(sun.angle0));
-    if (pick == 1) sun.angle1 = std::nextafter(sun.angle0 + 360.0, sun.angle0);
+    if (pick == 1) {  // just under 360 wide, as the validator measures the width (a1 - a0, rounded)
+      sun.angle1 = std::nextafter(sun.angle0 + 360.0, sun.angle0);
+      while (!(sun.angle1 - sun.angle0 < 360.0)) sun.angle1 = std::nextafter(sun.angle1, sun.angle0);
+    }
     if (!(sun.angle1 > sun.angle0)) sun.angle1 = std::nextafter(sun.angle0, 1e300);
   }
   if (scene.ambient != Rgb{0.0, 0.0, 0.0} && rng.chance(0.5)) scene.ambient[0] = 5e-324;
@@ -292,7 +301,7 @@ Scene random_scene(std::uint32_t seed, const RandomSceneOptions& o) {
 }
 
 RandomSceneOptions with_every_model_term(RandomSceneOptions o) {
-  o.ranges = o.cones = o.masks = o.translucent = o.lit_interiors = o.ambient = o.elevations = true;
+  o.ranges = o.falloffs = o.cones = o.masks = o.translucent = o.lit_interiors = o.ambient = o.elevations = true;
   o.directional_lights = 2;
   o.normals = RandomSceneOptions::Normals::map;
   return o;

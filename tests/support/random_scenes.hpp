@@ -71,6 +71,7 @@ struct RandomSceneOptions {
   // second generator seeded from the same seed, after the shapes: a scene has exactly the
   // shapes, colors and intensities it has with every flag off. Default: all off.
   bool ranges = false;         // about half the lights: range 0.2 .. 1.5 view sizes
+  bool falloffs = false;       // ranged lights: falloff 0 .. 6 (some 0, 1 and 2)
   bool cones = false;          // about half the lights: a cone (some with fade 0, some with half angle 180)
   bool masks = false;          // lights, occluders and directional lights: masks of a few bits, some disjoint
   bool translucent = false;    // about half the occluders: a transmittance in [0, 1] per channel
