@@ -269,7 +269,7 @@ TEST_CASE("every bad lighting-model value is refused with a one-line message nam
                 R"(s.json: lights[0].cone: expected {"direction": d, "half_angle": h, "fade": f})");
   check_message(light_with(R"("transmittance": [1, 1, 1])"),
                 "s.json: lights[0].transmittance: unknown key (expected polygon, circle, segment, color, intensity, "
-                "range, falloff, cone, mask, elevation)");
+                "range, falloff, normalize, cone, mask, elevation)");
   // Occluders.
   check_message(occluder_with(R"("transmittance": [0.5, 1.5, 0])"),
                 "s.json: occluders[0].transmittance[1]: must be between 0 and 1, got 1.5");

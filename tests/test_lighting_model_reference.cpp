@@ -393,6 +393,37 @@ TEST_CASE("closed form: range windows with falloff exponents 0, 1, 3.5 and 16") 
   }
 }
 
+TEST_CASE("closed form: normalize makes intensity the irradiance at the reference distance, whatever the size") {
+  // A pixel centre 12 units from each light's center; lights of radius 0.25 .. 11.5 (and one
+  // beyond the distance: 1/2 of the circle's asin is pi/2 there).
+  for (const double radius : {0.25, 1.0, 4.0, 11.5, 30.0}) {
+    Scene scene;
+    scene.width = 40;
+    scene.height = 20;
+    scene.view = {0, 0, 40, 20};
+    Light torch{Circle{{20.5 - 12.0, 8.5}, radius}, {0.5, 1.0, 0.25}, 3.0};
+    torch.normalize = 12.0;
+    scene.lights = {torch};
+    const RenderedImage image = render_scalar(scene);
+    INFO("radius ", radius);
+    // Beyond the reference distance the pixel lies inside the light and sees all of it:
+    // e = intensity * pi / asin(1) = 2 * intensity.
+    const double want = radius < 12.0 ? 3.0 : 6.0;
+    for (int c = 0; c < 3; ++c)
+      CHECK(image.at(20, 8, c) == doctest::Approx(want * torch.color[static_cast<std::size_t>(c)]).epsilon(1e-6));
+  }
+  // Refused where the scaled emission is too large for float output.
+  Scene tiny;
+  tiny.width = tiny.height = 4;
+  tiny.view = {0, 0, 4, 4};
+  Light speck{Circle{{1, 1}, 1e-30}, {1, 1, 1}, 1.0};
+  speck.normalize = 1e10;
+  tiny.lights = {speck};
+  const Status s = validate_scene(tiny, "tiny.json");
+  CHECK(s.code() == StatusCode::invalid_scene);
+  CHECK(s.message().find("emission too large") != std::string::npos);
+}
+
 TEST_CASE("closed form: a sun through a slit lights the width of the slit's angular interval") {
   // Two walls on y = -5 leave a slit from x = 5 to x = 9; the sun's rays cover [a0, a1].
   const double arcs[][2] = {{250, 290}, {-110, -70}, {200, 340}, {266, 268}};

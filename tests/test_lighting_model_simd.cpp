@@ -347,6 +347,7 @@ struct Feature {
 const Feature kFeatures[] = {
     {"range", [](RandomSceneOptions& o) { o.ranges = true; }},
     {"falloff", [](RandomSceneOptions& o) { o.ranges = o.falloffs = true; }},
+    {"normalize", [](RandomSceneOptions& o) { o.normalizes = true; }},
     {"cone", [](RandomSceneOptions& o) { o.cones = true; }},
     {"mask", [](RandomSceneOptions& o) { o.masks = true; }},
     {"translucent", [](RandomSceneOptions& o) { o.translucent = true; }},
@@ -367,6 +368,44 @@ const Feature kFeatures[] = {
 };
 
 }  // namespace
+
+TEST_CASE("model SIMD: normalized lights in a persistent Renderer follow emission changes, resizes and falloff edits") {
+  Scene s = empty_scene(80, 48);
+  for (int k = 0; k < 4; ++k) {
+    Light l = circle_light({10.0 + 20.0 * k, 20.0}, 1.0 + k, {1.0, 0.7, 0.4}, 1.5);
+    l.normalize = 12.0;
+    l.range = 30.0;
+    s.lights.push_back(l);
+  }
+  s.occluders.push_back(box_occluder(30.0, 30.0, 50.0, 34.0));
+  for (Isa isa : simd_isas_here()) {
+    Renderer renderer;
+    REQUIRE(renderer.set_options(simd_options(isa)).ok());
+    std::vector<LightHandle> handles;
+    REQUIRE(renderer.set_scene(s, &handles).ok());
+    Scene now = s;
+    for (int frame = 0; frame < 4; ++frame) {
+      Light& l = now.lights[static_cast<std::size_t>(frame)];
+      if (frame % 2 == 0) {  // a flicker: the normalized emission follows the new intensity
+        l.intensity = 0.5 + frame;
+        REQUIRE(renderer.set_light_emission(handles[static_cast<std::size_t>(frame)], l.color, l.intensity).ok());
+      } else {  // a bigger torch, same brightness at the reference distance; another falloff
+        l.shape = Circle{{10.0 + 20.0 * frame, 20.0}, 5.0};
+        l.falloff = 0.5 * frame;
+        REQUIRE(renderer.update_light(handles[static_cast<std::size_t>(frame)], l).ok());
+      }
+      RenderedImage persistent;
+      persistent.width = s.width;
+      persistent.height = s.height;
+      persistent.pixels.assign(static_cast<std::size_t>(s.width) * s.height * 3, -1.0f);
+      REQUIRE(renderer.render(ImageView{persistent.pixels.data(), s.width, s.height, 3 * s.width}).ok());
+      const RenderedImage once = render_or_fail(now, simd_options(isa));
+      INFO("isa=", std::string(isa_name(isa)), " frame=", frame);
+      CHECK(persistent.pixels == once.pixels);
+      check_against_scalar(now, "normalized frame " + std::to_string(frame));
+    }
+  }
+}
 
 TEST_CASE("model SIMD: random scenes with each term and all together match the scalar reference") {
   for (const Feature& feature : kFeatures) {

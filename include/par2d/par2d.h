@@ -136,6 +136,8 @@ typedef struct par2d_light_terms {
   double elevation;       /* 0..90, default 0; used only with a normal source */
   double falloff;         /* the range window's exponent, 0..16; default 2 (start from
                              par2d_light_terms_default: a zeroed struct means 0, a hard disc) */
+  double normalize;       /* > 0: reference distance at which intensity is the irradiance
+                             (docs/contract.md section 6); 0 (default): intensity * color as given */
 } par2d_light_terms;
 
 typedef enum par2d_interior {

@@ -74,6 +74,12 @@ struct Light {
   // The range window's exponent, 0 .. 16: 2 (default) eases out to the range, 1 is softer near
   // the light, higher values fall faster, 0 is a hard disc of full weight. Only with a range.
   double falloff = 2.0;
+  // A reference distance D > 0 (world units): the emission becomes intensity * color * pi /
+  // asin(min(1, rho / D)), rho the largest distance from the shape's centre (circle center,
+  // segment midpoint, polygon vertex mean) to the shape, so that a circle light gives
+  // `intensity` at distance D from its center whatever its radius: softness (the size) and
+  // brightness set apart. Empty: intensity * color as given.
+  std::optional<double> normalize;
   std::optional<Cone> cone;  // Empty: every direction.
   // Occluders shadow this light only where their masks share a bit with this one.
   std::uint32_t mask = kAllMaskBits;

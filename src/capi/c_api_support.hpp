@@ -128,6 +128,7 @@ inline par2d_status fill_light(const char* function, par2d_renderer* r, const pa
 inline void set_default_terms(par2d::Light& light) {
   light.range.reset();
   light.falloff = 2.0;
+  light.normalize.reset();
   light.cone.reset();
   light.mask = par2d::kAllMaskBits;
   light.elevation = 0.0;

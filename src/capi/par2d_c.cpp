@@ -278,6 +278,7 @@ par2d_status par2d_get_light_terms(par2d_renderer* r, par2d_light light, par2d_l
     par2d_light_terms_default(out);
     out->range = r->light.range ? *r->light.range : 0.0;
     out->falloff = r->light.falloff;
+    out->normalize = r->light.normalize ? *r->light.normalize : 0.0;
     out->has_cone = r->light.cone ? 1 : 0;
     if (r->light.cone) {
       out->cone_direction = r->light.cone->direction;
@@ -300,6 +301,9 @@ par2d_status par2d_set_light_terms(par2d_renderer* r, par2d_light light, const p
     if (terms->range == 0.0) r->light.range.reset();
     else r->light.range = terms->range;
     r->light.falloff = terms->falloff;
+    // 0 means none, as for range.
+    if (terms->normalize == 0.0) r->light.normalize.reset();
+    else r->light.normalize = terms->normalize;
     if (terms->has_cone) r->light.cone = par2d::Cone{terms->cone_direction, terms->cone_half_angle, terms->cone_fade};
     else r->light.cone.reset();
     r->light.mask = terms->mask;

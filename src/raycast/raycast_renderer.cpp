@@ -16,6 +16,30 @@
 namespace par2d::detail {
 namespace {
 
+// e_L of docs/contract.md section 6, written out here again (not shared with the renderers):
+// intensity * color, times pi / asin(min(1, rho / D)) with `normalize` D, rho the largest
+// distance from the shape's centre (circle center, segment midpoint, polygon vertex mean).
+Rgb emission_of(const Light& l) {
+  double scale = 1.0;
+  if (l.normalize) {
+    double rho = 0.0;
+    if (const auto* c = std::get_if<Circle>(&l.shape)) {
+      rho = c->radius;
+    } else if (const auto* s = std::get_if<Segment>(&l.shape)) {
+      rho = 0.5 * std::hypot(s->b.x - s->a.x, s->b.y - s->a.y);
+    } else {
+      const std::vector<Vec2>& v = std::get<Polygon>(l.shape).vertices;
+      Vec2 mean{0.0, 0.0};
+      for (const Vec2& p : v) mean = {mean.x + p.x / static_cast<double>(v.size()), mean.y + p.y / static_cast<double>(v.size())};
+      for (const Vec2& p : v) rho = std::max(rho, std::hypot(p.x - mean.x, p.y - mean.y));
+    }
+    scale = std::acos(-1.0) / std::asin(std::min(1.0, rho / *l.normalize));
+  }
+  Rgb e{};
+  for (std::size_t c = 0; c < 3; ++c) e[c] = l.intensity * l.color[c] == 0.0 ? 0.0 : l.intensity * l.color[c] * scale;
+  return e;
+}
+
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kTwoPi = 6.283185307179586476925286766559;
 // A light hit this close behind the first occluder hit (relative to the distances and
@@ -224,7 +248,7 @@ RaycastRenderer::RaycastRenderer(const Scene& validated_scene) : scale_(scene_sc
   for (const auto& o : validated_scene.occluders) occluders_.push_back(make_shape(scaled_shape(o.shape, scale_)));
   for (const auto& l : validated_scene.lights) {
     lights_.push_back(make_shape(scaled_shape(l.shape, scale_)));
-    emission_.push_back({l.intensity * l.color[0], l.intensity * l.color[1], l.intensity * l.color[2]});
+    emission_.push_back(emission_of(l));
   }
   // The game lighting model, read straight from the scene (degrees to radians here).
   constexpr double kRadians = kTwoPi / 360.0;

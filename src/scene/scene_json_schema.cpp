@@ -38,15 +38,15 @@ void SceneBuilder::check_key(const Frame& frame) {
       fail(place, "unknown key (expected angles, color, intensity, mask, elevation)");
   } else if (frame.role == Role::element) {
     const bool shape = k == "polygon" || k == "circle" || k == "segment";
-    const bool light_term = k == "color" || k == "intensity" || k == "range" || k == "falloff" || k == "cone" ||
-                            k == "mask" || k == "elevation";
+    const bool light_term = k == "color" || k == "intensity" || k == "range" || k == "falloff" ||
+                            k == "normalize" || k == "cone" || k == "mask" || k == "elevation";
     const bool occluder_term = k == "transmittance" || k == "mask" || k == "interior" || k == "albedo";
     if (!element_.light && (k == "color" || k == "intensity")) {
       fail(place, "occluders take no color or intensity");
     } else if (!shape && !(element_.light ? light_term : occluder_term)) {
       fail(place, element_.light
-                      ? "unknown key (expected polygon, circle, segment, color, intensity, range, falloff, cone, "
-                        "mask, elevation)"
+                      ? "unknown key (expected polygon, circle, segment, color, intensity, range, falloff, "
+                        "normalize, cone, mask, elevation)"
                       : "unknown key (expected polygon, circle, segment, transmittance, mask, interior, albedo)");
     } else if (shape && element_.shape != nullptr) {
       // Named in a fixed order, whatever the order in the file.
@@ -139,11 +139,12 @@ void SceneBuilder::element_scalar(const Frame& frame, const Scalar& v, const std
   const std::string& k = frame.key;
   Element& e = element_;
   const bool directional = e.kind == ListKind::directionals;
-  if (k == "intensity" || k == "range" || k == "falloff" || k == "elevation") {
+  if (k == "intensity" || k == "range" || k == "falloff" || k == "normalize" || k == "elevation") {
     if (!v.is_number()) return fail(place, "expected a number");
     if (k == "intensity") (directional ? e.directional.intensity : e.value.intensity) = v.number;
     else if (k == "elevation") (directional ? e.directional.elevation : e.value.elevation) = v.number;
     else if (k == "falloff") e.value.falloff = v.number;
+    else if (k == "normalize") e.value.normalize = v.number;
     else e.value.range = v.number;
   } else if (k == "mask") {
     mask_value(v, place, directional ? e.directional.mask : (e.light ? e.value.mask : e.occluder.mask));
@@ -231,7 +232,7 @@ SceneBuilder::Role SceneBuilder::container_role(bool object, const std::string& 
       }
       if (k == "interior") return refuse(place, "expected \"dark\" or \"lit\"");
       if (k == "mask") return refuse(place, "expected an integer");
-      return refuse(place, "expected a number");  // intensity, range, falloff, elevation
+      return refuse(place, "expected a number");  // intensity, range, falloff, normalize, elevation
     case Role::segment:
       if (frame.count >= 2) return refuse(frame.place, "expected [[x, y], [x, y]]");
       return object ? refuse(place, "expected [x, y]") : Role::point;

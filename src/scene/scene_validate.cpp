@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "geometry/bounce_pieces.hpp"
+#include "lighting/light_emission.hpp"
 #include "geometry/vec2.hpp"
 
 namespace par2d {
@@ -218,7 +219,7 @@ MaybeProblem check_emission_total(const std::vector<Light>& lights) {
   Rgb total{0.0, 0.0, 0.0};
   for (std::size_t i = 0; i < lights.size(); ++i) {
     for (int c = 0; c < 3; ++c) {
-      total[c] += lights[i].intensity * lights[i].color[c];
+      total[c] += detail::light_emission(lights[i])[static_cast<std::size_t>(c)];
       if (!(total[c] <= kMaxTotalEmission)) {
         return SceneProblem{indexed("lights", i), "emission too large: the lights' total intensity * color reaches " +
                                                       format_number(total[c]) + " (at most 1e38, so that float32 "
@@ -250,6 +251,10 @@ MaybeProblem check_light(const Light& light, const std::string& place) {
   if (!(light.falloff >= 0.0 && light.falloff <= 16.0)) {
     if (auto problem = check_finite(light.falloff, place + ".falloff")) return problem;
     return SceneProblem{place + ".falloff", "must be between 0 and 16, got " + format_number(light.falloff)};
+  }
+  if (light.normalize && !(std::isfinite(*light.normalize) && *light.normalize > 0.0)) {
+    if (auto problem = check_finite(*light.normalize, place + ".normalize")) return problem;
+    return SceneProblem{place + ".normalize", "must be > 0, got " + format_number(*light.normalize)};
   }
   if (light.cone) {
     const Cone& cone = *light.cone;
@@ -403,7 +408,8 @@ MaybeProblem check_scene_terms(const Scene& scene, NormalsCheck normals) {
   // Every term adds to E: its total must stay finite in float32 output, as the lights' does.
   Rgb total{0.0, 0.0, 0.0};
   for (const Light& light : scene.lights) {
-    for (std::size_t c = 0; c < 3; ++c) total[c] += light.intensity * light.color[c];
+    const Rgb e = detail::light_emission(light);
+    for (std::size_t c = 0; c < 3; ++c) total[c] += e[c];
   }
   auto over = [&](const std::string& place) -> MaybeProblem {
     for (std::size_t c = 0; c < 3; ++c) {
@@ -479,9 +485,8 @@ Status validate_scene(const Scene& scene, std::string_view name) {
 double max_emission_sum(const Scene& scene) noexcept {
   double sum = 0.0;
   for (const Light& light : scene.lights) {
-    double largest = 0.0;
-    for (double channel : light.color) largest = std::max(largest, light.intensity * channel);
-    sum += largest;
+    const Rgb e = detail::light_emission(light);
+    sum += std::max({e[0], e[1], e[2]});
   }
   for (const DirectionalLight& light : scene.directional_lights) {
     double largest = 0.0;

@@ -88,6 +88,10 @@ void put_light_terms(std::string& out, const Light& light) {
     out += ", \"range\": ";
     put_number(out, *light.range);
   }
+  if (light.normalize) {
+    out += ", \"normalize\": ";
+    put_number(out, *light.normalize);
+  }
   if (light.falloff != 2.0) {
     out += ", \"falloff\": ";
     put_number(out, light.falloff);

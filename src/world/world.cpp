@@ -10,6 +10,7 @@
 #include <string>
 
 #include "geometry/aabb.hpp"
+#include "lighting/light_emission.hpp"
 #include "scene/scene_validate.hpp"
 
 namespace par2d::detail {
@@ -213,7 +214,7 @@ void World::reprepare_all(std::shared_ptr<const WorldNormals> converted) {
   for (std::size_t p = 0; p < light_sources_.size(); ++p) {
     const Light& l = light_sources_[p];
     make_convex_shape(l.shape, scene_.lights[p].shape);
-    for (int c = 0; c < 3; ++c) scene_.lights[p].emission[static_cast<std::size_t>(c)] = l.intensity * l.color[static_cast<std::size_t>(c)];
+    scene_.lights[p].emission = light_emission(l);
   }
   for (std::size_t k = 0; k < occluder_sources_.size(); ++k) make_convex_shape(occluder_sources_[k].shape, scene_.occluders[k]);
   const double largest = std::max({largest_coordinate(), std::abs(view_.x0), std::abs(view_.x1), std::abs(view_.y0),
@@ -248,7 +249,7 @@ void World::prepare_lit(std::size_t p, const Light& light) {
   PreparedLight& prepared = scene_.lights[p];
   make_convex_shape(light.shape, prepared.shape);
   scale_shape(prepared.shape, factor_);
-  for (std::size_t c = 0; c < 3; ++c) prepared.emission[c] = light.intensity * light.color[c];
+  prepared.emission = light_emission(light);
   prepared.terms = light_terms(light, factor_);
   update_model_flag(scene_);
   find_light_overlaps(scene_, prepared, query_);
@@ -306,13 +307,13 @@ void World::erase_dark(std::size_t q) {
 
 // The lights' total emission with `light` added (in place of lit light `replaced`, if any)
 // must stay within what float32 output can hold, as for scenes (check_emission_total).
-std::optional<SceneProblem> World::emission_total_problem(const Light& light, std::size_t replaced) const {
-  for (int c = 0; c < 3; ++c) {
-    // Ambient and directional lights add to E too (check_scene_terms).
-    double total = light.intensity * light.color[static_cast<std::size_t>(c)] + globals_.ambient[static_cast<std::size_t>(c)];
-    for (const DirectionalLight& d : globals_.directional_lights) total += d.intensity * d.color[static_cast<std::size_t>(c)];
+std::optional<SceneProblem> World::emission_total_problem(const Rgb& emission, std::size_t replaced) const {
+  for (std::size_t c = 0; c < 3; ++c) {
+    // Ambient and directional lights add to E too (check_scene_terms); lit lights as prepared.
+    double total = emission[c] + globals_.ambient[c];
+    for (const DirectionalLight& d : globals_.directional_lights) total += d.intensity * d.color[c];
     for (std::size_t i = 0; i < light_sources_.size(); ++i)
-      if (i != replaced) total += light_sources_[i].intensity * light_sources_[i].color[static_cast<std::size_t>(c)];
+      if (i != replaced) total += scene_.lights[i].emission[c];
     if (!(total <= kMaxTotalEmission))
       return SceneProblem{std::string(), "emission too large: the lights' total intensity * color reaches " +
                                              format_number(total) + " (at most 1e38, so that float32 output stays finite)"};
@@ -374,7 +375,8 @@ Status World::set_model_terms(const char* who, const Scene& terms) {
 Status World::add_light(const Light& light, LightHandle* handle) {
   if (handle == nullptr) return Status(StatusCode::invalid_argument, "add_light: handle is null");
   if (auto problem = check_light(light, std::string())) return refused("add_light", *problem);
-  if (auto problem = emission_total_problem(light, light_sources_.size())) return refused("add_light", *problem);
+  if (auto problem = emission_total_problem(light_emission(light), light_sources_.size()))
+    return refused("add_light", *problem);
   const std::uint32_t slot = new_slot(0, 0);
   if (emits(light)) {
     push_lit(light, slot);
@@ -391,7 +393,7 @@ Status World::update_light(LightHandle handle, const Light& light) {
   if (auto problem = check_light(light, std::string())) return refused("light " + std::to_string(handle.id), *problem);
   const std::uint32_t index = static_cast<std::uint32_t>(slot - slots_.data());
   const auto where = static_cast<std::size_t>(slot->where);
-  if (auto problem = emission_total_problem(light, slot->list == kLit ? where : light_sources_.size()))
+  if (auto problem = emission_total_problem(light_emission(light), slot->list == kLit ? where : light_sources_.size()))
     return refused("light " + std::to_string(handle.id), *problem);
   if (slot->list == kLit) {
     if (emits(light)) {
@@ -426,19 +428,15 @@ Status World::set_light_emission(LightHandle handle, const Rgb& color, double in
   const std::uint32_t index = static_cast<std::uint32_t>(slot - slots_.data());
   const auto where = static_cast<std::size_t>(slot->where);
   Light& source = slot->list == kLit ? light_sources_[where] : dark_sources_[where];
-  {
-    Light changed;  // its default shape is an empty polygon: no allocation
-    changed.color = color;
-    changed.intensity = intensity;
-    if (auto problem = emission_total_problem(changed, slot->list == kLit ? where : light_sources_.size()))
-      return refused("light " + std::to_string(handle.id), *problem);
-  }
+  const Rgb emission = light_emission(color, intensity, emission_scale(source));
+  if (auto problem = emission_total_problem(emission, slot->list == kLit ? where : light_sources_.size()))
+    return refused("light " + std::to_string(handle.id), *problem);
   source.color = color;
   source.intensity = intensity;
   const bool now = emits(source);
   if (slot->list == kLit && now) {
     // Only the emission changes: shape, overlaps, separators and reach all stay.
-    for (std::size_t c = 0; c < 3; ++c) scene_.lights[where].emission[c] = intensity * color[c];
+    scene_.lights[where].emission = emission;
     if (observer_) observer_->light_emission_changed(where);
   } else if (slot->list == kLit) {
     const Light copy = source;

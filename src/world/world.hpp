@@ -67,7 +67,7 @@ class World {
 
   // A problem when `light`, in place of lit light `replaced` (or added, with replaced ==
   // the lit count), would take the lights' total emission past kMaxTotalEmission.
-  std::optional<SceneProblem> emission_total_problem(const Light& light, std::size_t replaced) const;
+  std::optional<SceneProblem> emission_total_problem(const Rgb& emission, std::size_t replaced) const;
 
   // A handle's slot: which array its object lives in and where.
   struct Slot {

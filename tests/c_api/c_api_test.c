@@ -336,6 +336,14 @@ static void check_errors_name_the_call(par2d_renderer* r) {
   CHECK(par2d_set_light_terms(r, light, &terms) == PAR2D_OK);
   par2d_light_terms back;
   CHECK(par2d_get_light_terms(r, light, &back) == PAR2D_OK && back.falloff == 3.5 && back.range == 40.0);
+  CHECK(back.normalize == 0.0);
+  terms.normalize = -1.0;
+  CHECK_ERROR_PREFIX(par2d_set_light_terms(r, light, &terms), PAR2D_INVALID_SCENE, "par2d_set_light_terms: ");
+  CHECK(strstr(par2d_last_error(), "normalize") != NULL);
+  terms.normalize = 25.0;
+  CHECK(par2d_set_light_terms(r, light, &terms) == PAR2D_OK);
+  CHECK(par2d_get_light_terms(r, light, &back) == PAR2D_OK && back.normalize == 25.0);
+  terms.normalize = 0.0;
   terms.falloff = 2.0;
   terms.elevation = 95.0;
   CHECK_ERROR_PREFIX(par2d_set_light_terms(r, light, &terms), PAR2D_INVALID_SCENE, "par2d_set_light_terms: ");

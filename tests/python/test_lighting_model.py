@@ -125,3 +125,19 @@ def test_falloff_shapes_the_range_window_and_is_refused_out_of_range():
     with pytest.raises(par2d.Error) as e:
         r.update_light(r.lights[0], {"circle": {"center": [1, 1], "radius": 1}, "range": 5, "falloff": 17})
     assert str(e.value) == f"light {r.lights[0]}: falloff: must be between 0 and 16, got 17"
+
+
+def test_normalize_sets_brightness_apart_from_size():
+    # Torches of radius 1, 3 and 6 normalized at 20: the pixel centre 20 units from each
+    # center gets intensity * color from it, whatever the radius.
+    for radius in (1.0, 3.0, 6.0):
+        d = {"width": 48, "height": 16,
+             "lights": [{"circle": {"center": [40.5 - 20.0, 8.5], "radius": radius}, "intensity": 2,
+                         "color": [1, 0.5, 0.25], "normalize": 20}]}
+        e = par2d.render(d)[8, 40]
+        assert e == pytest.approx([2.0, 1.0, 0.5], rel=1e-5)
+        assert par2d.Scene.from_dict(d).to_dict()["lights"][0]["normalize"] == 20
+    with pytest.raises(par2d.Error) as e:
+        par2d.render({"width": 4, "height": 4, "lights": [{"circle": {"center": [1, 1], "radius": 1},
+                                                           "normalize": 0}]})
+    assert "lights[0].normalize: must be > 0, got 0" in str(e.value)

@@ -123,6 +123,7 @@ void add_model_terms(std::uint32_t seed, const RandomSceneOptions& o, Scene& sce
     }
     if (o.masks) light.mask = random_mask(rng);
     if (o.elevations) light.elevation = random_elevation(rng);
+    if (o.normalizes && rng.chance(0.35)) light.normalize = size * rng.uniform(0.1, 2.0);
   }
   for (Occluder& occluder : scene.occluders) {
     if (o.translucent && rng.chance(0.5)) occluder.transmittance = {rng.uniform(), rng.uniform(), rng.uniform()};
@@ -301,7 +302,7 @@ Scene random_scene(std::uint32_t seed, const RandomSceneOptions& o) {
 }
 
 RandomSceneOptions with_every_model_term(RandomSceneOptions o) {
-  o.ranges = o.falloffs = o.cones = o.masks = o.translucent = o.lit_interiors = o.ambient = o.elevations = true;
+  o.ranges = o.falloffs = o.normalizes = o.cones = o.masks = o.translucent = o.lit_interiors = o.ambient = o.elevations = true;
   o.directional_lights = 2;
   o.normals = RandomSceneOptions::Normals::map;
   return o;
@@ -341,10 +342,28 @@ double pixel_width(const Scene& scene) noexcept {
   return std::min(std::fabs(v.x1 - v.x0) / scene.width, std::fabs(v.y1 - v.y0) / scene.height);
 }
 
+double normalize_scale(const Light& l) noexcept {
+  if (!l.normalize) return 1.0;
+  double rho = 0.0;
+  if (const auto* c = std::get_if<Circle>(&l.shape)) {
+    rho = c->radius;
+  } else if (const auto* s = std::get_if<Segment>(&l.shape)) {
+    rho = std::hypot(s->b.x - s->a.x, s->b.y - s->a.y) / 2.0;
+  } else {
+    const auto& v = std::get<Polygon>(l.shape).vertices;
+    double mx = 0.0, my = 0.0;
+    for (const Vec2& p : v) mx += p.x, my += p.y;
+    mx /= static_cast<double>(v.size());
+    my /= static_cast<double>(v.size());
+    for (const Vec2& p : v) rho = std::max(rho, std::hypot(p.x - mx, p.y - my));
+  }
+  return 3.14159265358979323846 / std::asin(std::min(1.0, rho / *l.normalize));
+}
+
 double emission_max_sum(const Scene& scene) noexcept {
   double sum = 0.0;
   for (const auto& l : scene.lights)
-    sum += l.intensity * std::max({l.color[0], l.color[1], l.color[2]});
+    sum += l.intensity * std::max({l.color[0], l.color[1], l.color[2]}) * normalize_scale(l);
   for (const auto& d : scene.directional_lights)
     sum += d.intensity * std::max({d.color[0], d.color[1], d.color[2]});
   return sum + std::max({scene.ambient[0], scene.ambient[1], scene.ambient[2]});

@@ -72,6 +72,7 @@ struct RandomSceneOptions {
   // shapes, colors and intensities it has with every flag off. Default: all off.
   bool ranges = false;         // about half the lights: range 0.2 .. 1.5 view sizes
   bool falloffs = false;       // ranged lights: falloff 0 .. 6 (some 0, 1 and 2)
+  bool normalizes = false;     // about a third of the lights: normalize at 0.1 .. 2 view sizes
   bool cones = false;          // about half the lights: a cone (some with fade 0, some with half angle 180)
   bool masks = false;          // lights, occluders and directional lights: masks of a few bits, some disjoint
   bool translucent = false;    // about half the occluders: a transmittance in [0, 1] per channel
@@ -118,6 +119,9 @@ double pixel_width(const Scene& scene) noexcept;
 // the largest ambient channel (docs/contract.md section 5's e_max, extended by section 6),
 // computed here so tests do not depend on the library's own version.
 double emission_max_sum(const Scene& scene) noexcept;
+// The factor a light's `normalize` puts on intensity * color (docs/contract.md section 6), written
+// out here again: pi / asin(min(1, rho / D)); 1 without normalize.
+double normalize_scale(const Light& light) noexcept;
 
 // A rendered float RGB image, tightly packed, top row first.
 struct RenderedImage {

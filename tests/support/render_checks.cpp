@@ -94,7 +94,8 @@ int check_against_closed_form(const Scene& scene, const RenderedImage& image,
 }
 
 Rgb emission(const Light& light) {
-  return {light.intensity * light.color[0], light.intensity * light.color[1], light.intensity * light.color[2]};
+  const double k = normalize_scale(light);
+  return {light.intensity * light.color[0] * k, light.intensity * light.color[1] * k, light.intensity * light.color[2] * k};
 }
 
 int boundary_complexity(const Shape& shape) {

@@ -37,7 +37,7 @@ void check_simd_against_scalar(const Scene& scene, const RenderedImage& ref, con
 int check_against_closed_form(const Scene& scene, const RenderedImage& image,
                               const std::function<Rgb(int, int, Vec2)>& expected, double skip = 1e-3);
 
-// intensity * color of a light.
+// e_L of a light: intensity * color, times normalize_scale (random_scenes.hpp).
 Rgb emission(const Light& light);
 // Vertices of a polygon, 1 for a segment, "unbounded" for a circle: how often its boundary can
 // cross another's.

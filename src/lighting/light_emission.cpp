@@ -1,0 +1,44 @@
+// A light's emission: see light_emission.hpp.
+#include "lighting/light_emission.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <variant>
+
+#include "geometry/convex_shape.hpp"
+
+namespace par2d::detail {
+
+double reference_radius(const Shape& shape) noexcept {
+  if (const auto* c = std::get_if<Circle>(&shape)) return c->radius;
+  if (const auto* s = std::get_if<Segment>(&shape)) return 0.5 * std::hypot(s->b.x - s->a.x, s->b.y - s->a.y);
+  const auto& vertices = std::get<Polygon>(shape).vertices;
+  if (vertices.empty()) return 0.0;
+  double cx = 0.0, cy = 0.0;
+  for (const Vec2& v : vertices) {
+    cx += v.x;
+    cy += v.y;
+  }
+  cx /= static_cast<double>(vertices.size());
+  cy /= static_cast<double>(vertices.size());
+  double farthest = 0.0;
+  for (const Vec2& v : vertices) farthest = std::max(farthest, std::hypot(v.x - cx, v.y - cy));
+  return farthest;
+}
+
+double emission_scale(const Light& light) noexcept {
+  if (!light.normalize) return 1.0;
+  const double ratio = std::min(1.0, reference_radius(light.shape) / *light.normalize);
+  return kPi / std::asin(ratio);
+}
+
+Rgb light_emission(const Rgb& color, double intensity, double scale) noexcept {
+  Rgb e{};
+  for (std::size_t c = 0; c < 3; ++c) {
+    const double raw = intensity * color[c];
+    e[c] = raw == 0.0 ? 0.0 : raw * scale;
+  }
+  return e;
+}
+
+}  // namespace par2d::detail
