@@ -97,7 +97,7 @@ void order_by_angle(const PreparedScene& scene, Vec2 light_center, Vec2 block_ce
 
 void cull_block(const PreparedScene& scene, const std::array<Vec2, 4>& corners, const std::vector<LightReach>* reach,
                 std::vector<std::vector<std::uint32_t>>& block_candidates, std::vector<unsigned char>& block_shadowed,
-                BlockCullingScratch& scratch, OcclusionProofScratch& occlusion) {
+                BlockCullingScratch& scratch, OcclusionProofScratch& occlusion, const unsigned char* skip) {
   block_candidates.resize(scene.lights.size());
   block_shadowed.assign(scene.lights.size(), 0);
   const Aabb box = bounds_of(corners);
@@ -107,6 +107,10 @@ void cull_block(const PreparedScene& scene, const std::array<Vec2, 4>& corners, 
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
     std::vector<std::uint32_t>& candidates = block_candidates[l];
     candidates.clear();
+    if (skip && skip[l]) {
+      block_shadowed[l] = 1;
+      continue;
+    }
     if (!reach) {
       for (std::uint32_t k = 0; k < scene.occluders.size(); ++k)
         if (!scene.model || scene.occluder_terms[k].acts_on(scene.lights[l].terms.mask)) candidates.push_back(k);

@@ -62,9 +62,11 @@ inline bool culling_trusted(const PreparedScene& scene) noexcept {
 // corners to the light, in `candidates` (in index order, or by direction when there are many:
 // order_by_angle in block_culling.cpp); `shadowed` marks the lights that `reach` or a proof
 // shows hidden from the whole block. Without `reach`: every (acting) occluder for every light.
+// `skip` (per light, may be null): lights marked there are left out as if shadowed (the
+// light-layer cache holds their share of the block).
 void cull_block(const PreparedScene& scene, const std::array<Vec2, 4>& corners, const std::vector<LightReach>* reach,
                 std::vector<std::vector<std::uint32_t>>& candidates, std::vector<unsigned char>& shadowed,
-                BlockCullingScratch& scratch, OcclusionProofScratch& occlusion);
+                BlockCullingScratch& scratch, OcclusionProofScratch& occlusion, const unsigned char* skip = nullptr);
 
 // Occlusion proofs: the most strips one may use per block and light, and per tile and light.
 // A tile tries one only for a light with at least kTileProofMinPairs occluders in front:

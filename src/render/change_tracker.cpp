@@ -185,13 +185,16 @@ void ChangeTracker::mark_light(const PreparedScene& scene, const Footprint& f, c
 }
 
 void ChangeTracker::plan_layer_fills(const PreparedScene& scene, bool full) {
-  wanted_.assign(block_boxes_.size(), 0);
+  part_first_.assign(1, 0);
+  part_lights_.clear();
   for (std::size_t b = 0; b < block_boxes_.size(); ++b) {
-    if (!full && !mask_[b]) continue;
-    for (std::size_t l = 0; l < old_.size(); ++l)
-      if (old_[l].takes_part(block_boxes_[b], scene.model) && !layers_->has(b, l)) ++wanted_[b];
+    if (full || mask_[b]) {
+      for (std::size_t l = 0; l < old_.size(); ++l)
+        if (old_[l].takes_part(block_boxes_[b], scene.model)) part_lights_.push_back(static_cast<std::uint32_t>(l));
+    }
+    part_first_.push_back(static_cast<std::uint32_t>(part_lights_.size()));
   }
-  layers_->plan_fills(full ? nullptr : &mask_, wanted_);
+  layers_->plan_frame(full ? nullptr : &mask_, part_first_, part_lights_, !scene.directionals.empty());
 }
 
 const std::vector<std::uint8_t>* ChangeTracker::plan(const PreparedScene& scene, const std::vector<LightReach>* reach,

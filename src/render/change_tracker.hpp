@@ -101,7 +101,7 @@ class ChangeTracker final : public WorldObserver {
   // meets `region`: where an occluder in `region` may be one of the light's candidates; there,
   // light `light`'s layers are dropped.
   void mark_light(const PreparedScene& scene, const Footprint& f, const Aabb* region, std::size_t light);
-  // Per block, the lights that take part in it without a layer: what plan_fills reserves for.
+  // Per rendered block, the lights that take part in it: the layer cache's plan_frame.
   void plan_layer_fills(const PreparedScene& scene, bool full);
 
   // changed_ flags: the light's geometry, terms or number changed (its layers are stale), or
@@ -111,7 +111,7 @@ class ChangeTracker final : public WorldObserver {
   WorldObserver* next_ = nullptr;
   LightLayerCache* layers_ = nullptr;
   bool layered_ = false;
-  std::vector<std::uint32_t> wanted_;
+  std::vector<std::uint32_t> part_first_, part_lights_;  // per block, the lights taking part
   bool full_ = true;  // every block at the next frame
   bool any_ = false;  // some change since the last frame
   bool have_key_ = false;

@@ -24,12 +24,14 @@ namespace {
 constexpr int kLanesPerWorker = 4;
 
 // A block's counts, after gather_block_candidates: `tried` and `succeeded` are the proof
-// counts before it, so the differences are the block proofs.
+// counts before it, so the differences are the block proofs. `skipped`: lights left out
+// because the light-layer cache holds them (not out of reach).
 void count_block(const PreparedScene& scene, const TileSetupScratch& setup, std::uint64_t tried,
-                 std::uint64_t succeeded, FrameCounters& counts) noexcept {
+                 std::uint64_t succeeded, std::uint64_t skipped, FrameCounters& counts) noexcept {
   const std::uint64_t proven = setup.occlusion.proofs_succeeded - succeeded;
   std::uint64_t shadowed = 0;
   for (const unsigned char s : setup.block_shadowed) shadowed += s;
+  shadowed -= skipped;
   for (const std::vector<std::uint32_t>& c : setup.block_candidates) counts.block_candidates += c.size();
   ++counts.blocks;
   counts.block_lights += scene.lights.size();
@@ -178,12 +180,29 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
     const TileRect block{x0, y0, std::min(x0 + kBlockSize, scene.width), std::min(y0 + kBlockSize, scene.height)};
     FrameCounters& counts = state.counts;
     const std::size_t frame_block = static_cast<std::size_t>((bx0 + b % columns) + (by0 + b / columns) * frame_columns);
+    if (layers && layers->recombine_only(frame_block)) {  // every light from its layer: no culling, no kernel
+      for_each_cell(block, kTileSize, [&](const TileRect& tile) {
+        const TileRect part{std::max(tile.x0, region.x0), std::max(tile.y0, region.y0), std::min(tile.x1, region.x1),
+                            std::min(tile.y1, region.y1)};
+        if (part.x0 >= part.x1 || part.y0 >= part.y1) return;
+        ++counts.tiles;
+        counts.pixels += static_cast<std::uint64_t>(part.x1 - part.x0) * static_cast<std::uint64_t>(part.y1 - part.y0);
+        const int t = (tile.y0 - y0) / kTileSize * kBlockTiles + (tile.x0 - x0) / kTileSize;
+        recombine_tile(scene, layers->block(frame_block), t, *kernels, state.result, counts);
+        store_tile(state.result, tile.x0, tile.y0, part, target, stores);
+      });
+      return;
+    }
     if (layers) start_layered_block(scene.lights.size(), layers->block(frame_block), state.layered);
     if (kernels) {
       const std::uint64_t tried = state.setup.occlusion.proofs_tried;
       const std::uint64_t succeeded = state.setup.occlusion.proofs_succeeded;
-      gather_block_candidates(scene, block, cull ? reach : nullptr, state.setup);
-      count_block(scene, state.setup, tried, succeeded, counts);
+      gather_block_candidates(scene, block, cull ? reach : nullptr, state.setup,
+                              layers ? state.layered.skip.data() : nullptr);
+      std::uint64_t skipped = 0;
+      if (layers)
+        for (const unsigned char s : state.layered.skip) skipped += s;
+      count_block(scene, state.setup, tried, succeeded, skipped, counts);
     }
     for_each_cell(block, kTileSize, [&](const TileRect& tile) {
       const TileRect part{std::max(tile.x0, region.x0), std::max(tile.y0, region.y0), std::min(tile.x1, region.x1),
@@ -210,6 +229,7 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
         add_bounce(scene, *bounce_, settings.spp, settings.shaded, part, tile.x0, tile.y0, state.bounce, state.result);
       store_tile(state.result, tile.x0, tile.y0, part, target, stores);
     });
+    if (layers && layers->may_fill(frame_block)) layers->finish_block(frame_block);
   };
 
   // Blocks are dealt to lanes (lane l takes blocks l, l + lanes, ...), each lane with its own

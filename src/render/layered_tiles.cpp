@@ -5,11 +5,28 @@
 #include <cstring>
 
 namespace par2d::detail {
+namespace {
+
+// out += the layer's share of tile t times its light's emission, as build_tile_work hands
+// emissions to the kernel (divided by 2 pi, in float).
+void add_layer(const PreparedScene& scene, const LightLayer& layer, int t, const KernelSet& kernels,
+               TileResult& out) noexcept {
+  const Rgb& e = scene.lights[layer.light].emission;
+  const float emission[3] = {static_cast<float>(e[0] / kTwoPi), static_cast<float>(e[1] / kTwoPi),
+                             static_cast<float>(e[2] / kTwoPi)};
+  kernels.add_light_layer(layer.data.data() + layer.offset[t], ((layer.mono >> t) & 1u) != 0, emission, out);
+}
+
+}  // namespace
 
 void start_layered_block(std::size_t scene_lights, const std::vector<LightLayer>& layers, LayeredTileScratch& scratch) {
   scratch.layer_of.assign(scene_lights, -1);
-  for (std::size_t k = 0; k < layers.size(); ++k)
-    if (layers[k].light < scene_lights) scratch.layer_of[layers[k].light] = static_cast<std::int32_t>(k);
+  scratch.skip.assign(scene_lights, 0);
+  for (std::size_t k = 0; k < layers.size(); ++k) {
+    if (layers[k].light >= scene_lights) continue;
+    scratch.layer_of[layers[k].light] = static_cast<std::int32_t>(k);
+    scratch.skip[layers[k].light] = 1;
+  }
 }
 
 void render_layered_tile(const PreparedScene& scene, const TileRect& tile, int t, const KernelSet& kernels, bool fill,
@@ -26,8 +43,7 @@ void render_layered_tile(const PreparedScene& scene, const TileRect& tile, int t
   float ambient[3];
   std::copy(std::begin(work.ambient), std::end(work.ambient), ambient);
   scratch.rest.clear();
-  scratch.added.clear();
-  scratch.added_layer.clear();
+  // Lights with a layer were left out of the culling (`skip`): the work holds the others.
   for (std::size_t i = 0; i < count; ++i) {
     if (i >= scene_lights) {  // a directional light: no layer (it reaches every block)
       scratch.rest.push_back(static_cast<std::uint32_t>(i));
@@ -35,12 +51,6 @@ void render_layered_tile(const PreparedScene& scene, const TileRect& tile, int t
     }
     const std::uint32_t l = setup.tile_lights[i];
     std::int32_t k = scratch.layer_of[l];
-    if (k >= 0 && layers[static_cast<std::size_t>(k)].offset[t] >= 0) {
-      scratch.added.push_back(static_cast<std::uint32_t>(i));
-      scratch.added_layer.push_back(static_cast<std::uint32_t>(k));
-      ++counts.layer_tiles_reused;
-      continue;
-    }
     if (!fill) {
       scratch.rest.push_back(static_cast<std::uint32_t>(i));
       continue;
@@ -64,8 +74,6 @@ void render_layered_tile(const PreparedScene& scene, const TileRect& tile, int t
     const bool mono = std::memcmp(planes[0], planes[1], sizeof(scratch.single.rgb[0])) == 0 &&
                       std::memcmp(planes[0], planes[2], sizeof(scratch.single.rgb[0])) == 0;
     layers[static_cast<std::size_t>(k)].store(t, planes, mono ? 1 : 3);
-    scratch.added.push_back(static_cast<std::uint32_t>(i));
-    scratch.added_layer.push_back(static_cast<std::uint32_t>(k));
     ++counts.layer_tiles_filled;
   }
 
@@ -86,13 +94,28 @@ void render_layered_tile(const PreparedScene& scene, const TileRect& tile, int t
     for (int c = 0; c < 3; ++c) std::fill(std::begin(out.rgb[c]), std::end(out.rgb[c]), ambient[c]);
   }
   // The stored shares times their lights' emissions, in light order.
-  for (std::size_t j = 0; j < scratch.added.size(); ++j) {
-    const LightLayer& layer = layers[scratch.added_layer[j]];
-    kernels.add_light_layer(layer.data.data() + layer.offset[t], ((layer.mono >> t) & 1u) != 0,
-                            scratch.all_lights[scratch.added[j]].emission, out);
+  for (std::size_t l = 0; l < scratch.layer_of.size(); ++l) {
+    if (scratch.layer_of[l] < 0) continue;
+    const LightLayer& layer = layers[static_cast<std::size_t>(scratch.layer_of[l])];
+    if (layer.offset[t] < 0) continue;
+    add_layer(scene, layer, t, kernels, out);
+    counts.layer_tiles_reused += scratch.skip[l];
   }
   scratch.all_lights.swap(work.lights);
   scratch.all_terms.swap(work.light_terms);
+}
+
+void recombine_tile(const PreparedScene& scene, const std::vector<LightLayer>& layers, int t, const KernelSet& kernels,
+                    TileResult& out, FrameCounters& counts) noexcept {
+  for (std::size_t c = 0; c < 3; ++c) {
+    const float ambient = scene.model ? static_cast<float>(scene.ambient[c]) : 0.0f;
+    std::fill(std::begin(out.rgb[c]), std::end(out.rgb[c]), ambient);
+  }
+  for (const LightLayer& layer : layers) {
+    if (layer.offset[t] < 0) continue;
+    add_layer(scene, layer, t, kernels, out);
+    ++counts.layer_tiles_reused;
+  }
 }
 
 }  // namespace par2d::detail

@@ -74,16 +74,38 @@ bool LightLayerCache::has(std::size_t block, std::size_t light) const noexcept {
   return false;
 }
 
-void LightLayerCache::plan_fills(const std::vector<std::uint8_t>* dirty, const std::vector<std::uint32_t>& wanted) {
+void LightLayerCache::plan_frame(const std::vector<std::uint8_t>* dirty, const std::vector<std::uint32_t>& first,
+                                 const std::vector<std::uint32_t>& lights, bool directional) {
+  first_ = first;
+  lights_ = lights;
   fill_.assign(blocks_.size(), 0);
+  whole_.assign(blocks_.size(), 0);
   std::size_t planned = bytes_;
-  for (std::size_t b = 0; b < blocks_.size() && b < wanted.size(); ++b) {
+  for (std::size_t b = 0; b < blocks_.size() && b + 1 < first.size(); ++b) {
     if (dirty && !(*dirty)[b]) continue;
-    const std::size_t need = static_cast<std::size_t>(wanted[b]) * kMaxLayerBytes;
+    std::size_t missing = 0;
+    for (std::uint32_t i = first[b]; i < first[b + 1]; ++i) missing += has(b, lights[i]) ? 0 : 1;
+    if (missing == 0 && !directional) {
+      whole_[b] = 1;
+      continue;
+    }
+    const std::size_t need = missing * kMaxLayerBytes;
     if (need > budget_ || planned > budget_ - need) continue;
     planned += need;
     fill_[b] = 1;
   }
+}
+
+void LightLayerCache::finish_block(std::size_t block) {
+  std::vector<LightLayer>& layers = blocks_[block];
+  if (block + 1 < first_.size()) {
+    for (std::uint32_t i = first_[block]; i < first_[block + 1]; ++i) {
+      if (has(block, lights_[i])) continue;
+      layers.emplace_back();
+      layers.back().clear(lights_[i]);
+    }
+  }
+  std::sort(layers.begin(), layers.end(), [](const LightLayer& a, const LightLayer& b) { return a.light < b.light; });
 }
 
 void LightLayerCache::finish_frame() noexcept { recount(); }

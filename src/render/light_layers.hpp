@@ -29,7 +29,6 @@ namespace par2d::detail {
 inline constexpr int kBlockTileCount = kBlockTiles * kBlockTiles;
 // The most one layer holds: three planes for every tile of its block.
 inline constexpr std::size_t kMaxLayerFloats = static_cast<std::size_t>(kBlockTileCount) * 3 * kTilePixels;
-inline constexpr std::size_t kMaxLayerBytes = kMaxLayerFloats * sizeof(float);
 
 // One light's share of one block's tiles.
 struct LightLayer {
@@ -43,12 +42,16 @@ struct LightLayer {
   std::vector<float> data;
 
   LightLayer() { clear(0); }
+  // Empty (every offset -1): the light takes part in the block but reaches none of its tiles.
   void clear(std::uint32_t l) noexcept;
   // Stores tile `t`'s planes (`planes` of them, kTilePixels floats each, from `rgb`), keeping
   // the capacity within kMaxLayerFloats.
   void store(int t, const float* const rgb[3], int planes);
-  std::size_t bytes() const noexcept { return data.capacity() * sizeof(float); }
+  std::size_t bytes() const noexcept { return sizeof(LightLayer) + data.capacity() * sizeof(float); }
 };
+
+// The most one layer holds, its bookkeeping included: three planes for every tile of its block.
+inline constexpr std::size_t kMaxLayerBytes = sizeof(LightLayer) + kMaxLayerFloats * sizeof(float);
 
 class LightLayerCache {
  public:
@@ -67,12 +70,22 @@ class LightLayerCache {
   void drop(std::size_t block, std::size_t light) noexcept;
   bool has(std::size_t block, std::size_t light) const noexcept;
 
-  // Which of this frame's blocks may store new layers: in block order, each dirty block
-  // (`dirty` null: every block) whose `wanted[b]` missing layers, at kMaxLayerBytes each, fit
-  // in what the budget leaves. Decided before the frame so that the image does not depend on
-  // which thread reaches a block first.
-  void plan_fills(const std::vector<std::uint8_t>* dirty, const std::vector<std::uint32_t>& wanted);
+  // The plan of a frame, made by the change tracker before it (so that the image does not
+  // depend on which thread reaches a block first): per block, the lights that take part in
+  // it (`first[b]` .. `first[b + 1]` of `lights`, in number order; blocks not rendered: none)
+  // and how many of them have no layer there. In block order, each rendered block (`dirty`
+  // null: every block) whose missing layers, at kMaxLayerBytes each, fit in what the budget
+  // leaves may store them; a block whose lights all have layers (and a scene without
+  // directional lights, `directional`) is recombined from them alone, with no culling and
+  // no kernel.
+  void plan_frame(const std::vector<std::uint8_t>* dirty, const std::vector<std::uint32_t>& first,
+                  const std::vector<std::uint32_t>& lights, bool directional);
   bool may_fill(std::size_t block) const noexcept { return block < fill_.size() && fill_[block] != 0; }
+  bool recombine_only(std::size_t block) const noexcept { return block < whole_.size() && whole_[block] != 0; }
+  // After a block rendered with may_fill: an empty layer for each light that takes part in it
+  // but reached none of its tiles (so that the next frame knows every light is accounted
+  // for), and the layers in light order (the order tiles sum their lights in).
+  void finish_block(std::size_t block);
 
   // The layers of `block`: only the thread rendering the block touches them during a frame.
   std::vector<LightLayer>& block(std::size_t b) noexcept { return blocks_[b]; }
@@ -85,7 +98,8 @@ class LightLayerCache {
   std::size_t budget_ = 0;
   std::size_t bytes_ = 0;
   std::vector<std::vector<LightLayer>> blocks_;
-  std::vector<std::uint8_t> fill_;
+  std::vector<std::uint8_t> fill_, whole_;
+  std::vector<std::uint32_t> first_, lights_;  // the plan's lists
 };
 
 }  // namespace par2d::detail

@@ -9,7 +9,7 @@
 namespace par2d::detail {
 
 void gather_block_candidates(const PreparedScene& scene, const TileRect& block, const std::vector<LightReach>* reach,
-                             TileSetupScratch& scratch) {
+                             TileSetupScratch& scratch, const unsigned char* skip) {
   const std::array<Vec2, 4> corners = tile_corners(scene, block);
   // Entries of earlier blocks (or scenes) carry an older serial: found anew on first use.
   scratch.block.start(scene, block, corners);
@@ -17,7 +17,7 @@ void gather_block_candidates(const PreparedScene& scene, const TileRect& block, 
   scratch.pairs.start_block(scene.lights.size(), scene.occluders.size());
   scratch.culling.start_block(scene.lights.size());
   cull_block(scene, corners, reach, scratch.block_candidates, scratch.block_shadowed, scratch.culling,
-             scratch.occlusion);
+             scratch.occlusion, skip);
 }
 
 void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, bool culling, TileWork& work,

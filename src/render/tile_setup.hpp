@@ -60,8 +60,9 @@ struct TileSetupScratch {
 // Fills scratch.block_candidates for the pixel rectangle `block`, skipping the lights that
 // `reach` or a proof shows hidden from the whole block. Without `reach` (culling off):
 // every occluder for every light.
+// `skip` (per light, may be null): lights left out as if shadowed (cull_block).
 void gather_block_candidates(const PreparedScene& scene, const TileRect& block, const std::vector<LightReach>* reach,
-                             TileSetupScratch& scratch);
+                             TileSetupScratch& scratch, const unsigned char* skip = nullptr);
 
 // Fills `work` for `tile` at `spp` samples per pixel, a tile of the block last given to gather_block_candidates.
 // Every tile goes to the kernel: a light that overlaps or touches an occluder is clipped at
