@@ -5,9 +5,12 @@
 #include <cmath>
 #include <variant>
 
-#include "geometry/convex_shape.hpp"
-
 namespace par2d::detail {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+}  // namespace
 
 double reference_radius(const Shape& shape) noexcept {
   if (const auto* c = std::get_if<Circle>(&shape)) return c->radius;
