@@ -270,6 +270,20 @@ TEST_CASE("model SIMD: a spot cone weights the light's arc by its trapezoid prof
       2.5);
 }
 
+namespace {
+
+// The renderer's whole frame as float RGB.
+RenderedImage render_frame(Renderer& renderer, int width, int height) {
+  RenderedImage image;
+  image.width = width;
+  image.height = height;
+  image.pixels.assign(static_cast<std::size_t>(width) * height * 3, -1.0f);
+  REQUIRE(renderer.render(ImageView{image.pixels.data(), width, height, 3 * width}).ok());
+  return image;
+}
+
+}  // namespace
+
 TEST_CASE("model SIMD: a persistent Renderer with moving ranged torches equals one-shot renders") {
   Scene s = empty_scene(96, 64);
   for (int k = 0; k < 6; ++k) {
@@ -295,11 +309,7 @@ TEST_CASE("model SIMD: a persistent Renderer with moving ranged torches equals o
         l.shape = Circle{{10.0 + 15.0 * static_cast<double>(k) + 2.5 * frame, 12.0 + 7.0 * static_cast<double>(k % 3) + 3.0 * frame}, 1.5};
         REQUIRE(renderer.update_light(handles[k], l).ok());
       }
-      RenderedImage persistent;
-      persistent.width = s.width;
-      persistent.height = s.height;
-      persistent.pixels.assign(static_cast<std::size_t>(s.width) * s.height * 3, -1.0f);
-      REQUIRE(renderer.render(ImageView{persistent.pixels.data(), s.width, s.height, 3 * s.width}).ok());
+      const RenderedImage persistent = render_frame(renderer, s.width, s.height);
       const RenderedImage once = render_or_fail(moved, simd_options(isa));
       INFO("isa=", std::string(isa_name(isa)), " frame=", frame);
       CHECK(persistent.pixels == once.pixels);
@@ -394,11 +404,7 @@ TEST_CASE("model SIMD: normalized lights in a persistent Renderer follow emissio
         l.falloff = 0.5 * frame;
         REQUIRE(renderer.update_light(handles[static_cast<std::size_t>(frame)], l).ok());
       }
-      RenderedImage persistent;
-      persistent.width = s.width;
-      persistent.height = s.height;
-      persistent.pixels.assign(static_cast<std::size_t>(s.width) * s.height * 3, -1.0f);
-      REQUIRE(renderer.render(ImageView{persistent.pixels.data(), s.width, s.height, 3 * s.width}).ok());
+      const RenderedImage persistent = render_frame(renderer, s.width, s.height);
       const RenderedImage once = render_or_fail(now, simd_options(isa));
       INFO("isa=", std::string(isa_name(isa)), " frame=", frame);
       CHECK(persistent.pixels == once.pixels);

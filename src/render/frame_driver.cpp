@@ -180,14 +180,20 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
     const TileRect block{x0, y0, std::min(x0 + kBlockSize, scene.width), std::min(y0 + kBlockSize, scene.height)};
     FrameCounters& counts = state.counts;
     const std::size_t frame_block = static_cast<std::size_t>((bx0 + b % columns) + (by0 + b / columns) * frame_columns);
-    if (layers && layers->recombine_only(frame_block)) {  // every light from its layer: no culling, no kernel
+    // Calls fn(tile, part, t) for the block's tiles that meet the region (part: the pixels
+    // inside it; t: the tile's number in the block, row by row), counting them.
+    const auto for_each_tile = [&](auto&& fn) {
       for_each_cell(block, kTileSize, [&](const TileRect& tile) {
         const TileRect part{std::max(tile.x0, region.x0), std::max(tile.y0, region.y0), std::min(tile.x1, region.x1),
                             std::min(tile.y1, region.y1)};
         if (part.x0 >= part.x1 || part.y0 >= part.y1) return;
         ++counts.tiles;
         counts.pixels += static_cast<std::uint64_t>(part.x1 - part.x0) * static_cast<std::uint64_t>(part.y1 - part.y0);
-        const int t = (tile.y0 - y0) / kTileSize * kBlockTiles + (tile.x0 - x0) / kTileSize;
+        fn(tile, part, (tile.y0 - y0) / kTileSize * kBlockTiles + (tile.x0 - x0) / kTileSize);
+      });
+    };
+    if (layers && layers->recombine_only(frame_block)) {  // every light from its layer: no culling, no kernel
+      for_each_tile([&](const TileRect& tile, const TileRect& part, int t) {
         recombine_tile(scene, layers->block(frame_block), t, *kernels, state.result, counts);
         store_tile(state.result, tile.x0, tile.y0, part, target, stores);
       });
@@ -204,19 +210,13 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
         for (const unsigned char s : state.layered.skip) skipped += s;
       count_block(scene, state.setup, tried, succeeded, skipped, counts);
     }
-    for_each_cell(block, kTileSize, [&](const TileRect& tile) {
-      const TileRect part{std::max(tile.x0, region.x0), std::max(tile.y0, region.y0), std::min(tile.x1, region.x1),
-                          std::min(tile.y1, region.y1)};
-      if (part.x0 >= part.x1 || part.y0 >= part.y1) return;
-      ++counts.tiles;
-      counts.pixels += static_cast<std::uint64_t>(part.x1 - part.x0) * static_cast<std::uint64_t>(part.y1 - part.y0);
+    for_each_tile([&](const TileRect& tile, const TileRect& part, int t) {
       if (!kernels) {  // Isa::scalar: the reference, tile by tile
         ++counts.scalar_tiles;
         render_tile_scalar(scene, settings.spp, part, tile.x0, tile.y0, state.scalar, state.result, settings.shaded);
       } else if (layers) {
         build_tile_work(scene, tile, settings.spp, cull, state.work, state.setup, settings.shaded);
         if (settings.sample_needs) sample_needs(scene, part, state.setup, state.scalar, counts);
-        const int t = (tile.y0 - y0) / kTileSize * kBlockTiles + (tile.x0 - x0) / kTileSize;
         render_layered_tile(scene, tile, t, *kernels, layers->may_fill(frame_block), state.work, state.setup,
                             state.cells, layers->block(frame_block), state.layered, state, state.result, counts);
       } else {
