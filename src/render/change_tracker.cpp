@@ -194,7 +194,10 @@ void ChangeTracker::plan_layer_fills(const PreparedScene& scene, bool full) {
     }
     part_first_.push_back(static_cast<std::uint32_t>(part_lights_.size()));
   }
-  layers_->plan_frame(full ? nullptr : &mask_, part_first_, part_lights_, !scene.directionals.empty());
+  int planes = 1;
+  for (const OccluderTerms& t : scene.occluder_terms)
+    if (t.transmittance[0] != t.transmittance[1] || t.transmittance[0] != t.transmittance[2]) planes = 3;
+  layers_->plan_frame(full ? nullptr : &mask_, part_first_, part_lights_, !scene.directionals.empty(), planes);
 }
 
 const std::vector<std::uint8_t>* ChangeTracker::plan(const PreparedScene& scene, const std::vector<LightReach>* reach,

@@ -217,8 +217,9 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
       } else if (layers) {
         build_tile_work(scene, tile, settings.spp, cull, state.work, state.setup, settings.shaded);
         if (settings.sample_needs) sample_needs(scene, part, state.setup, state.scalar, counts);
-        render_layered_tile(scene, tile, t, *kernels, layers->may_fill(frame_block), state.work, state.setup,
-                            state.cells, layers->block(frame_block), state.layered, state, state.result, counts);
+        render_layered_tile(scene, tile, t, *kernels, layers->may_fill(frame_block), layers->layer_floats(),
+                            state.work, state.setup, state.cells, layers->block(frame_block), state.layered, state,
+                            state.result, counts);
       } else {
         build_tile_work(scene, tile, settings.spp, cull, state.work, state.setup, settings.shaded);
         build_cell_lists(scene, tile, kernels->lanes, state.setup, state.work, state.cells);

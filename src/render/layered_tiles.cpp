@@ -29,7 +29,8 @@ void start_layered_block(std::size_t scene_lights, const std::vector<LightLayer>
   }
 }
 
-void render_layered_tile(const PreparedScene& scene, const TileRect& tile, int t, const KernelSet& kernels, bool fill,
+void render_layered_tile(const PreparedScene& scene, const TileRect& tile, int t, const KernelSet& kernels,
+                         bool fill, std::size_t layer_floats,
                          TileWork& work, const TileSetupScratch& setup, CellListScratch& cells,
                          std::vector<LightLayer>& layers, LayeredTileScratch& scratch, TileKernelRunner& runner,
                          TileResult& out, FrameCounters& counts) {
@@ -59,6 +60,7 @@ void render_layered_tile(const PreparedScene& scene, const TileRect& tile, int t
       k = static_cast<std::int32_t>(layers.size());
       layers.emplace_back();
       layers.back().clear(l);
+      layers.back().data.reserve(layer_floats);
       scratch.layer_of[l] = k;
     }
     // The light alone at unit emission, without the ambient term: its share.

@@ -46,9 +46,10 @@ void start_layered_block(std::size_t scene_lights, const std::vector<LightLayer>
 // Computes tile `tile`, number `t` of its block (row by row), into `out`: `work` as
 // build_tile_work left it for the tile (its cell lists not yet built; the block's culling
 // given `skip`), `layers` the block's. With `fill`, the work's lights are computed alone and
-// stored, else with their emissions in one kernel call; then every stored share of the tile
-// is added, in light order.
-void render_layered_tile(const PreparedScene& scene, const TileRect& tile, int t, const KernelSet& kernels, bool fill,
+// stored (a new layer reserving `layer_floats`), else with their emissions in one kernel
+// call; then every stored share of the tile is added, in light order.
+void render_layered_tile(const PreparedScene& scene, const TileRect& tile, int t, const KernelSet& kernels,
+                         bool fill, std::size_t layer_floats,
                          TileWork& work, const TileSetupScratch& setup, CellListScratch& cells,
                          std::vector<LightLayer>& layers, LayeredTileScratch& scratch, TileKernelRunner& runner,
                          TileResult& out, FrameCounters& counts);

@@ -14,7 +14,7 @@ void LightLayer::clear(std::uint32_t l) noexcept {
 
 void LightLayer::store(int t, const float* const rgb[3], int planes) {
   const std::size_t at = data.size(), need = at + static_cast<std::size_t>(planes) * kTilePixels;
-  if (need > data.capacity()) data.reserve(std::min(std::max(need, 2 * data.capacity()), kMaxLayerFloats));
+  if (need > data.capacity()) data.reserve(std::max(need, std::min(2 * data.capacity(), kMaxLayerFloats)));
   for (int c = 0; c < planes; ++c) data.insert(data.end(), rgb[c], rgb[c] + kTilePixels);
   offset[t] = static_cast<std::int32_t>(at);
   if (planes == 1) mono |= 1u << t;
@@ -75,7 +75,8 @@ bool LightLayerCache::has(std::size_t block, std::size_t light) const noexcept {
 }
 
 void LightLayerCache::plan_frame(const std::vector<std::uint8_t>* dirty, const std::vector<std::uint32_t>& first,
-                                 const std::vector<std::uint32_t>& lights, bool directional) {
+                                 const std::vector<std::uint32_t>& lights, bool directional, int planes) {
+  planes_ = planes;
   first_ = first;
   lights_ = lights;
   fill_.assign(blocks_.size(), 0);
@@ -89,7 +90,7 @@ void LightLayerCache::plan_frame(const std::vector<std::uint8_t>* dirty, const s
       whole_[b] = 1;
       continue;
     }
-    const std::size_t need = missing * kMaxLayerBytes;
+    const std::size_t need = missing * max_layer_bytes(planes);
     if (need > budget_ || planned > budget_ - need) continue;
     planned += need;
     fill_[b] = 1;
@@ -105,6 +106,8 @@ void LightLayerCache::finish_block(std::size_t block) {
       layers.back().clear(lights_[i]);
     }
   }
+  for (LightLayer& layer : layers)
+    if (layer.data.capacity() > layer.data.size()) layer.data.shrink_to_fit();
   std::sort(layers.begin(), layers.end(), [](const LightLayer& a, const LightLayer& b) { return a.light < b.light; });
 }
 

@@ -44,14 +44,18 @@ struct LightLayer {
   LightLayer() { clear(0); }
   // Empty (every offset -1): the light takes part in the block but reaches none of its tiles.
   void clear(std::uint32_t l) noexcept;
-  // Stores tile `t`'s planes (`planes` of them, kTilePixels floats each, from `rgb`), keeping
-  // the capacity within kMaxLayerFloats.
+  // Stores tile `t`'s planes (`planes` of them, kTilePixels floats each, from `rgb`) within the
+  // capacity the plan reserved (LightLayerCache::layer_floats), growing only past it.
   void store(int t, const float* const rgb[3], int planes);
   std::size_t bytes() const noexcept { return sizeof(LightLayer) + data.capacity() * sizeof(float); }
 };
 
-// The most one layer holds, its bookkeeping included: three planes for every tile of its block.
-inline constexpr std::size_t kMaxLayerBytes = sizeof(LightLayer) + kMaxLayerFloats * sizeof(float);
+// The most one layer holds, its bookkeeping included: `planes` planes (1, or 3 where coloured
+// transmittance can tint a light's share) for every tile of its block.
+constexpr std::size_t max_layer_bytes(int planes) noexcept {
+  return sizeof(LightLayer) + static_cast<std::size_t>(kBlockTileCount) * static_cast<std::size_t>(planes) *
+                                  kTilePixels * sizeof(float);
+}
 
 class LightLayerCache {
  public:
@@ -74,17 +78,23 @@ class LightLayerCache {
   // depend on which thread reaches a block first): per block, the lights that take part in
   // it (`first[b]` .. `first[b + 1]` of `lights`, in number order; blocks not rendered: none)
   // and how many of them have no layer there. In block order, each rendered block (`dirty`
-  // null: every block) whose missing layers, at kMaxLayerBytes each, fit in what the budget
-  // leaves may store them; a block whose lights all have layers (and a scene without
-  // directional lights, `directional`) is recombined from them alone, with no culling and
-  // no kernel.
+  // null: every block) whose missing layers, at max_layer_bytes(planes) each, fit in what
+  // the budget leaves may store them; a block whose lights all have layers (and a scene
+  // without directional lights, `directional`) is recombined from them alone, with no
+  // culling and no kernel. `planes`: 3 when an occluder's transmittance differs between
+  // channels (a light's share may then differ per channel), else 1.
   void plan_frame(const std::vector<std::uint8_t>* dirty, const std::vector<std::uint32_t>& first,
-                  const std::vector<std::uint32_t>& lights, bool directional);
+                  const std::vector<std::uint32_t>& lights, bool directional, int planes);
+  // The floats a new layer reserves this frame (its planes for every tile of the block).
+  std::size_t layer_floats() const noexcept {
+    return static_cast<std::size_t>(kBlockTileCount) * static_cast<std::size_t>(planes_) * kTilePixels;
+  }
   bool may_fill(std::size_t block) const noexcept { return block < fill_.size() && fill_[block] != 0; }
   bool recombine_only(std::size_t block) const noexcept { return block < whole_.size() && whole_[block] != 0; }
   // After a block rendered with may_fill: an empty layer for each light that takes part in it
   // but reached none of its tiles (so that the next frame knows every light is accounted
-  // for), and the layers in light order (the order tiles sum their lights in).
+  // for), the layers' unused reserve given back, and the layers in light order (the order
+  // tiles sum their lights in).
   void finish_block(std::size_t block);
 
   // The layers of `block`: only the thread rendering the block touches them during a frame.
@@ -100,6 +110,7 @@ class LightLayerCache {
   std::vector<std::vector<LightLayer>> blocks_;
   std::vector<std::uint8_t> fill_, whole_;
   std::vector<std::uint32_t> first_, lights_;  // the plan's lists
+  int planes_ = 3;
 };
 
 }  // namespace par2d::detail
