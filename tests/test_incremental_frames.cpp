@@ -335,19 +335,32 @@ TEST_CASE("a frame with nothing changed writes no pixel; a forced frame writes t
 TEST_CASE("light-layer cache: 500 random game-loop frames within 1e-6 of the brightest emission, 1 and 2 threads" * per_isa()) {
   const bool scalar = resolved_isa(RenderOptions{}) == Isa::scalar;
   const int frames = scalar ? 40 : 500;
-  // Room for every layer, then a budget a few blocks' layers fill (the rest computed as without).
+  // Room for every layer (the budget-limited path: the next case).
   const Outcome roomy = run_sequence(20261207u, frames, RenderOptions{}, 128, 96, std::size_t{64} << 20);
-  const Outcome tight = run_sequence(20261208u, frames / 2, RenderOptions{}, 128, 96, 6 * 48 * 1024);
-  MESSAGE("largest difference from full renders: ", roomy.worst, " and ", tight.worst, " x e_max");
+  MESSAGE("largest difference from full renders: ", roomy.worst, " x e_max");
   if (scalar) {  // the scalar reference computes every light itself
     CHECK(roomy.reused + roomy.filled == 0u);
     return;
   }
   CHECK(roomy.reused > 0u);
   CHECK(roomy.filled > 0u);
+  CHECK(roomy.partial > roomy.frames / 4);
+}
+
+// The budget-limited path (layers for a few blocks; the other lights computed with their
+// emissions next to the stored ones) on fewer frames: this one also runs under the sanitizers
+// (TSan too: blocks' layers are touched by whichever thread renders the block) and the ARM64
+// emulator, where the 500 frames above take minutes.
+TEST_CASE("light-layer cache: 60 random game-loop frames with a budget of a few blocks, 1 and 2 threads" * per_isa()) {
+  const bool scalar = resolved_isa(RenderOptions{}) == Isa::scalar;
+  const Outcome tight = run_sequence(20261208u, scalar ? 20 : 60, RenderOptions{}, 128, 96, 6 * 48 * 1024);
+  MESSAGE("largest difference from full renders: ", tight.worst, " x e_max");
+  if (scalar) {
+    CHECK(tight.reused + tight.filled == 0u);
+    return;
+  }
   CHECK(tight.reused > 0u);
   CHECK(tight.filled > 0u);
-  CHECK(roomy.partial > roomy.frames / 4);
 }
 
 TEST_CASE("light-layer cache: a flicker recombines stored layers; the image does not depend on threads" * per_isa()) {

@@ -51,10 +51,12 @@ FILTER='*SIMD*,*simd*,*ISA*,*isa*,*culling*,*closed*,*circle light*,*segment lig
 # So do the small-shape field (15 s natively) and the huge-shape sweeps over 13 extents (13 s):
 # each ten minutes or more emulated; NEON's exactness on them is the same kernel's, checked on
 # the random-scene and far-shape cases here.
+# The light-layer cache's 500 random frames (a fresh full render per frame: past 400 s
+# emulated) run natively; its 60-frame budget-limited case runs here.
 # The closed-stdout case spawns the CLI with descriptor 1 closed; under qemu-user the emulator,
 # not the CLI, owns the process's descriptors at start-up, so it does not test the CLI there
 # (it runs natively in every x86-64 build).
-SLOW='with standard output closed*,culling is exact with up to 1000 occluders*,culling is exact in a dense field*,the lighting-model examples*,small occluders and small lights*,huge slanted segments*,huge circles through the view*'
+SLOW='with standard output closed*,culling is exact with up to 1000 occluders*,culling is exact in a dense field*,the lighting-model examples*,small occluders and small lights*,huge slanted segments*,huge circles through the view*,light-layer cache: 500 random*'
 unset PAR2D_ISA
 # One case per emulated process, on every core (sharded.sh).
 echo "+ sharded: ${QEMU[*]} $BUILD/tests/par2d_tests --test-case=... --test-case-exclude=..."
