@@ -5,9 +5,11 @@
 #include <tbb/task_arena.h>
 
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <new>
+#include <random>
 #include <vector>
 
 #include "game_level.hpp"
@@ -129,6 +131,87 @@ int run(const char* what, par2d::Renderer& r, par2d::PixelFormat format, tbb::ta
   return (g_news.load() == 0 && g_mallocs.load() == 0 && threads_after == threads_before) ? 0 : 1;
 }
 
+// Lights moved to new places every frame, anywhere in the level: inside walls and pillars,
+// across the border, near each other, with new sizes, ranges and brightness. Scratch that grew
+// to each frame's largest need would keep allocating as new maxima turn up; after kWarmup
+// frames nothing may allocate for kRandomFrames more.
+constexpr int kWarmup = 10;
+constexpr int kRandomFrames = 1000;
+
+par2d::Light random_light(std::mt19937_64& rng, int torch) {
+  std::uniform_real_distribution<double> x(-40.0, par2d::bench::kLevelWidth + 40.0);
+  std::uniform_real_distribution<double> y(-40.0, par2d::bench::kLevelHeight + 40.0);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  par2d::Light light = par2d::bench::torch_at(torch, 0);
+  const par2d::Vec2 c{x(rng), y(rng)};
+  const double size = 0.5 + 40.0 * unit(rng) * unit(rng);
+  switch (torch % 3) {
+    case 0:
+      light.shape = par2d::Circle{c, size};
+      break;
+    case 1: {
+      const double a = 6.283185307179586 * unit(rng);
+      light.shape = par2d::Segment{{c.x - size * std::cos(a), c.y - size * std::sin(a)},
+                                   {c.x + size * std::cos(a), c.y + size * std::sin(a)}};
+      break;
+    }
+    default: {
+      const double a = 6.283185307179586 * unit(rng);
+      std::vector<par2d::Vec2> v;
+      for (int k = 0; k < 5; ++k) {
+        const double t = a + 1.2566370614359172 * k;
+        v.push_back({c.x + size * std::cos(t), c.y + size * std::sin(t)});
+      }
+      light.shape = par2d::Polygon{v};
+    }
+  }
+  light.intensity = 0.5 + 4.0 * unit(rng);
+  if (unit(rng) < 0.5) light.range = 20.0 + 400.0 * unit(rng);
+  return light;
+}
+
+int run_random_motion(const char* what, int threads) {
+  par2d::Renderer r;
+  par2d::RenderOptions o;
+  o.threads = threads;
+  if (!r.set_options(o).ok()) return 1;
+  constexpr int width = 320, height = 176;
+  std::vector<par2d::LightHandle> torches;
+  if (!r.set_scene(par2d::bench::game_level(width, height), &torches).ok()) return 1;
+  std::vector<unsigned char> pixels(static_cast<std::size_t>(width) * height * 4);
+  const par2d::FrameBuffer buffer{pixels.data(), par2d::PixelFormat::rgba8_srgb, width * 4, 1.5};
+  std::mt19937_64 rng(20261206);
+  // The lights of every frame, drawn before arming (the vectors of polygon lights allocate).
+  std::vector<std::vector<par2d::Light>> frames(kWarmup + kRandomFrames);
+  for (auto& lights : frames) {
+    for (int t = 0; t < par2d::bench::kTorches; ++t) lights.push_back(random_light(rng, t));
+  }
+  bool ok = true;
+  long news_at_frame = -1;
+  for (int f = 0; f < kWarmup + kRandomFrames && ok; ++f) {
+    if (f == kWarmup) {
+      g_news = 0;
+      g_mallocs = 0;
+      g_armed = true;
+    }
+    for (int t = 0; t < par2d::bench::kTorches; ++t) {
+      ok = ok && r.update_light(torches[static_cast<std::size_t>(t)], frames[static_cast<std::size_t>(f)][static_cast<std::size_t>(t)]).ok();
+    }
+    ok = ok && r.render(buffer).ok();
+    if (news_at_frame < 0 && g_armed && g_news.load() + g_mallocs.load() > 0) news_at_frame = f;
+  }
+  g_armed = false;
+  std::printf("%s: %d frames of random motion after %d warm-up frames: %ld operator new, %ld malloc/calloc/realloc",
+              what, kRandomFrames, kWarmup, g_news.load(), g_mallocs.load());
+  if (news_at_frame >= 0) std::printf(" (the first in frame %ld)", news_at_frame);
+  std::printf("\n");
+  if (!ok) {
+    std::printf("%s: a frame failed\n", what);
+    return 1;
+  }
+  return (g_news.load() == 0 && g_mallocs.load() == 0) ? 0 : 1;
+}
+
 }  // namespace
 
 int main() {
@@ -156,6 +239,8 @@ int main() {
     tbb::task_arena host(2);
     failures += run("host arena, rgba_f32", r, par2d::PixelFormat::rgba_f32, &host, 320, 176);
   }
+  failures += run_random_motion("random motion, 1 thread", 1);
+  failures += run_random_motion("random motion, 2 threads", 2);
   std::printf(failures == 0 ? "steady state: no allocation, no new thread\n" : "steady state: FAILED\n");
   return failures == 0 ? 0 : 1;
 }
