@@ -98,6 +98,24 @@ bool visible_part(const ConvexShape& light, const LightClip& clip, ConvexShape& 
   return true;
 }
 
+void VisibleLights::reserve_for(std::size_t lights, std::size_t max_vertices) {
+  const std::size_t points_most = std::max<std::size_t>(max_vertices, kCircleSides);
+  if (entries.size() < lights) entries.resize(lights);
+  for (Entry& e : entries) {
+    e.made_from.reserve(max_vertices);
+    e.shape.vertices.reserve(points_most + 1);
+    e.shape.edge_normals.reserve(points_most + 1);
+  }
+  points.reserve(points_most);
+}
+
+std::size_t VisibleLights::reserved_bytes() const noexcept {
+  std::size_t bytes = entries.capacity() * sizeof(Entry) + points.capacity() * sizeof(Vec2);
+  for (const Entry& e : entries)
+    bytes += (e.made_from.capacity() + e.shape.vertices.capacity() + e.shape.edge_normals.capacity()) * sizeof(Vec2);
+  return bytes;
+}
+
 void VisibleLights::update(const PreparedScene& scene) {
   if (entries.size() < scene.lights.size()) entries.resize(scene.lights.size());
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {

@@ -42,6 +42,13 @@ struct VisibleLights {
   std::vector<Entry> entries;
   std::vector<Vec2> points;
 
+  // Reserves an entry per light with room for a visible part of a light of up to
+  // `max_vertices` vertices (allocates; when the counts change). visible_part cuts a convex
+  // polygon of n points (a light's vertices, or a circle's kCircleSides) by one line: n + 1
+  // points at most.
+  void reserve_for(std::size_t lights, std::size_t max_vertices);
+  std::size_t reserved_bytes() const noexcept;
+
   // Fills entries for every light of the scene (cheap for lights without overlaps).
   void update(const PreparedScene& scene);
   // The shape stages after the overlap test see: the visible part, or the light itself.

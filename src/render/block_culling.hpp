@@ -15,6 +15,7 @@
 #include "culling/occlusion_proof.hpp"
 #include "culling/visible_light.hpp"
 #include "render/frame_counters.hpp"
+#include "render/scene_bounds.hpp"
 #include "simd/tile_work.hpp"
 #include "world/prepared_scene.hpp"
 
@@ -40,6 +41,25 @@ struct BlockCullingScratch {
   // Its counts (block_proofs_skipped, tile_proofs_skipped: proofs the adaptive rule did not
   // try), accumulated until the owner clears them.
   FrameCounters counts;
+
+  // Reserves for a scene with these counts (allocates; when they change). The hull of a block
+  // (4 corners) and a light (its vertices, a circle's 4 box corners) has at most 4 + max(4, V)
+  // points, and hull_with_shape sizes its output 2 n + 1 first; the provers and a light's
+  // ordered candidates are among its block candidates (distinct occluders).
+  void reserve_for(const SceneBounds& bounds) {
+    const std::size_t points = 4 + std::max<std::size_t>(4, bounds.max_vertices);
+    hull_points.reserve(points);
+    hull.reserve(2 * points + 1);
+    provers.reserve(bounds.occluders);
+    ordered_candidates.reserve(bounds.occluders);
+    tile_proof_records.reserve(bounds.lights);
+    visible.reserve_for(bounds.lights, bounds.max_vertices);
+  }
+  std::size_t reserved_bytes() const noexcept {
+    return (hull_points.capacity() + hull.capacity()) * sizeof(Vec2) + provers.capacity() * sizeof(std::uint32_t) +
+           ordered_candidates.capacity() * sizeof(std::pair<double, std::uint32_t>) +
+           tile_proof_records.capacity() * sizeof(TileProofRecord) + visible.reserved_bytes();
+  }
 
   void start_block(std::size_t lights) {
     tile_proof_records.assign(lights, TileProofRecord{});

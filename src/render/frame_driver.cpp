@@ -13,6 +13,7 @@
 #include "render/layered_tiles.hpp"
 #include "render/light_layers.hpp"
 #include "render/scalar_tiles.hpp"
+#include "render/scene_bounds.hpp"
 #include "render/tile_setup.hpp"
 #include "render/tiling.hpp"
 #include "scalar/bounce_reference.hpp"
@@ -123,14 +124,78 @@ struct FrameEngine::ThreadState final : TileKernelRunner {
     kernels->render_tile(tile_work, kernel_scratch(kernel_scratch_floats(tile_work, kernels->lanes)), out);
   }
 
+  // The kernel's scratch for any tile of a scene with these counts, by kernel_scratch_floats
+  // (simd/tile_work.hpp) at its largest: arc planes for every occluder up to
+  // kMaxArcPlaneOccluders, a light's intervals one or two per pair (a general pair: its
+  // meeting points plus one, at most two per edge of the pair's shapes, 2 max(V, 2)), at most
+  // one pair per occluder and light. Capped at kReservedKernelFloats (16 MiB): a tile past
+  // that (thousands of occluders in one tile) grows the scratch.
+  static constexpr std::size_t kReservedKernelFloats = std::size_t{4} << 20;
+  static std::size_t kernel_floats_bound(const SceneBounds& bounds, int lanes) noexcept {
+    const std::size_t occluders = bounds.occluders, lights = bounds.lights + bounds.directionals;
+    const std::size_t points = 2 * std::max<std::size_t>(bounds.max_vertices, 2);
+    const std::size_t intervals = std::min(occluders, bounds.tile_pairs()) * std::max<std::size_t>(points + 1, 2);
+    std::size_t sort_slots = 1, event_slots = 1, key_slots = 1;
+    while (sort_slots < intervals) sort_slots *= 2;
+    while (event_slots < points) event_slots *= 2;
+    while (key_slots < 2 * intervals + 2) key_slots *= 2;
+    const std::size_t model_floats = occluders + 2 * key_slots + sort_slots + 1;
+    const std::size_t packet = static_cast<std::size_t>(lanes) * (2 * occluders + 2 * sort_slots + event_slots + 2 + model_floats);
+    const std::size_t arcs = (2 * std::min(occluders, kMaxArcPlaneOccluders) + 1) * kTilePixels + lights + (occluders + 3) / 4;
+    return std::min(arcs + packet, kReservedKernelFloats);
+  }
+
+  // Reserves this lane's buffers for any frame of a scene with these counts (allocates; when
+  // they change): the setup's parts (TileSetupScratch::reserve_for), the tile's work (its
+  // lights are the scene's and directional lights, its occluders distinct scene occluders, at
+  // most SceneBounds::tile_pairs() pairs, kMaxTileCells cells each listing some of these),
+  // the cell lists' buffers and the kernel's scratch.
+  void reserve_for(const SceneBounds& bounds, int lanes) {
+    setup.reserve_for(bounds);
+    const std::size_t lights = bounds.lights + bounds.directionals, occluders = bounds.occluders;
+    const std::size_t pairs = bounds.tile_pairs();
+    work.lights.reserve(lights);
+    work.light_terms.reserve(lights);
+    work.pairs.reserve(pairs);
+    work.occluders.reserve(occluders);
+    work.occluder_terms.reserve(occluders);
+    work.cells.reserve(kMaxTileCells);
+    work.cell_lights.reserve(kMaxTileCells * lights);
+    work.cell_pairs.reserve(kMaxTileCells * pairs);
+    work.cell_occluders.reserve(kMaxTileCells * occluders);
+    cells.cell_boxes.reserve(kMaxTileCells);
+    cells.cell_centers.reserve(kMaxTileCells);
+    cells.occluder_discs.reserve(occluders);
+    cells.occluder_cells.reserve(occluders);
+    cells.pair_cells.reserve(std::min(occluders, pairs));  // one light's pairs
+    if (cells.pair_buffer.size() < kMaxTileCells * pairs) cells.pair_buffer.resize(kMaxTileCells * pairs);
+    const std::size_t kernel_floats = kernel_floats_bound(bounds, lanes);
+    if (kernel_floats > scratch_floats) allocate_kernel_scratch(kernel_floats);
+  }
+
+  // Bytes this lane's buffers reserve (FrameEngine::reserved_bytes).
+  std::size_t reserved_bytes() const noexcept {
+    return setup.reserved_bytes() + (work.lights.capacity() * sizeof(KernelLight)) +
+           work.light_terms.capacity() * sizeof(KernelLightTerms) +
+           (work.pairs.capacity() + work.cell_pairs.capacity() + cells.pair_buffer.capacity()) * sizeof(KernelPair) +
+           work.occluders.capacity() * sizeof(KernelShape) + work.occluder_terms.capacity() * sizeof(KernelOccluderTerms) +
+           work.cells.capacity() * sizeof(KernelCell) + work.cell_lights.capacity() * sizeof(KernelCellLight) +
+           work.cell_occluders.capacity() * sizeof(std::uint32_t) +
+           cells.occluder_discs.capacity() * sizeof(CellListScratch::Disc) +
+           (cells.occluder_cells.capacity() + cells.pair_cells.capacity()) * sizeof(unsigned) +
+           (scratch_floats + 16) * sizeof(float);
+  }
+
+  // A tile past the reserved bound grows the scratch by half again.
   float* kernel_scratch(std::size_t floats) {
-    if (floats > scratch_floats) {
-      scratch_floats = floats + floats / 2;
-      scratch = std::make_unique<float[]>(scratch_floats + 16);
-      const auto address = reinterpret_cast<std::uintptr_t>(scratch.get());
-      aligned = scratch.get() + ((64 - address % 64) % 64) / sizeof(float);
-    }
+    if (floats > scratch_floats) allocate_kernel_scratch(floats + floats / 2);
     return aligned;
+  }
+  void allocate_kernel_scratch(std::size_t floats) {
+    scratch_floats = floats;
+    scratch = std::make_unique<float[]>(scratch_floats + 16);
+    const auto address = reinterpret_cast<std::uintptr_t>(scratch.get());
+    aligned = scratch.get() + ((64 - address % 64) % 64) / sizeof(float);
   }
 };
 
@@ -240,6 +305,16 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
   // lanes per worker keep the load balanced.
   const int lanes = std::min(blocks, kLanesPerWorker * scheduler.workers());
   if (states_.size() < static_cast<std::size_t>(lanes)) states_.resize(static_cast<std::size_t>(lanes));
+  // Buffers are reserved for the scene's counts, not grown to each frame's need: a frame then
+  // allocates nothing wherever the lights move (changed counts, a light or occluder with more
+  // vertices than before, or a new size may allocate).
+  if (kernels) {
+    const SceneBounds bounds = scene_bounds(scene);
+    for (int lane = 0; lane < lanes; ++lane) {
+      ThreadState& state = states_[static_cast<std::size_t>(lane)];
+      if (state.setup.reserved != bounds) state.reserve_for(bounds, kernels->lanes);
+    }
+  }
   // The pieces' radiances first (they depend on every light and occluder), lane by lane.
   if (bouncing) {
     if (!bounce_) bounce_ = std::make_unique<BounceFrame>();

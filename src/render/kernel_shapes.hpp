@@ -149,6 +149,18 @@ struct TileOccluders {
   std::vector<unsigned char> used_whole;  // per entry of `used`: in a general pair (kernel shape kept whole)
   std::vector<unsigned char> arc_needed;  // per entry of `used`: some light's packets take its arc
 
+  // Each entry of `used` is a distinct scene occluder: `occluders` entries at most.
+  void reserve_for(std::size_t occluders) {
+    local_index.assign(occluders, -1);
+    used.reserve(occluders);
+    used_whole.reserve(occluders);
+    arc_needed.reserve(occluders);
+  }
+  std::size_t reserved_bytes() const noexcept {
+    return local_index.capacity() * sizeof(std::int32_t) + used.capacity() * sizeof(std::uint32_t) +
+           used_whole.capacity() + arc_needed.capacity();
+  }
+
   // Only the previous tile's entries are reset: a full reset would write 16 KB per tile at
   // 4096 occluders.
   void start_tile(std::size_t occluders) {

@@ -285,11 +285,9 @@ bool on_positive_side(const ConvexShape& shape, const Line& line) noexcept {
 std::optional<Line> block_separator(const PreparedScene& scene, std::size_t l, std::size_t candidate, std::uint32_t k,
                                     std::size_t candidates, std::uint64_t serial, const Line* clip_line,
                                     PairSetupScratch& scratch) {
-  if (scratch.block_separator_block[l] != serial) {
-    scratch.block_separator_block[l] = serial;
-    scratch.block_separators[l].assign(candidates, PairSetupScratch::BlockSeparator{});
-  }
-  PairSetupScratch::BlockSeparator& entry = scratch.block_separators[l][candidate];
+  PairSetupScratch::BlockSeparator* run = scratch.block_separators.run(l, candidates, serial);
+  if (!run) scratch.uncached_separator = PairSetupScratch::BlockSeparator{};  // the block's entries are all dealt
+  PairSetupScratch::BlockSeparator& entry = run ? run[candidate] : scratch.uncached_separator;
   if (entry.state < 0 && clip_line && on_positive_side(scene.occluders[k], *clip_line)) {
     entry.state = 1;
     entry.line = *clip_line;
@@ -418,18 +416,25 @@ void build_pairs(const PreparedScene& scene, std::size_t l, const std::vector<st
         UmbraBand* band = nullptr;
         if (prover) {
           // The light's bands for this block, one per candidate, found on first use.
-          if (scratch.umbra_band_block[l] != block.serial) {
-            scratch.umbra_band_block[l] = block.serial;
-            scratch.umbra_bands[l].assign(candidates.size(), UmbraBand{});
+          UmbraBand* bands = scratch.umbra_bands.run(l, candidates.size(), block.serial);
+          if (bands) {
+            band = &bands[candidate];
+          } else {  // the block's bands are all dealt: found anew
+            scratch.uncached_band = UmbraBand{};
+            band = &scratch.uncached_band;
           }
-          band = &scratch.umbra_bands[l][candidate];
           if (band->state < 0) umbra_band(light.shape, occluder, inner_disc, *band);
         }
         if (band && umbra_possible(*band, corners)) {
           ++scratch.counts.umbra_tests;
-          if (!light_directions) light_directions = scratch.light_grid.of(l, block.serial);
-          if (rect_in_umbra(light.shape, occluder, corners, grid, light_directions,
-                            scratch.occluder_grid.of(k, block.serial))) {
+          if (!light_directions) light_directions = scratch.light_grid.run(l, PairSetupScratch::kGridPoints, block.serial);
+          CornerDirections* occluder_directions =
+              scratch.occluder_grid.run(k, PairSetupScratch::kGridPoints, block.serial);
+          if (!occluder_directions) {  // the block's runs are all dealt: found anew
+            std::fill(scratch.uncached_grid.begin(), scratch.uncached_grid.end(), CornerDirections{});
+            occluder_directions = scratch.uncached_grid.data();
+          }
+          if (rect_in_umbra(light.shape, occluder, corners, grid, light_directions, occluder_directions)) {
             ++scratch.counts.umbra_hits;
             shadowed = true;
             break;
@@ -445,7 +450,7 @@ void build_pairs(const PreparedScene& scene, std::size_t l, const std::vector<st
   // shadow cones already keep such pairs from every cell: on rubble (hundreds of pairs a
   // tile) the test there cost 3 % more instructions than it saved.
   if (!shadowed && culling && work.pairs.size() > first_pair && !tile_gets_cells(culling, work.pairs.size())) {
-    if (!light_directions) light_directions = scratch.light_grid.of(l, block.serial);
+    if (!light_directions) light_directions = scratch.light_grid.run(l, PairSetupScratch::kGridPoints, block.serial);
     // Rounding in the tangent directions and the dot products is ~1e-16 of these lengths.
     const Vec2 reach = light.shape.centroid - tile_center;
     const double tolerance = 1e-9 * (std::abs(reach.x) + std::abs(reach.y) + (box.max_x - box.min_x) +

@@ -18,40 +18,57 @@
 
 namespace par2d::detail {
 
+// Entries found on first use in a block and shared by its tiles: per key (a light or an
+// occluder) a run of entries, dealt from one flat array of fixed capacity. A block whose keys
+// need more entries than it holds leaves the rest uncached (run() returns null and the caller
+// computes the same values without keeping them: the image does not change), so the storage
+// stays as reserved whatever the lights' motion and the frame allocates nothing.
+template <class Entry>
+class BlockRuns {
+ public:
+  // Room for `keys` keys and `capacity` entries (allocates: only when the scene's counts change).
+  void reserve_for(std::size_t keys, std::size_t capacity) {
+    serial_.resize(keys, 0);
+    first_.resize(keys, 0);
+    entries_.resize(capacity);
+  }
+  // Forgets the runs of the previous block (their keys' serials are older than the new block's).
+  void start_block() noexcept { used_ = 0; }
+  // The `count` entries of `key` in the block `serial`, reset to Entry{} on the key's first
+  // call in the block; null when the capacity left in the block is less than `count`.
+  Entry* run(std::size_t key, std::size_t count, std::uint64_t serial) noexcept {
+    if (serial_[key] != serial) {
+      if (entries_.size() - used_ < count) return nullptr;
+      serial_[key] = serial;
+      first_[key] = used_;
+      used_ += count;
+      std::fill_n(entries_.data() + first_[key], count, Entry{});
+    }
+    return entries_.data() + first_[key];
+  }
+  std::size_t reserved_bytes() const noexcept {
+    return entries_.capacity() * sizeof(Entry) + serial_.capacity() * sizeof(std::uint64_t) +
+           first_.capacity() * sizeof(std::size_t);
+  }
+
+ private:
+  std::vector<Entry> entries_;
+  std::vector<std::uint64_t> serial_;  // per key: BlockView::serial of its run
+  std::vector<std::size_t> first_;     // per key: its run's first entry
+  std::size_t used_ = 0;               // entries dealt in the current block
+};
+
 // Per-thread buffers of the pair setup, most of them per block and found on first use.
 struct PairSetupScratch {
   // A shape's tangent directions seen from the tile corners of the current block (the
   // (kBlockTiles + 1)^2 points of its tile grid, shared by up to four tiles each), for the
-  // umbra tests, on first use. Slots are dealt per block to the shapes that need them.
+  // umbra tests, on first use: a run of kGridPoints per light (light_grid) or occluder.
   static constexpr int kGridPoints = (kBlockTiles + 1) * (kBlockTiles + 1);
   struct CornerDirections {
     Vec2 cw, ccw;
     signed char outside = -1;  // -1: not computed yet
   };
-  struct GridTangents {
-    std::vector<std::uint64_t> block;  // per shape: BlockView::serial when given its slot
-    std::vector<std::uint32_t> slot;   // per shape
-    std::vector<CornerDirections> directions;  // kGridPoints per slot
-    std::uint32_t slots = 0;           // slots dealt in the current block
-    // The shape's kGridPoints entries (valid until the next call).
-    CornerDirections* of(std::size_t shape, std::uint64_t serial) {
-      if (block[shape] != serial) {
-        block[shape] = serial;
-        slot[shape] = slots++;
-        const std::size_t end = static_cast<std::size_t>(slots) * kGridPoints;
-        if (directions.size() < end) directions.resize(end);
-        std::fill(directions.begin() + static_cast<std::ptrdiff_t>(end - kGridPoints),
-                  directions.begin() + static_cast<std::ptrdiff_t>(end), CornerDirections{});
-      }
-      return directions.data() + static_cast<std::size_t>(slot[shape]) * kGridPoints;
-    }
-    void start_block(std::size_t shapes) {
-      block.resize(shapes, 0);
-      slot.resize(shapes, 0);
-      slots = 0;
-    }
-  };
-  GridTangents light_grid, occluder_grid;
+  BlockRuns<CornerDirections> light_grid, occluder_grid;
   // Per light and block candidate: the band outside which no point lies in the occluder's
   // umbra (umbra_possible in pair_setup.cpp), on first use in the block.
   struct UmbraBand {
@@ -59,8 +76,7 @@ struct PairSetupScratch {
     Vec2 center, u;
     double big_r = 0, dist = 0, sin_b = 0, cos_b = 0;
   };
-  std::vector<std::vector<UmbraBand>> umbra_bands;
-  std::vector<std::uint64_t> umbra_band_block;  // per light: BlockView::serial its bands belong to
+  BlockRuns<UmbraBand> umbra_bands;  // a run per light: one entry per block candidate
   // Per light and block candidate: the pair's separating line (PairSeparators), on first use
   // in the block. The scene's table holds lights x occluders lines (32 MB at 256 lights and
   // 4096 occluders), which each tile read at scattered places: on the rubble level a sixth
@@ -69,20 +85,47 @@ struct PairSetupScratch {
     signed char state = -1;  // -1: not looked up yet, 0: none (the shapes touch), 1: `line`
     Line line;
   };
-  std::vector<std::vector<BlockSeparator>> block_separators;
-  std::vector<std::uint64_t> block_separator_block;  // per light: BlockView::serial its entries belong to
+  BlockRuns<BlockSeparator> block_separators;  // a run per light: one entry per block candidate
+  // Where entries are found anew once a block's runs are all dealt (BlockRuns).
+  BlockSeparator uncached_separator;
+  UmbraBand uncached_band;
+  std::vector<CornerDirections> uncached_grid;  // kGridPoints
   // Its counts (umbra_tests, umbra_hits, tile_pairs_outside_hull: pairs whose occluder
   // misses the tile-light hull), accumulated until the owner clears them.
   FrameCounters counts;
 
+  // Room for a scene of `lights` lights and `occluders` occluders (allocates; called when
+  // those counts change, never per frame otherwise). The capacities:
+  // - light_grid: every light's run (a light takes one run per block), exact.
+  // - umbra_bands, block_separators: a light's run has one entry per block candidate, so a
+  //   block needs at most lights x occluders; storage is kept to O(lights + occluders) by
+  //   kPairEntriesPerShape entries per light and occluder (at least 4096), or lights x
+  //   occluders when that is less. Blocks needing more compute the rest uncached.
+  // - occluder_grid: runs for at most kOccluderGridRuns occluders a block (each run is
+  //   kGridPoints entries, 1 KB); only occluders with an umbra test in the block take one.
+  static constexpr std::size_t kPairEntriesPerShape = 4;
+  static constexpr std::size_t kMinPairEntries = 4096;
+  static constexpr std::size_t kOccluderGridRuns = 256;
+  void reserve_for(std::size_t lights, std::size_t occluders) {
+    const std::size_t pair_entries =
+        std::min(lights * occluders, std::max(kMinPairEntries, kPairEntriesPerShape * (lights + occluders)));
+    light_grid.reserve_for(lights, lights * kGridPoints);
+    occluder_grid.reserve_for(occluders, std::min(occluders, kOccluderGridRuns) * kGridPoints);
+    umbra_bands.reserve_for(lights, pair_entries);
+    block_separators.reserve_for(lights, pair_entries);
+    uncached_grid.resize(kGridPoints);
+  }
+  std::size_t reserved_bytes() const noexcept {
+    return light_grid.reserved_bytes() + occluder_grid.reserved_bytes() + umbra_bands.reserved_bytes() +
+           block_separators.reserved_bytes() + uncached_grid.capacity() * sizeof(CornerDirections);
+  }
+
   // Entries of earlier blocks carry an older serial: found anew on first use.
-  void start_block(std::size_t lights, std::size_t occluders) {
-    light_grid.start_block(lights);
-    umbra_bands.resize(lights);
-    umbra_band_block.resize(lights, 0);
-    block_separators.resize(lights);
-    block_separator_block.resize(lights, 0);
-    occluder_grid.start_block(occluders);
+  void start_block() noexcept {
+    light_grid.start_block();
+    occluder_grid.start_block();
+    umbra_bands.start_block();
+    block_separators.start_block();
   }
 };
 

@@ -8,13 +8,42 @@
 
 namespace par2d::detail {
 
+void TileSetupScratch::reserve_for(const SceneBounds& bounds) {
+  reserved = bounds;
+  const std::size_t lights = bounds.lights;
+  // A light's block candidates name each occluder at most once (the index's query reports a
+  // leaf once; without culling every occluder is listed once).
+  block_candidates.resize(lights);
+  for (std::vector<std::uint32_t>& c : block_candidates) c.reserve(bounds.occluders);
+  block_shadowed.reserve(lights);
+  culling.reserve_for(bounds);
+  pairs.reserve_for(lights, bounds.occluders);
+  shapes.start_block(lights, bounds.occluders);  // per shape, sized here once
+  // A tile's occluders are distinct scene occluders; its lights distinct scene lights.
+  occluders.reserve_for(bounds.occluders);
+  tile_lights.reserve(lights);
+}
+
+std::size_t TileSetupScratch::reserved_bytes() const noexcept {
+  std::size_t bytes = block_candidates.capacity() * sizeof(std::vector<std::uint32_t>) + block_shadowed.capacity() +
+                      tile_lights.capacity() * sizeof(std::uint32_t);
+  for (const std::vector<std::uint32_t>& c : block_candidates) bytes += c.capacity() * sizeof(std::uint32_t);
+  bytes += culling.reserved_bytes() + pairs.reserved_bytes() + occluders.reserved_bytes();
+  bytes += (shapes.light_block_pairs.capacity() + shapes.occluder_block_pairs.capacity()) *
+           sizeof(KernelShapeScratch::BlockTangentPair);
+  return bytes;
+}
+
 void gather_block_candidates(const PreparedScene& scene, const TileRect& block, const std::vector<LightReach>* reach,
                              TileSetupScratch& scratch, const unsigned char* skip) {
+  // The frame driver reserves for each frame's counts; a caller of its own gets them here.
+  if (scratch.reserved.lights != scene.lights.size() || scratch.reserved.occluders != scene.occluders.size())
+    scratch.reserve_for(scene_bounds(scene));
   const std::array<Vec2, 4> corners = tile_corners(scene, block);
   // Entries of earlier blocks (or scenes) carry an older serial: found anew on first use.
   scratch.block.start(scene, block, corners);
   scratch.shapes.start_block(scene.lights.size(), scene.occluders.size());
-  scratch.pairs.start_block(scene.lights.size(), scene.occluders.size());
+  scratch.pairs.start_block();
   scratch.culling.start_block(scene.lights.size());
   cull_block(scene, corners, reach, scratch.block_candidates, scratch.block_shadowed, scratch.culling,
              scratch.occlusion, skip);

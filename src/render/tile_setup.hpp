@@ -12,6 +12,7 @@
 #include "render/kernel_shapes.hpp"
 #include "render/model_terms.hpp"
 #include "render/pair_setup.hpp"
+#include "render/scene_bounds.hpp"
 #include "render/tile_plan.hpp"
 #include "render/tiling.hpp"
 #include "simd/tile_work.hpp"
@@ -39,6 +40,16 @@ struct TileSetupScratch {
   // TileWork::lights entry (plain scenes), for the cell lists.
   TilePlan plan;
   std::vector<std::uint32_t> tile_lights;
+
+  // The scene counts its buffers are reserved for (reserve_for).
+  SceneBounds reserved;
+
+  // Reserves every buffer a block or tile of a scene with these counts can fill, so that
+  // frames of that scene allocate nothing whatever its lights' places (allocates; called
+  // when the counts change). Each bound is argued where it is reserved.
+  void reserve_for(const SceneBounds& bounds);
+  // Bytes reserved by reserve_for (and kept since).
+  std::size_t reserved_bytes() const noexcept;
 
   // Clears the counts its parts keep (the proofs', umbra tests', skipped proofs', dropped
   // pairs'), which accumulate from block to block until then.
