@@ -125,12 +125,13 @@ struct FrameEngine::ThreadState final : TileKernelRunner {
   }
 
   // The kernel's scratch for any tile of a scene with these counts, by kernel_scratch_floats
-  // (simd/tile_work.hpp) at its largest: arc planes for every occluder up to
-  // kMaxArcPlaneOccluders, a light's intervals one or two per pair (a general pair: its
-  // meeting points plus one, at most two per edge of the pair's shapes, 2 max(V, 2)), at most
-  // one pair per occluder and light. Capped at kReservedKernelFloats (16 MiB): a tile past
-  // that (thousands of occluders in one tile) grows the scratch.
-  static constexpr std::size_t kReservedKernelFloats = std::size_t{4} << 20;
+  // (simd/tile_work.hpp) at its largest: arc planes (plain scenes) for every occluder up to
+  // kMaxArcPlaneOccluders, or the model's per-packet keys (game-model scenes), a light's
+  // intervals one or two per pair (a general pair: its meeting points plus one, at most two
+  // per edge of the pair's shapes, 2 max(V, 2)), at most one pair per occluder and light.
+  // Capped at kReservedKernelFloats (2 MiB): a tile past that (hundreds of occluders in one
+  // tile) grows the scratch.
+  static constexpr std::size_t kReservedKernelFloats = std::size_t{1} << 19;
   static std::size_t kernel_floats_bound(const SceneBounds& bounds, int lanes) noexcept {
     const std::size_t occluders = bounds.occluders, lights = bounds.lights + bounds.directionals;
     const std::size_t points = 2 * std::max<std::size_t>(bounds.max_vertices, 2);
@@ -140,9 +141,10 @@ struct FrameEngine::ThreadState final : TileKernelRunner {
     while (event_slots < points) event_slots *= 2;
     while (key_slots < 2 * intervals + 2) key_slots *= 2;
     const std::size_t model_floats = occluders + 2 * key_slots + sort_slots + 1;
-    const std::size_t packet = static_cast<std::size_t>(lanes) * (2 * occluders + 2 * sort_slots + event_slots + 2 + model_floats);
+    const std::size_t packet = static_cast<std::size_t>(lanes) * (2 * occluders + 2 * sort_slots + event_slots + 2);
     const std::size_t arcs = (2 * std::min(occluders, kMaxArcPlaneOccluders) + 1) * kTilePixels + lights + (occluders + 3) / 4;
-    return std::min(arcs + packet, kReservedKernelFloats);
+    const std::size_t most = std::max(arcs, static_cast<std::size_t>(lanes) * model_floats) + packet;
+    return std::min(most, kReservedKernelFloats);
   }
 
   // Reserves this lane's buffers for any frame of a scene with these counts (allocates; when
