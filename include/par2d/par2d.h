@@ -169,6 +169,18 @@ PAR2D_C_API void par2d_directional_light_default(par2d_directional_light* light)
 PAR2D_C_API par2d_status par2d_get_light_terms(par2d_renderer* renderer, par2d_light light, par2d_light_terms* out);
 PAR2D_C_API par2d_status par2d_set_light_terms(par2d_renderer* renderer, par2d_light light,
                                                const par2d_light_terms* terms);
+/* A light's cookie, its angular emission profile (docs/contract.md section 6): light emitted in
+ * world direction psi is weighted by the periodic piecewise-linear function through the knots
+ * (directions[k] degrees, weights[k] in [0, 1]) at psi - rotation. 1 to 32 knots, directions
+ * strictly increasing and spanning less than 360 degrees; count 0 removes the cookie (the
+ * arrays may then be null). A light has a cone or a cookie, not both. Refused values leave the
+ * light as it was. */
+PAR2D_C_API par2d_status par2d_set_light_cookie(par2d_renderer* renderer, par2d_light light, double rotation,
+                                                const double* directions, const double* weights, size_t count);
+/* The light's cookie: *count knots (0: none), the first `capacity` of them written to
+ * directions and weights (null only with capacity 0), and its rotation (may be null). */
+PAR2D_C_API par2d_status par2d_get_light_cookie(par2d_renderer* renderer, par2d_light light, double* rotation,
+                                                double* directions, double* weights, size_t capacity, size_t* count);
 PAR2D_C_API par2d_status par2d_get_occluder_terms(par2d_renderer* renderer, par2d_occluder occluder,
                                                   par2d_occluder_terms* out);
 PAR2D_C_API par2d_status par2d_set_occluder_terms(par2d_renderer* renderer, par2d_occluder occluder,

@@ -62,6 +62,20 @@ struct Cone {
   double fade = 0.0;          // 0 <= fade <= half_angle
 };
 
+// A light's angular emission profile (a 1D "cookie", docs/contract.md section 6): the weight
+// of light emitted in world direction psi is f(psi - rotation), f the periodic piecewise-linear
+// function through the knots (degrees, strictly increasing, spanning less than 360; from the
+// last knot it runs on to the first plus 360). Weights are in [0, 1]; one knot is a constant.
+struct CookieKnot {
+  double direction = 0.0;  // degrees
+  double weight = 1.0;     // 0 .. 1
+};
+inline constexpr int kMaxCookieKnots = 32;
+struct Cookie {
+  double rotation = 0.0;  // degrees added to every knot's direction
+  std::vector<CookieKnot> knots;  // 1 .. kMaxCookieKnots
+};
+
 // A uniform emitter: every point of its shape emits `intensity * color` in every direction
 // (or in its cone), optionally limited to a range.
 struct Light {
@@ -81,6 +95,9 @@ struct Light {
   // brightness set apart. Empty: intensity * color as given.
   std::optional<double> normalize;
   std::optional<Cone> cone;  // Empty: every direction.
+  // Empty: the same weight in every direction. A light has a cone or a cookie, not both (a
+  // cone is the cookie with knots at -h, -h + f, h - f, h, weights 0, 1, 1, 0, rotated to its axis).
+  std::optional<Cookie> cookie;
   // Occluders shadow this light only where their masks share a bit with this one.
   std::uint32_t mask = kAllMaskBits;
   // Degrees above the plane, 0 .. 90; matters only when the scene has a normal source.

@@ -312,6 +312,51 @@ par2d_status par2d_set_light_terms(par2d_renderer* r, par2d_light light, const p
   });
 }
 
+par2d_status par2d_set_light_cookie(par2d_renderer* r, par2d_light light, double rotation, const double* directions,
+                                    const double* weights, size_t count) {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (count != 0 && (directions == nullptr || weights == nullptr))
+    return fail(fn, std::string(directions == nullptr ? "directions" : "weights") + " is null with count " +
+                        std::to_string(count));
+  // Far more knots than any cookie may have: refused by validation below without copying them.
+  if (count > static_cast<size_t>(par2d::kMaxCookieKnots))
+    return fail(fn, "count must be at most " + std::to_string(par2d::kMaxCookieKnots) + ", got " + std::to_string(count));
+  return guarded(fn, [&] {
+    if (par2d::Status s = r->renderer.light(par2d::LightHandle{light}, &r->light); !s.ok()) return to_c(fn, s);
+    if (count == 0) {
+      r->light.cookie.reset();
+    } else {
+      if (!r->light.cookie) r->light.cookie.emplace();
+      r->light.cookie->rotation = rotation;
+      r->light.cookie->knots.resize(count);
+      for (size_t k = 0; k < count; ++k) r->light.cookie->knots[k] = par2d::CookieKnot{directions[k], weights[k]};
+    }
+    return to_c(fn, r->renderer.update_light(par2d::LightHandle{light}, r->light));
+  });
+}
+
+par2d_status par2d_get_light_cookie(par2d_renderer* r, par2d_light light, double* rotation, double* directions,
+                                    double* weights, size_t capacity, size_t* count) {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (count == nullptr) return fail(fn, "count is null");
+  if (capacity != 0 && (directions == nullptr || weights == nullptr))
+    return fail(fn, std::string(directions == nullptr ? "directions" : "weights") + " is null with capacity " +
+                        std::to_string(capacity));
+  return guarded(fn, [&] {
+    if (par2d::Status s = r->renderer.light(par2d::LightHandle{light}, &r->light); !s.ok()) return to_c(fn, s);
+    const std::vector<par2d::CookieKnot>* knots = r->light.cookie ? &r->light.cookie->knots : nullptr;
+    *count = knots ? knots->size() : 0;
+    if (rotation != nullptr) *rotation = r->light.cookie ? r->light.cookie->rotation : 0.0;
+    for (size_t k = 0; knots && k < knots->size() && k < capacity; ++k) {
+      directions[k] = (*knots)[k].direction;
+      weights[k] = (*knots)[k].weight;
+    }
+    return PAR2D_OK;
+  });
+}
+
 par2d_status par2d_get_occluder_terms(par2d_renderer* r, par2d_occluder occluder, par2d_occluder_terms* out) {
   const char* const fn = __func__;
   if (r == nullptr) return fail(fn, "renderer is null");

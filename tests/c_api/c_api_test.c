@@ -348,6 +348,7 @@ static void check_errors_name_the_call(par2d_renderer* r) {
   terms.elevation = 95.0;
   CHECK_ERROR_PREFIX(par2d_set_light_terms(r, light, &terms), PAR2D_INVALID_SCENE, "par2d_set_light_terms: ");
   CHECK_ERROR_PREFIX(par2d_get_light_terms(r, light + 777, &terms), PAR2D_INVALID_ARGUMENT, "par2d_get_light_terms: ");
+
   par2d_occluder_terms occluder_terms;
   CHECK_ERROR_PREFIX(par2d_get_occluder_terms(r, occluder + 777, &occluder_terms), PAR2D_INVALID_ARGUMENT,
                      "par2d_get_occluder_terms: ");
@@ -659,6 +660,66 @@ static void check_incremental_frames(void) {
   par2d_renderer_destroy(full);
 }
 
+/* Cookies: refusals name the call and the place; a constant cookie of weight 1/4 gives a
+ * quarter of the light; reading one back; a cone as well is refused; count 0 removes it. */
+static void check_cookies(void) {
+  par2d_renderer* r = NULL;
+  CHECK(par2d_renderer_create(NULL, &r) == PAR2D_OK);
+  if (r == NULL) return;
+  CHECK(par2d_set_frame(r, W, H, NULL) == PAR2D_OK);
+  const double white[3] = {1.0, 1.0, 1.0};
+  par2d_shape circle;
+  memset(&circle, 0, sizeof circle);
+  circle.kind = PAR2D_SHAPE_CIRCLE;
+  circle.circle[0] = 20.0;
+  circle.circle[1] = 8.0;
+  circle.circle[2] = 2.0;
+  par2d_light light = 0;
+  CHECK(par2d_add_light(r, &circle, white, 2.0, &light) == PAR2D_OK);
+  const int row[4] = {0, 0, W, 1};
+  const double directions[3] = {0.0, 90.0, 200.0}, weights[3] = {1.0, 0.5, 0.0};
+  const double bad_order[3] = {0.0, 90.0, 90.0}, bad_weight[3] = {1.0, 1.5, 0.0};
+  CHECK_ERROR(par2d_set_light_cookie(r, light, 0.0, NULL, weights, 3), PAR2D_INVALID_ARGUMENT,
+              "par2d_set_light_cookie: directions is null with count 3");
+  CHECK_ERROR(par2d_set_light_cookie(r, light, 0.0, directions, weights, 33), PAR2D_INVALID_ARGUMENT,
+              "par2d_set_light_cookie: count must be at most 32, got 33");
+  CHECK_ERROR_PREFIX(par2d_set_light_cookie(r, light, 0.0, bad_order, weights, 3), PAR2D_INVALID_SCENE,
+                     "par2d_set_light_cookie: ");
+  CHECK(strstr(par2d_last_error(), "cookie.knots[2][0]: directions must increase") != NULL);
+  CHECK_ERROR_PREFIX(par2d_set_light_cookie(r, light, 0.0, directions, bad_weight, 3), PAR2D_INVALID_SCENE,
+                     "par2d_set_light_cookie: ");
+  CHECK(strstr(par2d_last_error(), "cookie.knots[1][1]") != NULL);
+  CHECK_ERROR_PREFIX(par2d_set_light_cookie(r, light + 777, 0.0, directions, weights, 3), PAR2D_INVALID_ARGUMENT,
+                     "par2d_set_light_cookie: ");
+  par2d_light_terms plain_terms;
+  par2d_light_terms_default(&plain_terms);
+  CHECK(par2d_set_light_terms(r, light, &plain_terms) == PAR2D_OK);
+  float full[3 * W], quarter[3 * W];
+  CHECK(par2d_render(r, full, PAR2D_RGB_F32, 3 * W * sizeof(float), 1.0, row) == PAR2D_OK);
+  const double constant = 0.25, at = 45.0;
+  CHECK(par2d_set_light_cookie(r, light, 10.0, &at, &constant, 1) == PAR2D_OK);
+  CHECK(par2d_render(r, quarter, PAR2D_RGB_F32, 3 * W * sizeof(float), 1.0, row) == PAR2D_OK);
+  int same = 1;
+  for (int i = 0; i < 3 * W; ++i) same = same && fabsf(quarter[i] - 0.25f * full[i]) <= 1e-5f * (fabsf(full[i]) + 1e-3f);
+  CHECK(same);
+  CHECK(par2d_set_light_cookie(r, light, -15.0, directions, weights, 3) == PAR2D_OK);
+  double rotation = 0.0, got_directions[2] = {0, 0}, got_weights[2] = {0, 0};
+  size_t knots = 0;
+  CHECK(par2d_get_light_cookie(r, light, &rotation, got_directions, got_weights, 2, &knots) == PAR2D_OK);
+  CHECK(knots == 3 && rotation == -15.0 && got_directions[1] == 90.0 && got_weights[1] == 0.5);
+  /* A cone as well is refused while the cookie stays. */
+  par2d_light_terms coned = plain_terms;
+  coned.has_cone = 1;
+  coned.cone_half_angle = 30.0;
+  CHECK_ERROR_PREFIX(par2d_set_light_terms(r, light, &coned), PAR2D_INVALID_SCENE, "par2d_set_light_terms: ");
+  CHECK(strstr(par2d_last_error(), "a cone or a cookie, not both") != NULL);
+  CHECK(par2d_set_light_cookie(r, light, 0.0, NULL, NULL, 0) == PAR2D_OK);
+  CHECK(par2d_get_light_cookie(r, light, NULL, NULL, NULL, 0, &knots) == PAR2D_OK && knots == 0);
+  CHECK_ERROR(par2d_get_light_cookie(r, light, NULL, NULL, NULL, 0, NULL), PAR2D_INVALID_ARGUMENT,
+              "par2d_get_light_cookie: count is null");
+  par2d_renderer_destroy(r);
+}
+
 int main(void) {
   int major = -1, minor = -1, patch = -1;
   char expected[32];
@@ -675,6 +736,7 @@ int main(void) {
   CHECK(par2d_renderer_threads(r) >= 1 && par2d_renderer_threads(r) <= 2);
   CHECK(par2d_set_frame(r, W, H, NULL) == PAR2D_OK);
   check_incremental_frames();
+  check_cookies();
 
   /* A circle light of radius 2 at (10, 10) with emission 3 (white), and a box occluder. */
   par2d_shape light_shape;
