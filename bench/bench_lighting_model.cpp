@@ -6,11 +6,13 @@
 //   torches256/no_range vs torches256/range200   range culling (issue 11 target: >= 5x)
 //   plain vs normal_map   per-pixel shading (target: <= 1.5x), one-shot render() and
 //                         persistent/<case>: a Renderer that keeps the scene across frames
-//   plain vs cone, translucent, directional   one feature each
+//   plain vs cone, cookie, translucent, directional   one feature each; normal_map vs
+//                         cookie_normal_map: a cookie under per-pixel shading
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bench_support.hpp"
@@ -56,6 +58,23 @@ par2d::Scene feature_level(const std::string& feature) {
   } else if (feature == "cone") {
     int k = 0;
     for (par2d::Light& l : s.lights) l.cone = par2d::Cone{45.0 * k++, 35.0, 10.0};
+  } else if (feature == "cookie" || feature == "cookie_normal_map") {
+    // Three soft beams of different strengths (12 knots), turned per light.
+    par2d::Cookie beams;
+    for (const double centre : {0.0, 120.0, 240.0}) {
+      const double peak = 1.0 - centre / 400.0;
+      for (const auto& [offset, weight] : {std::pair{-20.0, 0.0}, {-8.0, peak}, {8.0, peak}, {20.0, 0.0}})
+        beams.knots.push_back({centre + offset, weight});
+    }
+    int k = 0;
+    for (par2d::Light& l : s.lights) {
+      l.cookie = beams;
+      l.cookie->rotation = 45.0 * k++;
+    }
+    if (feature == "cookie_normal_map") {
+      s.normal_map = bumpy_normals(s.width, s.height);
+      for (par2d::Light& l : s.lights) l.elevation = 25.0;
+    }
   } else if (feature == "translucent") {
     int k = 0;
     for (par2d::Occluder& o : s.occluders)
@@ -116,7 +135,8 @@ const bool kRegistered = [] {
   for (const int threads : {1, 2}) {
     for (const char* feature : {"plain", "normal_map"})
       register_persistent_case(feature, feature_level(feature), threads);
-    for (const char* feature : {"plain", "model_noop", "normal_map", "cone", "translucent", "directional"})
+    for (const char* feature :
+         {"plain", "model_noop", "normal_map", "cone", "cookie", "cookie_normal_map", "translucent", "directional"})
       register_case(feature, feature_level(feature), threads);
     register_case("torches256/no_range", torches(false), threads);
     register_case("torches256/range200", torches(true), threads);

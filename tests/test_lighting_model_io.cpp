@@ -159,7 +159,10 @@ TEST_CASE("every lighting-model key of a scene file is read into the scene") {
     "normal": [0, -1, 2],
     "lights": [{"circle": {"center": [1, 1], "radius": 1}, "range": 50, "falloff": 0.5, "cone": {"direction": 90,
                 "half_angle": 40, "fade": 10}, "mask": 5.0, "elevation": 15},
-               {"segment": [[0, 0], [1, 0]], "cone": {"direction": -45, "half_angle": 180}}],
+               {"segment": [[0, 0], [1, 0]], "cone": {"direction": -45, "half_angle": 180}},
+               {"circle": {"center": [2, 1], "radius": 0.5}, "cookie": {"rotation": -30, "knots": [[-10, 1],
+                [45.5, 0.25], [200, 0]]}},
+               {"circle": {"center": [3, 1], "radius": 0.5}, "cookie": {"knots": [[7, 0.5]]}}],
     "occluders": [{"circle": {"center": [2, 2], "radius": 1}},
                   {"polygon": [[0, 0], [1, 0], [0, 1]], "transmittance": [0.5, 0.25, 1], "mask": 4294967295,
                    "interior": "lit"},
@@ -189,7 +192,7 @@ TEST_CASE("every lighting-model key of a scene file is read into the scene") {
   CHECK(scene.normal->z == 2.0);  // as written; renderers normalize
   CHECK_FALSE(scene.normal_map.has_value());
 
-  REQUIRE(scene.lights.size() == 2);
+  REQUIRE(scene.lights.size() == 4);
   const par2d::Light& spot = scene.lights[0];
   REQUIRE(spot.range.has_value());
   CHECK(*spot.range == 50.0);
@@ -206,6 +209,20 @@ TEST_CASE("every lighting-model key of a scene file is read into the scene") {
   CHECK(wide.cone->fade == 0.0);  // fade defaults to 0
   CHECK(wide.mask == par2d::kAllMaskBits);
   CHECK(wide.falloff == 2.0);  // the default
+  CHECK_FALSE(wide.cookie.has_value());
+  const par2d::Light& patterned = scene.lights[2];
+  REQUIRE(patterned.cookie.has_value());
+  CHECK(patterned.cookie->rotation == -30.0);
+  REQUIRE(patterned.cookie->knots.size() == 3);
+  CHECK(patterned.cookie->knots[1].direction == 45.5);
+  CHECK(patterned.cookie->knots[1].weight == 0.25);
+  CHECK(patterned.cookie->knots[2].weight == 0.0);
+  const par2d::Light& dimmed = scene.lights[3];
+  REQUIRE(dimmed.cookie.has_value());
+  CHECK(dimmed.cookie->rotation == 0.0);  // the default
+  REQUIRE(dimmed.cookie->knots.size() == 1);
+  CHECK(dimmed.cookie->knots[0].direction == 7.0);
+  CHECK(dimmed.cookie->knots[0].weight == 0.5);
 
   // The compact store hands each occluder its own terms, in file order.
   REQUIRE(scene.occluders.size() == 4);
@@ -267,9 +284,41 @@ TEST_CASE("every bad lighting-model value is refused with a one-line message nam
                 "s.json: lights[0].cone.fade: expected a number");
   check_message(light_with(R"("cone": 30)"),
                 R"(s.json: lights[0].cone: expected {"direction": d, "half_angle": h, "fade": f})");
+  // Cookies.
+  check_message(light_with(R"("cookie": 30)"),
+                R"(s.json: lights[0].cookie: expected {"rotation": r, "knots": [[direction, weight], ...]})");
+  check_message(light_with(R"("cookie": {"rotation": 10})"), "s.json: lights[0].cookie.knots: missing (required)");
+  check_message(light_with(R"("cookie": {"knots": []})"), "s.json: lights[0].cookie.knots: must hold 1 to 32 knots, got 0");
+  check_message(light_with(R"("cookie": {"knots": [[0, 1]], "scale": 2})"),
+                "s.json: lights[0].cookie.scale: unknown key (expected rotation, knots)");
+  check_message(light_with(R"("cookie": {"knots": 3})"),
+                "s.json: lights[0].cookie.knots: expected an array of [direction, weight] knots");
+  check_message(light_with(R"("cookie": {"knots": [[0, 1], [10]]})"),
+                "s.json: lights[0].cookie.knots[1]: expected [direction, weight]");
+  check_message(light_with(R"("cookie": {"knots": [[0, 1], {"d": 1}]})"),
+                "s.json: lights[0].cookie.knots[1]: expected [direction, weight]");
+  check_message(light_with(R"("cookie": {"knots": [[0, 1], [10, 1.5]]})"),
+                "s.json: lights[0].cookie.knots[1][1]: weight must be between 0 and 1, got 1.5");
+  check_message(light_with(R"("cookie": {"knots": [[0, 1], [10, -0.5]]})"),
+                "s.json: lights[0].cookie.knots[1][1]: weight must be between 0 and 1, got -0.5");
+  check_message(light_with(R"("cookie": {"knots": [[0, 1], [10, 1], [10, 0]]})"),
+                "s.json: lights[0].cookie.knots[2][0]: directions must increase, got 10 after 10");
+  check_message(light_with(R"("cookie": {"knots": [[-90, 1], [270, 0]]})"),
+                "s.json: lights[0].cookie.knots[1][0]: must be less than 360 degrees past the first knot's "
+                "direction, got 270");
+  check_message(light_with(R"("cookie": {"rotation": "up", "knots": [[0, 1]]})"),
+                "s.json: lights[0].cookie.rotation: expected a number");
+  check_message(light_with(R"("cone": {"direction": 0, "half_angle": 30}, "cookie": {"knots": [[0, 1]]})"),
+                "s.json: lights[0].cookie: a light takes a cone or a cookie, not both");
+  {
+    std::string knots;
+    for (int k = 0; k < 33; ++k) knots += (k ? ", [" : "[") + std::to_string(k) + ", 1]";
+    check_message(light_with(R"("cookie": {"knots": [)" + knots + "]}"),
+                  "s.json: lights[0].cookie.knots: must hold 1 to 32 knots, got 33");
+  }
   check_message(light_with(R"("transmittance": [1, 1, 1])"),
                 "s.json: lights[0].transmittance: unknown key (expected polygon, circle, segment, color, intensity, "
-                "range, falloff, normalize, cone, mask, elevation)");
+                "range, falloff, normalize, cone, cookie, mask, elevation)");
   // Occluders.
   check_message(occluder_with(R"("transmittance": [0.5, 1.5, 0])"),
                 "s.json: occluders[0].transmittance[1]: must be between 0 and 1, got 1.5");
@@ -336,6 +385,11 @@ TEST_CASE("scenes built in code are checked for the same terms by validate_scene
   scene.lights[0].cone = par2d::Cone{0, 10, 11};
   refused("code: lights[0].cone.fade: must be between 0 and half_angle, got 11");
   scene.lights[0].cone.reset();
+  scene.lights[0].cookie = par2d::Cookie{0, {{0, 1}, {std::nan(""), 0}}};
+  refused("code: lights[0].cookie.knots[1][0]: not a finite number (nan)");
+  scene.lights[0].cookie = par2d::Cookie{std::numeric_limits<double>::infinity(), {{0, 1}}};
+  refused("code: lights[0].cookie.rotation: not a finite number (inf)");
+  scene.lights[0].cookie.reset();
   par2d::Occluder occluder;
   occluder.shape = par2d::Segment{{0, 0}, {1, 0}};
   occluder.transmittance = {0, 0, 2};
@@ -395,6 +449,7 @@ TEST_CASE("scene_to_json writes every lighting-model term so that the scene load
   light.elevation = 89.99;
   par2d::Light plain;
   plain.shape = par2d::Segment{{0, 0}, {2, 0}};
+  plain.cookie = par2d::Cookie{1.0 / 3.0, {{-0.1, 0.7}, {1e-9, 1.0 / 7.0}, {359.8, 0}}};
   scene.lights = {light, plain};
   par2d::Occluder glass;
   glass.shape = par2d::Polygon{{{0, 0}, {1, 0}, {1, 1}}};
@@ -441,6 +496,14 @@ TEST_CASE("scene_to_json writes every lighting-model term so that the scene load
   CHECK(same(back.lights[0].elevation, 89.99));
   CHECK_FALSE(back.lights[1].range.has_value());
   CHECK_FALSE(back.lights[1].cone.has_value());
+  CHECK_FALSE(back.lights[0].cookie.has_value());
+  REQUIRE(back.lights[1].cookie.has_value());
+  CHECK(same(back.lights[1].cookie->rotation, 1.0 / 3.0));
+  REQUIRE(back.lights[1].cookie->knots.size() == 3);
+  for (std::size_t k = 0; k < 3; ++k) {
+    CHECK(same(back.lights[1].cookie->knots[k].direction, plain.cookie->knots[k].direction));
+    CHECK(same(back.lights[1].cookie->knots[k].weight, plain.cookie->knots[k].weight));
+  }
   CHECK(back.lights[1].mask == par2d::kAllMaskBits);
   REQUIRE(back.occluders.size() == 3);
   for (std::size_t c = 0; c < 3; ++c) CHECK(same(back.occluders[1].transmittance[c], glass.transmittance[c]));

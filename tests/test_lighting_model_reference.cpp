@@ -154,6 +154,41 @@ double cone_weight(double theta, const Cone& cone) {
   return (h - delta) / f;
 }
 
+// The cookie weight of docs/contract.md section 6 for ray direction theta (radians): light
+// emitted along psi = theta + pi, offset psi - rotation - first knot into [0, 360) degrees,
+// linear between the knots around it.
+double cookie_weight(double theta, const Cookie& cookie) {
+  const auto& k = cookie.knots;
+  const double psi = (theta + kPi) * 180.0 / kPi;
+  double offset = std::fmod(psi - cookie.rotation - k[0].direction, 360.0);
+  if (offset < 0.0) offset += 360.0;
+  std::size_t i = 0;
+  while (i + 1 < k.size() && offset >= k[i + 1].direction - k[0].direction) ++i;
+  const double a = k[i].direction - k[0].direction;
+  const double b = i + 1 < k.size() ? k[i + 1].direction - k[0].direction : 360.0;
+  const double next = k[(i + 1) % k.size()].weight;
+  return k[i].weight + (offset - a) / (b - a) * (next - k[i].weight);
+}
+
+// Integral of cookie_weight over [lo, hi]: linear between the knots' ray directions, so the
+// midpoint rule on each piece between them is exact.
+double cookie_integral(Interval range, const Cookie& cookie) {
+  if (!(range.hi > range.lo)) return 0.0;
+  std::vector<double> cuts{range.lo, range.hi};
+  for (const CookieKnot& knot : cookie.knots) {
+    const double at = (knot.direction + cookie.rotation) * kPi / 180.0 - kPi;
+    for (int k = -4; k <= 4; ++k) {
+      const double t = at + 2.0 * kPi * k;
+      if (t > range.lo && t < range.hi) cuts.push_back(t);
+    }
+  }
+  std::sort(cuts.begin(), cuts.end());
+  double sum = 0.0;
+  for (std::size_t k = 0; k + 1 < cuts.size(); ++k)
+    sum += (cuts[k + 1] - cuts[k]) * cookie_weight(0.5 * (cuts[k] + cuts[k + 1]), cookie);
+  return sum;
+}
+
 // Integral of cone_weight over [lo, hi] (hi - lo < pi): the weight is linear between its
 // kinks (axis -+ half, axis -+ (half - fade), in ray directions), so the midpoint rule on each
 // piece between kinks is exact (and ignores the jumps of a fade-0 cone).
@@ -237,13 +272,13 @@ namespace {
 
 // How many of each term the seeds [first, last] put in their scenes.
 struct ModelTermCounts {
-  int translucent = 0, lit = 0, cones = 0, ranges = 0, masked = 0;
+  int translucent = 0, lit = 0, cones = 0, cookies = 0, ranges = 0, masked = 0;
 };
 
 // Every term against the ray caster on seeds [first, last]: the shaded result through render()
 // (each pixel's normal; seed % 3 picks none, a constant normal or a normal map) and the plain one.
 ModelTermCounts check_model_terms_against_raycast(std::uint32_t first, std::uint32_t last) {
-  int translucent = 0, lit = 0, cones = 0, ranges = 0, masked = 0;
+  int translucent = 0, lit = 0, cones = 0, cookies = 0, ranges = 0, masked = 0;
   double worst = 0.0;
   for (std::uint32_t seed = first; seed <= last; ++seed) {
     CAPTURE(seed);
@@ -258,6 +293,7 @@ ModelTermCounts check_model_terms_against_raycast(std::uint32_t first, std::uint
     }
     for (const Light& l : scene.lights) {
       cones += l.cone.has_value();
+      cookies += l.cookie.has_value();
       ranges += l.range.has_value();
     }
     // The shaded result through render() (each pixel's normal), and the plain one.
@@ -266,7 +302,7 @@ ModelTermCounts check_model_terms_against_raycast(std::uint32_t first, std::uint
     worst = std::max(worst, check_against_raycast(scene, nullptr, false));
   }
   MESSAGE("worst |E_par - E_ray| / bound: " << worst);
-  return {translucent, lit, cones, ranges, masked};
+  return {translucent, lit, cones, cookies, ranges, masked};
 }
 
 }  // namespace
@@ -277,6 +313,7 @@ TEST_CASE("scalar matches ray casting on random scenes with every lighting-model
   CHECK(n.translucent >= 3);
   CHECK(n.lit >= 2);
   CHECK(n.cones >= 2);
+  CHECK(n.cookies >= 2);
   CHECK(n.ranges >= 2);
   CHECK(n.masked >= 3);
 }
@@ -287,6 +324,7 @@ TEST_CASE("scalar matches ray casting on random scenes with every lighting-model
   CHECK(n.translucent >= 6);
   CHECK(n.lit >= 3);
   CHECK(n.cones >= 3);
+  CHECK(n.cookies >= 3);
   CHECK(n.ranges >= 3);
   CHECK(n.masked >= 6);
 }
@@ -330,6 +368,64 @@ TEST_CASE("closed form: a spot cone cut by one occluder") {
       return scaled(e, (cone_integral(arc, cone) - cone_integral(blocked, cone)) / (2.0 * kPi));
     });
     CHECK(compared == 16 * 12);
+  }
+}
+
+TEST_CASE("closed form: a cookie cut by one occluder, and a cookie shaped as a cone gives the cone") {
+  const Segment light_shape{{-200, -30}, {216, -30}};
+  const Segment blocker{{4, -8}, {9, -8}};
+  // Knots around the ray directions the pixels see (about 190 .. 350 degrees, emitted 10 .. 170):
+  // several segments over the light, one knot alone (a constant), a narrow spike, a wrap past 360.
+  const Cookie cookies[] = {
+      {0, {{20, 1}, {60, 0.25}, {95, 0.8}, {130, 0}, {300, 0.5}}},
+      {-40, {{10, 0.3}}},
+      {30, {{60, 0}, {60.001, 1}, {60.002, 0}}},
+      {200, {{-150, 1}, {-100, 0}, {0, 0.6}, {150, 0.1}}},
+  };
+  for (const Cookie& cookie : cookies) {
+    CAPTURE(cookie.rotation);
+    Scene scene;
+    scene.width = 16;
+    scene.height = 12;
+    scene.view = {0, 0, 16, 12};
+    Light light{light_shape, {1.0, 0.8, 0.6}, 2.0};
+    light.cookie = cookie;
+    scene.lights.push_back(light);
+    scene.occluders.push_back({blocker});
+    const Rgb e = emission(light);
+    const int compared = check_against(scene, render_scalar(scene), [&](int, int, Vec2 x) {
+      const Interval arc = interval_to(x, light_shape.a, light_shape.b);
+      const Interval blocked = meet(arc, interval_to(x, blocker.a, blocker.b));
+      return scaled(e, (cookie_integral(arc, cookie) - cookie_integral(blocked, cookie)) / (2.0 * kPi));
+    });
+    CHECK(compared == 16 * 12);
+  }
+  // A cone is the cookie with knots at -h, -h + f, h - f, h (weights 0, 1, 1, 0) rotated to its
+  // axis: the two paths give the same image, plain and shaded.
+  const Cone cones[] = {{100, 35, 12}, {-170, 80, 30}, {10, 150, 149}};
+  for (const Cone& cone : cones) {
+    CAPTURE(cone.direction);
+    for (bool shaded : {false, true}) {
+      Scene with_cone;
+      with_cone.width = 24;
+      with_cone.height = 18;
+      with_cone.view = {-40, -30, 40, 30};
+      if (shaded) with_cone.normal = Vec3{0.3, -0.5, 0.8};
+      Light light{Circle{{3, -2}, 2.5}, {1.0, 0.6, 0.3}, 3.0};
+      light.elevation = 20.0;
+      light.cone = cone;
+      with_cone.lights.push_back(light);
+      with_cone.occluders.push_back({Segment{{-10, 8}, {12, 5}}});
+      Scene with_cookie = with_cone;
+      const double h = cone.half_angle, f = cone.fade;
+      with_cookie.lights[0].cone.reset();
+      with_cookie.lights[0].cookie = Cookie{cone.direction, {{-h, 0}, {-h + f, 1}, {h - f, 1}, {h, 0}}};
+      const RenderedImage a = render_scalar(with_cone), b = render_scalar(with_cookie);
+      REQUIRE(a.pixels.size() == b.pixels.size());
+      double worst = 0.0;
+      for (std::size_t i = 0; i < a.pixels.size(); ++i) worst = std::max(worst, std::fabs(double{a.pixels[i]} - b.pixels[i]));
+      CHECK(worst <= 1e-6 * 3.0);  // section 5's scalar bound (e_max = 3); float outputs differ by an ulp at most
+    }
   }
 }
 

@@ -359,6 +359,7 @@ const Feature kFeatures[] = {
     {"falloff", [](RandomSceneOptions& o) { o.ranges = o.falloffs = true; }},
     {"normalize", [](RandomSceneOptions& o) { o.normalizes = true; }},
     {"cone", [](RandomSceneOptions& o) { o.cones = true; }},
+    {"cookie", [](RandomSceneOptions& o) { o.cookies = true; }},
     {"mask", [](RandomSceneOptions& o) { o.masks = true; }},
     {"translucent", [](RandomSceneOptions& o) { o.translucent = true; }},
     {"lit interior", [](RandomSceneOptions& o) { o.lit_interiors = true; }},

@@ -106,6 +106,29 @@ def main():
         "occluders": [box(180, 160, 230, 200), circle(360, 200, 18), {"segment": [[300, 300], [340, 270]]}],
     })
 
+    # Cookies: angular emission profiles over the brick floor's normals. A beacon with three
+    # soft beams of different strengths; a small lamp whose grille throws bars (weights
+    # stepping between 0 and 1 over half a degree).
+    beams = []
+    for centre, peak in [(0, 1.0), (120, 0.7), (240, 0.4)]:
+        beams += [[centre - 12, 0.0], [centre - 5, peak], [centre + 5, peak], [centre + 12, 0.0]]
+    grille = []
+    for k in range(8):  # 32 knots, the most a cookie takes
+        start = 64 + 6.5 * k
+        grille += [[start, 0.0], [start + 0.5, 1.0], [start + 3.5, 1.0], [start + 4.0, 0.0]]
+    write_scene("lighting_cookie.json", {
+        "width": 512, "height": 384,
+        "normal_map": "brick_normals_512x384.png",
+        "ambient": [0.01, 0.01, 0.015],
+        "lights": [
+            {**circle(150, 230, 4), "color": [1.0, 0.85, 0.55], "intensity": 60, "elevation": 20,
+             "cookie": {"rotation": -20, "knots": beams}},
+            {"segment": [[378, 16], [384, 16]], "color": [0.55, 0.75, 1.0], "intensity": 60, "elevation": 35,
+             "cookie": {"knots": grille}},
+        ],
+        "occluders": [circle(250, 300, 12), circle(420, 250, 10)],
+    })
+
     # Sun through windows: a directional light at infinity; penumbrae widen with distance.
     wall = [box(0, 90, 90, 106), box(130, 90, 230, 106), box(270, 90, 370, 106), box(410, 90, 512, 106)]
     write_scene("lighting_sun.json", {

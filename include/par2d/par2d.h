@@ -122,6 +122,30 @@ PAR2D_C_API par2d_status par2d_update_occluder(par2d_renderer* renderer, par2d_o
                                                const par2d_shape* shape);
 PAR2D_C_API par2d_status par2d_remove_occluder(par2d_renderer* renderer, par2d_occluder occluder);
 
+/* A sprite's transform: a shape given in its own local frame is scaled per axis (non-zero; a
+ * circle needs the same absolute scale on both), rotated by `rotation` degrees (from +x toward
+ * +y: clockwise on screen; multiples of 90 are exact), then moved to `position`. The
+ * *_transformed calls take the shape in that local frame; what the world holds (and
+ * par2d_get_* and snapshots return) is the placed shape. A refused transform names the field
+ * ("transform.scale[1]: must be non-zero, got 0") and changes nothing. */
+typedef struct par2d_transform {
+  double position[2];
+  double rotation; /* degrees */
+  double scale[2];
+} par2d_transform;
+PAR2D_C_API void par2d_transform_identity(par2d_transform* transform);
+PAR2D_C_API par2d_status par2d_add_light_transformed(par2d_renderer* renderer, const par2d_shape* local,
+                                                     const par2d_transform* transform, const double color[3],
+                                                     double intensity, par2d_light* out);
+PAR2D_C_API par2d_status par2d_update_light_transformed(par2d_renderer* renderer, par2d_light light,
+                                                        const par2d_shape* local, const par2d_transform* transform,
+                                                        const double color[3], double intensity);
+PAR2D_C_API par2d_status par2d_add_occluder_transformed(par2d_renderer* renderer, const par2d_shape* local,
+                                                        const par2d_transform* transform, par2d_occluder* out);
+PAR2D_C_API par2d_status par2d_update_occluder_transformed(par2d_renderer* renderer, par2d_occluder occluder,
+                                                           const par2d_shape* local,
+                                                           const par2d_transform* transform);
+
 /* The game lighting model (docs/contract.md section 6). Angles are in degrees; masks default
  * to 0xFFFFFFFF (an occluder acts on a light only where their masks share a bit). The light
  * and occluder functions above keep a light's or occluder's terms (par2d_add_* gives the
@@ -169,6 +193,18 @@ PAR2D_C_API void par2d_directional_light_default(par2d_directional_light* light)
 PAR2D_C_API par2d_status par2d_get_light_terms(par2d_renderer* renderer, par2d_light light, par2d_light_terms* out);
 PAR2D_C_API par2d_status par2d_set_light_terms(par2d_renderer* renderer, par2d_light light,
                                                const par2d_light_terms* terms);
+/* A light's cookie, its angular emission profile (docs/contract.md section 6): light emitted in
+ * world direction psi is weighted by the periodic piecewise-linear function through the knots
+ * (directions[k] degrees, weights[k] in [0, 1]) at psi - rotation. 1 to 32 knots, directions
+ * strictly increasing and spanning less than 360 degrees; count 0 removes the cookie (the
+ * arrays may then be null). A light has a cone or a cookie, not both. Refused values leave the
+ * light as it was. */
+PAR2D_C_API par2d_status par2d_set_light_cookie(par2d_renderer* renderer, par2d_light light, double rotation,
+                                                const double* directions, const double* weights, size_t count);
+/* The light's cookie: *count knots (0: none), the first `capacity` of them written to
+ * directions and weights (null only with capacity 0), and its rotation (may be null). */
+PAR2D_C_API par2d_status par2d_get_light_cookie(par2d_renderer* renderer, par2d_light light, double* rotation,
+                                                double* directions, double* weights, size_t capacity, size_t* count);
 PAR2D_C_API par2d_status par2d_get_occluder_terms(par2d_renderer* renderer, par2d_occluder occluder,
                                                   par2d_occluder_terms* out);
 PAR2D_C_API par2d_status par2d_set_occluder_terms(par2d_renderer* renderer, par2d_occluder occluder,

@@ -115,6 +115,14 @@ class Renderer {
 
   Status add_occluder(const Occluder& occluder, OccluderHandle* handle);
   Status update_occluder(OccluderHandle handle, const Occluder& occluder);
+  // The same with the shape given in its own local frame and placed by `transform` (a sprite's
+  // position, rotation and scale; see Transform). The placement reuses one buffer per kind, so
+  // moving an existing light or occluder by its transform allocates nothing once its shape
+  // has been placed at that vertex count.
+  Status add_light(const Light& light, const Transform& transform, LightHandle* handle);
+  Status update_light(LightHandle handle, const Light& light, const Transform& transform);
+  Status add_occluder(const Occluder& occluder, const Transform& transform, OccluderHandle* handle);
+  Status update_occluder(OccluderHandle handle, const Occluder& occluder, const Transform& transform);
   Status remove_occluder(OccluderHandle handle);
 
   // The scene-wide lighting-model terms (docs/contract.md section 6), validated like a scene's;

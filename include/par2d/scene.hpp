@@ -62,6 +62,30 @@ struct Cone {
   double fade = 0.0;          // 0 <= fade <= half_angle
 };
 
+// A light's angular emission profile (a 1D "cookie", docs/contract.md section 6): the weight
+// of light emitted in world direction psi is f(psi - rotation), f the periodic piecewise-linear
+// function through the knots (degrees, strictly increasing, spanning less than 360; from the
+// last knot it runs on to the first plus 360). Weights are in [0, 1]; one knot is a constant.
+struct CookieKnot {
+  double direction = 0.0;  // degrees
+  double weight = 1.0;     // 0 .. 1
+};
+inline constexpr int kMaxCookieKnots = 32;
+struct Cookie {
+  double rotation = 0.0;  // degrees added to every knot's direction
+  std::vector<CookieKnot> knots;  // 1 .. kMaxCookieKnots
+};
+
+// A sprite's 2D transform: a shape given in its own local frame is scaled per axis, rotated by
+// `rotation` degrees (from +x toward +y: clockwise on screen, y down), then moved to `position`:
+// world = position + R(rotation) (scale.x * local.x, scale.y * local.y). Turns by multiples of 90
+// degrees are exact, so a tile turned a quarter stays on its grid. A negative scale mirrors.
+struct Transform {
+  Vec2 position{0.0, 0.0};
+  double rotation = 0.0;  // degrees
+  Vec2 scale{1.0, 1.0};   // non-zero; a circle needs |scale.x| == |scale.y| (a disc stays a disc)
+};
+
 // A uniform emitter: every point of its shape emits `intensity * color` in every direction
 // (or in its cone), optionally limited to a range.
 struct Light {
@@ -81,6 +105,9 @@ struct Light {
   // brightness set apart. Empty: intensity * color as given.
   std::optional<double> normalize;
   std::optional<Cone> cone;  // Empty: every direction.
+  // Empty: the same weight in every direction. A light has a cone or a cookie, not both (a
+  // cone is the cookie with knots at -h, -h + f, h - f, h, weights 0, 1, 1, 0, rotated to its axis).
+  std::optional<Cookie> cookie;
   // Occluders shadow this light only where their masks share a bit with this one.
   std::uint32_t mask = kAllMaskBits;
   // Degrees above the plane, 0 .. 90; matters only when the scene has a normal source.
@@ -164,6 +191,13 @@ struct Scene {
 // Checks a scene built in code against docs/contract.md section 3 (sizes, finite numbers,
 // convex non-degenerate shapes, non-negative colors). `name` prefixes messages.
 Status validate_scene(const Scene& scene, std::string_view name = "scene");
+
+// `local` placed by `transform` into `out` (a polygon keeps its vertex order; `out` may be
+// `local` itself, and its vertex storage is reused). Refused, with `out` unchanged, where a
+// value is not finite, a scale is 0, or a circle gets different scales on its two axes: a
+// Status naming the field ("transform.scale: ..."). The placed shape is validated where it is
+// used (a scale of 1e-300 can collapse a polygon).
+Status transform_shape(const Shape& local, const Transform& transform, Shape& out);
 
 // How a scene's file references (its `normal_map`) may reach the file system.
 struct LoadOptions {

@@ -130,6 +130,7 @@ inline void set_default_terms(par2d::Light& light) {
   light.falloff = 2.0;
   light.normalize.reset();
   light.cone.reset();
+  light.cookie.reset();
   light.mask = par2d::kAllMaskBits;
   light.elevation = 0.0;
 }

@@ -105,9 +105,16 @@ par2d_status par2d_load_scene_ex(par2d_renderer* r, const char* path, unsigned f
   return load_scene(__func__, r, path, flags);
 }
 
-par2d_status par2d_add_light(par2d_renderer* r, const par2d_shape* shape, const double color[3], double intensity,
-                             par2d_light* out) {
-  const char* const fn = __func__;
+namespace {
+
+// The C transform as the C++ one.
+par2d::Transform to_transform(const par2d_transform& t) {
+  return par2d::Transform{{t.position[0], t.position[1]}, t.rotation, {t.scale[0], t.scale[1]}};
+}
+
+// par2d_add_light and par2d_update_light, with the shape placed by `transform` when given.
+par2d_status add_light(const char* fn, par2d_renderer* r, const par2d_shape* shape, const par2d_transform* transform,
+                       const double color[3], double intensity, par2d_light* out) {
   if (r == nullptr) return fail(fn, "renderer is null");
   if (out == nullptr) return fail(fn, "out is null");
   return guarded(fn, [&] {
@@ -115,23 +122,86 @@ par2d_status par2d_add_light(par2d_renderer* r, const par2d_shape* shape, const 
     set_default_terms(r->light);
     r->lights.reserve(r->lights.size() + 1);  // so that the push_back below cannot fail
     par2d::LightHandle h;
-    if (par2d::Status s = r->renderer.add_light(r->light, &h); !s.ok()) return to_c(fn, s);
+    const par2d::Status s = transform ? r->renderer.add_light(r->light, to_transform(*transform), &h)
+                                      : r->renderer.add_light(r->light, &h);
+    if (!s.ok()) return to_c(fn, s);
     r->lights.push_back(h.id);
     *out = h.id;
     return PAR2D_OK;
   });
 }
 
-par2d_status par2d_update_light(par2d_renderer* r, par2d_light light, const par2d_shape* shape, const double color[3],
-                                double intensity) {
-  const char* const fn = __func__;
+par2d_status update_light(const char* fn, par2d_renderer* r, par2d_light light, const par2d_shape* shape,
+                          const par2d_transform* transform, const double color[3], double intensity) {
   if (r == nullptr) return fail(fn, "renderer is null");
   return guarded(fn, [&] {
     // The light keeps its terms (range, cone, mask, elevation): start from it as it is.
     if (!r->renderer.light(par2d::LightHandle{light}, &r->light).ok()) set_default_terms(r->light);
     if (par2d_status s = fill_light(fn, r, shape, color, intensity); s != PAR2D_OK) return s;
-    return to_c(fn, r->renderer.update_light(par2d::LightHandle{light}, r->light));
+    const par2d::LightHandle h{light};
+    return to_c(fn, transform ? r->renderer.update_light(h, r->light, to_transform(*transform))
+                              : r->renderer.update_light(h, r->light));
   });
+}
+
+par2d_status add_occluder(const char* fn, par2d_renderer* r, const par2d_shape* shape, const par2d_transform* transform,
+                          par2d_occluder* out) {
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (out == nullptr) return fail(fn, "out is null");
+  return guarded(fn, [&] {
+    if (par2d_status s = convert_shape(fn, shape, r->occluder.shape); s != PAR2D_OK) return s;
+    set_default_terms(r->occluder);
+    r->occluders.reserve(r->occluders.size() + 1);
+    par2d::OccluderHandle h;
+    const par2d::Status s = transform ? r->renderer.add_occluder(r->occluder, to_transform(*transform), &h)
+                                      : r->renderer.add_occluder(r->occluder, &h);
+    if (!s.ok()) return to_c(fn, s);
+    r->occluders.push_back(h.id);
+    *out = h.id;
+    return PAR2D_OK;
+  });
+}
+
+par2d_status update_occluder(const char* fn, par2d_renderer* r, par2d_occluder occluder, const par2d_shape* shape,
+                             const par2d_transform* transform) {
+  if (r == nullptr) return fail(fn, "renderer is null");
+  return guarded(fn, [&] {
+    // The occluder keeps its terms (transmittance, mask, interior).
+    if (!r->renderer.occluder(par2d::OccluderHandle{occluder}, &r->occluder).ok()) set_default_terms(r->occluder);
+    if (par2d_status s = convert_shape(fn, shape, r->occluder.shape); s != PAR2D_OK) return s;
+    const par2d::OccluderHandle h{occluder};
+    return to_c(fn, transform ? r->renderer.update_occluder(h, r->occluder, to_transform(*transform))
+                              : r->renderer.update_occluder(h, r->occluder));
+  });
+}
+
+}  // namespace
+
+par2d_status par2d_add_light(par2d_renderer* r, const par2d_shape* shape, const double color[3], double intensity,
+                             par2d_light* out) {
+  return add_light(__func__, r, shape, nullptr, color, intensity, out);
+}
+
+par2d_status par2d_update_light(par2d_renderer* r, par2d_light light, const par2d_shape* shape, const double color[3],
+                                double intensity) {
+  return update_light(__func__, r, light, shape, nullptr, color, intensity);
+}
+
+void par2d_transform_identity(par2d_transform* t) {
+  if (t == nullptr) return;
+  *t = par2d_transform{{0.0, 0.0}, 0.0, {1.0, 1.0}};
+}
+
+par2d_status par2d_add_light_transformed(par2d_renderer* r, const par2d_shape* local, const par2d_transform* transform,
+                                         const double color[3], double intensity, par2d_light* out) {
+  if (r != nullptr && transform == nullptr) return fail(__func__, "transform is null");
+  return add_light(__func__, r, local, transform, color, intensity, out);
+}
+
+par2d_status par2d_update_light_transformed(par2d_renderer* r, par2d_light light, const par2d_shape* local,
+                                            const par2d_transform* transform, const double color[3], double intensity) {
+  if (r != nullptr && transform == nullptr) return fail(__func__, "transform is null");
+  return update_light(__func__, r, light, local, transform, color, intensity);
 }
 
 par2d_status par2d_set_light_emission(par2d_renderer* r, par2d_light light, const double color[3], double intensity) {
@@ -154,30 +224,23 @@ par2d_status par2d_remove_light(par2d_renderer* r, par2d_light light) {
 }
 
 par2d_status par2d_add_occluder(par2d_renderer* r, const par2d_shape* shape, par2d_occluder* out) {
-  const char* const fn = __func__;
-  if (r == nullptr) return fail(fn, "renderer is null");
-  if (out == nullptr) return fail(fn, "out is null");
-  return guarded(fn, [&] {
-    if (par2d_status s = convert_shape(fn, shape, r->occluder.shape); s != PAR2D_OK) return s;
-    set_default_terms(r->occluder);
-    r->occluders.reserve(r->occluders.size() + 1);
-    par2d::OccluderHandle h;
-    if (par2d::Status s = r->renderer.add_occluder(r->occluder, &h); !s.ok()) return to_c(fn, s);
-    r->occluders.push_back(h.id);
-    *out = h.id;
-    return PAR2D_OK;
-  });
+  return add_occluder(__func__, r, shape, nullptr, out);
 }
 
 par2d_status par2d_update_occluder(par2d_renderer* r, par2d_occluder occluder, const par2d_shape* shape) {
-  const char* const fn = __func__;
-  if (r == nullptr) return fail(fn, "renderer is null");
-  return guarded(fn, [&] {
-    // The occluder keeps its terms (transmittance, mask, interior).
-    if (!r->renderer.occluder(par2d::OccluderHandle{occluder}, &r->occluder).ok()) set_default_terms(r->occluder);
-    if (par2d_status s = convert_shape(fn, shape, r->occluder.shape); s != PAR2D_OK) return s;
-    return to_c(fn, r->renderer.update_occluder(par2d::OccluderHandle{occluder}, r->occluder));
-  });
+  return update_occluder(__func__, r, occluder, shape, nullptr);
+}
+
+par2d_status par2d_add_occluder_transformed(par2d_renderer* r, const par2d_shape* local,
+                                            const par2d_transform* transform, par2d_occluder* out) {
+  if (r != nullptr && transform == nullptr) return fail(__func__, "transform is null");
+  return add_occluder(__func__, r, local, transform, out);
+}
+
+par2d_status par2d_update_occluder_transformed(par2d_renderer* r, par2d_occluder occluder, const par2d_shape* local,
+                                               const par2d_transform* transform) {
+  if (r != nullptr && transform == nullptr) return fail(__func__, "transform is null");
+  return update_occluder(__func__, r, occluder, local, transform);
 }
 
 par2d_status par2d_remove_occluder(par2d_renderer* r, par2d_occluder occluder) {
@@ -309,6 +372,51 @@ par2d_status par2d_set_light_terms(par2d_renderer* r, par2d_light light, const p
     r->light.mask = terms->mask;
     r->light.elevation = terms->elevation;
     return to_c(fn, r->renderer.update_light(par2d::LightHandle{light}, r->light));
+  });
+}
+
+par2d_status par2d_set_light_cookie(par2d_renderer* r, par2d_light light, double rotation, const double* directions,
+                                    const double* weights, size_t count) {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (count != 0 && (directions == nullptr || weights == nullptr))
+    return fail(fn, std::string(directions == nullptr ? "directions" : "weights") + " is null with count " +
+                        std::to_string(count));
+  // Far more knots than any cookie may have: refused by validation below without copying them.
+  if (count > static_cast<size_t>(par2d::kMaxCookieKnots))
+    return fail(fn, "count must be at most " + std::to_string(par2d::kMaxCookieKnots) + ", got " + std::to_string(count));
+  return guarded(fn, [&] {
+    if (par2d::Status s = r->renderer.light(par2d::LightHandle{light}, &r->light); !s.ok()) return to_c(fn, s);
+    if (count == 0) {
+      r->light.cookie.reset();
+    } else {
+      if (!r->light.cookie) r->light.cookie.emplace();
+      r->light.cookie->rotation = rotation;
+      r->light.cookie->knots.resize(count);
+      for (size_t k = 0; k < count; ++k) r->light.cookie->knots[k] = par2d::CookieKnot{directions[k], weights[k]};
+    }
+    return to_c(fn, r->renderer.update_light(par2d::LightHandle{light}, r->light));
+  });
+}
+
+par2d_status par2d_get_light_cookie(par2d_renderer* r, par2d_light light, double* rotation, double* directions,
+                                    double* weights, size_t capacity, size_t* count) {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (count == nullptr) return fail(fn, "count is null");
+  if (capacity != 0 && (directions == nullptr || weights == nullptr))
+    return fail(fn, std::string(directions == nullptr ? "directions" : "weights") + " is null with capacity " +
+                        std::to_string(capacity));
+  return guarded(fn, [&] {
+    if (par2d::Status s = r->renderer.light(par2d::LightHandle{light}, &r->light); !s.ok()) return to_c(fn, s);
+    const std::vector<par2d::CookieKnot>* knots = r->light.cookie ? &r->light.cookie->knots : nullptr;
+    *count = knots ? knots->size() : 0;
+    if (rotation != nullptr) *rotation = r->light.cookie ? r->light.cookie->rotation : 0.0;
+    for (size_t k = 0; knots && k < knots->size() && k < capacity; ++k) {
+      directions[k] = (*knots)[k].direction;
+      weights[k] = (*knots)[k].weight;
+    }
+    return PAR2D_OK;
   });
 }
 

@@ -17,6 +17,8 @@
 #include <cmath>
 #include <type_traits>
 
+#include "lighting/cookie_segments.hpp"
+
 namespace par2d::detail {
 
 inline constexpr double kProfilePi = 3.14159265358979323846;
@@ -103,6 +105,10 @@ struct AngularProfile {
   // Shading: s(u) = max(0, amplitude * cos(u - lobe_center) + offset), positive on
   // |u - lobe_center| < lobe_half (lobe_half in [0, pi]).
   T lobe_center{}, lobe_half{}, amplitude{}, offset{};
+  // A cookie instead of the cone (never both): its segments, shared by every lane, placed in
+  // the frame by `cookie_origin` (the frame's start in ray directions).
+  const CookieSegments* cookie = nullptr;
+  T cookie_origin{};
 };
 
 // The slope 1 / fade of a cone's ramps, as the number type holds them; 0 (a hard edge) for a
@@ -137,6 +143,13 @@ void set_profile_cone(AngularProfile<T>& p, const T& origin, double center, doub
   p.half = profile_constant<T>(edge);
   p.plateau = profile_constant<T>(slope > 0.0 ? half - fade : edge);
   p.inv_fade = profile_constant<T>(slope);
+}
+
+// A cookie in the frame starting at `origin`.
+template <class T>
+void set_profile_cookie(AngularProfile<T>& p, const T& origin, const CookieSegments* cookie) noexcept {
+  p.cookie = cookie;
+  p.cookie_origin = origin;
 }
 
 // Shading by the unit surface normal (nx, ny, nz) for light from elevation angle alpha
@@ -201,12 +214,75 @@ T linear_times_lobe(const AngularProfile<T>& p, const T& value_lo, const T& slop
   return value_lo * base + slope * ramp;
 }
 
+// A cookie segment in the number type: where it starts in the frame (in [0, 2 pi)), its width
+// and its slope. A segment narrower than float resolves (profile_ramp_slope) keeps its start
+// weight over its width: off by at most width * |rise|, below 2^-20 rad of 2 pi.
+template <class T>
+struct CookiePiece {
+  T start, width, value, slope, low, high;  // low/high: the weights at its two ends, ordered
+};
+template <class T>
+CookiePiece<T> cookie_piece(const AngularProfile<T>& p, int k) noexcept {
+  const CookieSegments& c = *p.cookie;
+  CookiePiece<T> piece;
+  piece.start = profile_wrap(profile_constant<T>(c.start[k]) - p.cookie_origin);
+  piece.width = profile_constant<T>(c.width[k]);
+  piece.value = profile_constant<T>(c.value[k]);
+  const double ramp = profile_ramp_slope<T>(c.width[k], c.width[k]);
+  piece.slope = profile_constant<T>(c.rise[k] * ramp);
+  piece.low = profile_constant<T>(std::min(c.value[k], c.value[k] + c.rise[k]));
+  piece.high = profile_constant<T>(std::max(c.value[k], c.value[k] + c.rise[k]));
+  return piece;
+}
+
+// The cookie's antiderivative (no shading): each segment's integral from its start to u,
+// for the two copies that can meet [0, 2 pi] (a segment starts in [0, 2 pi) and is at most
+// 2 pi wide). Each term is relative to its own segment's start, so float keeps its precision.
+template <class T>
+T cookie_cumulative(const AngularProfile<T>& p, const T& u) noexcept {
+  T sum(0.0);
+  for (int k = 0; k < p.cookie->count; ++k) {
+    const CookiePiece<T> piece = cookie_piece(p, k);
+    for (int copy = -1; copy <= 0; ++copy) {
+      const T t = profile_clamp(u - piece.start - profile_constant<T>(copy * kProfileTwoPi), T(0.0), piece.width);
+      sum = sum + t * (piece.value + T(0.5) * piece.slope * t);
+    }
+  }
+  return sum;
+}
+
+// The cookie times the lobe: every segment copy against every lobe copy that can overlap,
+// integrated from -infinity (a constant that differences cancel) to u, as for the cone.
+template <class T>
+T cookie_lobe_cumulative(const AngularProfile<T>& p, const T& u) noexcept {
+  T sum(0.0);
+  for (int k = 0; k < p.cookie->count; ++k) {
+    const CookiePiece<T> piece = cookie_piece(p, k);
+    for (int copy = -1; copy <= 0; ++copy) {
+      const T start = piece.start + profile_constant<T>(copy * kProfileTwoPi);
+      const T end = start + piece.width;
+      for (int j = -1; j <= 1; ++j) {
+        const T lobe = p.lobe_center + profile_constant<T>(j * kProfileTwoPi);
+        const T lo = profile_max(start, lobe - p.lobe_half);
+        const T hi = profile_min(end, profile_min(lobe + p.lobe_half, u));
+        const auto some = hi > lo;
+        const T value_lo = profile_clamp(piece.value + piece.slope * (lo - start), piece.low, piece.high);
+        const T part = linear_times_lobe(p, value_lo, piece.slope, profile_select(some, lo, lobe) - lobe,
+                                         profile_select(some, hi, lobe) - lobe);
+        sum = sum + profile_select(some, part, T(0.0));
+      }
+    }
+  }
+  return sum;
+}
+
 }  // namespace profile_detail
 
 // An antiderivative of c(u) * s(u) (each 1 when absent) on u in [0, 2 pi].
 template <class T>
 T profile_cumulative(const AngularProfile<T>& p, const T& u) noexcept {
   using namespace profile_detail;
+  if (p.cookie) return p.shading ? cookie_lobe_cumulative(p, u) : cookie_cumulative(p, u);
   if (!p.cone && !p.shading) return u;
   // Copies of the profile at -2pi, 0, +2pi: the ones that can meet [0, 2 pi] (each piece's
   // support is at most 2 pi wide and centered in [0, 2 pi)).

@@ -236,6 +236,26 @@ double scene_scale(const Scene& scene) {
   return std::ldexp(1.0, std::min({10 - view_exponent, 500 - coordinate_exponent, 1000}));
 }
 
+// The cookie's weight for light emitted in world direction `psi` (degrees), straight from
+// the knots: the offset past the first knot in [0, 360), the segment holding it by a walk,
+// linear between its knots (the last runs on to the first plus 360).
+double cookie_weight(const Cookie& cookie, double psi) {
+  const std::vector<CookieKnot>& k = cookie.knots;
+  const double first = k[0].direction;
+  double offset = std::fmod(std::fmod(psi - cookie.rotation, 360.0) - std::fmod(first, 360.0), 360.0);
+  if (offset < 0.0) offset += 360.0;
+  for (std::size_t i = 0; i < k.size(); ++i) {
+    const double a = k[i].direction - first;
+    const double b = i + 1 < k.size() ? k[i + 1].direction - first : 360.0;
+    if (offset < b || i + 1 == k.size()) {
+      const double w1 = k[(i + 1) % k.size()].weight;
+      const double f = std::clamp((offset - a) / (b - a), 0.0, 1.0);
+      return k[i].weight + f * (w1 - k[i].weight);
+    }
+  }
+  return k[0].weight;
+}
+
 }  // namespace
 
 RaycastRenderer::RaycastRenderer(const Scene& validated_scene) : scale_(scene_scale(validated_scene)) {
@@ -263,9 +283,10 @@ RaycastRenderer::RaycastRenderer(const Scene& validated_scene) : scale_(scene_sc
       m.cone_half = l.cone->half_angle * kRadians;
       m.cone_fade = l.cone->fade * kRadians;
     }
+    m.cookie = l.cookie;
     m.mask = l.mask;
     m.elevation = l.elevation * kRadians;
-    model_ = model_ || l.range || l.cone || l.mask != kAllMaskBits;
+    model_ = model_ || l.range || l.cone || l.cookie || l.mask != kAllMaskBits;
     light_terms_.push_back(m);
   }
   for (const auto& o : scene.occluders) {
@@ -539,6 +560,7 @@ Rgb RaycastRenderer::lights_along_rays(Vec2 x, double start, double span, int ra
         else
           c = (m.cone_half - delta) / m.cone_fade;
       }
+      if (m.cookie) c = cookie_weight(*m.cookie, (theta + 0.5 * kTwoPi) * (360.0 / kTwoPi));
       const double weight = window[l] * c * shade(theta, d, m.elevation);
       if (!(weight > 0.0)) continue;
       Rgb v{1.0, 1.0, 1.0};

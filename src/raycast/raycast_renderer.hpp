@@ -82,6 +82,7 @@ class RaycastRenderer {
     double falloff = 2.0;
     bool cone = false;
     double cone_direction = 0.0, cone_half = 0.0, cone_fade = 0.0;  // world emission directions
+    std::optional<Cookie> cookie;  // as in the scene (degrees)
     std::uint32_t mask = 0xFFFFFFFFu;
     double elevation = 0.0;
   };

@@ -47,6 +47,7 @@ void finish_light_terms(const LightTerms& light, bool ranged, double scale, Kern
   terms.cone_center = light.cone_center;
   terms.cone_half = light.cone_half;
   terms.cone_fade = light.cone_fade;
+  terms.cookie = light.cookie.count > 0 ? &light.cookie : nullptr;
   terms.sin_elevation = light.sin_elevation;
   terms.cos_elevation = light.cos_elevation;
 }

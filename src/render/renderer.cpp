@@ -40,6 +40,9 @@ struct Renderer::Impl {
   detail::World world;
   detail::FrameEngine engine;
   FrameStats frame_stats;  // the last successful render's
+  // Shapes placed by a Transform before they go to the world (kept: their storage is reused).
+  Light placed_light;
+  Occluder placed_occluder;
 };
 
 namespace {
@@ -105,6 +108,43 @@ Status Renderer::add_occluder(const Occluder& occluder, OccluderHandle* handle) 
 }
 Status Renderer::update_occluder(OccluderHandle handle, const Occluder& occluder) {
   return guarded("update_occluder", [&] { return impl_->world.update_occluder(handle, occluder); });
+}
+namespace {
+
+// `item` with its shape placed by `transform` into `placed`; a refused transform names `who`.
+template <class Item>
+Status place(const Item& item, const Transform& transform, Item& placed, const std::string& who) {
+  placed = item;  // copy-assignment keeps the polygon storage `placed` already has
+  Status s = transform_shape(item.shape, transform, placed.shape);
+  return s.ok() ? s : Status(s.code(), who + ": " + s.message());
+}
+
+}  // namespace
+
+Status Renderer::add_light(const Light& light, const Transform& transform, LightHandle* handle) {
+  return guarded("add_light", [&] {
+    if (Status s = place(light, transform, impl_->placed_light, "add_light"); !s.ok()) return s;
+    return impl_->world.add_light(impl_->placed_light, handle);
+  });
+}
+Status Renderer::update_light(LightHandle handle, const Light& light, const Transform& transform) {
+  return guarded("update_light", [&] {
+    if (Status s = place(light, transform, impl_->placed_light, "light " + std::to_string(handle.id)); !s.ok()) return s;
+    return impl_->world.update_light(handle, impl_->placed_light);
+  });
+}
+Status Renderer::add_occluder(const Occluder& occluder, const Transform& transform, OccluderHandle* handle) {
+  return guarded("add_occluder", [&] {
+    if (Status s = place(occluder, transform, impl_->placed_occluder, "add_occluder"); !s.ok()) return s;
+    return impl_->world.add_occluder(impl_->placed_occluder, handle);
+  });
+}
+Status Renderer::update_occluder(OccluderHandle handle, const Occluder& occluder, const Transform& transform) {
+  return guarded("update_occluder", [&] {
+    if (Status s = place(occluder, transform, impl_->placed_occluder, "occluder " + std::to_string(handle.id)); !s.ok())
+      return s;
+    return impl_->world.update_occluder(handle, impl_->placed_occluder);
+  });
 }
 Status Renderer::remove_occluder(OccluderHandle handle) {
   return guarded("remove_occluder", [&] { return impl_->world.remove_occluder(handle); });

@@ -246,6 +246,7 @@ Rgb model_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, Sca
     }
     profile = AngularProfile<double>{};
     if (terms.has_cone) set_profile_cone(profile, arc.start, terms.cone_center, terms.cone_half, terms.cone_fade);
+    if (terms.cookie.count > 0) set_profile_cookie(profile, arc.start, &terms.cookie);
     if (normal) set_shading(profile, arc.start, *normal, terms.sin_elevation, terms.cos_elevation);
     // The integrand is >= 0; differences of its antiderivative over a tiny arc may round below.
     const Rgb seen = covered_integral(scene, profile, arc.width, scratch);

@@ -14,6 +14,11 @@
 
 namespace par2d::detail {
 
+namespace {
+constexpr const char* kCookieExpected = "expected {\"rotation\": r, \"knots\": [[direction, weight], ...]}";
+constexpr const char* kKnotsExpected = "expected an array of [direction, weight] knots";
+}  // namespace
+
 void SceneBuilder::fail(std::string place, std::string what) {
   if (failed_) return;
   failed_ = true;
@@ -30,6 +35,8 @@ void SceneBuilder::check_key(const Frame& frame) {
                   "normal, normal_map, bounce)");
   } else if (frame.role == Role::bounce) {
     if (k != "piece") fail(place, "unknown key (expected piece)");
+  } else if (frame.role == Role::cookie) {
+    if (k != "rotation" && k != "knots") fail(place, "unknown key (expected rotation, knots)");
   } else if (frame.role == Role::cone) {
     if (k != "direction" && k != "half_angle" && k != "fade")
       fail(place, "unknown key (expected direction, half_angle, fade)");
@@ -39,14 +46,15 @@ void SceneBuilder::check_key(const Frame& frame) {
   } else if (frame.role == Role::element) {
     const bool shape = k == "polygon" || k == "circle" || k == "segment";
     const bool light_term = k == "color" || k == "intensity" || k == "range" || k == "falloff" ||
-                            k == "normalize" || k == "cone" || k == "mask" || k == "elevation";
+                            k == "normalize" || k == "cone" || k == "cookie" || k == "mask" ||
+                            k == "elevation";
     const bool occluder_term = k == "transmittance" || k == "mask" || k == "interior" || k == "albedo";
     if (!element_.light && (k == "color" || k == "intensity")) {
       fail(place, "occluders take no color or intensity");
     } else if (!shape && !(element_.light ? light_term : occluder_term)) {
       fail(place, element_.light
                       ? "unknown key (expected polygon, circle, segment, color, intensity, range, falloff, "
-                        "normalize, cone, mask, elevation)"
+                        "normalize, cone, cookie, mask, elevation)"
                       : "unknown key (expected polygon, circle, segment, transmittance, mask, interior, albedo)");
     } else if (shape && element_.shape != nullptr) {
       // Named in a fixed order, whatever the order in the file.
@@ -124,6 +132,16 @@ bool SceneBuilder::scalar(const Scalar& v) {
           element_.cone.fade = v.number;
         }
         break;
+      case Role::cookie:
+        if (frame.key == "knots") fail(place, kKnotsExpected);
+        else if (!v.is_number()) fail(place, "expected a number");
+        else element_.cookie.rotation = v.number;
+        break;
+      case Role::knots: fail(place, "expected [direction, weight]"); break;
+      case Role::knot:
+        if (!v.is_number() || frame.count >= 2) fail(frame.place, "expected [direction, weight]");
+        else point_[frame.count] = v.number;
+        break;
       case Role::bounce:
         if (!v.is_number()) fail(place, "expected a number");
         else scene_.bounce.piece = v.number;
@@ -159,6 +177,8 @@ void SceneBuilder::element_scalar(const Frame& frame, const Scalar& v, const std
     fail(place, "expected [a0, a1]");
   } else if (k == "cone") {
     fail(place, "expected {\"direction\": d, \"half_angle\": h, \"fade\": f}");
+  } else if (k == "cookie") {
+    fail(place, kCookieExpected);
   } else if (k == "polygon") {
     fail(place, "expected an array of [x, y] vertices");
   } else if (k == "circle") {
@@ -230,6 +250,12 @@ SceneBuilder::Role SceneBuilder::container_role(bool object, const std::string& 
         element_.cone = Cone{};
         return Role::cone;
       }
+      if (k == "cookie") {
+        if (!object) return refuse(place, kCookieExpected);
+        element_.cookie = Cookie{};
+        element_.has_knots = false;
+        return Role::cookie;
+      }
       if (k == "interior") return refuse(place, "expected \"dark\" or \"lit\"");
       if (k == "mask") return refuse(place, "expected an integer");
       return refuse(place, "expected a number");  // intensity, range, falloff, normalize, elevation
@@ -242,6 +268,13 @@ SceneBuilder::Role SceneBuilder::container_role(bool object, const std::string& 
       return refuse(place, "expected a number");  // radius
     case Role::point: return refuse(frame.place, "expected [x, y]");
     case Role::numbers: return refuse(frame.place, frame.numbers.expected);
+    case Role::cookie:
+      if (k != "knots") return refuse(place, "expected a number");
+      if (object) return refuse(place, kKnotsExpected);
+      element_.has_knots = true;
+      return Role::knots;
+    case Role::knots: return object ? refuse(place, "expected [direction, weight]") : Role::knot;
+    case Role::knot: return refuse(frame.place, "expected [direction, weight]");
     case Role::cone:
     case Role::bounce: return refuse(place, "expected a number");
     case Role::skip: return Role::skip;
@@ -285,6 +318,18 @@ void SceneBuilder::finish(const Frame& frame) {
     case Role::numbers:
       if (frame.count != frame.numbers.length) return fail(frame.place, frame.numbers.expected);
       return;
+    case Role::knot:
+      if (frame.count != 2) return fail(frame.place, "expected [direction, weight]");
+      // More than the limit is refused when the light is validated; stop storing well past it.
+      if (element_.cookie.knots.size() <= static_cast<std::size_t>(kMaxCookieKnots))
+        element_.cookie.knots.push_back(CookieKnot{point_[0], point_[1]});
+      else
+        element_.cookie.knots.back() = CookieKnot{point_[0], point_[1]};
+      return;
+    case Role::cookie:
+      if (!element_.has_knots) return fail(member_place(frame.place, "knots"), "missing (required)");
+      element_.value.cookie = element_.cookie;
+      return;
     case Role::cone:
       if (!element_.has_direction) return fail(member_place(frame.place, "direction"), "missing (required)");
       if (!element_.has_half_angle) return fail(member_place(frame.place, "half_angle"), "missing (required)");
@@ -302,6 +347,7 @@ void SceneBuilder::finish(const Frame& frame) {
       }
       return;
     case Role::polygon:
+    case Role::knots:
     case Role::bounce:
     case Role::skip: return;
   }

@@ -237,6 +237,37 @@ MaybeProblem check_shape(const Shape& shape, const std::string& place) {
   return SceneProblem{place, "has no shape"};  // valueless_by_exception
 }
 
+// Knots strictly increasing within less than a turn, weights in [0, 1] (so no direction
+// emits more than the light's emission: the accuracy bound's e_max stays intensity * color).
+MaybeProblem check_cookie(const Cookie& cookie, const std::string& place) {
+  if (!std::isfinite(cookie.rotation)) return check_finite(cookie.rotation, place + ".rotation");
+  const std::size_t count = cookie.knots.size();
+  if (count < 1 || count > static_cast<std::size_t>(kMaxCookieKnots)) {
+    return SceneProblem{place + ".knots", "must hold 1 to " + std::to_string(kMaxCookieKnots) + " knots, got " +
+                                              std::to_string(count)};
+  }
+  for (std::size_t k = 0; k < count; ++k) {
+    const CookieKnot& knot = cookie.knots[k];
+    if (!std::isfinite(knot.direction)) return check_finite(knot.direction, indexed(place + ".knots", k) + "[0]");
+    if (!(knot.weight >= 0.0 && knot.weight <= 1.0)) {
+      const std::string at = indexed(place + ".knots", k) + "[1]";
+      if (auto problem = check_finite(knot.weight, at)) return problem;
+      return SceneProblem{at, "weight must be between 0 and 1, got " + format_number(knot.weight)};
+    }
+    if (k > 0 && !(knot.direction > cookie.knots[k - 1].direction)) {
+      return SceneProblem{indexed(place + ".knots", k) + "[0]",
+                          "directions must increase, got " + format_number(knot.direction) + " after " +
+                              format_number(cookie.knots[k - 1].direction)};
+    }
+  }
+  if (!(cookie.knots.back().direction - cookie.knots.front().direction < 360.0)) {
+    return SceneProblem{indexed(place + ".knots", count - 1) + "[0]",
+                        "must be less than 360 degrees past the first knot's direction, got " +
+                            format_number(cookie.knots.back().direction)};
+  }
+  return std::nullopt;
+}
+
 MaybeProblem check_light(const Light& light, const std::string& place) {
   if (auto problem = check_shape(light.shape, place)) return problem;
   for (std::size_t c = 0; c < light.color.size(); ++c) {
@@ -267,6 +298,10 @@ MaybeProblem check_light(const Light& light, const std::string& place) {
       if (auto problem = check_finite(cone.fade, place + ".cone.fade")) return problem;
       return SceneProblem{place + ".cone.fade", "must be between 0 and half_angle, got " + format_number(cone.fade)};
     }
+  }
+  if (light.cookie) {
+    if (auto problem = check_cookie(*light.cookie, place + ".cookie")) return problem;
+    if (light.cone) return SceneProblem{place + ".cookie", "a light takes a cone or a cookie, not both"};
   }
   if (light.elevation >= 0.0 && light.elevation <= 90.0) return std::nullopt;
   return check_elevation(light.elevation, place + ".elevation");

@@ -105,6 +105,19 @@ void put_light_terms(std::string& out, const Light& light) {
     put_number(out, light.cone->fade);
     out += " }";
   }
+  if (light.cookie) {
+    out += ", \"cookie\": { \"rotation\": ";
+    put_number(out, light.cookie->rotation);
+    out += ", \"knots\": [";
+    for (std::size_t k = 0; k < light.cookie->knots.size(); ++k) {
+      out += k == 0 ? "[" : ", [";
+      put_number(out, light.cookie->knots[k].direction);
+      out += ", ";
+      put_number(out, light.cookie->knots[k].weight);
+      out += "]";
+    }
+    out += "] }";
+  }
   put_mask(out, light.mask);
   put_elevation(out, light.elevation);
 }

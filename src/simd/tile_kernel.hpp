@@ -849,8 +849,8 @@ struct KernelProfile {
       const B t = xsimd::min(xsimd::max(v0, -p.lobe_half), p.lobe_half);
       return xsimd::fma(turns, total, xsimd::fma(p.amplitude, lobe_sin<A>(t), p.offset * t));
     }
+    if (p.cookie || (p.cone && p.shading)) return detail::profile_cumulative(p, u);
     if (!p.cone && !p.shading) return u;
-    if (p.cone && p.shading) return detail::profile_cumulative(p, u);
     const B v = u - (p.shading ? p.lobe_center : p.cone_center);
     const B turns = xsimd::floor((v + B(3.14159265358979f)) * B(kInvTwoPiF));
     const B v0 = xsimd::fnma(turns, B(kTwoPiF), v);
@@ -860,7 +860,7 @@ struct KernelProfile {
     }
     return xsimd::fma(turns, total, detail::profile_detail::trapezoid_cumulative(p, v0));
   }
-  bool flat() const noexcept { return !p.cone && !p.shading; }
+  bool flat() const noexcept { return !p.cone && !p.shading && !p.cookie; }
 };
 
 // One step of the gap sweep over intervals sorted by lo: the gap [reach, max(lo, reach)]
@@ -944,7 +944,7 @@ template <class A>
 inline xsimd::batch<float, A> profiled_gaps(const KernelProfile<A>& profile, float* lo, float* hi, std::size_t count,
                                             const xsimd::batch<float, A>& width,
                                             const xsimd::batch<float, A>& reach0) noexcept {
-  if (profile.p.shading && !profile.p.cone)
+  if (profile.p.shading && !profile.p.cone && !profile.p.cookie)
     return profiled_gaps_of_kind<A, kProfileLobe>(profile, lo, hi, count, width, reach0);
   return profiled_gaps_of_kind<A, kProfileAny>(profile, lo, hi, count, width, reach0);
 }
@@ -1112,7 +1112,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
                                     [&](const B& base) { return xsimd::pow(base, B(terms.falloff)); });
       if (!xsimd::any(window > B(0.0f))) continue;
     }
-    if (!kShaded && !terms.cone && pair_count == 0 && !terms.directional) {
+    if (!kShaded && !terms.weighted() && pair_count == 0 && !terms.directional) {
       // Nothing in front anywhere in the tile and a flat profile: the width alone.
       const Arc<A> arc = shape_arc<A, false>(work, light.shape, px, py);
       const B visible = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
@@ -1120,7 +1120,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
       continue;
     }
     if constexpr (kShaded) {
-      if (!terms.cone && pair_count == 0 && !terms.directional && !light.shape.clipped) {
+      if (!terms.weighted() && pair_count == 0 && !terms.directional && !light.shape.clipped) {
         const B c_term = B(static_cast<float>(terms.sin_elevation)) * normal_z;
         const B cos_el(static_cast<float>(terms.cos_elevation));
         if (xsimd::all(c_term >= cos_el * normal_xy)) {
@@ -1235,7 +1235,10 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
     }
     if (hidden) continue;
     profile.p.cone = terms.cone;
-    if (terms.cone) {
+    profile.p.cookie = nullptr;
+    if (terms.cookie) {
+      detail::set_profile_cookie(profile.p, arc.start, terms.cookie);
+    } else if (terms.cone) {
       detail::set_profile_cone(profile.p, arc.start, terms.cone_center, terms.cone_half, terms.cone_fade);
       profile.total = profile.p.half + profile.p.plateau;
     }
@@ -1270,14 +1273,14 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
     B visible;
     const B reach = xsimd::max(reach0, B(0.0f));
     if (!profile.flat()) {
-      if (kShaded && !terms.cone && n == 1) {
+      if (kShaded && !terms.weighted() && n == 1) {
         // The commonest shaded cases inline: a call spills every live register of the kernel.
         visible = profiled_gaps_in_registers<A, kProfileLobe, 1>(profile, lo, hi, n, width, reach);
-      } else if (kShaded && !terms.cone && n == 2) {
+      } else if (kShaded && !terms.weighted() && n == 2) {
         visible = profiled_gaps_in_registers<A, kProfileLobe, 2>(profile, lo, hi, n, width, reach);
       } else if (n > 0) {
         visible = profiled_gaps<A>(profile, lo, hi, n, width, reach);
-      } else if (kShaded && !terms.cone) {
+      } else if (kShaded && !terms.weighted()) {
         visible = profile.template cumulative<kProfileLobe>(width) - profile.template cumulative<kProfileLobe>(B(0.0f));
       } else {
         visible = profile.cumulative(width) - profile.cumulative(B(0.0f));

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "geometry/convex_shape.hpp"
+#include "lighting/cookie_segments.hpp"
 
 namespace par2d::detail {
 
@@ -114,6 +115,11 @@ struct KernelLightTerms {
   float falloff = 2;  // the window's exponent
   bool cone = false;
   double cone_center = 0, cone_half = 0, cone_fade = 0;
+  // The light's cookie (the prepared scene's; it outlives the tile work), or null.
+  const detail::CookieSegments* cookie = nullptr;
+  // Some direction weighs less than another (a cone or a cookie): the shortcuts for a flat
+  // profile do not apply.
+  bool weighted() const noexcept { return cone || cookie != nullptr; }
   double sin_elevation = 0, cos_elevation = 1;
   bool translucent = false;  // some pair's occluder lets light through (per-piece products needed)
 };

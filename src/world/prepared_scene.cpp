@@ -160,6 +160,26 @@ LightTerms light_terms(const Light& light, double scale) noexcept {
     t.cone_half = light.cone->half_angle * kRadiansPerDegree;
     t.cone_fade = light.cone->fade * kRadiansPerDegree;
   }
+  if (light.cookie) {
+    static_assert(kMaxCookieSegments == kMaxCookieKnots, "one segment per knot");
+    const std::vector<CookieKnot>& knots = light.cookie->knots;
+    const int count = static_cast<int>(std::min<std::size_t>(knots.size(), kMaxCookieSegments));
+    // Emitted along psi, the light arrives along psi + pi; each term wrapped on its own so a
+    // huge rotation or first direction cannot overflow, the knots placed by their (small)
+    // offsets from the first.
+    const double first = wrap_angle(wrap_angle(knots[0].direction * kRadiansPerDegree) +
+                                    wrap_angle(light.cookie->rotation * kRadiansPerDegree) + kPi);
+    t.cookie.count = count;
+    for (int k = 0; k < count; ++k) {
+      const CookieKnot& knot = knots[static_cast<std::size_t>(k)];
+      const double offset = knot.direction - knots[0].direction;
+      const double next = k + 1 < count ? knots[static_cast<std::size_t>(k) + 1].direction - knots[0].direction : 360.0;
+      t.cookie.start[k] = wrap_angle(first + offset * kRadiansPerDegree);
+      t.cookie.width[k] = (next - offset) * kRadiansPerDegree;
+      t.cookie.value[k] = knot.weight;
+      t.cookie.rise[k] = knots[static_cast<std::size_t>((k + 1) % count)].weight - knot.weight;
+    }
+  }
   t.mask = light.mask;
   t.sin_elevation = std::sin(light.elevation * kRadiansPerDegree);
   t.cos_elevation = std::cos(light.elevation * kRadiansPerDegree);
@@ -180,7 +200,7 @@ void update_model_flag(PreparedScene& out) noexcept {
   bool model = !out.directionals.empty() || out.normal_source != NormalSource::none ||
                out.ambient[0] != 0.0 || out.ambient[1] != 0.0 || out.ambient[2] != 0.0;
   for (const PreparedLight& l : out.lights)
-    model = model || l.terms.has_range() || l.terms.has_cone || l.terms.mask != kAllMaskBits;
+    model = model || l.terms.has_range() || l.terms.has_cone || l.terms.cookie.count > 0 || l.terms.mask != kAllMaskBits;
   for (const OccluderTerms& o : out.occluder_terms) model = model || !o.plain();
   out.model = model;
   bool bounce = false;

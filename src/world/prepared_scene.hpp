@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "geometry/convex_shape.hpp"
+#include "lighting/cookie_segments.hpp"
 #include "world/occluder_bvh.hpp"
 #include "world/world_normals.hpp"
 #include "par2d/scene.hpp"
@@ -25,6 +26,8 @@ struct LightTerms {
   // along theta + pi): full weight within `cone_half - cone_fade` of `cone_center`, zero
   // beyond `cone_half`. Radians; cone_center in [0, 2 pi).
   double cone_center = 0.0, cone_half = kPi, cone_fade = 0.0;
+  // The cookie's segments in ray directions (count 0: none; a light has a cone or a cookie).
+  CookieSegments cookie;
   std::uint32_t mask = kAllMaskBits;
   double sin_elevation = 0.0, cos_elevation = 1.0;
 

@@ -348,6 +348,7 @@ static void check_errors_name_the_call(par2d_renderer* r) {
   terms.elevation = 95.0;
   CHECK_ERROR_PREFIX(par2d_set_light_terms(r, light, &terms), PAR2D_INVALID_SCENE, "par2d_set_light_terms: ");
   CHECK_ERROR_PREFIX(par2d_get_light_terms(r, light + 777, &terms), PAR2D_INVALID_ARGUMENT, "par2d_get_light_terms: ");
+
   par2d_occluder_terms occluder_terms;
   CHECK_ERROR_PREFIX(par2d_get_occluder_terms(r, occluder + 777, &occluder_terms), PAR2D_INVALID_ARGUMENT,
                      "par2d_get_occluder_terms: ");
@@ -659,6 +660,153 @@ static void check_incremental_frames(void) {
   par2d_renderer_destroy(full);
 }
 
+/* Cookies: refusals name the call and the place; a constant cookie of weight 1/4 gives a
+ * quarter of the light; reading one back; a cone as well is refused; count 0 removes it. */
+static void check_cookies(void) {
+  par2d_renderer* r = NULL;
+  CHECK(par2d_renderer_create(NULL, &r) == PAR2D_OK);
+  if (r == NULL) return;
+  CHECK(par2d_set_frame(r, W, H, NULL) == PAR2D_OK);
+  const double white[3] = {1.0, 1.0, 1.0};
+  par2d_shape circle;
+  memset(&circle, 0, sizeof circle);
+  circle.kind = PAR2D_SHAPE_CIRCLE;
+  circle.circle[0] = 20.0;
+  circle.circle[1] = 8.0;
+  circle.circle[2] = 2.0;
+  par2d_light light = 0;
+  CHECK(par2d_add_light(r, &circle, white, 2.0, &light) == PAR2D_OK);
+  const int row[4] = {0, 0, W, 1};
+  const double directions[3] = {0.0, 90.0, 200.0}, weights[3] = {1.0, 0.5, 0.0};
+  const double bad_order[3] = {0.0, 90.0, 90.0}, bad_weight[3] = {1.0, 1.5, 0.0};
+  CHECK_ERROR(par2d_set_light_cookie(r, light, 0.0, NULL, weights, 3), PAR2D_INVALID_ARGUMENT,
+              "par2d_set_light_cookie: directions is null with count 3");
+  CHECK_ERROR(par2d_set_light_cookie(r, light, 0.0, directions, weights, 33), PAR2D_INVALID_ARGUMENT,
+              "par2d_set_light_cookie: count must be at most 32, got 33");
+  CHECK_ERROR_PREFIX(par2d_set_light_cookie(r, light, 0.0, bad_order, weights, 3), PAR2D_INVALID_SCENE,
+                     "par2d_set_light_cookie: ");
+  CHECK(strstr(par2d_last_error(), "cookie.knots[2][0]: directions must increase") != NULL);
+  CHECK_ERROR_PREFIX(par2d_set_light_cookie(r, light, 0.0, directions, bad_weight, 3), PAR2D_INVALID_SCENE,
+                     "par2d_set_light_cookie: ");
+  CHECK(strstr(par2d_last_error(), "cookie.knots[1][1]") != NULL);
+  CHECK_ERROR_PREFIX(par2d_set_light_cookie(r, light + 777, 0.0, directions, weights, 3), PAR2D_INVALID_ARGUMENT,
+                     "par2d_set_light_cookie: ");
+  par2d_light_terms plain_terms;
+  par2d_light_terms_default(&plain_terms);
+  CHECK(par2d_set_light_terms(r, light, &plain_terms) == PAR2D_OK);
+  float full[3 * W], quarter[3 * W];
+  CHECK(par2d_render(r, full, PAR2D_RGB_F32, 3 * W * sizeof(float), 1.0, row) == PAR2D_OK);
+  const double constant = 0.25, at = 45.0;
+  CHECK(par2d_set_light_cookie(r, light, 10.0, &at, &constant, 1) == PAR2D_OK);
+  CHECK(par2d_render(r, quarter, PAR2D_RGB_F32, 3 * W * sizeof(float), 1.0, row) == PAR2D_OK);
+  int same = 1;
+  for (int i = 0; i < 3 * W; ++i) same = same && fabsf(quarter[i] - 0.25f * full[i]) <= 1e-5f * (fabsf(full[i]) + 1e-3f);
+  CHECK(same);
+  CHECK(par2d_set_light_cookie(r, light, -15.0, directions, weights, 3) == PAR2D_OK);
+  double rotation = 0.0, got_directions[2] = {0, 0}, got_weights[2] = {0, 0};
+  size_t knots = 0;
+  CHECK(par2d_get_light_cookie(r, light, &rotation, got_directions, got_weights, 2, &knots) == PAR2D_OK);
+  CHECK(knots == 3 && rotation == -15.0 && got_directions[1] == 90.0 && got_weights[1] == 0.5);
+  /* A cone as well is refused while the cookie stays. */
+  par2d_light_terms coned = plain_terms;
+  coned.has_cone = 1;
+  coned.cone_half_angle = 30.0;
+  CHECK_ERROR_PREFIX(par2d_set_light_terms(r, light, &coned), PAR2D_INVALID_SCENE, "par2d_set_light_terms: ");
+  CHECK(strstr(par2d_last_error(), "a cone or a cookie, not both") != NULL);
+  CHECK(par2d_set_light_cookie(r, light, 0.0, NULL, NULL, 0) == PAR2D_OK);
+  CHECK(par2d_get_light_cookie(r, light, NULL, NULL, NULL, 0, &knots) == PAR2D_OK && knots == 0);
+  CHECK_ERROR(par2d_get_light_cookie(r, light, NULL, NULL, NULL, 0, NULL), PAR2D_INVALID_ARGUMENT,
+              "par2d_get_light_cookie: count is null");
+  par2d_renderer_destroy(r);
+}
+
+/* Sprite transforms: a crate added and moved by its transform renders exactly what the same
+ * crate placed by hand renders; the world holds the placed shape; refusals name the field. */
+static void check_transforms(void) {
+  par2d_renderer* a = NULL;
+  par2d_renderer* b = NULL;
+  CHECK(par2d_renderer_create(NULL, &a) == PAR2D_OK && par2d_renderer_create(NULL, &b) == PAR2D_OK);
+  if (a == NULL || b == NULL) return;
+  CHECK(par2d_set_frame(a, W, H, NULL) == PAR2D_OK && par2d_set_frame(b, W, H, NULL) == PAR2D_OK);
+  const double white[3] = {1.0, 0.9, 0.8};
+  par2d_shape lamp;
+  memset(&lamp, 0, sizeof lamp);
+  lamp.kind = PAR2D_SHAPE_CIRCLE;
+  lamp.circle[2] = 1.5;
+  par2d_transform at;
+  par2d_transform_identity(&at);
+  CHECK(at.scale[0] == 1.0 && at.scale[1] == 1.0 && at.rotation == 0.0 && at.position[0] == 0.0);
+  at.position[0] = 12.0;
+  at.position[1] = 10.0;
+  par2d_light la = 0, lb = 0;
+  CHECK(par2d_add_light_transformed(a, &lamp, &at, white, 2.0, &la) == PAR2D_OK);
+  lamp.circle[0] = 12.0;
+  lamp.circle[1] = 10.0;
+  CHECK(par2d_add_light(b, &lamp, white, 2.0, &lb) == PAR2D_OK);
+  /* A 8 x 4 crate centred on its origin, turned a quarter (exact) and moved to (30, 24). */
+  const double local[8] = {-4, -2, 4, -2, 4, 2, -4, 2};
+  const double placed[8] = {32, 20, 32, 28, 28, 28, 28, 20};
+  par2d_shape crate;
+  memset(&crate, 0, sizeof crate);
+  crate.kind = PAR2D_SHAPE_POLYGON;
+  crate.vertices = local;
+  crate.vertex_count = 4;
+  par2d_transform crate_at;
+  par2d_transform_identity(&crate_at);
+  crate_at.position[0] = 30.0;
+  crate_at.position[1] = 24.0;
+  crate_at.rotation = 90.0;
+  par2d_occluder oa = 0, ob = 0;
+  CHECK(par2d_add_occluder_transformed(a, &crate, &crate_at, &oa) == PAR2D_OK);
+  par2d_shape crate_placed = crate;
+  crate_placed.vertices = placed;
+  CHECK(par2d_add_occluder(b, &crate_placed, &ob) == PAR2D_OK);
+  float* fa = malloc(sizeof(float) * 3 * W * H);
+  float* fb = malloc(sizeof(float) * 3 * W * H);
+  CHECK(par2d_render(a, fa, PAR2D_RGB_F32, (ptrdiff_t)sizeof(float) * 3 * W, 1.0, NULL) == PAR2D_OK);
+  CHECK(par2d_render(b, fb, PAR2D_RGB_F32, (ptrdiff_t)sizeof(float) * 3 * W, 1.0, NULL) == PAR2D_OK);
+  CHECK(memcmp(fa, fb, sizeof(float) * 3 * W * H) == 0);
+  /* Moved by a new transform: a half-size mirrored crate at (20, 30). */
+  crate_at.position[0] = 20.0;
+  crate_at.position[1] = 30.0;
+  crate_at.rotation = 0.0;
+  crate_at.scale[0] = -0.5;
+  crate_at.scale[1] = 0.5;
+  CHECK(par2d_update_occluder_transformed(a, oa, &crate, &crate_at) == PAR2D_OK);
+  const double moved[8] = {22, 29, 18, 29, 18, 31, 22, 31};
+  crate_placed.vertices = moved;
+  CHECK(par2d_update_occluder(b, ob, &crate_placed) == PAR2D_OK);
+  at.position[0] = 40.0;
+  lamp.circle[0] = lamp.circle[1] = 0.0;
+  CHECK(par2d_update_light_transformed(a, la, &lamp, &at, white, 2.0) == PAR2D_OK);
+  lamp.circle[0] = 40.0;
+  lamp.circle[1] = 10.0;
+  CHECK(par2d_update_light(b, lb, &lamp, white, 2.0) == PAR2D_OK);
+  CHECK(par2d_render(a, fa, PAR2D_RGB_F32, (ptrdiff_t)sizeof(float) * 3 * W, 1.0, NULL) == PAR2D_OK);
+  CHECK(par2d_render(b, fb, PAR2D_RGB_F32, (ptrdiff_t)sizeof(float) * 3 * W, 1.0, NULL) == PAR2D_OK);
+  CHECK(memcmp(fa, fb, sizeof(float) * 3 * W * H) == 0);
+  /* Refusals. */
+  crate_at.scale[1] = 0.0;
+  CHECK_ERROR_PREFIX(par2d_update_occluder_transformed(a, oa, &crate, &crate_at), PAR2D_INVALID_SCENE,
+                     "par2d_update_occluder_transformed: occluder ");
+  CHECK(strstr(par2d_last_error(), "transform.scale[1]: must be non-zero, got 0") != NULL);
+  at.scale[1] = 2.0;
+  CHECK_ERROR_PREFIX(par2d_update_light_transformed(a, la, &lamp, &at, white, 2.0), PAR2D_INVALID_SCENE,
+                     "par2d_update_light_transformed: light ");
+  CHECK(strstr(par2d_last_error(), "a circle takes the same scale on both axes, got [1, 2]") != NULL);
+  CHECK_ERROR(par2d_add_occluder_transformed(a, &crate, NULL, &oa), PAR2D_INVALID_ARGUMENT,
+              "par2d_add_occluder_transformed: transform is null");
+  CHECK_ERROR(par2d_add_light_transformed(NULL, &lamp, NULL, white, 1.0, &la), PAR2D_INVALID_ARGUMENT,
+              "par2d_add_light_transformed: renderer is null");
+  /* Nothing changed. */
+  CHECK(par2d_render(a, fa, PAR2D_RGB_F32, (ptrdiff_t)sizeof(float) * 3 * W, 1.0, NULL) == PAR2D_OK);
+  CHECK(memcmp(fa, fb, sizeof(float) * 3 * W * H) == 0);
+  free(fa);
+  free(fb);
+  par2d_renderer_destroy(a);
+  par2d_renderer_destroy(b);
+}
+
 int main(void) {
   int major = -1, minor = -1, patch = -1;
   char expected[32];
@@ -675,6 +823,8 @@ int main(void) {
   CHECK(par2d_renderer_threads(r) >= 1 && par2d_renderer_threads(r) <= 2);
   CHECK(par2d_set_frame(r, W, H, NULL) == PAR2D_OK);
   check_incremental_frames();
+  check_cookies();
+  check_transforms();
 
   /* A circle light of radius 2 at (10, 10) with emission 3 (white), and a box occluder. */
   par2d_shape light_shape;

@@ -141,3 +141,33 @@ def test_normalize_sets_brightness_apart_from_size():
         par2d.render({"width": 4, "height": 4, "lights": [{"circle": {"center": [1, 1], "radius": 1},
                                                            "normalize": 0}]})
     assert "lights[0].normalize: must be > 0, got 0" in str(e.value)
+
+
+def test_cookie_dicts_with_numpy_knots_render_and_read_back():
+    """A cookie from NumPy arrays reads as from lists; a constant one scales the light; refusals are placed."""
+    light = {"circle": {"center": [3, 2], "radius": 0.5}, "intensity": 2}
+    plain = {"width": 8, "height": 6, "lights": [light]}
+    quarter = dict(plain, lights=[dict(light, cookie={"knots": [[30, 0.25]]})])
+    np.testing.assert_allclose(par2d.render(quarter), 0.25 * par2d.render(plain), rtol=1e-5, atol=1e-7)
+    knots = np.array([[-20.0, 1.0], [45.5, 0.25], [200.0, 0.0]])
+    patterned = dict(plain, lights=[dict(light, cookie={"rotation": np.float64(15), "knots": knots})])
+    listed = dict(plain, lights=[dict(light, cookie={"rotation": 15, "knots": knots.tolist()})])
+    np.testing.assert_array_equal(par2d.render(patterned), par2d.render(listed))
+    back = par2d.Scene.from_dict(patterned).to_dict()["lights"][0]["cookie"]
+    assert back == {"rotation": 15, "knots": [[-20, 1], [45.5, 0.25], [200, 0]]}
+    r = par2d.Renderer(plain)
+    h = r.lights[0]
+    r.update_light(h, dict(light, cookie={"rotation": 15, "knots": knots}))
+    assert r.light(h)["cookie"] == back
+    np.testing.assert_array_equal(r.render(), par2d.render(listed))
+    with pytest.raises(par2d.Error) as e:
+        r.update_light(h, dict(light, cookie={"knots": [[0, 1.5]]}))
+    assert str(e.value) == f"light {h}: cookie.knots[0][1]: weight must be between 0 and 1, got 1.5"
+    assert r.light(h)["cookie"] == back
+    with pytest.raises(par2d.Error) as e:
+        par2d.render(dict(plain, lights=[dict(light, cookie={"knots": [[0, 1], [0, 0.5]]})]))
+    assert "lights[0].cookie.knots[1][0]: directions must increase, got 0 after 0" in str(e.value)
+    with pytest.raises(par2d.Error) as e:
+        par2d.render(dict(plain, lights=[dict(light, cookie={"knots": [[0, 1]]},
+                                              cone={"direction": 0, "half_angle": 20})]))
+    assert "lights[0].cookie: a light takes a cone or a cookie, not both" in str(e.value)

@@ -165,6 +165,38 @@ double extreme_scale(PortableRandom& rng) {
 }
 
 // The pass RandomSceneOptions::extreme_values asks for, from its own generator.
+// Cookies, from a generator of their own after the other terms (which stay as they were):
+// on lights without a cone, 1 to 6 knots over a random span, weights 0, 1 or between; with
+// extreme_values, two knots 1 ulp to 1e-4 degrees apart, or a span just under 360.
+void add_cookies(std::uint32_t seed, const RandomSceneOptions& o, Scene& scene) {
+  if (!o.cookies) return;
+  PortableRandom rng(seed ^ 0x27d4eb2fu);
+  for (Light& light : scene.lights) {
+    if (light.cone || !rng.chance(0.4)) continue;
+    Cookie cookie;
+    cookie.rotation = rng.uniform(-720.0, 720.0);
+    const int count = rng.integer(1, 6);
+    const double first = rng.uniform(-360.0, 360.0), span = rng.uniform(10.0, 350.0);
+    for (int k = 0; k < count; ++k) {
+      const int pick = rng.integer(0, 3);
+      const double weight = pick == 0 ? 0.0 : pick == 1 ? 1.0 : rng.uniform();
+      cookie.knots.push_back({first + span * (k + 0.8 * rng.uniform()) / count, weight});
+    }
+    if (o.extreme_values && count >= 2 && rng.chance(0.6)) {
+      constexpr double kTinyAngles[] = {0.0, 1e-300, 1e-40, 1e-20, 1e-9, 1e-6, 1e-4};
+      const int k = rng.integer(0, count - 2);
+      const double d = cookie.knots[static_cast<std::size_t>(k)].direction;
+      const double close = std::max(std::nextafter(d, 1e300), d + kTinyAngles[rng.integer(0, 6)]);
+      const std::size_t next = static_cast<std::size_t>(k) + 1;
+      if (next + 1 == cookie.knots.size() || close < cookie.knots[next + 1].direction) cookie.knots[next].direction = close;
+    } else if (o.extreme_values && count >= 2 && rng.chance(0.5)) {
+      cookie.knots.back().direction = std::nextafter(first + 360.0, -1e300);
+      if (!(cookie.knots.back().direction - first < 360.0)) cookie.knots.back().direction = first + 359.999999;
+    }
+    light.cookie = std::move(cookie);
+  }
+}
+
 void add_extreme_values(std::uint32_t seed, const RandomSceneOptions& o, Scene& scene) {
   if (!o.extreme_values) return;
   PortableRandom rng(seed ^ 0x1b873593u);
@@ -297,12 +329,13 @@ Scene random_scene(std::uint32_t seed, const RandomSceneOptions& o) {
     }
   }
   add_model_terms(seed, o, scene);
+  add_cookies(seed, o, scene);
   add_extreme_values(seed, o, scene);
   return scene;
 }
 
 RandomSceneOptions with_every_model_term(RandomSceneOptions o) {
-  o.ranges = o.falloffs = o.normalizes = o.cones = o.masks = o.translucent = o.lit_interiors = o.ambient = o.elevations = true;
+  o.ranges = o.falloffs = o.normalizes = o.cones = o.cookies = o.masks = o.translucent = o.lit_interiors = o.ambient = o.elevations = true;
   o.directional_lights = 2;
   o.normals = RandomSceneOptions::Normals::map;
   return o;

@@ -74,6 +74,7 @@ struct RandomSceneOptions {
   bool falloffs = false;       // ranged lights: falloff 0 .. 6 (some 0, 1 and 2)
   bool normalizes = false;     // about a third of the lights: normalize at 0.1 .. 2 view sizes
   bool cones = false;          // about half the lights: a cone (some with fade 0, some with half angle 180)
+  bool cookies = false;        // about 40 % of the lights without a cone: a cookie of 1 .. 6 knots
   bool masks = false;          // lights, occluders and directional lights: masks of a few bits, some disjoint
   bool translucent = false;    // about half the occluders: a transmittance in [0, 1] per channel
   bool lit_interiors = false;  // about a third of the occluders: interior "lit"
@@ -90,7 +91,8 @@ struct RandomSceneOptions {
   // boundaries (fade 0, fade = half, half just under 180), elevations 0, 1e-300 and just under
   // 90, directional arcs 1e-9 degrees wide or just under 360, transmittances and ambient at
   // subnormals and just under 1, normals whose components are all scaled by 1e-300, 1e300 or
-  // a subnormal, normal-map normals with float lengths 1e-40 .. 3e38. Default: off.
+  // a subnormal, normal-map normals with float lengths 1e-40 .. 3e38, cookie knots 1 ulp to
+// 1e-4 degrees apart and cookies spanning just under 360 degrees. Default: off.
   bool extreme_values = false;
 };
 

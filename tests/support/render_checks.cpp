@@ -109,6 +109,10 @@ Rgb stratification_bound(const Scene& scene, int rays, bool overlapping, bool sh
   Rgb bound{0, 0, 0};
   for (const Light& l : scene.lights) {
     double variation = 2.0 + 2.0 * static_cast<double>(scene.occluders.size()) + shading + (l.cone ? 2.0 : 0.0);
+    if (l.cookie) {  // its weight's total variation around the circle
+      for (std::size_t k = 0; k < l.cookie->knots.size(); ++k)
+        variation += std::fabs(l.cookie->knots[(k + 1) % l.cookie->knots.size()].weight - l.cookie->knots[k].weight);
+    }
     if (overlapping) {
       for (const Occluder& o : scene.occluders) {
         const bool circles = std::holds_alternative<Circle>(l.shape) && std::holds_alternative<Circle>(o.shape);

@@ -44,8 +44,9 @@ Rgb emission(const Light& light);
 int boundary_complexity(const Shape& shape);
 // Per-channel bound on |E_par - E_ray| at any pixel for `rays` stratified directions (a jump
 // of the integrand is misplaced by at most one stratum): 2 per light's arc end and per
-// occluder, crossings of overlapping boundaries, 2 more for a cone's profile and for shading,
-// directional lights in proportion to their arc; plus section 5's 1e-6 e_max.
+// occluder, crossings of overlapping boundaries, 2 more for a cone's profile and for shading, a
+// cookie's total variation, directional lights in proportion to their arc; plus section 5's
+// 1e-6 e_max.
 Rgb stratification_bound(const Scene& scene, int rays, bool overlapping, bool shaded = false);
 
 }  // namespace par2d::test

@@ -1,0 +1,21 @@
+// A light's cookie (docs/contract.md section 6) in the form the renderers integrate: the
+// periodic piecewise-linear weight over ray directions, one linear segment per knot. Kept
+// apart from the profile's closed forms (angular_profile.hpp) so the prepared scene holds it
+// without the SIMD headers.
+#pragma once
+
+namespace par2d::detail {
+
+// Segment k starts at ray direction `start[k]` (radians, [0, 2 pi)) with weight `value[k]`
+// and runs `width[k]` radians (> 0; the widths sum to 2 pi) to weight value[k] + rise[k]
+// (the next knot's). A fixed array: a light's terms are copied without allocating.
+inline constexpr int kMaxCookieSegments = 32;
+struct CookieSegments {
+  int count = 0;  // 0: no cookie
+  double start[kMaxCookieSegments] = {};
+  double width[kMaxCookieSegments] = {};
+  double value[kMaxCookieSegments] = {};
+  double rise[kMaxCookieSegments] = {};
+};
+
+}  // namespace par2d::detail
