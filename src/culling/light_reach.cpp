@@ -99,6 +99,15 @@ bool LightReach::hides(const Aabb& box) const noexcept {
   return true;
 }
 
+void LightReachScratch::reserve_for(std::size_t occluders, std::size_t max_vertices) {
+  // A chord's two ends and the light's vertices (a circle's box corners), and their hull.
+  const std::size_t points = 2 + std::max<std::size_t>(4, max_vertices);
+  hull_points.reserve(points);
+  hull.reserve(2 * points + 1);
+  candidates.reserve(occluders);  // the index reports each occluder at most once
+  proof.reserve_for(occluders, max_vertices, kStripBudget);
+}
+
 LightReach compute_light_reach(const PreparedScene& scene, std::size_t light_index, LightReachScratch& scratch) {
   const ConvexShape& light = scene.lights[light_index].shape;
   LightReach reach;

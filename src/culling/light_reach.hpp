@@ -34,6 +34,9 @@ struct LightReachScratch {
   std::vector<Vec2> hull_points, hull;
   std::vector<std::uint32_t> candidates;
   OcclusionProofScratch proof;
+  // Room for any light of a scene of `occluders` occluders, lights and occluders of at most
+  // `max_vertices` vertices.
+  void reserve_for(std::size_t occluders, std::size_t max_vertices);
   // After compute_light_reach: a box holding every region whose occluders the proofs
   // looked at (empty when none). Occluders changing outside it cannot change the reach.
   Aabb depends_on{};

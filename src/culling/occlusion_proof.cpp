@@ -327,6 +327,42 @@ bool segments_blocked(const Vec2* viewer, int viewer_count, Vec2 axis, const Con
   return true;
 }
 
+void OcclusionProofScratch::reserve_for(std::size_t occluders, std::size_t max_vertices, int strip_budget) {
+  // Light points: a polygon's vertices (a visible part has one more than its light) or the
+  // 8-gon standing in for a circle (a clipped one: 9).
+  const std::size_t light = std::max<std::size_t>(max_vertices, kLightCircleSides) + 1;
+  light_u.reserve(light);
+  light_v.reserve(light);
+  light_gain.reserve(light);
+  light_offset.reserve(light);
+  light_on_side.reserve(light);
+  viewer_gain.reserve(4);  // a rectangle's corners or a chord's two ends
+  viewer_offset.reserve(4);
+  // An occluder's points (a 12-gon for a circle) clipped by two lines: a convex polygon
+  // gains at most one point per clip.
+  const std::size_t points = std::max<std::size_t>(max_vertices, kOccluderCircleSides);
+  clip_u.reserve(points + 2);
+  clip_v.reserve(points + 2);
+  half_u.reserve(points + 1);
+  half_v.reserve(points + 1);
+  // The ids name distinct occluders: one run of points and one interval per occluder.
+  blocker_a.reserve(occluders * (points + 2));
+  blocker_c.reserve(occluders * (points + 2));
+  blocker_first.reserve(occluders + 1);
+  intervals.reserve(occluders);
+  // Each strip taken (at most strip_budget) queues two halves after the first.
+  strips.reserve(1 + 2 * static_cast<std::size_t>(std::max(strip_budget, 0)));
+}
+
+std::size_t OcclusionProofScratch::reserved_bytes() const noexcept {
+  const std::size_t doubles = light_u.capacity() + light_v.capacity() + viewer_gain.capacity() +
+                              viewer_offset.capacity() + light_gain.capacity() + light_offset.capacity() +
+                              light_on_side.capacity() + blocker_a.capacity() + blocker_c.capacity() +
+                              clip_u.capacity() + clip_v.capacity() + half_u.capacity() + half_v.capacity();
+  return doubles * sizeof(double) + blocker_first.capacity() * sizeof(std::uint32_t) +
+         (intervals.capacity() + strips.capacity()) * sizeof(std::pair<double, double>);
+}
+
 bool rect_hidden_from_light(Vec2 lo, Vec2 hi, const ConvexShape& light, const std::vector<ConvexShape>& occluders,
                             const std::uint32_t* ids, std::size_t count, int strip_budget,
                             OcclusionProofScratch& scratch) {

@@ -22,6 +22,11 @@ struct OcclusionProofScratch {
   std::vector<double> clip_u, clip_v, half_u, half_v;
   std::vector<std::pair<double, double>> intervals;
   std::vector<std::pair<double, double>> strips;
+  // Room for every proof over at most `occluders` occluders of at most `max_vertices`
+  // vertices, against a light of at most `max_vertices` + 1 (a light's visible part,
+  // visible_light.hpp), with at most 4 viewer points and `strip_budget` strips.
+  void reserve_for(std::size_t occluders, std::size_t max_vertices, int strip_budget);
+  std::size_t reserved_bytes() const noexcept;
   // Counts for FrameStats, accumulated over calls until the owner resets them.
   std::uint64_t proofs_tried = 0, proofs_succeeded = 0;
   // Proofs refused before their setup by a segment to the light that passes every occluder.

@@ -35,7 +35,6 @@ void ReachCache::light_erased(std::size_t p) noexcept {
     reach_[p] = reach_[m];
     depends_[p] = depends_[m];
     stale_[p] = stale_[m];
-    if (m < scratch_.size()) std::swap(scratch_[p], scratch_[m]);
   }
   reach_.pop_back();
   depends_.pop_back();
@@ -63,10 +62,19 @@ std::size_t ReachCache::update(const PreparedScene& scene, const Scheduler& sche
     if (stale_[p]) stale_list_.push_back(static_cast<std::uint32_t>(p));
   }
   if (stale_list_.empty()) return 0;
-  if (scratch_.size() < reach_.size()) scratch_.resize(reach_.size());
-  scheduler.for_each_index(static_cast<int>(stale_list_.size()), [&](int i, int) {
+  std::size_t max_vertices = 0;
+  for (const PreparedLight& l : scene.lights) max_vertices = std::max(max_vertices, l.shape.vertices.size());
+  for (const ConvexShape& o : scene.occluders) max_vertices = std::max(max_vertices, o.vertices.size());
+  const auto workers = static_cast<std::size_t>(scheduler.workers());
+  if (scratch_.size() < workers || reserved_occluders_ < scene.occluders.size() || reserved_vertices_ < max_vertices) {
+    reserved_occluders_ = std::max(reserved_occluders_, scene.occluders.size());
+    reserved_vertices_ = std::max(reserved_vertices_, max_vertices);
+    if (scratch_.size() < workers) scratch_.resize(workers);
+    for (LightReachScratch& s : scratch_) s.reserve_for(reserved_occluders_, reserved_vertices_);
+  }
+  scheduler.for_each_index(static_cast<int>(stale_list_.size()), [&](int i, int worker) {
     const std::uint32_t p = stale_list_[static_cast<std::size_t>(i)];
-    LightReachScratch& scratch = scratch_[p];
+    LightReachScratch& scratch = scratch_[static_cast<std::size_t>(worker)];
     reach_[p] = compute_light_reach(scene, p, scratch);
     depends_[p] = scratch.depends_on;
   });

@@ -41,9 +41,11 @@ class ReachCache final : public WorldObserver {
   std::vector<LightReach> reach_;
   std::vector<Aabb> depends_;
   std::vector<std::uint8_t> stale_;
-  // Scratch per light, not per thread: a light's proofs need the same room each time it is
-  // proven at the same place, whichever thread runs them, so steady state allocates nothing.
+  // Scratch per worker, reserved for any light of the scene (LightReachScratch::reserve_for)
+  // whenever the scene's occluder count or largest vertex count grows, so that moving lights
+  // anywhere allocates nothing.
   std::vector<LightReachScratch> scratch_;
+  std::size_t reserved_occluders_ = 0, reserved_vertices_ = 0;
   std::vector<std::uint32_t> stale_list_;
 };
 

@@ -181,6 +181,7 @@ struct FrameEngine::ThreadState final : TileKernelRunner {
            work.light_terms.capacity() * sizeof(KernelLightTerms) +
            (work.pairs.capacity() + work.cell_pairs.capacity() + cells.pair_buffer.capacity()) * sizeof(KernelPair) +
            work.occluders.capacity() * sizeof(KernelShape) + work.occluder_terms.capacity() * sizeof(KernelOccluderTerms) +
+           (work.point_x.capacity() + work.point_y.capacity()) * sizeof(float) +
            work.cells.capacity() * sizeof(KernelCell) + work.cell_lights.capacity() * sizeof(KernelCellLight) +
            work.cell_occluders.capacity() * sizeof(std::uint32_t) +
            cells.occluder_discs.capacity() * sizeof(CellListScratch::Disc) +
@@ -315,6 +316,13 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
     for (int lane = 0; lane < lanes; ++lane) {
       ThreadState& state = states_[static_cast<std::size_t>(lane)];
       if (state.setup.reserved != bounds) state.reserve_for(bounds, kernels->lanes);
+      // A tile copies each overlap's points at most once (SceneBounds::overlap_points): room
+      // for twice that when it grows past it, so that the overlaps' pool growing a little
+      // does not make every lane reallocate.
+      if (state.work.point_x.capacity() < bounds.overlap_points) {
+        state.work.point_x.reserve(2 * bounds.overlap_points);
+        state.work.point_y.reserve(2 * bounds.overlap_points);
+      }
     }
   }
   // The pieces' radiances first (they depend on every light and occluder), lane by lane.

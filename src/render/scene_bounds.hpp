@@ -14,6 +14,10 @@ namespace par2d::detail {
 struct SceneBounds {
   std::size_t lights = 0, occluders = 0, directionals = 0;
   std::size_t max_vertices = 0;  // the most vertices of a light or an occluder
+  // Room for boundary meeting points in the scene's overlaps, in use or spare: at least the
+  // points of all overlaps, which a tile copies at most once each (TileWork::point_x). Not
+  // compared: it only grows with the overlaps' buffers.
+  std::size_t overlap_points = 0;
 
   // Light-occluder pairs a tile may hold: each light (scene or directional) pairs with each
   // occluder at most once. Buffers of pairs are reserved for at most kReservedTilePairs of
@@ -38,7 +42,11 @@ inline SceneBounds scene_bounds(const PreparedScene& scene) noexcept {
   b.lights = scene.lights.size();
   b.occluders = scene.occluders.size();
   b.directionals = scene.directionals.size();
-  for (const PreparedLight& l : scene.lights) b.max_vertices = std::max(b.max_vertices, l.shape.vertices.size());
+  for (const PreparedLight& l : scene.lights) {
+    b.max_vertices = std::max(b.max_vertices, l.shape.vertices.size());
+    for (const LightOverlap& o : l.overlaps) b.overlap_points += o.points.capacity();
+  }
+  for (const LightOverlap& o : scene.spare_overlaps) b.overlap_points += o.points.capacity();
   for (const ConvexShape& o : scene.occluders) b.max_vertices = std::max(b.max_vertices, o.vertices.size());
   return b;
 }

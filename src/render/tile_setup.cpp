@@ -17,6 +17,7 @@ void TileSetupScratch::reserve_for(const SceneBounds& bounds) {
   for (std::vector<std::uint32_t>& c : block_candidates) c.reserve(bounds.occluders);
   block_shadowed.reserve(lights);
   culling.reserve_for(bounds);
+  occlusion.reserve_for(bounds.occluders, bounds.max_vertices, std::max(kBlockStripBudget, kTileStripBudget));
   pairs.reserve_for(lights, bounds.occluders);
   shapes.start_block(lights, bounds.occluders);  // per shape, sized here once
   // A tile's occluders are distinct scene occluders; its lights distinct scene lights.
@@ -28,7 +29,7 @@ std::size_t TileSetupScratch::reserved_bytes() const noexcept {
   std::size_t bytes = block_candidates.capacity() * sizeof(std::vector<std::uint32_t>) + block_shadowed.capacity() +
                       tile_lights.capacity() * sizeof(std::uint32_t);
   for (const std::vector<std::uint32_t>& c : block_candidates) bytes += c.capacity() * sizeof(std::uint32_t);
-  bytes += culling.reserved_bytes() + pairs.reserved_bytes() + occluders.reserved_bytes();
+  bytes += culling.reserved_bytes() + occlusion.reserved_bytes() + pairs.reserved_bytes() + occluders.reserved_bytes();
   bytes += (shapes.light_block_pairs.capacity() + shapes.occluder_block_pairs.capacity()) *
            sizeof(KernelShapeScratch::BlockTangentPair);
   return bytes;

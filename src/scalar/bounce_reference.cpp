@@ -130,6 +130,7 @@ void build_bounce_sources(const PreparedScene& scene, BounceFrame& frame) {
       throw std::length_error("bounce.piece: the reflecting occluders make more than 1048576 pieces; use a longer piece");
   }
   std::vector<std::uint32_t> near;
+  std::vector<LightOverlap> spares;
   for (std::size_t j = 0; j < scene.occluders.size(); ++j) {
     const OccluderTerms& terms = scene.occluder_terms[j];
     if (!terms.reflects()) continue;
@@ -140,7 +141,7 @@ void build_bounce_sources(const PreparedScene& scene, BounceFrame& frame) {
     source.count = static_cast<std::uint32_t>(frame.pieces.size() - source.first);
     if (source.count == 0) continue;
     source.light.shape = scene.occluders[j];
-    find_light_overlaps(scene, source.light, near);
+    find_light_overlaps(scene, source.light, near, spares);
     // Its own occluder never shadows a piece (section 7): it is not among those it meets.
     auto& ids = source.light.overlapping_occluders;
     const auto self = std::lower_bound(ids.begin(), ids.end(), static_cast<std::uint32_t>(j));

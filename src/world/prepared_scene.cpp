@@ -321,6 +321,20 @@ bool clip_light_by_occluder(const ConvexShape& light, const ConvexShape& occlude
   return false;
 }
 
+// The most points boundary_intersections reports for two shapes: two for two circles, two
+// per edge against a circle, and otherwise at most four per pair of edges (where they cross,
+// or the ends of the piece they share when collinear).
+std::size_t meeting_points_bound(const ConvexShape& a, const ConvexShape& b) noexcept {
+  auto edges = [](const ConvexShape& s) -> std::size_t {
+    const std::size_t n = s.vertices.size();
+    return n >= 3 ? n : n - 1;
+  };
+  if (a.kind == ShapeKind::circle && b.kind == ShapeKind::circle) return 2;
+  if (a.kind == ShapeKind::circle) return 2 * edges(b);
+  if (b.kind == ShapeKind::circle) return 2 * edges(a);
+  return 4 * edges(a) * edges(b);
+}
+
 }  // namespace
 
 void describe_overlap(const ConvexShape& light, const ConvexShape& occluder, LightOverlap& out) {
@@ -330,13 +344,16 @@ void describe_overlap(const ConvexShape& light, const ConvexShape& occluder, Lig
   out.clips = clip_light_by_occluder(light, occluder, out.clip);
 }
 
-void find_light_overlaps(const PreparedScene& scene, PreparedLight& light, std::vector<std::uint32_t>& near) {
+void find_light_overlaps(const PreparedScene& scene, PreparedLight& light, std::vector<std::uint32_t>& near,
+                         std::vector<LightOverlap>& spares) {
   light.overlapping_occluders.clear();
-  // The old overlaps go to the spares (buffers and all), the new ones come from there.
   while (!light.overlaps.empty()) {
-    light.spare_overlaps.push_back(std::move(light.overlaps.back()));
+    spares.push_back(std::move(light.overlaps.back()));
     light.overlaps.pop_back();
   }
+  // The index reports each occluder at most once, and the light meets each at most once.
+  near.reserve(scene.occluders.size());
+  light.overlapping_occluders.reserve(scene.occluders.size());
   near.clear();
   const ConvexShape& ls = light.shape;
   scene.occluder_bvh.query_box({ls.bounds_min.x, ls.bounds_min.y, ls.bounds_max.x, ls.bounds_max.y}, near);
@@ -344,12 +361,15 @@ void find_light_overlaps(const PreparedScene& scene, PreparedLight& light, std::
     const ConvexShape& occ = scene.occluders[k];
     if (!meets_within_contact(ls, occ)) continue;
     light.overlapping_occluders.push_back(k);
-    if (light.spare_overlaps.empty()) {
+    if (spares.empty()) {
       light.overlaps.emplace_back();
     } else {
-      light.overlaps.push_back(std::move(light.spare_overlaps.back()));
-      light.spare_overlaps.pop_back();
+      light.overlaps.push_back(std::move(spares.back()));
+      spares.pop_back();
     }
+    // Room for the pair's points at once: the pool's buffers then grow only as far as the
+    // shapes' vertex counts need, not with each new most of meeting points.
+    light.overlaps.back().points.reserve(meeting_points_bound(ls, occ));
     describe_overlap(ls, occ, light.overlaps.back());
   }
 }

@@ -98,9 +98,6 @@ struct PreparedLight {
   std::vector<std::uint32_t> overlapping_occluders;
   // For each of those, in the same order: how the two shapes meet.
   std::vector<LightOverlap> overlaps;
-  // Overlaps no longer in use, kept with their buffers: a light that moves re-finds its
-  // overlaps in these, so moving it to new places does not allocate once they have grown.
-  std::vector<LightOverlap> spare_overlaps;
 };
 
 // Separating lines of disjoint light/occluder pairs (occluder on the positive side),
@@ -138,6 +135,8 @@ struct PreparedScene {
   int width = 0, height = 0;
   View view;
   std::vector<PreparedLight> lights;  // lights with non-zero emission only
+  // Overlaps no light holds now, kept with their buffers (find_light_overlaps).
+  std::vector<LightOverlap> spare_overlaps;
   std::vector<ConvexShape> occluders;
   double e_max = 0.0;  // docs/contract.md section 5
   // Largest distance from the view's center to any point of the view or of a shape's box.
@@ -194,8 +193,12 @@ void scale_shape(ConvexShape& shape, double factor) noexcept;
 // e_max (lights, directional lights and ambient) and extent of a prepared scene from its
 // view, lights and occluders.
 void update_scene_bounds(PreparedScene& scene) noexcept;
-// light.overlapping_occluders / overlaps from scratch, with the scene's index.
-void find_light_overlaps(const PreparedScene& scene, PreparedLight& light, std::vector<std::uint32_t>& scratch);
+// light.overlapping_occluders / overlaps from scratch, with the scene's index. The old
+// overlaps go to `spares` (buffers and all) and the new ones come from there: a pool shared
+// by the lights of a World, so that lights moving to new places stop allocating once the
+// pool holds as many overlaps, with as many points, as the scene has needed at once.
+void find_light_overlaps(const PreparedScene& scene, PreparedLight& light, std::vector<std::uint32_t>& scratch,
+                         std::vector<LightOverlap>& spares);
 // `out` for a light and an occluder that meet (meets_within_contact).
 void describe_overlap(const ConvexShape& light, const ConvexShape& occluder, LightOverlap& out);
 

@@ -230,7 +230,7 @@ void World::reprepare_all(std::shared_ptr<const WorldNormals> converted) {
   globals_.view = view_;
   prepare_model_terms(globals_, scene_, std::move(converted));
   rebuild_index();
-  for (PreparedLight& l : scene_.lights) find_light_overlaps(scene_, l, query_);
+  for (PreparedLight& l : scene_.lights) find_light_overlaps(scene_, l, query_, scene_.spare_overlaps);
   scene_.separators.reset(scene_.lights.size(), scene_.occluders.size());
   update_scene_bounds(scene_);
   ++stats_.full_prepares;
@@ -252,7 +252,7 @@ void World::prepare_lit(std::size_t p, const Light& light) {
   prepared.emission = light_emission(light);
   prepared.terms = light_terms(light, factor_);
   update_model_flag(scene_);
-  find_light_overlaps(scene_, prepared, query_);
+  find_light_overlaps(scene_, prepared, query_, scene_.spare_overlaps);
   scene_.separators.forget_light(p);
   if (observer_) observer_->light_changed(p);
 }
