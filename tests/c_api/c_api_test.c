@@ -660,6 +660,17 @@ static void check_incremental_frames(void) {
   par2d_renderer_destroy(full);
 }
 
+/* A circle shape for the calls that take one. */
+static par2d_shape circle_shape(double x, double y, double radius) {
+  par2d_shape shape;
+  memset(&shape, 0, sizeof shape);
+  shape.kind = PAR2D_SHAPE_CIRCLE;
+  shape.circle[0] = x;
+  shape.circle[1] = y;
+  shape.circle[2] = radius;
+  return shape;
+}
+
 /* Cookies: refusals name the call and the place; a constant cookie of weight 1/4 gives a
  * quarter of the light; reading one back; a cone as well is refused; count 0 removes it. */
 static void check_cookies(void) {
@@ -668,12 +679,7 @@ static void check_cookies(void) {
   if (r == NULL) return;
   CHECK(par2d_set_frame(r, W, H, NULL) == PAR2D_OK);
   const double white[3] = {1.0, 1.0, 1.0};
-  par2d_shape circle;
-  memset(&circle, 0, sizeof circle);
-  circle.kind = PAR2D_SHAPE_CIRCLE;
-  circle.circle[0] = 20.0;
-  circle.circle[1] = 8.0;
-  circle.circle[2] = 2.0;
+  const par2d_shape circle = circle_shape(20.0, 8.0, 2.0);
   par2d_light light = 0;
   CHECK(par2d_add_light(r, &circle, white, 2.0, &light) == PAR2D_OK);
   const int row[4] = {0, 0, W, 1};
@@ -729,10 +735,7 @@ static void check_transforms(void) {
   if (a == NULL || b == NULL) return;
   CHECK(par2d_set_frame(a, W, H, NULL) == PAR2D_OK && par2d_set_frame(b, W, H, NULL) == PAR2D_OK);
   const double white[3] = {1.0, 0.9, 0.8};
-  par2d_shape lamp;
-  memset(&lamp, 0, sizeof lamp);
-  lamp.kind = PAR2D_SHAPE_CIRCLE;
-  lamp.circle[2] = 1.5;
+  par2d_shape lamp = circle_shape(0.0, 0.0, 1.5);
   par2d_transform at;
   par2d_transform_identity(&at);
   CHECK(at.scale[0] == 1.0 && at.scale[1] == 1.0 && at.rotation == 0.0 && at.position[0] == 0.0);
