@@ -280,6 +280,14 @@ class PyRenderer {
   }
 
   // The scene-wide lighting-model terms (docs/contract.md section 6).
+  void set_bounce(const py::object& piece_arg) {
+    const double piece = to_double(piece_arg, "piece");
+    locked_check([&] { return renderer_.set_bounce(par2d::Bounce{piece}); });
+  }
+  double bounce_piece() const {
+    WorldLock lock(mutex_);
+    return renderer_.bounce().piece;
+  }
   void set_ambient(const py::object& rgb_arg) {
     const std::array<double, 3> rgb = to_three(rgb_arg, "rgb", "(r, g, b)");
     locked_check([&] { return renderer_.set_ambient({rgb[0], rgb[1], rgb[2]}); });
@@ -500,6 +508,9 @@ void bind_renderer(py::module_& m) {
            "The frame as uint8 (height, width, 4): round(255 * srgb(clamp(exposure * E, 0, 1))), alpha 255 -\n"
            "the bytes write_png stores, written by the tiles directly.")
       .def("set_ambient", &PyRenderer::set_ambient, py::arg("rgb"), "Ambient (r, g, b), each >= 0, added to every pixel.")
+      .def("set_bounce", &PyRenderer::set_bounce, py::arg("piece"),
+           "One bounce's piece length in world units (> 0; docs/contract.md section 7).")
+      .def_property_readonly("bounce_piece", &PyRenderer::bounce_piece, "One bounce's piece length.")
       .def("set_directional_lights", &PyRenderer::set_directional_lights, py::arg("lights"),
            "Replaces the directional lights: a list of dicts like the scene file's directional_lights.")
       .def("set_normal", &PyRenderer::set_normal, py::arg("normal"),

@@ -160,6 +160,10 @@ Status Renderer::set_ambient(const Rgb& ambient) {
     return impl_->world.set_model_terms("set_ambient", terms);
   });
 }
+Status Renderer::set_bounce(const Bounce& bounce) {
+  return guarded("set_bounce", [&] { return impl_->world.set_bounce(bounce); });
+}
+const Bounce& Renderer::bounce() const noexcept { return impl_->world.model_terms().bounce; }
 Status Renderer::set_directional_lights(const std::vector<DirectionalLight>& lights) {
   return guarded("set_directional_lights", [&] {
     Scene terms = impl_->world.model_terms();

@@ -810,6 +810,54 @@ static void check_transforms(void) {
   par2d_renderer_destroy(b);
 }
 
+/* One bounce from C: an occluder's albedo through its terms, the piece length, refusals. */
+static void check_bounce(void) {
+  par2d_renderer* r = NULL;
+  CHECK(par2d_renderer_create(NULL, &r) == PAR2D_OK);
+  if (r == NULL) return;
+  CHECK(par2d_set_frame(r, 24, 16, NULL) == PAR2D_OK);
+  const double white[3] = {1.0, 1.0, 1.0};
+  const par2d_shape lamp = circle_shape(4.0, 4.0, 1.5);
+  par2d_light light = 0;
+  CHECK(par2d_add_light(r, &lamp, white, 3.0, &light) == PAR2D_OK);
+  const double box[8] = {10, 2, 12, 2, 12, 12, 10, 12};
+  par2d_shape wall;
+  memset(&wall, 0, sizeof wall);
+  wall.kind = PAR2D_SHAPE_POLYGON;
+  wall.vertices = box;
+  wall.vertex_count = 4;
+  par2d_occluder occluder = 0;
+  CHECK(par2d_add_occluder(r, &wall, &occluder) == PAR2D_OK);
+  par2d_occluder_terms terms;
+  par2d_occluder_terms_default(&terms);
+  CHECK(terms.albedo[0] == 0.0 && terms.albedo[2] == 0.0);
+  float dark[24 * 3], lit[24 * 3];
+  const int row[4] = {0, 10, 24, 11};
+  CHECK(par2d_render(r, dark, PAR2D_RGB_F32, sizeof dark, 1.0, row) == PAR2D_OK);
+  terms.albedo[0] = 0.8;
+  terms.albedo[1] = 0.4;
+  terms.albedo[2] = 0.2;
+  CHECK(par2d_set_occluder_terms(r, occluder, &terms) == PAR2D_OK);
+  par2d_occluder_terms back;
+  CHECK(par2d_get_occluder_terms(r, occluder, &back) == PAR2D_OK && back.albedo[1] == 0.4);
+  CHECK(par2d_render(r, lit, PAR2D_RGB_F32, sizeof lit, 1.0, row) == PAR2D_OK);
+  /* Left of the wall, the lit face reflects onto the floor: more red than before. */
+  CHECK(lit[8 * 3] > dark[8 * 3]);
+  double piece = 0.0;
+  CHECK(par2d_get_bounce(r, &piece) == PAR2D_OK && piece == 4.0);
+  CHECK(par2d_set_bounce(r, 0.5) == PAR2D_OK);
+  CHECK(par2d_get_bounce(r, &piece) == PAR2D_OK && piece == 0.5);
+  CHECK_ERROR(par2d_set_bounce(r, -1.0), PAR2D_INVALID_SCENE, "par2d_set_bounce: bounce.piece: must be > 0, got -1");
+  CHECK_ERROR_PREFIX(par2d_set_bounce(r, 1e-9), PAR2D_INVALID_SCENE,
+                     "par2d_set_bounce: bounce.piece: cuts the reflecting occluders");
+  CHECK(par2d_get_bounce(r, &piece) == PAR2D_OK && piece == 0.5);
+  terms.albedo[0] = 1.5;
+  CHECK_ERROR_PREFIX(par2d_set_occluder_terms(r, occluder, &terms), PAR2D_INVALID_SCENE, "par2d_set_occluder_terms: ");
+  CHECK(strstr(par2d_last_error(), "albedo[0]: must be between 0 and 1, got 1.5") != NULL);
+  CHECK_ERROR(par2d_get_bounce(r, NULL), PAR2D_INVALID_ARGUMENT, "par2d_get_bounce: piece is null");
+  par2d_renderer_destroy(r);
+}
+
 int main(void) {
   int major = -1, minor = -1, patch = -1;
   char expected[32];
@@ -828,6 +876,7 @@ int main(void) {
   check_incremental_frames();
   check_cookies();
   check_transforms();
+  check_bounce();
 
   /* A circle light of radius 2 at (10, 10) with emission 3 (white), and a box occluder. */
   par2d_shape light_shape;
