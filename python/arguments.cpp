@@ -277,6 +277,32 @@ std::optional<par2d::View> to_view(const py::handle& obj) {
   return par2d::View{v[0], v[1], v[2], v[3]};
 }
 
+std::optional<par2d::Transform> to_transform(const py::handle& obj) {
+  if (obj.is_none()) return std::nullopt;
+  if (!PyDict_Check(obj.ptr()))
+    bad_argument("transform", "needs a dict with position, rotation, scale, got " + describe(obj));
+  par2d::Transform t;
+  for (const auto& [key, value] : py::reinterpret_borrow<py::dict>(obj)) {
+    const std::string name = is_text(key) ? py::str(key).cast<std::string>() : std::string();
+    if (name == "position" || (name == "scale" && !as_number(value))) {
+      const auto items = as_items(value, 2);
+      const std::optional<double> x = items ? as_number((*items)[0]) : std::nullopt;
+      const std::optional<double> y = items ? as_number((*items)[1]) : std::nullopt;
+      if (!x || !y)
+        bad_argument("transform." + name, std::string(name == "position" ? "needs (x, y)" : "needs a number or (sx, sy)") +
+                                              " numbers, got " + describe(value));
+      (name == "position" ? t.position : t.scale) = par2d::Vec2{*x, *y};
+    } else if (name == "scale") {
+      t.scale = par2d::Vec2{*as_number(value), *as_number(value)};
+    } else if (name == "rotation") {
+      t.rotation = to_double(value, "transform.rotation");
+    } else {
+      bad_argument("transform", "unknown key " + describe(key) + " (expected position, rotation, scale)");
+    }
+  }
+  return t;
+}
+
 // A light or occluder handle: any integer-like object (int, numpy.uint64, ...). An integer
 // that no 64-bit id can be (negative, too large) names nothing, as the library says of
 // unknown ids.

@@ -65,6 +65,9 @@ std::array<double, 3> to_three(const py::handle& obj, const char* place, const c
 // (x0, y0, x1, y1) pixels, unchecked against the frame (that needs the world, under its lock).
 std::optional<std::array<long long, 4>> to_region(const py::handle& obj);
 std::optional<par2d::View> to_view(const py::handle& obj);
+// A sprite transform: None, or a dict with any of "position" (x, y), "rotation" (degrees) and
+// "scale" (one number, or (sx, sy)); missing keys keep the identity's.
+std::optional<par2d::Transform> to_transform(const py::handle& obj);
 std::uint64_t handle_id(const py::handle& handle, const char* kind);  // kind: "light", "occluder"
 
 par2d::RenderOptions make_options(const py::object& backend, const py::object& threads, const py::object& spp,

@@ -81,22 +81,27 @@ class PyRenderer {
     check(status);
   }
 
-  std::uint64_t add_light(const py::object& dict) {
+  std::uint64_t add_light(const py::object& dict, const py::object& transform_arg) {
     const par2d::Light light = parse_light(dict, "add_light");
+    const std::optional<par2d::Transform> transform = to_transform(transform_arg);
     par2d::LightHandle handle;
     par2d::Status status;
     {
       WorldLock lock(mutex_);
-      status = renderer_.add_light(light, &handle);
+      status = transform ? renderer_.add_light(light, *transform, &handle) : renderer_.add_light(light, &handle);
       if (status.ok()) lights_.push_back(handle.id);
     }
     check(status);
     return handle.id;
   }
-  void update_light(const py::object& handle, const py::object& dict) {
+  void update_light(const py::object& handle, const py::object& dict, const py::object& transform_arg) {
     const std::uint64_t id = handle_id(handle, "light");
     const par2d::Light light = parse_light(dict, "light " + std::to_string(id));
-    locked_check([&] { return renderer_.update_light(par2d::LightHandle{id}, light); });
+    const std::optional<par2d::Transform> transform = to_transform(transform_arg);
+    locked_check([&] {
+      const par2d::LightHandle h{id};
+      return transform ? renderer_.update_light(h, light, *transform) : renderer_.update_light(h, light);
+    });
   }
   void set_light_emission(const py::object& handle, const py::object& color_arg, const py::object& intensity_arg) {
     const std::uint64_t id = handle_id(handle, "light");
@@ -115,20 +120,26 @@ class PyRenderer {
     });
   }
 
-  std::uint64_t add_occluder(const py::object& dict) {
+  std::uint64_t add_occluder(const py::object& dict, const py::object& transform_arg) {
     const par2d::Occluder occluder = parse_occluder(dict, "add_occluder");
+    const std::optional<par2d::Transform> transform = to_transform(transform_arg);
     par2d::OccluderHandle handle;
     locked_check([&] {
-      par2d::Status status = renderer_.add_occluder(occluder, &handle);
+      par2d::Status status =
+          transform ? renderer_.add_occluder(occluder, *transform, &handle) : renderer_.add_occluder(occluder, &handle);
       if (status.ok()) occluders_.push_back(handle.id);
       return status;
     });
     return handle.id;
   }
-  void update_occluder(const py::object& handle, const py::object& dict) {
+  void update_occluder(const py::object& handle, const py::object& dict, const py::object& transform_arg) {
     const std::uint64_t id = handle_id(handle, "occluder");
     const par2d::Occluder occluder = parse_occluder(dict, "occluder " + std::to_string(id));
-    locked_check([&] { return renderer_.update_occluder(par2d::OccluderHandle{id}, occluder); });
+    const std::optional<par2d::Transform> transform = to_transform(transform_arg);
+    locked_check([&] {
+      const par2d::OccluderHandle h{id};
+      return transform ? renderer_.update_occluder(h, occluder, *transform) : renderer_.update_occluder(h, occluder);
+    });
   }
   void remove_occluder(const py::object& handle) {
     const std::uint64_t id = handle_id(handle, "occluder");
@@ -269,6 +280,14 @@ class PyRenderer {
   }
 
   // The scene-wide lighting-model terms (docs/contract.md section 6).
+  void set_bounce(const py::object& piece_arg) {
+    const double piece = to_double(piece_arg, "piece");
+    locked_check([&] { return renderer_.set_bounce(par2d::Bounce{piece}); });
+  }
+  double bounce_piece() const {
+    WorldLock lock(mutex_);
+    return renderer_.bounce().piece;
+  }
   void set_ambient(const py::object& rgb_arg) {
     const std::array<double, 3> rgb = to_three(rgb_arg, "rgb", "(r, g, b)");
     locked_check([&] { return renderer_.set_ambient({rgb[0], rgb[1], rgb[2]}); });
@@ -467,14 +486,18 @@ void bind_renderer(py::module_& m) {
            "Replaces the whole world (frame included); returns (light handles, occluder handles) in the scene's order.")
       .def("set_frame", &PyRenderer::set_frame, py::arg("width"), py::arg("height"), py::arg("view") = py::none(),
            "Lightmap size and the world rectangle (x0, y0, x1, y1) it shows (default (0, 0, width, height)).")
-      .def("add_light", &PyRenderer::add_light, py::arg("light"), "Adds a light (dict); returns its handle.")
-      .def("update_light", &PyRenderer::update_light, py::arg("handle"), py::arg("light"),
-           "Replaces the light's shape, color and intensity.")
+      .def("add_light", &PyRenderer::add_light, py::arg("light"), py::kw_only(), py::arg("transform") = py::none(),
+           "Adds a light (dict); returns its handle. transform: {\"position\": (x, y), \"rotation\": degrees,\n"
+           "\"scale\": s or (sx, sy)} places a shape given in its own local frame (a sprite's).")
+      .def("update_light", &PyRenderer::update_light, py::arg("handle"), py::arg("light"), py::kw_only(),
+           py::arg("transform") = py::none(), "Replaces the light (dict), placed by transform when given.")
       .def("set_light_emission", &PyRenderer::set_light_emission, py::arg("handle"), py::arg("color"),
            py::arg("intensity"), "Changes only the color and intensity.")
       .def("remove_light", &PyRenderer::remove_light, py::arg("handle"))
-      .def("add_occluder", &PyRenderer::add_occluder, py::arg("occluder"), "Adds an occluder (dict); returns its handle.")
-      .def("update_occluder", &PyRenderer::update_occluder, py::arg("handle"), py::arg("occluder"))
+      .def("add_occluder", &PyRenderer::add_occluder, py::arg("occluder"), py::kw_only(),
+           py::arg("transform") = py::none(), "Adds an occluder (dict), placed by transform when given; returns its handle.")
+      .def("update_occluder", &PyRenderer::update_occluder, py::arg("handle"), py::arg("occluder"), py::kw_only(),
+           py::arg("transform") = py::none(), "Replaces the occluder (dict), placed by transform when given.")
       .def("remove_occluder", &PyRenderer::remove_occluder, py::arg("handle"))
       .def("render", &PyRenderer::render, py::kw_only(), py::arg("out") = py::none(), py::arg("region") = py::none(),
            "Linear irradiance as float32 (height, width, 3), or of region (x0, y0, x1, y1) only: then shape\n"
@@ -485,6 +508,9 @@ void bind_renderer(py::module_& m) {
            "The frame as uint8 (height, width, 4): round(255 * srgb(clamp(exposure * E, 0, 1))), alpha 255 -\n"
            "the bytes write_png stores, written by the tiles directly.")
       .def("set_ambient", &PyRenderer::set_ambient, py::arg("rgb"), "Ambient (r, g, b), each >= 0, added to every pixel.")
+      .def("set_bounce", &PyRenderer::set_bounce, py::arg("piece"),
+           "One bounce's piece length in world units (> 0; docs/contract.md section 7).")
+      .def_property_readonly("bounce_piece", &PyRenderer::bounce_piece, "One bounce's piece length.")
       .def("set_directional_lights", &PyRenderer::set_directional_lights, py::arg("lights"),
            "Replaces the directional lights: a list of dicts like the scene file's directional_lights.")
       .def("set_normal", &PyRenderer::set_normal, py::arg("normal"),

@@ -8,9 +8,12 @@
 #include <vector>
 
 #include "geometry/bounce_pieces.hpp"
+#include "par2d/render.hpp"
+#include "par2d/renderer.hpp"
 #include "par2d/scene.hpp"
 #include "par2d/scene_write.hpp"
 #include "scene/scene_validate.hpp"
+#include "support/test_tiers.hpp"
 
 namespace {
 
@@ -197,4 +200,54 @@ TEST_CASE("bounce pieces: a segment's two faces and a circle's arcs from angle 0
   REQUIRE(scaled.size() == n);
   CHECK(scaled[2].mid.x == 0.25 * pieces[2].mid.x);
   CHECK(scaled[2].radius == 0.5);
+}
+
+TEST_CASE("a Renderer's bounce piece follows set_bounce, and the piece limit holds for every occluder change" *
+          par2d::test::per_isa()) {
+  Scene scene;
+  scene.width = 24;
+  scene.height = 16;
+  scene.view = {0, 0, 24, 16};
+  scene.lights.push_back(par2d::Light{par2d::Circle{{4, 4}, 1.5}, {1, 1, 1}, 3.0});
+  par2d::Occluder wall{par2d::Polygon{{{10, 2}, {12, 2}, {12, 12}, {10, 12}}}};
+  wall.albedo = {0.8, 0.4, 0.2};
+  scene.occluders.push_back(wall);
+  par2d::Renderer renderer;
+  std::vector<par2d::OccluderHandle> occluders;
+  REQUIRE(renderer.set_scene(scene, nullptr, &occluders).ok());
+  CHECK(renderer.bounce().piece == 4.0);
+  std::vector<float> got(24 * 16 * 3), want(24 * 16 * 3);
+  const par2d::FrameBuffer buffer{reinterpret_cast<unsigned char*>(got.data()), par2d::PixelFormat::rgb_f32, 24 * 12, 1.0};
+  for (const double piece : {2.0, 0.5, 7.0}) {
+    CAPTURE(piece);
+    REQUIRE(renderer.set_bounce(par2d::Bounce{piece}).ok());
+    CHECK(renderer.bounce().piece == piece);
+    REQUIRE(renderer.render(buffer).ok());
+    scene.bounce.piece = piece;
+    const par2d::ImageView image{want.data(), 24, 16, 24 * 3};
+    REQUIRE(par2d::render(scene, par2d::RenderOptions{}, image).ok());
+    CHECK(got == want);
+    CHECK(renderer.snapshot().bounce.piece == piece);
+  }
+  // Refused pieces keep the old one: not > 0, or more than 1048576 pieces of the wall (perimeter 24).
+  Status status = renderer.set_bounce(par2d::Bounce{0.0});
+  CHECK(status.message() == "set_bounce: bounce.piece: must be > 0, got 0");
+  status = renderer.set_bounce(par2d::Bounce{24.0 / 1048576.0 * 0.5});
+  CHECK(status.message().rfind("set_bounce: bounce.piece: cuts the reflecting occluders into more than 1048576 pieces", 0) == 0);
+  CHECK(renderer.bounce().piece == 7.0);
+  // At a piece of 1e-4 the wall is 240000 pieces; four more such walls pass the limit.
+  REQUIRE(renderer.set_bounce(par2d::Bounce{1e-4}).ok());
+  std::vector<par2d::OccluderHandle> more(3);
+  for (auto& h : more) REQUIRE(renderer.add_occluder(wall, &h).ok());
+  par2d::OccluderHandle fifth;
+  status = renderer.add_occluder(wall, &fifth);
+  CHECK(status.message().rfind("add_occluder: albedo: cuts the reflecting occluders into more than 1048576 pieces", 0) == 0);
+  // A dark one is free, and making it reflect is refused the same way; removing one makes room.
+  par2d::Occluder dark = wall;
+  dark.albedo = {0, 0, 0};
+  REQUIRE(renderer.add_occluder(dark, &fifth).ok());
+  status = renderer.update_occluder(fifth, wall);
+  CHECK(status.message().rfind("occluder " + std::to_string(fifth.id) + ": albedo: cuts the reflecting occluders", 0) == 0);
+  REQUIRE(renderer.remove_occluder(more[0]).ok());
+  CHECK(renderer.update_occluder(fifth, wall).ok());
 }

@@ -344,36 +344,47 @@ TEST_CASE("scalar matches ray casting with every lighting-model term where light
 
 namespace par2d::test {
 
-TEST_CASE("closed form: a spot cone cut by one occluder") {
+namespace {
+
+// A long segment light above the view cut by one short blocker, its direction weight set by
+// `weigh`, against `integral` (the weight's integral over an interval of ray directions) over
+// the visible part: every pixel of the 16 x 12 view.
+void check_weighted_light_cut_by_blocker(const std::function<void(Light&)>& weigh,
+                                         const std::function<double(Interval)>& integral) {
   const Segment light_shape{{-200, -30}, {216, -30}};
   const Segment blocker{{4, -8}, {9, -8}};
+  Scene scene;
+  scene.width = 16;
+  scene.height = 12;
+  scene.view = {0, 0, 16, 12};
+  Light light{light_shape, {1.0, 0.8, 0.6}, 2.0};
+  weigh(light);
+  scene.lights.push_back(light);
+  scene.occluders.push_back({blocker});
+  const Rgb e = emission(light);
+  const int compared = check_against(scene, render_scalar(scene), [&](int, int, Vec2 x) {
+    const Interval arc = interval_to(x, light_shape.a, light_shape.b);
+    const Interval blocked = meet(arc, interval_to(x, blocker.a, blocker.b));
+    return scaled(e, (integral(arc) - integral(blocked)) / (2.0 * kPi));
+  });
+  CHECK(compared == 16 * 12);
+}
+
+}  // namespace
+
+TEST_CASE("closed form: a spot cone cut by one occluder") {
   // Cones pointing down-left (ray directions around 280 degrees): with a fade, with fade 0,
   // a half angle of 180 (no cone at all) and a full-width fade (a triangle).
   const Cone cones[] = {{100, 35, 12}, {100, 35, 0}, {-260, 180, 0}, {100, 180, 180}, {460, 20, 20}};
   for (const Cone& cone : cones) {
     CAPTURE(cone.half_angle);
     CAPTURE(cone.fade);
-    Scene scene;
-    scene.width = 16;
-    scene.height = 12;
-    scene.view = {0, 0, 16, 12};
-    Light light{light_shape, {1.0, 0.8, 0.6}, 2.0};
-    light.cone = cone;
-    scene.lights.push_back(light);
-    scene.occluders.push_back({blocker});
-    const Rgb e = emission(light);
-    const int compared = check_against(scene, render_scalar(scene), [&](int, int, Vec2 x) {
-      const Interval arc = interval_to(x, light_shape.a, light_shape.b);
-      const Interval blocked = meet(arc, interval_to(x, blocker.a, blocker.b));
-      return scaled(e, (cone_integral(arc, cone) - cone_integral(blocked, cone)) / (2.0 * kPi));
-    });
-    CHECK(compared == 16 * 12);
+    check_weighted_light_cut_by_blocker([&](Light& l) { l.cone = cone; },
+                                        [&](Interval range) { return cone_integral(range, cone); });
   }
 }
 
 TEST_CASE("closed form: a cookie cut by one occluder, and a cookie shaped as a cone gives the cone") {
-  const Segment light_shape{{-200, -30}, {216, -30}};
-  const Segment blocker{{4, -8}, {9, -8}};
   // Knots around the ray directions the pixels see (about 190 .. 350 degrees, emitted 10 .. 170):
   // several segments over the light, one knot alone (a constant), a narrow spike, a wrap past 360.
   const Cookie cookies[] = {
@@ -384,21 +395,8 @@ TEST_CASE("closed form: a cookie cut by one occluder, and a cookie shaped as a c
   };
   for (const Cookie& cookie : cookies) {
     CAPTURE(cookie.rotation);
-    Scene scene;
-    scene.width = 16;
-    scene.height = 12;
-    scene.view = {0, 0, 16, 12};
-    Light light{light_shape, {1.0, 0.8, 0.6}, 2.0};
-    light.cookie = cookie;
-    scene.lights.push_back(light);
-    scene.occluders.push_back({blocker});
-    const Rgb e = emission(light);
-    const int compared = check_against(scene, render_scalar(scene), [&](int, int, Vec2 x) {
-      const Interval arc = interval_to(x, light_shape.a, light_shape.b);
-      const Interval blocked = meet(arc, interval_to(x, blocker.a, blocker.b));
-      return scaled(e, (cookie_integral(arc, cookie) - cookie_integral(blocked, cookie)) / (2.0 * kPi));
-    });
-    CHECK(compared == 16 * 12);
+    check_weighted_light_cut_by_blocker([&](Light& l) { l.cookie = cookie; },
+                                        [&](Interval range) { return cookie_integral(range, cookie); });
   }
   // A cone is the cookie with knots at -h, -h + f, h - f, h (weights 0, 1, 1, 0) rotated to its
   // axis: the two paths give the same image, plain and shaded.

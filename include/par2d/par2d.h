@@ -173,6 +173,7 @@ typedef struct par2d_occluder_terms {
   double transmittance[3]; /* each in [0, 1]; default 0 (opaque) */
   uint32_t mask;
   par2d_interior interior;
+  double albedo[3]; /* one bounce (docs/contract.md section 7): each in [0, 1]; default 0 (reflects nothing) */
 } par2d_occluder_terms;
 
 /* A sun or sky: radiance intensity * color along ray directions in [angles[0], angles[1]]
@@ -213,6 +214,11 @@ PAR2D_C_API par2d_status par2d_set_occluder_terms(par2d_renderer* renderer, par2
 /* Scene-wide terms: ambient RGB (each >= 0) added to every pixel; the directional lights
  * (replacing any before; count 0 removes them). */
 PAR2D_C_API par2d_status par2d_set_ambient(par2d_renderer* renderer, const double ambient[3]);
+/* One bounce's piece length in world units (> 0, default 4; docs/contract.md section 7).
+ * Refused where the reflecting occluders would be cut into more than 1048576 pieces, as is an
+ * occluder added or changed past that limit. */
+PAR2D_C_API par2d_status par2d_set_bounce(par2d_renderer* renderer, double piece);
+PAR2D_C_API par2d_status par2d_get_bounce(const par2d_renderer* renderer, double* piece);
 PAR2D_C_API par2d_status par2d_set_directional_lights(par2d_renderer* renderer, const par2d_directional_light* lights,
                                                       size_t count);
 /* Normal source for 2.5D shading (one at a time; each replaces the other):

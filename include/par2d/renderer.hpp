@@ -129,6 +129,11 @@ class Renderer {
   // a refused value returns a Status and keeps the previous one. Lights and occluders carry
   // their own terms (range, cone, mask, elevation; transmittance, mask, interior).
   Status set_ambient(const Rgb& ambient);
+  // One bounce's piece length (docs/contract.md section 7); refused, keeping the old one, where
+  // it is not > 0 or would cut the reflecting occluders into more than kMaxBouncePieces pieces
+  // (adding or reshaping a reflecting occluder past that limit is refused the same way).
+  Status set_bounce(const Bounce& bounce);
+  const Bounce& bounce() const noexcept;
   Status set_directional_lights(const std::vector<DirectionalLight>& lights);
   // One normal for every pixel (world axes, any non-zero length); replaces a normal map.
   Status set_normal(const Vec3& normal);

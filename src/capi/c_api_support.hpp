@@ -139,6 +139,7 @@ inline void set_default_terms(par2d::Occluder& occluder) {
   occluder.transmittance = {0.0, 0.0, 0.0};
   occluder.mask = par2d::kAllMaskBits;
   occluder.interior = par2d::Interior::dark;
+  occluder.albedo = {0.0, 0.0, 0.0};
 }
 
 inline par2d::DirectionalLight from_c(const par2d_directional_light& in) {

@@ -430,6 +430,7 @@ par2d_status par2d_get_occluder_terms(par2d_renderer* r, par2d_occluder occluder
     for (int c = 0; c < 3; ++c) out->transmittance[c] = r->occluder.transmittance[static_cast<std::size_t>(c)];
     out->mask = r->occluder.mask;
     out->interior = r->occluder.interior == par2d::Interior::lit ? PAR2D_INTERIOR_LIT : PAR2D_INTERIOR_DARK;
+    for (int c = 0; c < 3; ++c) out->albedo[c] = r->occluder.albedo[static_cast<std::size_t>(c)];
     return PAR2D_OK;
   });
 }
@@ -447,8 +448,23 @@ par2d_status par2d_set_occluder_terms(par2d_renderer* r, par2d_occluder occluder
     r->occluder.transmittance = {terms->transmittance[0], terms->transmittance[1], terms->transmittance[2]};
     r->occluder.mask = terms->mask;
     r->occluder.interior = terms->interior == PAR2D_INTERIOR_LIT ? par2d::Interior::lit : par2d::Interior::dark;
+    r->occluder.albedo = {terms->albedo[0], terms->albedo[1], terms->albedo[2]};
     return to_c(fn, r->renderer.update_occluder(par2d::OccluderHandle{occluder}, r->occluder));
   });
+}
+
+par2d_status par2d_set_bounce(par2d_renderer* r, double piece) {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  return guarded(fn, [&] { return to_c(fn, r->renderer.set_bounce(par2d::Bounce{piece})); });
+}
+
+par2d_status par2d_get_bounce(const par2d_renderer* r, double* piece) {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (piece == nullptr) return fail(fn, "piece is null");
+  *piece = r->renderer.bounce().piece;
+  return PAR2D_OK;
 }
 
 par2d_status par2d_set_ambient(par2d_renderer* r, const double ambient[3]) {

@@ -105,10 +105,10 @@ struct AngularProfile {
   // Shading: s(u) = max(0, amplitude * cos(u - lobe_center) + offset), positive on
   // |u - lobe_center| < lobe_half (lobe_half in [0, pi]).
   T lobe_center{}, lobe_half{}, amplitude{}, offset{};
-  // A cookie instead of the cone (never both): its segments, shared by every lane, placed in
-  // the frame by `cookie_origin` (the frame's start in ray directions).
+  // A cookie instead of the cone (never both): its segments, shared by every lane, and how far
+  // the frame's start lies past the cookie's first knot (in [0, 2 pi), per lane).
   const CookieSegments* cookie = nullptr;
-  T cookie_origin{};
+  T cookie_shift{};
 };
 
 // The slope 1 / fade of a cone's ramps, as the number type holds them; 0 (a hard edge) for a
@@ -149,7 +149,7 @@ void set_profile_cone(AngularProfile<T>& p, const T& origin, double center, doub
 template <class T>
 void set_profile_cookie(AngularProfile<T>& p, const T& origin, const CookieSegments* cookie) noexcept {
   p.cookie = cookie;
-  p.cookie_origin = origin;
+  p.cookie_shift = profile_wrap(origin - profile_constant<T>(cookie->first));
 }
 
 // Shading by the unit surface normal (nx, ny, nz) for light from elevation angle alpha
@@ -214,52 +214,63 @@ T linear_times_lobe(const AngularProfile<T>& p, const T& value_lo, const T& slop
   return value_lo * base + slope * ramp;
 }
 
-// A cookie segment in the number type: where it starts in the frame (in [0, 2 pi)), its width
-// and its slope. A segment narrower than float resolves (profile_ramp_slope) keeps its start
-// weight over its width: off by at most width * |rise|, below 2^-20 rad of 2 pi.
+// A cookie segment in the number type: its width and slope, the weights at its two ends in
+// order. A segment narrower than float resolves (profile_ramp_slope) keeps its start weight
+// over its width: off by at most width * |rise|, below 2^-20 rad of 2 pi.
 template <class T>
 struct CookiePiece {
-  T start, width, value, slope, low, high;  // low/high: the weights at its two ends, ordered
+  T width, value, slope, low, high;
 };
 template <class T>
-CookiePiece<T> cookie_piece(const AngularProfile<T>& p, int k) noexcept {
-  const CookieSegments& c = *p.cookie;
+CookiePiece<T> cookie_piece(const CookieSegments& c, int k) noexcept {
   CookiePiece<T> piece;
-  piece.start = profile_wrap(profile_constant<T>(c.start[k]) - p.cookie_origin);
   piece.width = profile_constant<T>(c.width[k]);
   piece.value = profile_constant<T>(c.value[k]);
-  const double ramp = profile_ramp_slope<T>(c.width[k], c.width[k]);
-  piece.slope = profile_constant<T>(c.rise[k] * ramp);
+  piece.slope = profile_constant<T>(c.rise[k] * profile_ramp_slope<T>(c.width[k], c.width[k]));
   piece.low = profile_constant<T>(std::min(c.value[k], c.value[k] + c.rise[k]));
   piece.high = profile_constant<T>(std::max(c.value[k], c.value[k] + c.rise[k]));
   return piece;
 }
 
-// The cookie's antiderivative (no shading): each segment's integral from its start to u,
-// for the two copies that can meet [0, 2 pi] (a segment starts in [0, 2 pi) and is at most
-// 2 pi wide). Each term is relative to its own segment's start, so float keeps its precision.
+// The cookie's antiderivative (no shading), measured from its first knot: the point's offset
+// r past that knot (one turn's area added where u + shift passes a turn), the segment holding
+// r found by comparisons (no branch per lane), then the areas before it plus its own part up
+// to r, relative to its start so float keeps its precision.
 template <class T>
 T cookie_cumulative(const AngularProfile<T>& p, const T& u) noexcept {
-  T sum(0.0);
-  for (int k = 0; k < p.cookie->count; ++k) {
-    const CookiePiece<T> piece = cookie_piece(p, k);
-    for (int copy = -1; copy <= 0; ++copy) {
-      const T t = profile_clamp(u - piece.start - profile_constant<T>(copy * kProfileTwoPi), T(0.0), piece.width);
-      sum = sum + t * (piece.value + T(0.5) * piece.slope * t);
-    }
+  const CookieSegments& c = *p.cookie;
+  const T turn = profile_constant<T>(kProfileTwoPi);
+  const T d = u + p.cookie_shift;
+  const auto past = d >= turn;
+  const T r = profile_select(past, d - turn, d);
+  T start(0.0), before(0.0);
+  CookiePiece<T> piece = cookie_piece<T>(c, 0);
+  for (int k = 1; k < c.count; ++k) {
+    const auto in = r >= profile_constant<T>(c.offset[k]);
+    const CookiePiece<T> next = cookie_piece<T>(c, k);
+    start = profile_select(in, profile_constant<T>(c.offset[k]), start);
+    before = profile_select(in, profile_constant<T>(c.area_before[k]), before);
+    piece.width = profile_select(in, next.width, piece.width);
+    piece.value = profile_select(in, next.value, piece.value);
+    piece.slope = profile_select(in, next.slope, piece.slope);
   }
-  return sum;
+  const T t = profile_clamp(r - start, T(0.0), piece.width);
+  return profile_select(past, profile_constant<T>(c.area), T(0.0)) + before + t * (piece.value + T(0.5) * piece.slope * t);
 }
 
-// The cookie times the lobe: every segment copy against every lobe copy that can overlap,
+// The cookie times the lobe: every segment copy (the two that can meet [0, 2 pi]: a segment
+// starts in [0, 2 pi) and is at most 2 pi wide) against every lobe copy that can overlap,
 // integrated from -infinity (a constant that differences cancel) to u, as for the cone.
 template <class T>
 T cookie_lobe_cumulative(const AngularProfile<T>& p, const T& u) noexcept {
   T sum(0.0);
-  for (int k = 0; k < p.cookie->count; ++k) {
-    const CookiePiece<T> piece = cookie_piece(p, k);
+  const CookieSegments& c = *p.cookie;
+  for (int k = 0; k < c.count; ++k) {
+    const CookiePiece<T> piece = cookie_piece<T>(c, k);
+    // Where segment k starts in the frame, in [0, 2 pi).
+    const T first = profile_wrap(profile_constant<T>(c.offset[k]) - p.cookie_shift);
     for (int copy = -1; copy <= 0; ++copy) {
-      const T start = piece.start + profile_constant<T>(copy * kProfileTwoPi);
+      const T start = first + profile_constant<T>(copy * kProfileTwoPi);
       const T end = start + piece.width;
       for (int j = -1; j <= 1; ++j) {
         const T lobe = p.lobe_center + profile_constant<T>(j * kProfileTwoPi);

@@ -6,16 +6,21 @@
 
 namespace par2d::detail {
 
-// Segment k starts at ray direction `start[k]` (radians, [0, 2 pi)) with weight `value[k]`
-// and runs `width[k]` radians (> 0; the widths sum to 2 pi) to weight value[k] + rise[k]
-// (the next knot's). A fixed array: a light's terms are copied without allocating.
+// Segment k starts `offset[k]` radians past the first knot (offset[0] = 0, increasing; the
+// first knot's ray direction is `first`, in [0, 2 pi)) with weight `value[k]` and runs
+// `width[k]` radians (> 0; the widths sum to 2 pi) to weight value[k] + rise[k] (the next
+// knot's). `area_before[k]` is the integral of the weight over the segments before k, `area`
+// over the whole turn. A fixed array: a light's terms are copied without allocating.
 inline constexpr int kMaxCookieSegments = 32;
 struct CookieSegments {
   int count = 0;  // 0: no cookie
-  double start[kMaxCookieSegments] = {};
+  double first = 0.0;
+  double area = 0.0;
+  double offset[kMaxCookieSegments] = {};
   double width[kMaxCookieSegments] = {};
   double value[kMaxCookieSegments] = {};
   double rise[kMaxCookieSegments] = {};
+  double area_before[kMaxCookieSegments] = {};
 };
 
 }  // namespace par2d::detail

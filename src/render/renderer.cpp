@@ -111,12 +111,16 @@ Status Renderer::update_occluder(OccluderHandle handle, const Occluder& occluder
 }
 namespace {
 
-// `item` with its shape placed by `transform` into `placed`; a refused transform names `who`.
+// `item` with its shape placed by `transform` into `placed`; a refused transform is named
+// `who` (an addition) or `kind id` (an update), the name built only then: a frame's moves
+// allocate nothing.
 template <class Item>
-Status place(const Item& item, const Transform& transform, Item& placed, const std::string& who) {
+Status place(const Item& item, const Transform& transform, Item& placed, const char* who,
+             const std::uint64_t* id = nullptr) {
   placed = item;  // copy-assignment keeps the polygon storage `placed` already has
   Status s = transform_shape(item.shape, transform, placed.shape);
-  return s.ok() ? s : Status(s.code(), who + ": " + s.message());
+  if (s.ok()) return s;
+  return Status(s.code(), (id ? std::string(who) + " " + std::to_string(*id) : std::string(who)) + ": " + s.message());
 }
 
 }  // namespace
@@ -129,7 +133,7 @@ Status Renderer::add_light(const Light& light, const Transform& transform, Light
 }
 Status Renderer::update_light(LightHandle handle, const Light& light, const Transform& transform) {
   return guarded("update_light", [&] {
-    if (Status s = place(light, transform, impl_->placed_light, "light " + std::to_string(handle.id)); !s.ok()) return s;
+    if (Status s = place(light, transform, impl_->placed_light, "light", &handle.id); !s.ok()) return s;
     return impl_->world.update_light(handle, impl_->placed_light);
   });
 }
@@ -141,8 +145,7 @@ Status Renderer::add_occluder(const Occluder& occluder, const Transform& transfo
 }
 Status Renderer::update_occluder(OccluderHandle handle, const Occluder& occluder, const Transform& transform) {
   return guarded("update_occluder", [&] {
-    if (Status s = place(occluder, transform, impl_->placed_occluder, "occluder " + std::to_string(handle.id)); !s.ok())
-      return s;
+    if (Status s = place(occluder, transform, impl_->placed_occluder, "occluder", &handle.id); !s.ok()) return s;
     return impl_->world.update_occluder(handle, impl_->placed_occluder);
   });
 }
@@ -157,6 +160,10 @@ Status Renderer::set_ambient(const Rgb& ambient) {
     return impl_->world.set_model_terms("set_ambient", terms);
   });
 }
+Status Renderer::set_bounce(const Bounce& bounce) {
+  return guarded("set_bounce", [&] { return impl_->world.set_bounce(bounce); });
+}
+const Bounce& Renderer::bounce() const noexcept { return impl_->world.model_terms().bounce; }
 Status Renderer::set_directional_lights(const std::vector<DirectionalLight>& lights) {
   return guarded("set_directional_lights", [&] {
     Scene terms = impl_->world.model_terms();

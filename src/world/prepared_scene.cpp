@@ -170,15 +170,20 @@ LightTerms light_terms(const Light& light, double scale) noexcept {
     const double first = wrap_angle(wrap_angle(knots[0].direction * kRadiansPerDegree) +
                                     wrap_angle(light.cookie->rotation * kRadiansPerDegree) + kPi);
     t.cookie.count = count;
+    t.cookie.first = first;
+    double area = 0.0;
     for (int k = 0; k < count; ++k) {
       const CookieKnot& knot = knots[static_cast<std::size_t>(k)];
       const double offset = knot.direction - knots[0].direction;
       const double next = k + 1 < count ? knots[static_cast<std::size_t>(k) + 1].direction - knots[0].direction : 360.0;
-      t.cookie.start[k] = wrap_angle(first + offset * kRadiansPerDegree);
+      t.cookie.offset[k] = offset * kRadiansPerDegree;
       t.cookie.width[k] = (next - offset) * kRadiansPerDegree;
       t.cookie.value[k] = knot.weight;
       t.cookie.rise[k] = knots[static_cast<std::size_t>((k + 1) % count)].weight - knot.weight;
+      t.cookie.area_before[k] = area;
+      area += t.cookie.width[k] * (knot.weight + 0.5 * t.cookie.rise[k]);
     }
+    t.cookie.area = area;
   }
   t.mask = light.mask;
   t.sin_elevation = std::sin(light.elevation * kRadiansPerDegree);

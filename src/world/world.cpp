@@ -10,6 +10,7 @@
 #include <string>
 
 #include "geometry/aabb.hpp"
+#include "geometry/bounce_pieces.hpp"
 #include "lighting/light_emission.hpp"
 #include "scene/scene_validate.hpp"
 
@@ -125,6 +126,26 @@ Status World::set_frame(int width, int height, const View& view) {
   return {};
 }
 
+double World::bounce_pieces_of(const Occluder& occluder) const noexcept {
+  if (occluder.albedo == Rgb{0.0, 0.0, 0.0}) return 0.0;
+  return bounce_piece_count(occluder.shape, globals_.bounce.piece, 2.0 * kMaxBouncePieces);
+}
+
+Status World::set_bounce(const Bounce& bounce) {
+  if (auto problem = check_bounce(bounce)) return refused("set_bounce", *problem);
+  double pieces = 0.0;
+  for (const Occluder& o : occluder_sources_) {
+    if (o.albedo == Rgb{0.0, 0.0, 0.0}) continue;
+    pieces += bounce_piece_count(o.shape, bounce.piece, 2.0 * kMaxBouncePieces);
+    if (pieces > kMaxBouncePieces) return refused("set_bounce", {"bounce.piece", bounce_pieces_text(pieces)});
+  }
+  globals_.bounce = bounce;
+  scene_.bounce_piece = bounce.piece;
+  bounce_pieces_ = pieces;
+  if (observer_) observer_->terms_changed();
+  return {};
+}
+
 Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, std::vector<OccluderHandle>* occluders) {
   // A normal map of the image's size is converted first: that pass checks every normal too,
   // so validation then checks only its size (a bad normal leaves `converted` null, and the
@@ -187,6 +208,7 @@ Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, st
   next.globals_.normal = scene.normal;
   next.globals_.normal_map = scene.normal_map;
   next.globals_.bounce = scene.bounce;
+  for (const Occluder& o : scene.occluders) next.bounce_pieces_ += next.bounce_pieces_of(o);
   next.reprepare_all(std::move(converted));
   next.observer_ = observer_;
   *this = std::move(next);
@@ -485,10 +507,13 @@ void World::occluder_changed(std::size_t k, const Aabb* old_box) {
 Status World::add_occluder(const Occluder& occluder, OccluderHandle* handle) {
   if (handle == nullptr) return Status(StatusCode::invalid_argument, "add_occluder: handle is null");
   if (auto problem = check_occluder(occluder, std::string())) return refused("add_occluder", *problem);
+  const double pieces = bounce_pieces_ + bounce_pieces_of(occluder);
+  if (pieces > kMaxBouncePieces) return refused("add_occluder", {"albedo", bounce_pieces_text(pieces)});
   const std::size_t k = occluder_sources_.size();
   const std::uint32_t slot = new_slot(kOccluder, static_cast<std::int32_t>(k));
   occluder_sources_.push_back(occluder);
   occluder_slots_.push_back(slot);
+  bounce_pieces_ = pieces;
   scene_.occluders.emplace_back();
   scene_.occluder_terms.push_back(occluder_terms(occluder));
   update_model_flag(scene_);
@@ -507,7 +532,10 @@ Status World::update_occluder(OccluderHandle handle, const Occluder& occluder) {
   if (!slot) return unknown_handle("occluder", handle.id);
   if (auto problem = check_occluder(occluder, std::string())) return refused("occluder " + std::to_string(handle.id), *problem);
   const auto k = static_cast<std::size_t>(slot->where);
+  const double pieces = bounce_pieces_ - bounce_pieces_of(occluder_sources_[k]) + bounce_pieces_of(occluder);
+  if (pieces > kMaxBouncePieces) return refused("occluder " + std::to_string(handle.id), {"albedo", bounce_pieces_text(pieces)});
   const Aabb old_box = bounds_of(scene_.occluders[k]);
+  bounce_pieces_ = pieces;
   occluder_sources_[k] = occluder;
   scene_.occluder_terms[k] = occluder_terms(occluder);
   update_model_flag(scene_);
@@ -524,6 +552,7 @@ Status World::remove_occluder(OccluderHandle handle) {
   if (!slot) return unknown_handle("occluder", handle.id);
   const auto k = static_cast<std::size_t>(slot->where);
   const std::size_t m = occluder_sources_.size() - 1;
+  bounce_pieces_ -= bounce_pieces_of(occluder_sources_[k]);
   if (observer_) observer_->region_changed(bounds_of(scene_.occluders[k]));
   // Occluder m takes index k everywhere.
   for (PreparedLight& light : scene_.lights) {

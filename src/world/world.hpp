@@ -39,6 +39,9 @@ class World {
   // The scene-wide lighting-model terms (ambient, directional lights, normal source) of
   // `terms` replace the world's, validated first (`who` prefixes messages); shapes are untouched.
   Status set_model_terms(const char* who, const Scene& terms);
+  // The one-bounce piece length (docs/contract.md section 7), validated like a scene's; refused
+  // where the reflecting occluders would be cut into more than kMaxBouncePieces pieces.
+  Status set_bounce(const Bounce& bounce);
   // The scene-wide terms as given (for the Renderer's setters, which change one at a time).
   const Scene& model_terms() const noexcept { return globals_; }
 
@@ -113,6 +116,10 @@ class World {
   Scene globals_;
   // Parallel to scene_.occluders.
   std::vector<Occluder> occluder_sources_;
+  // How many bounce pieces the reflecting occluders are cut into (integers, exact in a
+  // double), kept with every occluder change so that additions past kMaxBouncePieces are refused.
+  double bounce_pieces_ = 0.0;
+  double bounce_pieces_of(const Occluder& occluder) const noexcept;
   std::vector<std::uint32_t> occluder_slots_;
 
   WorldObserver* observer_ = nullptr;

@@ -660,6 +660,17 @@ static void check_incremental_frames(void) {
   par2d_renderer_destroy(full);
 }
 
+/* A circle shape for the calls that take one. */
+static par2d_shape circle_shape(double x, double y, double radius) {
+  par2d_shape shape;
+  memset(&shape, 0, sizeof shape);
+  shape.kind = PAR2D_SHAPE_CIRCLE;
+  shape.circle[0] = x;
+  shape.circle[1] = y;
+  shape.circle[2] = radius;
+  return shape;
+}
+
 /* Cookies: refusals name the call and the place; a constant cookie of weight 1/4 gives a
  * quarter of the light; reading one back; a cone as well is refused; count 0 removes it. */
 static void check_cookies(void) {
@@ -668,12 +679,7 @@ static void check_cookies(void) {
   if (r == NULL) return;
   CHECK(par2d_set_frame(r, W, H, NULL) == PAR2D_OK);
   const double white[3] = {1.0, 1.0, 1.0};
-  par2d_shape circle;
-  memset(&circle, 0, sizeof circle);
-  circle.kind = PAR2D_SHAPE_CIRCLE;
-  circle.circle[0] = 20.0;
-  circle.circle[1] = 8.0;
-  circle.circle[2] = 2.0;
+  const par2d_shape circle = circle_shape(20.0, 8.0, 2.0);
   par2d_light light = 0;
   CHECK(par2d_add_light(r, &circle, white, 2.0, &light) == PAR2D_OK);
   const int row[4] = {0, 0, W, 1};
@@ -729,10 +735,7 @@ static void check_transforms(void) {
   if (a == NULL || b == NULL) return;
   CHECK(par2d_set_frame(a, W, H, NULL) == PAR2D_OK && par2d_set_frame(b, W, H, NULL) == PAR2D_OK);
   const double white[3] = {1.0, 0.9, 0.8};
-  par2d_shape lamp;
-  memset(&lamp, 0, sizeof lamp);
-  lamp.kind = PAR2D_SHAPE_CIRCLE;
-  lamp.circle[2] = 1.5;
+  par2d_shape lamp = circle_shape(0.0, 0.0, 1.5);
   par2d_transform at;
   par2d_transform_identity(&at);
   CHECK(at.scale[0] == 1.0 && at.scale[1] == 1.0 && at.rotation == 0.0 && at.position[0] == 0.0);
@@ -807,6 +810,54 @@ static void check_transforms(void) {
   par2d_renderer_destroy(b);
 }
 
+/* One bounce from C: an occluder's albedo through its terms, the piece length, refusals. */
+static void check_bounce(void) {
+  par2d_renderer* r = NULL;
+  CHECK(par2d_renderer_create(NULL, &r) == PAR2D_OK);
+  if (r == NULL) return;
+  CHECK(par2d_set_frame(r, 24, 16, NULL) == PAR2D_OK);
+  const double white[3] = {1.0, 1.0, 1.0};
+  const par2d_shape lamp = circle_shape(4.0, 4.0, 1.5);
+  par2d_light light = 0;
+  CHECK(par2d_add_light(r, &lamp, white, 3.0, &light) == PAR2D_OK);
+  const double box[8] = {10, 2, 12, 2, 12, 12, 10, 12};
+  par2d_shape wall;
+  memset(&wall, 0, sizeof wall);
+  wall.kind = PAR2D_SHAPE_POLYGON;
+  wall.vertices = box;
+  wall.vertex_count = 4;
+  par2d_occluder occluder = 0;
+  CHECK(par2d_add_occluder(r, &wall, &occluder) == PAR2D_OK);
+  par2d_occluder_terms terms;
+  par2d_occluder_terms_default(&terms);
+  CHECK(terms.albedo[0] == 0.0 && terms.albedo[2] == 0.0);
+  float dark[24 * 3], lit[24 * 3];
+  const int row[4] = {0, 10, 24, 11};
+  CHECK(par2d_render(r, dark, PAR2D_RGB_F32, sizeof dark, 1.0, row) == PAR2D_OK);
+  terms.albedo[0] = 0.8;
+  terms.albedo[1] = 0.4;
+  terms.albedo[2] = 0.2;
+  CHECK(par2d_set_occluder_terms(r, occluder, &terms) == PAR2D_OK);
+  par2d_occluder_terms back;
+  CHECK(par2d_get_occluder_terms(r, occluder, &back) == PAR2D_OK && back.albedo[1] == 0.4);
+  CHECK(par2d_render(r, lit, PAR2D_RGB_F32, sizeof lit, 1.0, row) == PAR2D_OK);
+  /* Left of the wall, the lit face reflects onto the floor: more red than before. */
+  CHECK(lit[8 * 3] > dark[8 * 3]);
+  double piece = 0.0;
+  CHECK(par2d_get_bounce(r, &piece) == PAR2D_OK && piece == 4.0);
+  CHECK(par2d_set_bounce(r, 0.5) == PAR2D_OK);
+  CHECK(par2d_get_bounce(r, &piece) == PAR2D_OK && piece == 0.5);
+  CHECK_ERROR(par2d_set_bounce(r, -1.0), PAR2D_INVALID_SCENE, "par2d_set_bounce: bounce.piece: must be > 0, got -1");
+  CHECK_ERROR_PREFIX(par2d_set_bounce(r, 1e-9), PAR2D_INVALID_SCENE,
+                     "par2d_set_bounce: bounce.piece: cuts the reflecting occluders");
+  CHECK(par2d_get_bounce(r, &piece) == PAR2D_OK && piece == 0.5);
+  terms.albedo[0] = 1.5;
+  CHECK_ERROR_PREFIX(par2d_set_occluder_terms(r, occluder, &terms), PAR2D_INVALID_SCENE, "par2d_set_occluder_terms: ");
+  CHECK(strstr(par2d_last_error(), "albedo[0]: must be between 0 and 1, got 1.5") != NULL);
+  CHECK_ERROR(par2d_get_bounce(r, NULL), PAR2D_INVALID_ARGUMENT, "par2d_get_bounce: piece is null");
+  par2d_renderer_destroy(r);
+}
+
 int main(void) {
   int major = -1, minor = -1, patch = -1;
   char expected[32];
@@ -825,6 +876,7 @@ int main(void) {
   check_incremental_frames();
   check_cookies();
   check_transforms();
+  check_bounce();
 
   /* A circle light of radius 2 at (10, 10) with emission 3 (white), and a box occluder. */
   par2d_shape light_shape;

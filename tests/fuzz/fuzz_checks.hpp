@@ -193,6 +193,25 @@ inline void decode_model_terms(ByteReader& in, double scale, Scene& s) {
     if (!(std::max({std::fabs(n.x), std::fabs(n.y), std::fabs(n.z)}) > 0.0)) n = {0.0, 0.0, k};
     s.normal = n;
   }
+  // Cookies, from a second flags byte at the end (inputs from before them read 0 here): on
+  // lights without a cone, 1 to 6 knots, 1 ulp to a quarter turn apart within a turn.
+  if (in.byte() & 1) {
+    static constexpr double kSteps[] = {0.0, 1e-300, 1e-9, 1e-4, 0.5, 10.0, 45.0, 90.0};
+    for (Light& light : s.lights) {
+      if (light.cone || !(in.byte() & 1)) continue;
+      Cookie cookie;
+      cookie.rotation = (static_cast<double>(in.u16()) - 32768.0) * (360.0 / 4096.0);
+      const double first = (static_cast<double>(in.u16()) - 32768.0) * (360.0 / 4096.0);
+      double direction = first;
+      const int count = 1 + in.byte() % 6;
+      for (int k = 0; k < count; ++k) {
+        if (k > 0) direction = std::max(std::nextafter(direction, 1e300), direction + pick(kSteps));
+        if (!(direction - first < 360.0)) break;
+        cookie.knots.push_back({direction, pick(kParts)});
+      }
+      light.cookie = std::move(cookie);
+    }
+  }
 }
 
 inline FuzzScene decode_scene(ByteReader& in) {

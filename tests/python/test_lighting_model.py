@@ -171,3 +171,19 @@ def test_cookie_dicts_with_numpy_knots_render_and_read_back():
         par2d.render(dict(plain, lights=[dict(light, cookie={"knots": [[0, 1]]},
                                               cone={"direction": 0, "half_angle": 20})]))
     assert "lights[0].cookie: a light takes a cone or a cookie, not both" in str(e.value)
+
+
+def test_bounce_piece_and_albedo_from_a_renderer():
+    """set_bounce changes the piece length like a scene's bounce key; refusals keep the old one."""
+    scene = {"width": 24, "height": 16,
+             "lights": [{"circle": {"center": [4, 4], "radius": 1.5}, "intensity": 3}],
+             "occluders": [{"polygon": [[10, 2], [12, 2], [12, 12], [10, 12]], "albedo": [0.8, 0.4, 0.2]}]}
+    r = par2d.Renderer(scene)
+    assert r.bounce_piece == 4.0
+    r.set_bounce(0.5)
+    assert r.bounce_piece == 0.5
+    np.testing.assert_array_equal(r.render(), par2d.render(dict(scene, bounce={"piece": 0.5})))
+    with pytest.raises(par2d.Error) as e:
+        r.set_bounce(0)
+    assert str(e.value) == "set_bounce: bounce.piece: must be > 0, got 0"
+    assert r.bounce_piece == 0.5

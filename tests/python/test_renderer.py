@@ -372,3 +372,35 @@ def test_light_layer_cache_recombines_a_flicker_within_its_bound():
     assert r.light_layer_bytes == 0
     r.render(out=out)
     assert out.tobytes() == par2d.render(r.snapshot()).tobytes()
+
+
+def test_transforms_place_local_shapes_like_placed_dicts():
+    """A crate and a lamp moved by transforms render what the same shapes placed by hand render."""
+    by_transform = par2d.Renderer({"width": 48, "height": 32})
+    by_hand = par2d.Renderer({"width": 48, "height": 32})
+    crate = {"polygon": [[-4, -2], [4, -2], [4, 2], [-4, 2]]}
+    h = by_transform.add_occluder(crate, transform={"position": (30, 24), "rotation": 90})
+    by_hand.add_occluder({"polygon": [[32, 20], [32, 28], [28, 28], [28, 20]]})
+    lamp = by_transform.add_light({"circle": {"center": [0, 0], "radius": 1.5}, "intensity": 2},
+                                  transform={"position": np.array([12.0, 10.0]), "scale": 2})
+    by_hand.add_light({"circle": {"center": [12, 10], "radius": 3}, "intensity": 2})
+    np.testing.assert_array_equal(by_transform.render(), by_hand.render())
+    assert by_transform.occluder(h)["polygon"] == [[32, 20], [32, 28], [28, 28], [28, 20]]
+    by_transform.update_occluder(h, crate, transform={"position": [20, 30], "scale": (-0.5, 0.5)})
+    assert by_transform.occluder(h)["polygon"] == [[22, 29], [18, 29], [18, 31], [22, 31]]
+    by_transform.update_light(lamp, {"circle": {"center": [0, 0], "radius": 1.5}, "intensity": 2},
+                              transform={"position": (40, 10)})
+    assert by_transform.light(lamp)["circle"] == {"center": [40, 10], "radius": 1.5}
+    with pytest.raises(par2d.Error) as e:
+        by_transform.update_occluder(h, crate, transform={"scale": (1, 0)})
+    assert str(e.value) == f"occluder {h}: transform.scale[1]: must be non-zero, got 0"
+    with pytest.raises(par2d.Error) as e:
+        by_transform.update_light(lamp, {"circle": {"center": [0, 0], "radius": 1}}, transform={"scale": (1, 2)})
+    assert "transform.scale: a circle takes the same scale on both axes, got [1, 2]" in str(e.value)
+    with pytest.raises((TypeError, ValueError)) as e:
+        by_transform.add_occluder(crate, transform={"angle": 3})
+    assert "unknown key 'angle' (expected position, rotation, scale)" in str(e.value)
+    with pytest.raises((TypeError, ValueError)) as e:
+        by_transform.add_occluder(crate, transform={"position": (1,)})
+    assert "transform.position" in str(e.value)
+    assert by_transform.occluder(h)["polygon"] == [[22, 29], [18, 29], [18, 31], [22, 31]]

@@ -172,7 +172,7 @@ void add_cookies(std::uint32_t seed, const RandomSceneOptions& o, Scene& scene) 
   if (!o.cookies) return;
   PortableRandom rng(seed ^ 0x27d4eb2fu);
   for (Light& light : scene.lights) {
-    if (light.cone || !rng.chance(0.4)) continue;
+    if (light.cone || !rng.chance(0.6)) continue;
     Cookie cookie;
     cookie.rotation = rng.uniform(-720.0, 720.0);
     const int count = rng.integer(1, 6);
