@@ -145,6 +145,14 @@ void set_profile_cone(AngularProfile<T>& p, const T& origin, double center, doub
   p.inv_fade = profile_constant<T>(slope);
 }
 
+// Fills the cookie's slopes for both number types (after its widths and rises).
+inline void set_cookie_slopes(CookieSegments& c) noexcept {
+  for (int k = 0; k < c.count; ++k) {
+    c.slope[k] = c.rise[k] * profile_ramp_slope<double>(c.width[k], c.width[k]);
+    c.slope_float[k] = c.rise[k] * profile_ramp_slope<float>(c.width[k], c.width[k]);
+  }
+}
+
 // A cookie in the frame starting at `origin`.
 template <class T>
 void set_profile_cookie(AngularProfile<T>& p, const T& origin, const CookieSegments* cookie) noexcept {
@@ -226,7 +234,7 @@ CookiePiece<T> cookie_piece(const CookieSegments& c, int k) noexcept {
   CookiePiece<T> piece;
   piece.width = profile_constant<T>(c.width[k]);
   piece.value = profile_constant<T>(c.value[k]);
-  piece.slope = profile_constant<T>(c.rise[k] * profile_ramp_slope<T>(c.width[k], c.width[k]));
+  piece.slope = profile_constant<T>(std::is_same_v<T, double> ? c.slope[k] : c.slope_float[k]);
   piece.low = profile_constant<T>(std::min(c.value[k], c.value[k] + c.rise[k]));
   piece.high = profile_constant<T>(std::max(c.value[k], c.value[k] + c.rise[k]));
   return piece;

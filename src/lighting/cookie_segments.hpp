@@ -21,6 +21,11 @@ struct CookieSegments {
   double value[kMaxCookieSegments] = {};
   double rise[kMaxCookieSegments] = {};
   double area_before[kMaxCookieSegments] = {};
+  // rise / width as the double and the float paths take it (profile_ramp_slope in
+  // angular_profile.hpp: 0 where the width is below what the number type resolves), worked
+  // out once here rather than in every evaluation.
+  double slope[kMaxCookieSegments] = {};
+  double slope_float[kMaxCookieSegments] = {};
 };
 
 }  // namespace par2d::detail

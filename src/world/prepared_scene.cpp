@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "lighting/angular_profile.hpp"
+
 namespace par2d::detail {
 namespace {
 
@@ -184,6 +186,7 @@ LightTerms light_terms(const Light& light, double scale) noexcept {
       area += t.cookie.width[k] * (knot.weight + 0.5 * t.cookie.rise[k]);
     }
     t.cookie.area = area;
+    set_cookie_slopes(t.cookie);
   }
   t.mask = light.mask;
   t.sin_elevation = std::sin(light.elevation * kRadiansPerDegree);
