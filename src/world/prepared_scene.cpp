@@ -186,7 +186,7 @@ LightTerms light_terms(const Light& light, double scale) noexcept {
       area += t.cookie.width[k] * (knot.weight + 0.5 * t.cookie.rise[k]);
     }
     t.cookie.area = area;
-    set_cookie_slopes(t.cookie);
+    finish_cookie_segments(t.cookie);
   }
   t.mask = light.mask;
   t.sin_elevation = std::sin(light.elevation * kRadiansPerDegree);
