@@ -142,6 +142,11 @@ inline void set_default_terms(par2d::Occluder& occluder) {
   occluder.albedo = {0.0, 0.0, 0.0};
 }
 
+// The C transform as the C++ one.
+inline par2d::Transform to_transform(const par2d_transform& t) {
+  return par2d::Transform{{t.position[0], t.position[1]}, t.rotation, {t.scale[0], t.scale[1]}};
+}
+
 inline par2d::DirectionalLight from_c(const par2d_directional_light& in) {
   par2d::DirectionalLight out;
   out.angle0 = in.angles[0];

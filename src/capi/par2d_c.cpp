@@ -107,11 +107,6 @@ par2d_status par2d_load_scene_ex(par2d_renderer* r, const char* path, unsigned f
 
 namespace {
 
-// The C transform as the C++ one.
-par2d::Transform to_transform(const par2d_transform& t) {
-  return par2d::Transform{{t.position[0], t.position[1]}, t.rotation, {t.scale[0], t.scale[1]}};
-}
-
 // par2d_add_light and par2d_update_light, with the shape placed by `transform` when given.
 par2d_status add_light(const char* fn, par2d_renderer* r, const par2d_shape* shape, const par2d_transform* transform,
                        const double color[3], double intensity, par2d_light* out) {
