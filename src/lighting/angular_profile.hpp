@@ -289,7 +289,12 @@ T cookie_cumulative(const AngularProfile<T>& p, const T& u) noexcept {
     value = profile_select(in, cookie_number<T>(c.value, f.value, k), value);
     slope = profile_select(in, cookie_number<T>(c.slope, f.slope, k), slope);
   }
-  const T area = std::is_same_v<T, double> ? T(c.area) : T(f.area);
+  T area;
+  if constexpr (std::is_same_v<T, double>) {
+    area = c.area;
+  } else {
+    area = T(f.area);
+  }
   const T t = profile_clamp(r - start, T(0.0), width);
   return profile_select(past, area, T(0.0)) + before + t * (value + T(0.5) * slope * t);
 }
