@@ -250,4 +250,11 @@ TEST_CASE("a Renderer's bounce piece follows set_bounce, and the piece limit hol
   CHECK(status.message().rfind("occluder " + std::to_string(fifth.id) + ": albedo: cuts the reflecting occluders", 0) == 0);
   REQUIRE(renderer.remove_occluder(more[0]).ok());
   CHECK(renderer.update_occluder(fifth, wall).ok());
+  // set_scene counts the pieces of the scene it is given: four such walls at 1e-4, then a
+  // fifth added is refused.
+  scene.bounce.piece = 1e-4;
+  scene.occluders.assign(4, wall);
+  REQUIRE(renderer.set_scene(scene).ok());
+  status = renderer.add_occluder(wall, &fifth);
+  CHECK(status.message().rfind("add_occluder: albedo: cuts the reflecting occluders into more than 1048576 pieces", 0) == 0);
 }
