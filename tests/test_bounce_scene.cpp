@@ -76,7 +76,7 @@ TEST_CASE("bad albedo and bounce values are refused in one line naming the place
   check_message(occluder_with(R"("albedo": 0.5)"), "s.json: occluders[0].albedo: expected [r, g, b]");
   check_message(scene_with(R"("lights": [{"circle": {"center": [1, 1], "radius": 1}, "albedo": [1, 1, 1]}])"),
                 "s.json: lights[0].albedo: unknown key (expected polygon, circle, segment, color, intensity, range, "
-                "falloff, normalize, cone, cookie, mask, elevation)");
+                "falloff, normalize, cone, cookie, mask, elevation, shadow)");
   check_message(scene_with(R"("bounce": {"piece": 0})"), "s.json: bounce.piece: must be > 0, got 0");
   check_message(scene_with(R"("bounce": {"piece": -2})"), "s.json: bounce.piece: must be > 0, got -2");
   check_message(scene_with(R"("bounce": {"piece": "4"})"), "s.json: bounce.piece: expected a number");

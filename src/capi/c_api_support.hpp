@@ -133,6 +133,7 @@ inline void set_default_terms(par2d::Light& light) {
   light.cookie.reset();
   light.mask = par2d::kAllMaskBits;
   light.elevation = 0.0;
+  light.shadow = par2d::Shadow{};
 }
 
 inline void set_default_terms(par2d::Occluder& occluder) {

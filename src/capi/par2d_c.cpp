@@ -310,6 +310,7 @@ void par2d_light_terms_default(par2d_light_terms* terms) {
   terms->cone_half_angle = 180.0;
   terms->mask = par2d::kAllMaskBits;
   terms->falloff = 2.0;
+  terms->shadow_strength = 1.0;
 }
 
 void par2d_occluder_terms_default(par2d_occluder_terms* terms) {
@@ -345,6 +346,8 @@ par2d_status par2d_get_light_terms(par2d_renderer* r, par2d_light light, par2d_l
     }
     out->mask = r->light.mask;
     out->elevation = r->light.elevation;
+    out->shadow_strength = r->light.shadow.strength;
+    for (int c = 0; c < 3; ++c) out->shadow_color[c] = r->light.shadow.color[static_cast<std::size_t>(c)];
     return PAR2D_OK;
   });
 }
@@ -366,6 +369,8 @@ par2d_status par2d_set_light_terms(par2d_renderer* r, par2d_light light, const p
     else r->light.cone.reset();
     r->light.mask = terms->mask;
     r->light.elevation = terms->elevation;
+    r->light.shadow = par2d::Shadow{terms->shadow_strength,
+                                    {terms->shadow_color[0], terms->shadow_color[1], terms->shadow_color[2]}};
     return to_c(fn, r->renderer.update_light(par2d::LightHandle{light}, r->light));
   });
 }

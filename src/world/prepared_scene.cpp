@@ -254,7 +254,7 @@ void prepare_model_terms(const Scene& scene, PreparedScene& out, std::shared_ptr
 
 void update_scene_bounds(PreparedScene& out) noexcept {
   out.e_max = 0.0;
-  for (const PreparedLight& l : out.lights) out.e_max += std::max({l.emission[0], l.emission[1], l.emission[2]});
+  for (const PreparedLight& l : out.lights) out.e_max += l.e_max_share;
   // docs/contract.md section 6: directional lights and the ambient term count too.
   for (const PreparedDirectional& d : out.directionals) out.e_max += std::max({d.emission[0], d.emission[1], d.emission[2]});
   out.e_max += std::max({out.ambient[0], out.ambient[1], out.ambient[2]});

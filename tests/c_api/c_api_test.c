@@ -344,6 +344,22 @@ static void check_errors_name_the_call(par2d_renderer* r) {
   CHECK(par2d_set_light_terms(r, light, &terms) == PAR2D_OK);
   CHECK(par2d_get_light_terms(r, light, &back) == PAR2D_OK && back.normalize == 25.0);
   terms.normalize = 0.0;
+  /* Shadow strength and colour: defaults, a round trip, refusals naming the field. */
+  CHECK(back.shadow_strength == 1.0 && back.shadow_color[0] == 0.0 && back.shadow_color[2] == 0.0);
+  terms.shadow_strength = 0.4;
+  terms.shadow_color[1] = 0.75;
+  CHECK(par2d_set_light_terms(r, light, &terms) == PAR2D_OK);
+  CHECK(par2d_get_light_terms(r, light, &back) == PAR2D_OK && back.shadow_strength == 0.4 &&
+        back.shadow_color[0] == 0.0 && back.shadow_color[1] == 0.75);
+  terms.shadow_strength = 1.5;
+  CHECK_ERROR_PREFIX(par2d_set_light_terms(r, light, &terms), PAR2D_INVALID_SCENE, "par2d_set_light_terms: ");
+  CHECK(strstr(par2d_last_error(), "shadow.strength: must be between 0 and 1, got 1.5") != NULL);
+  terms.shadow_strength = 1.0;
+  terms.shadow_color[2] = -0.5;
+  CHECK_ERROR_PREFIX(par2d_set_light_terms(r, light, &terms), PAR2D_INVALID_SCENE, "par2d_set_light_terms: ");
+  CHECK(strstr(par2d_last_error(), "shadow.color[2]") != NULL);
+  CHECK(par2d_get_light_terms(r, light, &back) == PAR2D_OK && back.shadow_strength == 0.4);
+  terms.shadow_color[1] = terms.shadow_color[2] = 0.0;
   terms.falloff = 2.0;
   terms.elevation = 95.0;
   CHECK_ERROR_PREFIX(par2d_set_light_terms(r, light, &terms), PAR2D_INVALID_SCENE, "par2d_set_light_terms: ");
