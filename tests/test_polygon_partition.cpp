@@ -418,6 +418,49 @@ TEST_CASE("partition_convex: tile-map rooms with pillars, probed on the grid lin
   CHECK(with_holes > 50);
 }
 
+TEST_CASE("partition_convex: small-integer polygons, where bridges meet vertices and lines") {
+  // Coordinates on a coarse grid: rays from hole vertices run through other vertices and along
+  // edges, holes share their largest x, many vertices are collinear. Random rings may be
+  // invalid (refused, never for an internal reason); the valid ones must partition exactly.
+  std::mt19937_64 rng(99);
+  int accepted = 0, holed = 0;
+  for (int trial = 0; trial < 600; ++trial) {
+    CAPTURE(trial);
+    PolygonRings polygon;
+    for (const Vec2 v : random_star(rng, uniform_int(rng, 3, 24), {0, 0}, 12.0))
+      polygon.outer.push_back({std::round(v.x), std::round(v.y)});
+    Pieces pieces;
+    std::string error;
+    const auto try_partition = [&] {
+      if (partition_convex(polygon, pieces, error)) return true;
+      CHECK_MESSAGE(error.find("internal") == std::string::npos, error);
+      CHECK(pieces.empty());
+      return false;
+    };
+    if (!try_partition()) continue;
+    // Holes kept only where the polygon stays valid.
+    const int holes = uniform_int(rng, 0, 8);
+    for (int h = 0; h < holes; ++h) {
+      const Vec2 c{static_cast<double>(uniform_int(rng, -8, 8)), static_cast<double>(uniform_int(rng, -8, 8))};
+      std::vector<Vec2> hole;
+      for (const Vec2 v : random_star(rng, uniform_int(rng, 3, 6), {0, 0}, 3.0))
+        hole.push_back({c.x + std::round(v.x), c.y + std::round(v.y)});
+      polygon.holes.push_back(hole);
+      if (!try_partition()) polygon.holes.pop_back();
+    }
+    REQUIRE(try_partition());
+    ++accepted;
+    holed += polygon.holes.empty() ? 0 : 1;
+    CHECK(pieces_area(pieces) == polygon_area(polygon));
+    std::vector<Vec2> samples;
+    for (int i = -26; i <= 26; ++i)
+      for (int j = -26; j <= 26; ++j) samples.push_back({0.5 * i, 0.5 * j});
+    check_partition(polygon, pieces, samples);
+  }
+  CHECK(accepted > 200);
+  CHECK(holed > 100);
+}
+
 TEST_CASE("partition_convex: refusals name the ring and leave no pieces") {
   const auto refused = [](const PolygonRings& polygon, const std::string& expected) {
     Pieces pieces{{{9, 9}, {9, 9}, {9, 9}}};

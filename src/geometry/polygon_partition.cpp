@@ -448,6 +448,9 @@ int find_bridge(const Mesh& mesh, const std::vector<int>& ring_nodes, Vec2 m) {
 // meets the triangle's interior and it lies in the polygon. If any vertex lies in the triangle
 // then a non-convex one does (the one nearest v sees open polygon toward v), so (3) scans the
 // non-convex nodes only; a node's turn only grows more convex as ears are clipped beside it.
+// (2) is implied by (3) on a weakly simple ring as far as the tests reach (dropping it fails
+// none); it is kept because it is local and cheap, and it only ever refuses an ear whose
+// triangle would leave the polygon at u or w.
 
 class EarClipper {
  public:
