@@ -465,6 +465,8 @@ class EarClipper {
         reflex_list_.push_back(n);
       }
     }
+    // By x, so that an ear test scans only the nodes within its triangle's x-range.
+    std::sort(reflex_list_.begin(), reflex_list_.end(), [&](int a, int b) { return mesh_.at(a).x < mesh_.at(b).x; });
   }
 
   // Appends the triangles (vertex ids, counter-clockwise). False when clipping stalls on a ring
@@ -531,10 +533,13 @@ class EarClipper {
     if (!in_wedge(c, mesh_.at(mesh_.next[w]), b, a)) return false;  // corner at w: from w->u to w->v
     const double min_x = std::min({a.x, b.x, c.x}), max_x = std::max({a.x, b.x, c.x});
     const double min_y = std::min({a.y, b.y, c.y}), max_y = std::max({a.y, b.y, c.y});
-    for (const int r : reflex_list_) {
-      if (!alive_[r] || !reflex_[r]) continue;
+    const auto first = std::lower_bound(reflex_list_.begin(), reflex_list_.end(), min_x,
+                                        [&](int r, double x) { return mesh_.at(r).x < x; });
+    for (auto it = first; it != reflex_list_.end(); ++it) {
+      const int r = *it;
       const Vec2 p = mesh_.at(r);
-      if (p.x < min_x || p.x > max_x || p.y < min_y || p.y > max_y) continue;
+      if (p.x > max_x) break;
+      if (!alive_[r] || !reflex_[r] || p.y < min_y || p.y > max_y) continue;
       if (same_point(p, a) || same_point(p, b) || same_point(p, c)) continue;
       if (orientation(a, b, p) >= 0 && orientation(b, c, p) >= 0 && orientation(c, a, p) >= 0) return false;
     }
