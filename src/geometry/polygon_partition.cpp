@@ -475,6 +475,10 @@ class EarClipper {
     std::vector<int> work(nodes_.rbegin(), nodes_.rend());
     int count = static_cast<int>(nodes_.size());
     bool clipped_since_fill = false;
+    // Clipping v changes the ring only at u and w, so only u, w, prev(u) (whose corner test
+    // reads u's wedge) and next(w) change ear status: a node whose triangle held v also held
+    // another vertex, which stays. The refill below is therefore a safety net (the tests
+    // never reach it), and the work is O(n) ear tests of O(reflex vertices) each.
     while (count >= 3) {
       if (work.empty()) {
         if (!clipped_since_fill) break;
