@@ -76,7 +76,7 @@ TEST_CASE("bad albedo and bounce values are refused in one line naming the place
   check_message(occluder_with(R"("albedo": 0.5)"), "s.json: occluders[0].albedo: expected [r, g, b]");
   check_message(scene_with(R"("lights": [{"circle": {"center": [1, 1], "radius": 1}, "albedo": [1, 1, 1]}])"),
                 "s.json: lights[0].albedo: unknown key (expected polygon, circle, segment, color, intensity, range, "
-                "falloff, normalize, cone, cookie, mask, elevation)");
+                "falloff, normalize, cone, cookie, mask, elevation, shadow)");
   check_message(scene_with(R"("bounce": {"piece": 0})"), "s.json: bounce.piece: must be > 0, got 0");
   check_message(scene_with(R"("bounce": {"piece": -2})"), "s.json: bounce.piece: must be > 0, got -2");
   check_message(scene_with(R"("bounce": {"piece": "4"})"), "s.json: bounce.piece: expected a number");
@@ -250,4 +250,11 @@ TEST_CASE("a Renderer's bounce piece follows set_bounce, and the piece limit hol
   CHECK(status.message().rfind("occluder " + std::to_string(fifth.id) + ": albedo: cuts the reflecting occluders", 0) == 0);
   REQUIRE(renderer.remove_occluder(more[0]).ok());
   CHECK(renderer.update_occluder(fifth, wall).ok());
+  // set_scene counts the pieces of the scene it is given: four such walls at 1e-4, then a
+  // fifth added is refused.
+  scene.bounce.piece = 1e-4;
+  scene.occluders.assign(4, wall);
+  REQUIRE(renderer.set_scene(scene).ok());
+  status = renderer.add_occluder(wall, &fifth);
+  CHECK(status.message().rfind("add_occluder: albedo: cuts the reflecting occluders into more than 1048576 pieces", 0) == 0);
 }

@@ -158,9 +158,10 @@ TEST_CASE("every lighting-model key of a scene file is read into the scene") {
                            {"angles": [10, 20]}],
     "normal": [0, -1, 2],
     "lights": [{"circle": {"center": [1, 1], "radius": 1}, "range": 50, "falloff": 0.5, "cone": {"direction": 90,
-                "half_angle": 40, "fade": 10}, "mask": 5.0, "elevation": 15},
+                "half_angle": 40, "fade": 10}, "mask": 5.0, "elevation": 15, "shadow": {"strength": 0.25,
+                "color": [1, 0, 0.5]}},
                {"segment": [[0, 0], [1, 0]], "cone": {"direction": -45, "half_angle": 180}},
-               {"circle": {"center": [2, 1], "radius": 0.5}, "cookie": {"rotation": -30, "knots": [[-10, 1],
+               {"circle": {"center": [2, 1], "radius": 0.5}, "shadow": {"color": [0, 0.75, 0]}, "cookie": {"rotation": -30, "knots": [[-10, 1],
                 [45.5, 0.25], [200, 0]]}},
                {"circle": {"center": [3, 1], "radius": 0.5}, "cookie": {"knots": [[7, 0.5]]}}],
     "occluders": [{"circle": {"center": [2, 2], "radius": 1}},
@@ -203,14 +204,20 @@ TEST_CASE("every lighting-model key of a scene file is read into the scene") {
   CHECK(spot.cone->fade == 10.0);
   CHECK(spot.mask == 5u);
   CHECK(spot.elevation == 15.0);
+  CHECK(spot.shadow.strength == 0.25);
+  CHECK(spot.shadow.color == par2d::Rgb{1, 0, 0.5});
   const par2d::Light& wide = scene.lights[1];
   CHECK_FALSE(wide.range.has_value());
   REQUIRE(wide.cone.has_value());
   CHECK(wide.cone->fade == 0.0);  // fade defaults to 0
   CHECK(wide.mask == par2d::kAllMaskBits);
   CHECK(wide.falloff == 2.0);  // the default
+  CHECK(wide.shadow.strength == 1.0);  // full shadows by default
+  CHECK(wide.shadow.color == par2d::Rgb{0, 0, 0});
   CHECK_FALSE(wide.cookie.has_value());
   const par2d::Light& patterned = scene.lights[2];
+  CHECK(patterned.shadow.strength == 1.0);  // strength defaults to 1 when only a colour is given
+  CHECK(patterned.shadow.color == par2d::Rgb{0, 0.75, 0});
   REQUIRE(patterned.cookie.has_value());
   CHECK(patterned.cookie->rotation == -30.0);
   REQUIRE(patterned.cookie->knots.size() == 3);
@@ -284,6 +291,18 @@ TEST_CASE("every bad lighting-model value is refused with a one-line message nam
                 "s.json: lights[0].cone.fade: expected a number");
   check_message(light_with(R"("cone": 30)"),
                 R"(s.json: lights[0].cone: expected {"direction": d, "half_angle": h, "fade": f})");
+  // Shadows.
+  check_message(light_with(R"("shadow": 0.5)"), R"(s.json: lights[0].shadow: expected {"strength": s, "color": [r, g, b]})");
+  check_message(light_with(R"("shadow": [0.5])"), R"(s.json: lights[0].shadow: expected {"strength": s, "color": [r, g, b]})");
+  check_message(light_with(R"("shadow": {"strength": 1.5})"), "s.json: lights[0].shadow.strength: must be between 0 and 1, got 1.5");
+  check_message(light_with(R"("shadow": {"strength": -0.25})"), "s.json: lights[0].shadow.strength: must be between 0 and 1, got -0.25");
+  check_message(light_with(R"("shadow": {"strength": "half"})"), "s.json: lights[0].shadow.strength: expected a number");
+  check_message(light_with(R"("shadow": {"color": [0, 2, 0]})"), "s.json: lights[0].shadow.color[1]: must be between 0 and 1, got 2");
+  check_message(light_with(R"("shadow": {"color": [0, 0]})"), "s.json: lights[0].shadow.color: expected [r, g, b]");
+  check_message(light_with(R"("shadow": {"color": 0.5})"), "s.json: lights[0].shadow.color: expected [r, g, b]");
+  check_message(light_with(R"("shadow": {"softness": 1})"), "s.json: lights[0].shadow.softness: unknown key (expected strength, color)");
+  check_message(occluder_with(R"("shadow": {"strength": 0.5})"),
+                "s.json: occluders[0].shadow: unknown key (expected polygon, circle, segment, transmittance, mask, interior, albedo)");
   // Cookies.
   check_message(light_with(R"("cookie": 30)"),
                 R"(s.json: lights[0].cookie: expected {"rotation": r, "knots": [[direction, weight], ...]})");
@@ -318,7 +337,7 @@ TEST_CASE("every bad lighting-model value is refused with a one-line message nam
   }
   check_message(light_with(R"("transmittance": [1, 1, 1])"),
                 "s.json: lights[0].transmittance: unknown key (expected polygon, circle, segment, color, intensity, "
-                "range, falloff, normalize, cone, cookie, mask, elevation)");
+                "range, falloff, normalize, cone, cookie, mask, elevation, shadow)");
   // Occluders.
   check_message(occluder_with(R"("transmittance": [0.5, 1.5, 0])"),
                 "s.json: occluders[0].transmittance[1]: must be between 0 and 1, got 1.5");
@@ -447,6 +466,7 @@ TEST_CASE("scene_to_json writes every lighting-model term so that the scene load
   light.cone = par2d::Cone{-170.5, 12.5, 2.5};
   light.mask = 0x80000000u;
   light.elevation = 89.99;
+  light.shadow = par2d::Shadow{1.0 / 3.0, {0.0, 1.0 / 7.0, 1.0}};
   par2d::Light plain;
   plain.shape = par2d::Segment{{0, 0}, {2, 0}};
   plain.cookie = par2d::Cookie{1.0 / 3.0, {{-0.1, 0.7}, {1e-9, 1.0 / 7.0}, {359.8, 0}}};
@@ -494,6 +514,10 @@ TEST_CASE("scene_to_json writes every lighting-model term so that the scene load
   CHECK(same(back.lights[0].cone->fade, 2.5));
   CHECK(back.lights[0].mask == 0x80000000u);
   CHECK(same(back.lights[0].elevation, 89.99));
+  CHECK(same(back.lights[0].shadow.strength, 1.0 / 3.0));
+  for (std::size_t c = 0; c < 3; ++c) CHECK(same(back.lights[0].shadow.color[c], light.shadow.color[c]));
+  CHECK(back.lights[1].shadow.strength == 1.0);  // the default, not written
+  CHECK(back.lights[1].shadow.color == par2d::Rgb{0.0, 0.0, 0.0});
   CHECK_FALSE(back.lights[1].range.has_value());
   CHECK_FALSE(back.lights[1].cone.has_value());
   CHECK_FALSE(back.lights[0].cookie.has_value());

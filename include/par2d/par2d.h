@@ -162,6 +162,10 @@ typedef struct par2d_light_terms {
                              par2d_light_terms_default: a zeroed struct means 0, a hard disc) */
   double normalize;       /* > 0: reference distance at which intensity is the irradiance
                              (docs/contract.md section 6); 0 (default): intensity * color as given */
+  double shadow_strength; /* 0..1, default 1: the fraction of the light an occluder removes, times
+                             1 - shadow_color per channel (0: no shadows; start from
+                             par2d_light_terms_default: a zeroed struct casts no shadows) */
+  double shadow_color[3]; /* each 0..1, default 0: a shadow's tint (what of each channel it lets through) */
 } par2d_light_terms;
 
 typedef enum par2d_interior {

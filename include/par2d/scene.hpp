@@ -86,6 +86,16 @@ struct Transform {
   Vec2 scale{1.0, 1.0};   // non-zero; a circle needs |scale.x| == |scale.y| (a disc stays a disc)
 };
 
+// A light's shadow controls (docs/contract.md section 6): where an occluder blocks the light, it
+// removes only the fraction k = strength * (1 - color) of it, per channel. The light then gives
+// E = (1 - k) U + k S, U its irradiance as if no occluder acted on it and S the shadowed one.
+// Strength 1 and color black (the defaults) are full shadows; strength 0 casts none; a colour
+// tints the shadow (a red shadow colour lets the red part of the light through).
+struct Shadow {
+  double strength = 1.0;         // 0 .. 1
+  Rgb color{0.0, 0.0, 0.0};      // each channel 0 .. 1
+};
+
 // A uniform emitter: every point of its shape emits `intensity * color` in every direction
 // (or in its cone), optionally limited to a range.
 struct Light {
@@ -112,6 +122,8 @@ struct Light {
   std::uint32_t mask = kAllMaskBits;
   // Degrees above the plane, 0 .. 90; matters only when the scene has a normal source.
   double elevation = 0.0;
+  // How much of the light the occluders acting on it remove. Default: all of it.
+  Shadow shadow;
 };
 
 // What a point inside an occluder sees.

@@ -133,6 +133,7 @@ inline void set_default_terms(par2d::Light& light) {
   light.cookie.reset();
   light.mask = par2d::kAllMaskBits;
   light.elevation = 0.0;
+  light.shadow = par2d::Shadow{};
 }
 
 inline void set_default_terms(par2d::Occluder& occluder) {
@@ -140,6 +141,11 @@ inline void set_default_terms(par2d::Occluder& occluder) {
   occluder.mask = par2d::kAllMaskBits;
   occluder.interior = par2d::Interior::dark;
   occluder.albedo = {0.0, 0.0, 0.0};
+}
+
+// The C transform as the C++ one.
+inline par2d::Transform to_transform(const par2d_transform& t) {
+  return par2d::Transform{{t.position[0], t.position[1]}, t.rotation, {t.scale[0], t.scale[1]}};
 }
 
 inline par2d::DirectionalLight from_c(const par2d_directional_light& in) {

@@ -107,11 +107,6 @@ par2d_status par2d_load_scene_ex(par2d_renderer* r, const char* path, unsigned f
 
 namespace {
 
-// The C transform as the C++ one.
-par2d::Transform to_transform(const par2d_transform& t) {
-  return par2d::Transform{{t.position[0], t.position[1]}, t.rotation, {t.scale[0], t.scale[1]}};
-}
-
 // par2d_add_light and par2d_update_light, with the shape placed by `transform` when given.
 par2d_status add_light(const char* fn, par2d_renderer* r, const par2d_shape* shape, const par2d_transform* transform,
                        const double color[3], double intensity, par2d_light* out) {
@@ -315,6 +310,7 @@ void par2d_light_terms_default(par2d_light_terms* terms) {
   terms->cone_half_angle = 180.0;
   terms->mask = par2d::kAllMaskBits;
   terms->falloff = 2.0;
+  terms->shadow_strength = 1.0;
 }
 
 void par2d_occluder_terms_default(par2d_occluder_terms* terms) {
@@ -350,6 +346,8 @@ par2d_status par2d_get_light_terms(par2d_renderer* r, par2d_light light, par2d_l
     }
     out->mask = r->light.mask;
     out->elevation = r->light.elevation;
+    out->shadow_strength = r->light.shadow.strength;
+    for (int c = 0; c < 3; ++c) out->shadow_color[c] = r->light.shadow.color[static_cast<std::size_t>(c)];
     return PAR2D_OK;
   });
 }
@@ -371,6 +369,8 @@ par2d_status par2d_set_light_terms(par2d_renderer* r, par2d_light light, const p
     else r->light.cone.reset();
     r->light.mask = terms->mask;
     r->light.elevation = terms->elevation;
+    r->light.shadow = par2d::Shadow{terms->shadow_strength,
+                                    {terms->shadow_color[0], terms->shadow_color[1], terms->shadow_color[2]}};
     return to_c(fn, r->renderer.update_light(par2d::LightHandle{light}, r->light));
   });
 }

@@ -145,6 +145,23 @@ void set_profile_cone(AngularProfile<T>& p, const T& origin, double center, doub
   p.inv_fade = profile_constant<T>(slope);
 }
 
+// Fills the cookie's slopes and its float copy (after its offsets, widths, values, rises and
+// areas).
+inline void finish_cookie_segments(CookieSegments& c) noexcept {
+  CookieSegments::Floats& f = c.floats;
+  f.area = static_cast<float>(c.area);
+  for (int k = 0; k < c.count; ++k) {
+    c.slope[k] = c.rise[k] * profile_ramp_slope<double>(c.width[k], c.width[k]);
+    f.offset[k] = static_cast<float>(c.offset[k]);
+    f.width[k] = static_cast<float>(c.width[k]);
+    f.value[k] = static_cast<float>(c.value[k]);
+    f.slope[k] = static_cast<float>(c.rise[k] * profile_ramp_slope<float>(c.width[k], c.width[k]));
+    f.low[k] = static_cast<float>(std::min(c.value[k], c.value[k] + c.rise[k]));
+    f.high[k] = static_cast<float>(std::max(c.value[k], c.value[k] + c.rise[k]));
+    f.area_before[k] = static_cast<float>(c.area_before[k]);
+  }
+}
+
 // A cookie in the frame starting at `origin`.
 template <class T>
 void set_profile_cookie(AngularProfile<T>& p, const T& origin, const CookieSegments* cookie) noexcept {
@@ -221,14 +238,30 @@ template <class T>
 struct CookiePiece {
   T width, value, slope, low, high;
 };
+// One of the cookie's numbers as T: the double, or its float copy broadcast.
+template <class T>
+T cookie_number(const double* d, const float* f, int k) noexcept {
+  if constexpr (std::is_same_v<T, double>) {
+    return d[k];
+  } else {
+    return T(f[k]);
+  }
+}
+
 template <class T>
 CookiePiece<T> cookie_piece(const CookieSegments& c, int k) noexcept {
+  const CookieSegments::Floats& f = c.floats;
   CookiePiece<T> piece;
-  piece.width = profile_constant<T>(c.width[k]);
-  piece.value = profile_constant<T>(c.value[k]);
-  piece.slope = profile_constant<T>(c.rise[k] * profile_ramp_slope<T>(c.width[k], c.width[k]));
-  piece.low = profile_constant<T>(std::min(c.value[k], c.value[k] + c.rise[k]));
-  piece.high = profile_constant<T>(std::max(c.value[k], c.value[k] + c.rise[k]));
+  piece.width = cookie_number<T>(c.width, f.width, k);
+  piece.value = cookie_number<T>(c.value, f.value, k);
+  piece.slope = cookie_number<T>(c.slope, f.slope, k);
+  if constexpr (std::is_same_v<T, double>) {
+    piece.low = std::min(c.value[k], c.value[k] + c.rise[k]);
+    piece.high = std::max(c.value[k], c.value[k] + c.rise[k]);
+  } else {
+    piece.low = T(f.low[k]);
+    piece.high = T(f.high[k]);
+  }
   return piece;
 }
 
@@ -239,23 +272,31 @@ CookiePiece<T> cookie_piece(const CookieSegments& c, int k) noexcept {
 template <class T>
 T cookie_cumulative(const AngularProfile<T>& p, const T& u) noexcept {
   const CookieSegments& c = *p.cookie;
+  const CookieSegments::Floats& f = c.floats;
   const T turn = profile_constant<T>(kProfileTwoPi);
   const T d = u + p.cookie_shift;
   const auto past = d >= turn;
   const T r = profile_select(past, d - turn, d);
   T start(0.0), before(0.0);
-  CookiePiece<T> piece = cookie_piece<T>(c, 0);
+  T width = cookie_number<T>(c.width, f.width, 0), value = cookie_number<T>(c.value, f.value, 0);
+  T slope = cookie_number<T>(c.slope, f.slope, 0);
   for (int k = 1; k < c.count; ++k) {
-    const auto in = r >= profile_constant<T>(c.offset[k]);
-    const CookiePiece<T> next = cookie_piece<T>(c, k);
-    start = profile_select(in, profile_constant<T>(c.offset[k]), start);
-    before = profile_select(in, profile_constant<T>(c.area_before[k]), before);
-    piece.width = profile_select(in, next.width, piece.width);
-    piece.value = profile_select(in, next.value, piece.value);
-    piece.slope = profile_select(in, next.slope, piece.slope);
+    const T offset = cookie_number<T>(c.offset, f.offset, k);
+    const auto in = r >= offset;
+    start = profile_select(in, offset, start);
+    before = profile_select(in, cookie_number<T>(c.area_before, f.area_before, k), before);
+    width = profile_select(in, cookie_number<T>(c.width, f.width, k), width);
+    value = profile_select(in, cookie_number<T>(c.value, f.value, k), value);
+    slope = profile_select(in, cookie_number<T>(c.slope, f.slope, k), slope);
   }
-  const T t = profile_clamp(r - start, T(0.0), piece.width);
-  return profile_select(past, profile_constant<T>(c.area), T(0.0)) + before + t * (piece.value + T(0.5) * piece.slope * t);
+  T area;
+  if constexpr (std::is_same_v<T, double>) {
+    area = c.area;
+  } else {
+    area = T(f.area);
+  }
+  const T t = profile_clamp(r - start, T(0.0), width);
+  return profile_select(past, area, T(0.0)) + before + t * (value + T(0.5) * slope * t);
 }
 
 // The cookie times the lobe: every segment copy (the two that can meet [0, 2 pi]: a segment
@@ -268,7 +309,7 @@ T cookie_lobe_cumulative(const AngularProfile<T>& p, const T& u) noexcept {
   for (int k = 0; k < c.count; ++k) {
     const CookiePiece<T> piece = cookie_piece<T>(c, k);
     // Where segment k starts in the frame, in [0, 2 pi).
-    const T first = profile_wrap(profile_constant<T>(c.offset[k]) - p.cookie_shift);
+    const T first = profile_wrap(cookie_number<T>(c.offset, c.floats.offset, k) - p.cookie_shift);
     for (int copy = -1; copy <= 0; ++copy) {
       const T start = first + profile_constant<T>(copy * kProfileTwoPi);
       const T end = start + piece.width;

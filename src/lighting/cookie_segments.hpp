@@ -21,6 +21,22 @@ struct CookieSegments {
   double value[kMaxCookieSegments] = {};
   double rise[kMaxCookieSegments] = {};
   double area_before[kMaxCookieSegments] = {};
+  // rise / width as the double path takes it (profile_ramp_slope in angular_profile.hpp: 0
+  // where the width is below what the number type resolves), worked out once here rather
+  // than in every evaluation.
+  double slope[kMaxCookieSegments] = {};
+  // The same numbers rounded once for the float kernels (their slope by float's own rule),
+  // so an evaluation broadcasts them instead of converting each.
+  struct Floats {
+    float area = 0.0f;
+    float offset[kMaxCookieSegments] = {};
+    float width[kMaxCookieSegments] = {};
+    float value[kMaxCookieSegments] = {};
+    float slope[kMaxCookieSegments] = {};
+    float low[kMaxCookieSegments] = {};
+    float high[kMaxCookieSegments] = {};
+    float area_before[kMaxCookieSegments] = {};
+  } floats;
 };
 
 }  // namespace par2d::detail

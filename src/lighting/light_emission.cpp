@@ -44,4 +44,36 @@ Rgb light_emission(const Rgb& color, double intensity, double scale) noexcept {
   return e;
 }
 
+namespace {
+
+// The fraction of the light its shadows remove, per channel.
+double shadow_fraction(const Light& light, std::size_t c) noexcept {
+  return light.shadow.strength * (1.0 - light.shadow.color[c]);
+}
+
+}  // namespace
+
+LightParts light_parts(const Light& light) noexcept {
+  const Rgb e = light_emission(light);
+  bool shadowed = false, unshadowed = false;
+  for (std::size_t c = 0; c < 3; ++c) {
+    if (!(e[c] > 0.0)) continue;
+    const double k = shadow_fraction(light, c);
+    shadowed = shadowed || k > 0.0;
+    unshadowed = unshadowed || k < 1.0;
+  }
+  if (shadowed && unshadowed) return {LightPart::shadowed, true};
+  return {unshadowed ? LightPart::unshadowed : LightPart::whole, false};
+}
+
+Rgb part_emission(const Light& light, LightPart part) noexcept {
+  Rgb e = light_emission(light);
+  if (part == LightPart::whole) return e;
+  for (std::size_t c = 0; c < 3; ++c) {
+    const double k = shadow_fraction(light, c);
+    e[c] *= part == LightPart::shadowed ? k : 1.0 - k;
+  }
+  return e;
+}
+
 }  // namespace par2d::detail

@@ -286,7 +286,8 @@ RaycastRenderer::RaycastRenderer(const Scene& validated_scene) : scale_(scene_sc
     m.cookie = l.cookie;
     m.mask = l.mask;
     m.elevation = l.elevation * kRadians;
-    model_ = model_ || l.range || l.cone || l.cookie || l.mask != kAllMaskBits;
+    for (std::size_t c = 0; c < 3; ++c) m.shadow[c] = l.shadow.strength * (1.0 - l.shadow.color[c]);
+    model_ = model_ || l.range || l.cone || l.cookie || l.mask != kAllMaskBits || m.shadow != Rgb{1.0, 1.0, 1.0};
     light_terms_.push_back(m);
   }
   for (const auto& o : scene.occluders) {
@@ -571,7 +572,8 @@ Rgb RaycastRenderer::lights_along_rays(Vec2 x, double start, double span, int ra
         if (t_light >= t_occ[b] - contact)
           for (int c3 = 0; c3 < 3; ++c3) v[c3] *= occluder_terms_[b].transmittance[c3];
       }
-      for (int c3 = 0; c3 < 3; ++c3) lit[c3] += emission_[l][c3] * weight * v[c3];
+      // A light's shadow removes only the fraction k of what the occluders block.
+      for (int c3 = 0; c3 < 3; ++c3) lit[c3] += emission_[l][c3] * weight * (1.0 - m.shadow[c3] + m.shadow[c3] * v[c3]);
     }
   }
   return lit;

@@ -85,6 +85,7 @@ class RaycastRenderer {
     std::optional<Cookie> cookie;  // as in the scene (degrees)
     std::uint32_t mask = 0xFFFFFFFFu;
     double elevation = 0.0;
+    Rgb shadow{1.0, 1.0, 1.0};  // the fraction an occluder's shadow removes: strength * (1 - color)
   };
   struct OccluderModel {
     Rgb transmittance{0.0, 0.0, 0.0};

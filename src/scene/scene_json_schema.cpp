@@ -17,6 +17,7 @@ namespace par2d::detail {
 namespace {
 constexpr const char* kCookieExpected = "expected {\"rotation\": r, \"knots\": [[direction, weight], ...]}";
 constexpr const char* kKnotsExpected = "expected an array of [direction, weight] knots";
+constexpr const char* kShadowExpected = "expected {\"strength\": s, \"color\": [r, g, b]}";
 }  // namespace
 
 void SceneBuilder::fail(std::string place, std::string what) {
@@ -37,6 +38,8 @@ void SceneBuilder::check_key(const Frame& frame) {
     if (k != "piece") fail(place, "unknown key (expected piece)");
   } else if (frame.role == Role::cookie) {
     if (k != "rotation" && k != "knots") fail(place, "unknown key (expected rotation, knots)");
+  } else if (frame.role == Role::shadow) {
+    if (k != "strength" && k != "color") fail(place, "unknown key (expected strength, color)");
   } else if (frame.role == Role::cone) {
     if (k != "direction" && k != "half_angle" && k != "fade")
       fail(place, "unknown key (expected direction, half_angle, fade)");
@@ -47,14 +50,14 @@ void SceneBuilder::check_key(const Frame& frame) {
     const bool shape = k == "polygon" || k == "circle" || k == "segment";
     const bool light_term = k == "color" || k == "intensity" || k == "range" || k == "falloff" ||
                             k == "normalize" || k == "cone" || k == "cookie" || k == "mask" ||
-                            k == "elevation";
+                            k == "elevation" || k == "shadow";
     const bool occluder_term = k == "transmittance" || k == "mask" || k == "interior" || k == "albedo";
     if (!element_.light && (k == "color" || k == "intensity")) {
       fail(place, "occluders take no color or intensity");
     } else if (!shape && !(element_.light ? light_term : occluder_term)) {
       fail(place, element_.light
                       ? "unknown key (expected polygon, circle, segment, color, intensity, range, falloff, "
-                        "normalize, cone, cookie, mask, elevation)"
+                        "normalize, cone, cookie, mask, elevation, shadow)"
                       : "unknown key (expected polygon, circle, segment, transmittance, mask, interior, albedo)");
     } else if (shape && element_.shape != nullptr) {
       // Named in a fixed order, whatever the order in the file.
@@ -137,6 +140,11 @@ bool SceneBuilder::scalar(const Scalar& v) {
         else if (!v.is_number()) fail(place, "expected a number");
         else element_.cookie.rotation = v.number;
         break;
+      case Role::shadow:
+        if (frame.key == "color") fail(place, "expected [r, g, b]");
+        else if (!v.is_number()) fail(place, "expected a number");
+        else element_.value.shadow.strength = v.number;
+        break;
       case Role::knots: fail(place, "expected [direction, weight]"); break;
       case Role::knot:
         if (!v.is_number() || frame.count >= 2) fail(frame.place, "expected [direction, weight]");
@@ -179,6 +187,8 @@ void SceneBuilder::element_scalar(const Frame& frame, const Scalar& v, const std
     fail(place, "expected {\"direction\": d, \"half_angle\": h, \"fade\": f}");
   } else if (k == "cookie") {
     fail(place, kCookieExpected);
+  } else if (k == "shadow") {
+    fail(place, kShadowExpected);
   } else if (k == "polygon") {
     fail(place, "expected an array of [x, y] vertices");
   } else if (k == "circle") {
@@ -256,6 +266,7 @@ SceneBuilder::Role SceneBuilder::container_role(bool object, const std::string& 
         element_.has_knots = false;
         return Role::cookie;
       }
+      if (k == "shadow") return object ? Role::shadow : refuse(place, kShadowExpected);
       if (k == "interior") return refuse(place, "expected \"dark\" or \"lit\"");
       if (k == "mask") return refuse(place, "expected an integer");
       return refuse(place, "expected a number");  // intensity, range, falloff, normalize, elevation
@@ -275,6 +286,9 @@ SceneBuilder::Role SceneBuilder::container_role(bool object, const std::string& 
       return Role::knots;
     case Role::knots: return object ? refuse(place, "expected [direction, weight]") : Role::knot;
     case Role::knot: return refuse(frame.place, "expected [direction, weight]");
+    case Role::shadow:
+      if (k == "color") return numbers(object, place, element_.value.shadow.color.data(), 3, "expected [r, g, b]");
+      return refuse(place, "expected a number");  // strength
     case Role::cone:
     case Role::bounce: return refuse(place, "expected a number");
     case Role::skip: return Role::skip;
@@ -348,6 +362,7 @@ void SceneBuilder::finish(const Frame& frame) {
       return;
     case Role::polygon:
     case Role::knots:
+    case Role::shadow:
     case Role::bounce:
     case Role::skip: return;
   }

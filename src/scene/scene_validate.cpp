@@ -303,6 +303,18 @@ MaybeProblem check_light(const Light& light, const std::string& place) {
     if (auto problem = check_cookie(*light.cookie, place + ".cookie")) return problem;
     if (light.cone) return SceneProblem{place + ".cookie", "a light takes a cone or a cookie, not both"};
   }
+  if (!(light.shadow.strength >= 0.0 && light.shadow.strength <= 1.0)) {
+    if (auto problem = check_finite(light.shadow.strength, place + ".shadow.strength")) return problem;
+    return SceneProblem{place + ".shadow.strength",
+                        "must be between 0 and 1, got " + format_number(light.shadow.strength)};
+  }
+  for (std::size_t c = 0; c < light.shadow.color.size(); ++c) {
+    const double v = light.shadow.color[c];
+    if (v >= 0.0 && v <= 1.0) continue;
+    const std::string at = indexed(place + ".shadow.color", c);
+    if (auto problem = check_finite(v, at)) return problem;
+    return SceneProblem{at, "must be between 0 and 1, got " + format_number(v)};
+  }
   if (light.elevation >= 0.0 && light.elevation <= 90.0) return std::nullopt;
   return check_elevation(light.elevation, place + ".elevation");
 }

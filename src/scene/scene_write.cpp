@@ -120,6 +120,16 @@ void put_light_terms(std::string& out, const Light& light) {
   }
   put_mask(out, light.mask);
   put_elevation(out, light.elevation);
+  // The default (full shadows) is left out; -0 is written, so a round trip keeps every bit.
+  const Shadow full;
+  if (std::memcmp(&light.shadow.strength, &full.strength, sizeof(double)) != 0 ||
+      std::memcmp(light.shadow.color.data(), full.color.data(), sizeof(Rgb)) != 0) {
+    out += ", \"shadow\": { \"strength\": ";
+    put_number(out, light.shadow.strength);
+    out += ", \"color\": ";
+    put_triple(out, light.shadow.color.data());
+    out += " }";
+  }
 }
 
 void put_occluder_terms(std::string& out, const Occluder& occluder) {

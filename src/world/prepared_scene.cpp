@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "lighting/angular_profile.hpp"
+
 namespace par2d::detail {
 namespace {
 
@@ -184,6 +186,7 @@ LightTerms light_terms(const Light& light, double scale) noexcept {
       area += t.cookie.width[k] * (knot.weight + 0.5 * t.cookie.rise[k]);
     }
     t.cookie.area = area;
+    finish_cookie_segments(t.cookie);
   }
   t.mask = light.mask;
   t.sin_elevation = std::sin(light.elevation * kRadiansPerDegree);
@@ -251,7 +254,7 @@ void prepare_model_terms(const Scene& scene, PreparedScene& out, std::shared_ptr
 
 void update_scene_bounds(PreparedScene& out) noexcept {
   out.e_max = 0.0;
-  for (const PreparedLight& l : out.lights) out.e_max += std::max({l.emission[0], l.emission[1], l.emission[2]});
+  for (const PreparedLight& l : out.lights) out.e_max += l.e_max_share;
   // docs/contract.md section 6: directional lights and the ambient term count too.
   for (const PreparedDirectional& d : out.directionals) out.e_max += std::max({d.emission[0], d.emission[1], d.emission[2]});
   out.e_max += std::max({out.ambient[0], out.ambient[1], out.ambient[2]});

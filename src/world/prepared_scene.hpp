@@ -91,7 +91,10 @@ struct LightOverlap {
 
 struct PreparedLight {
   ConvexShape shape;
-  Rgb emission{};  // intensity * color
+  Rgb emission{};  // intensity * color (of this part, for a light its shadow splits)
+  // The light's share of e_max (docs/contract.md section 5): its largest channel of e_L, on the
+  // first of a split light's two parts only, so that e_max counts each light once.
+  double e_max_share = 0.0;
   LightTerms terms;
   // Occluders whose shape meets this light's (sorted). For such a pair the blocked
   // directions are not all-or-nothing per direction interval; see scalar_renderer.

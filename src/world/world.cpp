@@ -23,6 +23,13 @@ bool emits(const Light& light) noexcept {
   return e > 0.0;
 }
 
+// A part's terms: the light's, with no occluder acting on its unshadowed part.
+LightTerms part_terms(const Light& light, LightPart part, double scale) noexcept {
+  LightTerms terms = light_terms(light, scale);
+  if (part == LightPart::unshadowed) terms.mask = 0;
+  return terms;
+}
+
 // `who: place: what`, e.g. `light 4294967298: polygon: not convex at vertex 3`.
 Status refused(const std::string& who, const SceneProblem& problem) {
   std::string message = who + ": ";
@@ -74,7 +81,7 @@ World::Slot* World::find(std::uint64_t id, bool occluder) noexcept {
   const std::uint64_t low = id & 0xffffffffu;
   if (low == 0 || low > slots_.size()) return nullptr;
   Slot& slot = slots_[low - 1];
-  if (slot.where < 0 || slot.generation != (id >> 32)) return nullptr;
+  if (slot.where < 0 || slot.internal || slot.generation != (id >> 32)) return nullptr;
   if ((slot.list == kOccluder) != occluder) return nullptr;
   return &slot;
 }
@@ -100,6 +107,8 @@ std::uint32_t World::new_slot(std::uint8_t list, std::int32_t where) {
   }
   slots_[slot].list = list;
   slots_[slot].where = where;
+  slots_[slot].internal = false;
+  slots_[slot].companion = kNoCompanion;
   return slot;
 }
 
@@ -176,14 +185,25 @@ Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, st
   };
   std::vector<LightHandle> light_handles;
   std::vector<OccluderHandle> occluder_handles;
-  for (const Light& light : scene.lights) {
+  // Lit entries: the user's slot, the light and its part (a split light's second part gets
+  // its internal slot after every handle's, so handles do not depend on shadows).
+  const auto push_entry = [&next](std::uint32_t slot, const Light& light, LightPart part) {
+    Slot& s = next.slots_[slot];
+    s.list = kLit;
+    s.where = static_cast<std::int32_t>(next.light_sources_.size());
+    next.light_sources_.push_back(light);
+    next.light_slots_.push_back(slot);
+    s.part = part;
+  };
+  std::vector<std::pair<std::uint32_t, std::size_t>> split;  // user slot, index in scene.lights
+  for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+    const Light& light = scene.lights[i];
     const std::uint32_t slot = take_slot();
     Slot& s = next.slots_[slot];
     if (emits(light)) {
-      s.list = kLit;
-      s.where = static_cast<std::int32_t>(next.light_sources_.size());
-      next.light_sources_.push_back(light);
-      next.light_slots_.push_back(slot);
+      const LightParts parts = light_parts(light);
+      push_entry(slot, light, parts.first);
+      if (parts.split) split.emplace_back(slot, i);
     } else {
       s.list = kDark;
       s.where = static_cast<std::int32_t>(next.dark_sources_.size());
@@ -201,6 +221,13 @@ Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, st
     next.occluder_slots_.push_back(slot);
     occluder_handles.push_back({next.make_handle(slot)});
   }
+  for (const auto& [user, i] : split) {
+    const std::uint32_t slot = take_slot();
+    next.slots_[slot].internal = true;
+    next.slots_[user].companion = slot;
+    push_entry(slot, scene.lights[i], LightPart::unshadowed);
+  }
+  next.companions_ = split.size();
   for (std::size_t i = next.slots_.size(); i-- > cursor;)
     if (next.slots_[i].generation != 0) next.free_slots_.push_back(static_cast<std::uint32_t>(i));
   next.globals_.ambient = scene.ambient;
@@ -236,7 +263,7 @@ void World::reprepare_all(std::shared_ptr<const WorldNormals> converted) {
   for (std::size_t p = 0; p < light_sources_.size(); ++p) {
     const Light& l = light_sources_[p];
     make_convex_shape(l.shape, scene_.lights[p].shape);
-    scene_.lights[p].emission = light_emission(l);
+    set_part_emission(p);
   }
   for (std::size_t k = 0; k < occluder_sources_.size(); ++k) make_convex_shape(occluder_sources_[k].shape, scene_.occluders[k]);
   const double largest = std::max({largest_coordinate(), std::abs(view_.x0), std::abs(view_.x1), std::abs(view_.y0),
@@ -246,7 +273,8 @@ void World::reprepare_all(std::shared_ptr<const WorldNormals> converted) {
   scene_.scale = factor_;
   for (PreparedLight& l : scene_.lights) scale_shape(l.shape, factor_);
   for (ConvexShape& o : scene_.occluders) scale_shape(o, factor_);
-  for (std::size_t p = 0; p < light_sources_.size(); ++p) scene_.lights[p].terms = light_terms(light_sources_[p], factor_);
+  for (std::size_t p = 0; p < light_sources_.size(); ++p)
+    scene_.lights[p].terms = part_terms(light_sources_[p], part_of(p), factor_);
   scene_.occluder_terms.resize(occluder_sources_.size());
   for (std::size_t k = 0; k < occluder_sources_.size(); ++k) scene_.occluder_terms[k] = occluder_terms(occluder_sources_[k]);
   globals_.view = view_;
@@ -271,18 +299,50 @@ void World::prepare_lit(std::size_t p, const Light& light) {
   PreparedLight& prepared = scene_.lights[p];
   make_convex_shape(light.shape, prepared.shape);
   scale_shape(prepared.shape, factor_);
-  prepared.emission = light_emission(light);
-  prepared.terms = light_terms(light, factor_);
+  set_part_emission(p);
+  prepared.terms = part_terms(light, part_of(p), factor_);
   update_model_flag(scene_);
   find_light_overlaps(scene_, prepared, query_, scene_.spare_overlaps);
   scene_.separators.forget_light(p);
   if (observer_) observer_->light_changed(p);
 }
 
-void World::push_lit(const Light& light, std::uint32_t slot) {
+void World::set_part_emission(std::size_t p) noexcept {
+  const Light& light = light_sources_[p];
+  PreparedLight& prepared = scene_.lights[p];
+  prepared.emission = part_emission(light, part_of(p));
+  const Rgb whole = light_emission(light);
+  prepared.e_max_share = slots_[light_slots_[p]].internal ? 0.0 : std::max({whole[0], whole[1], whole[2]});
+}
+
+void World::push_light(const Light& light, std::uint32_t slot) {
+  if (!emits(light)) return push_dark(light, slot);
+  const LightParts parts = light_parts(light);
+  push_lit(light, slot, parts.first);
+  if (!parts.split) return;
+  const std::uint32_t companion = new_slot(kLit, 0);
+  slots_[companion].internal = true;
+  slots_[slot].companion = companion;
+  ++companions_;
+  push_lit(light, companion, LightPart::unshadowed);
+}
+
+void World::erase_light(std::uint32_t slot) {
+  if (slots_[slot].list == kDark) return erase_dark(static_cast<std::size_t>(slots_[slot].where));
+  if (const std::uint32_t companion = slots_[slot].companion; companion != kNoCompanion) {
+    erase_lit(static_cast<std::size_t>(slots_[companion].where));
+    release_slot(&slots_[companion]);
+    slots_[slot].companion = kNoCompanion;
+    --companions_;
+  }
+  erase_lit(static_cast<std::size_t>(slots_[slot].where));
+}
+
+void World::push_lit(const Light& light, std::uint32_t slot, LightPart part) {
   const std::size_t p = light_sources_.size();
   light_sources_.push_back(light);
   light_slots_.push_back(slot);
+  slots_[slot].part = part;
   scene_.lights.emplace_back();
   if (observer_) observer_->light_added();
   scene_.separators.resize(p + 1, scene_.occluders.size());
@@ -329,13 +389,19 @@ void World::erase_dark(std::size_t q) {
 
 // The lights' total emission with `light` added (in place of lit light `replaced`, if any)
 // must stay within what float32 output can hold, as for scenes (check_emission_total).
-std::optional<SceneProblem> World::emission_total_problem(const Rgb& emission, std::size_t replaced) const {
+std::optional<SceneProblem> World::emission_total_problem(const Rgb& emission, const Slot* replaced) const {
+  // The lit entries of the replaced light (none: past the end).
+  std::size_t skip[2] = {light_sources_.size(), light_sources_.size()};
+  if (replaced != nullptr && replaced->list == kLit) {
+    skip[0] = static_cast<std::size_t>(replaced->where);
+    if (replaced->companion != kNoCompanion) skip[1] = static_cast<std::size_t>(slots_[replaced->companion].where);
+  }
   for (std::size_t c = 0; c < 3; ++c) {
     // Ambient and directional lights add to E too (check_scene_terms); lit lights as prepared.
     double total = emission[c] + globals_.ambient[c];
     for (const DirectionalLight& d : globals_.directional_lights) total += d.intensity * d.color[c];
     for (std::size_t i = 0; i < light_sources_.size(); ++i)
-      if (i != replaced) total += scene_.lights[i].emission[c];
+      if (i != skip[0] && i != skip[1]) total += scene_.lights[i].emission[c];
     if (!(total <= kMaxTotalEmission))
       return SceneProblem{std::string(), "emission too large: the lights' total intensity * color reaches " +
                                              format_number(total) + " (at most 1e38, so that float32 output stays finite)"};
@@ -365,7 +431,8 @@ Status World::set_model_terms(const char* who, const Scene& terms) {
   }
   if (!problem) {
     Scene total;  // the emission total over lights, directional lights and ambient
-    total.lights = light_sources_;
+    for (std::size_t p = 0; p < light_sources_.size(); ++p)
+      if (!slots_[light_slots_[p]].internal) total.lights.push_back(light_sources_[p]);
     total.ambient = terms.ambient;
     total.directional_lights = terms.directional_lights;
     if (auto p = check_scene_terms(total)) problem = p;
@@ -397,16 +464,20 @@ Status World::set_model_terms(const char* who, const Scene& terms) {
 Status World::add_light(const Light& light, LightHandle* handle) {
   if (handle == nullptr) return Status(StatusCode::invalid_argument, "add_light: handle is null");
   if (auto problem = check_light(light, std::string())) return refused("add_light", *problem);
-  if (auto problem = emission_total_problem(light_emission(light), light_sources_.size()))
-    return refused("add_light", *problem);
+  if (auto problem = emission_total_problem(light_emission(light), nullptr)) return refused("add_light", *problem);
   const std::uint32_t slot = new_slot(0, 0);
-  if (emits(light)) {
-    push_lit(light, slot);
-  } else {
-    push_dark(light, slot);
-  }
+  push_light(light, slot);
   handle->id = make_handle(slot);
   return {};
+}
+
+// Whether `light` renders as the same entries the light in `slot` has now (lit, same parts),
+// so that it can be prepared in place: a moving light keeps its index and caches.
+bool World::same_parts(const Slot& slot, const Light& light) const noexcept {
+  if (slot.list != kLit || !emits(light)) return false;
+  const LightParts parts = light_parts(light);
+  return parts.first == slot.part &&
+         parts.split == (slot.companion != kNoCompanion);
 }
 
 Status World::update_light(LightHandle handle, const Light& light) {
@@ -414,24 +485,20 @@ Status World::update_light(LightHandle handle, const Light& light) {
   if (!slot) return unknown_handle("light", handle.id);
   if (auto problem = check_light(light, std::string())) return refused("light " + std::to_string(handle.id), *problem);
   const std::uint32_t index = static_cast<std::uint32_t>(slot - slots_.data());
-  const auto where = static_cast<std::size_t>(slot->where);
-  if (auto problem = emission_total_problem(light_emission(light), slot->list == kLit ? where : light_sources_.size()))
+  if (auto problem = emission_total_problem(light_emission(light), slot))
     return refused("light " + std::to_string(handle.id), *problem);
-  if (slot->list == kLit) {
-    if (emits(light)) {
+  if (same_parts(*slot, light)) {
+    for (const std::uint32_t s : {index, slot->companion}) {
+      if (s == kNoCompanion) continue;
+      const auto where = static_cast<std::size_t>(slots_[s].where);
       light_sources_[where] = light;
       prepare_lit(where, light);
-    } else {
-      erase_lit(where);
-      push_dark(light, index);
     }
+  } else if (slot->list == kDark && !emits(light)) {
+    dark_sources_[static_cast<std::size_t>(slot->where)] = light;
   } else {
-    if (emits(light)) {
-      erase_dark(where);
-      push_lit(light, index);
-    } else {
-      dark_sources_[where] = light;
-    }
+    erase_light(index);
+    push_light(light, index);
   }
   return {};
 }
@@ -451,23 +518,34 @@ Status World::set_light_emission(LightHandle handle, const Rgb& color, double in
   const auto where = static_cast<std::size_t>(slot->where);
   Light& source = slot->list == kLit ? light_sources_[where] : dark_sources_[where];
   const Rgb emission = light_emission(color, intensity, emission_scale(source));
-  if (auto problem = emission_total_problem(emission, slot->list == kLit ? where : light_sources_.size()))
-    return refused("light " + std::to_string(handle.id), *problem);
+  if (auto problem = emission_total_problem(emission, slot)) return refused("light " + std::to_string(handle.id), *problem);
+  // The new light, built in place (its shape's storage is not copied).
+  const Rgb old_color = source.color;
+  const double old_intensity = source.intensity;
   source.color = color;
   source.intensity = intensity;
-  const bool now = emits(source);
-  if (slot->list == kLit && now) {
+  const bool in_place = same_parts(*slot, source);
+  source.color = old_color;
+  source.intensity = old_intensity;
+  if (in_place) {
     // Only the emission changes: shape, overlaps, separators and reach all stay.
-    scene_.lights[where].emission = emission;
-    if (observer_) observer_->light_emission_changed(where);
-  } else if (slot->list == kLit) {
-    const Light copy = source;
-    erase_lit(where);
-    push_dark(copy, index);
-  } else if (now) {
-    const Light copy = source;
-    erase_dark(where);
-    push_lit(copy, index);
+    for (const std::uint32_t s : {index, slot->companion}) {
+      if (s == kNoCompanion) continue;
+      const auto p = static_cast<std::size_t>(slots_[s].where);
+      light_sources_[p].color = color;
+      light_sources_[p].intensity = intensity;
+      set_part_emission(p);
+      if (observer_) observer_->light_emission_changed(p);
+    }
+  } else if (slot->list == kDark && !(emission[0] > 0.0 || emission[1] > 0.0 || emission[2] > 0.0)) {
+    source.color = color;
+    source.intensity = intensity;
+  } else {
+    Light copy = source;
+    copy.color = color;
+    copy.intensity = intensity;
+    erase_light(index);
+    push_light(copy, index);
   }
   return {};
 }
@@ -475,11 +553,7 @@ Status World::set_light_emission(LightHandle handle, const Rgb& color, double in
 Status World::remove_light(LightHandle handle) {
   Slot* slot = find(handle.id, false);
   if (!slot) return unknown_handle("light", handle.id);
-  if (slot->list == kLit) {
-    erase_lit(static_cast<std::size_t>(slot->where));
-  } else {
-    erase_dark(static_cast<std::size_t>(slot->where));
-  }
+  erase_light(static_cast<std::uint32_t>(slot - slots_.data()));
   release_slot(slot);
   return {};
 }
@@ -615,7 +689,8 @@ Scene World::snapshot() const {
   out.width = scene_.width;
   out.height = scene_.height;
   out.view = view_;
-  out.lights = light_sources_;
+  for (std::size_t p = 0; p < light_sources_.size(); ++p)
+    if (!slots_[light_slots_[p]].internal) out.lights.push_back(light_sources_[p]);
   out.lights.insert(out.lights.end(), dark_sources_.begin(), dark_sources_.end());
   out.occluders = occluder_sources_;
   out.ambient = globals_.ambient;

@@ -11,6 +11,7 @@
 #include "par2d/renderer.hpp"
 #include "par2d/scene.hpp"
 #include "par2d/status.hpp"
+#include "lighting/light_emission.hpp"
 #include "world/prepared_scene.hpp"
 #include "world/world_changes.hpp"
 #include "scene/scene_validate.hpp"
@@ -51,7 +52,9 @@ class World {
 
   bool has_frame() const noexcept { return scene_.width > 0; }
   const View& view() const noexcept { return view_; }
-  std::size_t light_count() const noexcept { return light_sources_.size() + dark_sources_.size(); }
+  std::size_t light_count() const noexcept {
+    return light_sources_.size() - companions_ + dark_sources_.size();
+  }
   std::size_t occluder_count() const noexcept { return occluder_sources_.size(); }
 
   // Brings everything derived up to date for a frame: coordinate scale, bounds and the index
@@ -68,16 +71,23 @@ class World {
  private:
   friend struct WorldTestAccess;  // tests/test_world_handles.cpp: ages a slot without 2^32 removals
 
-  // A problem when `light`, in place of lit light `replaced` (or added, with replaced ==
-  // the lit count), would take the lights' total emission past kMaxTotalEmission.
-  std::optional<SceneProblem> emission_total_problem(const Rgb& emission, std::size_t replaced) const;
-
   // A handle's slot: which array its object lives in and where.
   struct Slot {
     std::uint32_t generation = 1;  // 0: retired (see release_slot)
     std::int32_t where = -1;  // index into the owning array, -1 when free
     std::uint8_t list = 0;    // kLit / kDark / kOccluder
+    // A light split by its shadow (light_emission.hpp's LightPart): the user's slot holds the
+    // shadowed part and names the slot of the unshadowed part, an internal slot no handle names.
+    bool internal = false;
+    LightPart part = LightPart::whole;  // lit entries: which part of the light this one renders
+    std::uint32_t companion = kNoCompanion;
   };
+  LightPart part_of(std::size_t p) const noexcept { return slots_[light_slots_[p]].part; }
+  static constexpr std::uint32_t kNoCompanion = 0xffffffffu;
+
+  // A problem when a light emitting `emission` in all, in place of the light in `replaced`
+  // (nullptr: added), would take the lights' total emission past kMaxTotalEmission.
+  std::optional<SceneProblem> emission_total_problem(const Rgb& emission, const Slot* replaced) const;
   enum : std::uint8_t { kLit = 1, kDark = 2, kOccluder = 3 };
 
   // Frees a slot for reuse under its next generation. A slot whose generation would wrap past
@@ -89,7 +99,14 @@ class World {
   std::uint32_t new_slot(std::uint8_t list, std::int32_t where);
 
   void prepare_lit(std::size_t p, const Light& light);
-  void push_lit(const Light& light, std::uint32_t slot);
+  // A user's light into the lists: dark, or lit as its one or two parts (a new internal slot
+  // for the second); erase_light takes them all out again, keeping the user's slot.
+  void push_light(const Light& light, std::uint32_t slot);
+  void erase_light(std::uint32_t slot);
+  bool same_parts(const Slot& slot, const Light& light) const noexcept;
+  // Lit entry p's emission and e_max share from its source and part.
+  void set_part_emission(std::size_t p) noexcept;
+  void push_lit(const Light& light, std::uint32_t slot, LightPart part);
   void push_dark(const Light& light, std::uint32_t slot);
   void erase_lit(std::size_t p);
   void erase_dark(std::size_t q);
@@ -109,6 +126,7 @@ class World {
   // Emitting lights, parallel to scene_.lights; dark (zero emission) lights aside.
   std::vector<Light> light_sources_;
   std::vector<std::uint32_t> light_slots_;
+  std::size_t companions_ = 0;          // lit entries that are a split light's second part
   std::vector<Light> dark_sources_;
   std::vector<std::uint32_t> dark_slots_;
   // The scene-wide game-model terms as given (ambient, directional lights, normal source);

@@ -344,6 +344,22 @@ static void check_errors_name_the_call(par2d_renderer* r) {
   CHECK(par2d_set_light_terms(r, light, &terms) == PAR2D_OK);
   CHECK(par2d_get_light_terms(r, light, &back) == PAR2D_OK && back.normalize == 25.0);
   terms.normalize = 0.0;
+  /* Shadow strength and colour: defaults, a round trip, refusals naming the field. */
+  CHECK(back.shadow_strength == 1.0 && back.shadow_color[0] == 0.0 && back.shadow_color[2] == 0.0);
+  terms.shadow_strength = 0.4;
+  terms.shadow_color[1] = 0.75;
+  CHECK(par2d_set_light_terms(r, light, &terms) == PAR2D_OK);
+  CHECK(par2d_get_light_terms(r, light, &back) == PAR2D_OK && back.shadow_strength == 0.4 &&
+        back.shadow_color[0] == 0.0 && back.shadow_color[1] == 0.75);
+  terms.shadow_strength = 1.5;
+  CHECK_ERROR_PREFIX(par2d_set_light_terms(r, light, &terms), PAR2D_INVALID_SCENE, "par2d_set_light_terms: ");
+  CHECK(strstr(par2d_last_error(), "shadow.strength: must be between 0 and 1, got 1.5") != NULL);
+  terms.shadow_strength = 1.0;
+  terms.shadow_color[2] = -0.5;
+  CHECK_ERROR_PREFIX(par2d_set_light_terms(r, light, &terms), PAR2D_INVALID_SCENE, "par2d_set_light_terms: ");
+  CHECK(strstr(par2d_last_error(), "shadow.color[2]") != NULL);
+  CHECK(par2d_get_light_terms(r, light, &back) == PAR2D_OK && back.shadow_strength == 0.4);
+  terms.shadow_color[1] = terms.shadow_color[2] = 0.0;
   terms.falloff = 2.0;
   terms.elevation = 95.0;
   CHECK_ERROR_PREFIX(par2d_set_light_terms(r, light, &terms), PAR2D_INVALID_SCENE, "par2d_set_light_terms: ");
@@ -671,6 +687,16 @@ static par2d_shape circle_shape(double x, double y, double radius) {
   return shape;
 }
 
+/* A polygon shape over `count` (x, y) pairs at `xy`. */
+static par2d_shape polygon_shape(const double* xy, size_t count) {
+  par2d_shape shape;
+  memset(&shape, 0, sizeof shape);
+  shape.kind = PAR2D_SHAPE_POLYGON;
+  shape.vertices = xy;
+  shape.vertex_count = count;
+  return shape;
+}
+
 /* Cookies: refusals name the call and the place; a constant cookie of weight 1/4 gives a
  * quarter of the light; reading one back; a cone as well is refused; count 0 removes it. */
 static void check_cookies(void) {
@@ -749,11 +775,7 @@ static void check_transforms(void) {
   /* A 8 x 4 crate centred on its origin, turned a quarter (exact) and moved to (30, 24). */
   const double local[8] = {-4, -2, 4, -2, 4, 2, -4, 2};
   const double placed[8] = {32, 20, 32, 28, 28, 28, 28, 20};
-  par2d_shape crate;
-  memset(&crate, 0, sizeof crate);
-  crate.kind = PAR2D_SHAPE_POLYGON;
-  crate.vertices = local;
-  crate.vertex_count = 4;
+  const par2d_shape crate = polygon_shape(local, 4);
   par2d_transform crate_at;
   par2d_transform_identity(&crate_at);
   crate_at.position[0] = 30.0;
@@ -821,11 +843,7 @@ static void check_bounce(void) {
   par2d_light light = 0;
   CHECK(par2d_add_light(r, &lamp, white, 3.0, &light) == PAR2D_OK);
   const double box[8] = {10, 2, 12, 2, 12, 12, 10, 12};
-  par2d_shape wall;
-  memset(&wall, 0, sizeof wall);
-  wall.kind = PAR2D_SHAPE_POLYGON;
-  wall.vertices = box;
-  wall.vertex_count = 4;
+  const par2d_shape wall = polygon_shape(box, 4);
   par2d_occluder occluder = 0;
   CHECK(par2d_add_occluder(r, &wall, &occluder) == PAR2D_OK);
   par2d_occluder_terms terms;

@@ -193,9 +193,11 @@ inline void decode_model_terms(ByteReader& in, double scale, Scene& s) {
     if (!(std::max({std::fabs(n.x), std::fabs(n.y), std::fabs(n.z)}) > 0.0)) n = {0.0, 0.0, k};
     s.normal = n;
   }
-  // Cookies, from a second flags byte at the end (inputs from before them read 0 here): on
-  // lights without a cone, 1 to 6 knots, 1 ulp to a quarter turn apart within a turn.
-  if (in.byte() & 1) {
+  // Cookies and shadows, from a second flags byte at the end (inputs from before them read 0
+  // here). Cookies: on lights without a cone, 1 to 6 knots, 1 ulp to a quarter turn apart
+  // within a turn.
+  const unsigned more = in.byte();
+  if (more & 1) {
     static constexpr double kSteps[] = {0.0, 1e-300, 1e-9, 1e-4, 0.5, 10.0, 45.0, 90.0};
     for (Light& light : s.lights) {
       if (light.cone || !(in.byte() & 1)) continue;
@@ -210,6 +212,14 @@ inline void decode_model_terms(ByteReader& in, double scale, Scene& s) {
         cookie.knots.push_back({direction, pick(kParts)});
       }
       light.cookie = std::move(cookie);
+    }
+  }
+  // Shadow strength and colour at their boundaries and 1 ulp inside them (a light split into
+  // a shadowed part and one with a subnormal emission).
+  if (more & 2) {
+    for (Light& light : s.lights) {
+      light.shadow.strength = pick(kParts);
+      for (double& c : light.shadow.color) c = pick(kParts);
     }
   }
 }

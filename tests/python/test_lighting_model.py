@@ -127,6 +127,30 @@ def test_falloff_shapes_the_range_window_and_is_refused_out_of_range():
     assert str(e.value) == f"light {r.lights[0]}: falloff: must be between 0 and 16, got 17"
 
 
+def test_shadow_strength_and_colour_blend_the_lit_and_shadowed_images():
+    def scene(shadow=None, occluded=True):
+        light = {"circle": {"center": [8, 2], "radius": 1.5}, "color": [1, 0.5, 0.25], "intensity": 2}
+        if shadow is not None:
+            light["shadow"] = shadow
+        occluders = [{"segment": [[4, 6], [12, 6]]}] if occluded else []
+        return {"width": 16, "height": 12, "lights": [light], "occluders": occluders}
+    full, bare = par2d.render(scene()), par2d.render(scene(occluded=False))
+    assert np.array_equal(par2d.render(scene({"strength": 1})), full)
+    assert "shadow" not in par2d.Scene.from_dict(scene({"strength": 1, "color": [0, 0, 0]})).to_dict()["lights"][0]
+    shadow = {"strength": 0.6, "color": [1.0, 0.5, 0.0]}
+    assert par2d.Scene.from_dict(scene(shadow)).to_dict()["lights"][0]["shadow"] == shadow
+    k = 0.6 * (1 - np.array([1.0, 0.5, 0.0]))
+    expected = (1 - k) * bare + k * full
+    got = par2d.render(scene(shadow))
+    assert np.allclose(got, expected, rtol=0, atol=1e-6 * 2)
+    assert np.allclose(got[:, :, 0], bare[:, :, 0], rtol=0, atol=1e-6 * 2)  # red passes wholly: k = 0
+    assert not np.allclose(got[:, :, 2], bare[:, :, 2], rtol=0, atol=1e-3)  # blue is shadowed (k = 0.6)
+    r = par2d.Renderer(scene())
+    with pytest.raises(par2d.Error) as e:
+        r.update_light(r.lights[0], {"circle": {"center": [1, 1], "radius": 1}, "shadow": {"strength": 2}})
+    assert str(e.value) == f"light {r.lights[0]}: shadow.strength: must be between 0 and 1, got 2"
+
+
 def test_normalize_sets_brightness_apart_from_size():
     # Torches of radius 1, 3 and 6 normalized at 20: the pixel centre 20 units from each
     # center gets intensity * color from it, whatever the radius.

@@ -167,6 +167,23 @@ double extreme_scale(PortableRandom& rng) {
 // The pass RandomSceneOptions::extreme_values asks for, from its own generator.
 // Cookies, from a generator of their own after the other terms (which stay as they were):
 // on lights without a cone, 1 to 6 knots over a random span, weights 0, 1 or between; with
+// About 40 % of the lights: a shadow strength (some 0, some 1), half of them with a colour
+// (some channels 0 or 1), from their own generator.
+void add_shadows(std::uint32_t seed, const RandomSceneOptions& o, Scene& scene) {
+  if (!o.shadows) return;
+  PortableRandom rng(seed ^ 0x165667b1u);
+  for (Light& light : scene.lights) {
+    if (!rng.chance(0.4)) continue;
+    const int pick = rng.integer(0, 3);
+    light.shadow.strength = pick == 0 ? 0.0 : pick == 1 ? 1.0 : rng.uniform();
+    if (rng.chance(0.5))
+      for (double& c : light.shadow.color) {
+        const int p = rng.integer(0, 3);
+        c = p == 0 ? 0.0 : p == 1 ? 1.0 : rng.uniform();
+      }
+  }
+}
+
 // extreme_values, two knots 1 ulp to 1e-4 degrees apart, or a span just under 360.
 void add_cookies(std::uint32_t seed, const RandomSceneOptions& o, Scene& scene) {
   if (!o.cookies) return;
@@ -330,12 +347,13 @@ Scene random_scene(std::uint32_t seed, const RandomSceneOptions& o) {
   }
   add_model_terms(seed, o, scene);
   add_cookies(seed, o, scene);
+  add_shadows(seed, o, scene);
   add_extreme_values(seed, o, scene);
   return scene;
 }
 
 RandomSceneOptions with_every_model_term(RandomSceneOptions o) {
-  o.ranges = o.falloffs = o.normalizes = o.cones = o.cookies = o.masks = o.translucent = o.lit_interiors = o.ambient = o.elevations = true;
+  o.ranges = o.falloffs = o.normalizes = o.cones = o.cookies = o.shadows = o.masks = o.translucent = o.lit_interiors = o.ambient = o.elevations = true;
   o.directional_lights = 2;
   o.normals = RandomSceneOptions::Normals::map;
   return o;

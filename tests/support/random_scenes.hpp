@@ -75,6 +75,7 @@ struct RandomSceneOptions {
   bool normalizes = false;     // about a third of the lights: normalize at 0.1 .. 2 view sizes
   bool cones = false;          // about half the lights: a cone (some with fade 0, some with half angle 180)
   bool cookies = false;        // about 60 % of the lights without a cone: a cookie of 1 .. 6 knots
+  bool shadows = false;        // about 40 % of the lights: shadow strength 0 .. 1, half with a shadow colour
   bool masks = false;          // lights, occluders and directional lights: masks of a few bits, some disjoint
   bool translucent = false;    // about half the occluders: a transmittance in [0, 1] per channel
   bool lit_interiors = false;  // about a third of the occluders: interior "lit"

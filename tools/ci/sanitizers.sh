@@ -41,9 +41,11 @@ run_asan() {
   # the sanitizers too, only on more pixels; under ASan they took over half of this step (the
   # model-kernel sweep alone over 10 minutes on 2 cores; without the first six below the
   # tests took 551 s, the next five are the largest native sweeps after them; the light-layer
-  # cache's 500 frames, minutes here, have a 60-frame twin that runs). They still run
-  # natively in the user's test command (and their larger versions in the long tier).
-  local heavy='cell lists: game-model scenes with every term on small occluders*,rubble with many lights per block*,the lighting-model examples*,culling is exact in a dense field*,small occluders and small lights*,huge slanted segments*,culling is exact with up to 1000 occluders*,scalar matches ray casting on random scenes with every lighting-model term,cell lists: small occluders and lights (1.5-5 px)*,huge shapes whose boundary passes*,huge circles through the view*,light-layer cache: 500 random*'
+  # cache's 500 frames, minutes here, have a 60-frame twin that runs). The last four (measured
+  # 80 to 124 s each under ASan, a third of what was left) render large views of dense fields
+  # through culling paths the other culling, reach and fill cases here run on fewer pixels.
+  # They still run natively in the user's test command (and their larger versions in the long tier).
+  local heavy='render writes every pixel of its view: NaN-filled*,rubble (1.5-4 px occluders*,light reach: points beyond a sector*,culled renders equal unculled ones and the scalar reference inside rings*,cell lists: game-model scenes with every term on small occluders*,rubble with many lights per block*,the lighting-model examples*,culling is exact in a dense field*,small occluders and small lights*,huge slanted segments*,culling is exact with up to 1000 occluders*,scalar matches ray casting on random scenes with every lighting-model term,cell lists: small occluders and lights (1.5-5 px)*,huge shapes whose boundary passes*,huge circles through the view*,light-layer cache: 500 random*'
   (cd build-asan/tests && JOBS="$JOBS" "$ROOT/tools/ci/sharded.sh" ./par2d_tests --test-suite-exclude=long \
      --test-case-exclude="$heavy")
   ctest --test-dir build-asan --output-on-failure -j"$JOBS" -E '^par2d_test'

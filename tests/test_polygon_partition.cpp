@@ -1,0 +1,556 @@
+// partition_convex (src/geometry/polygon_partition.hpp): closed forms, the partition's
+// properties on random star polygons with holes and on tile-map rooms with pillars (convex
+// pieces, exact total area, every interior point covered once, no exterior point covered, the
+// Hertel-Mehlhorn piece bound), refusals that name the ring, and a 4096-vertex polygon.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "geometry/polygon_partition.hpp"
+
+namespace par2d::test {
+namespace {
+
+using detail::orientation;
+using detail::partition_convex;
+using detail::PolygonRings;
+using Pieces = std::vector<std::vector<Vec2>>;
+
+// Uniform in [0, 1) from the top 53 bits (the same numbers on every standard library).
+double uniform(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1p-53; }
+int uniform_int(std::mt19937_64& rng, int lo, int hi) {  // [lo, hi]
+  return lo + static_cast<int>(rng() % static_cast<std::uint64_t>(hi - lo + 1));
+}
+
+// Twice the signed area (shoelace), of the ring with its coordinates divided by `unit` (so
+// that coordinates near 1e300 do not overflow).
+double area2(const std::vector<Vec2>& ring, double unit = 1.0) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < ring.size(); ++i) {
+    const Vec2 a = ring[i], b = ring[(i + 1) % ring.size()];
+    sum += (a.x / unit) * (b.y / unit) - (a.y / unit) * (b.x / unit);
+  }
+  return sum;
+}
+
+double polygon_area(const PolygonRings& polygon, double unit = 1.0) {
+  double area = std::fabs(area2(polygon.outer, unit));
+  for (const auto& hole : polygon.holes) area -= std::fabs(area2(hole, unit));
+  return 0.5 * area;
+}
+
+double pieces_area(const Pieces& pieces, double unit = 1.0) {
+  double area = 0.0;
+  for (const auto& piece : pieces) area += area2(piece, unit);
+  return 0.5 * area;
+}
+
+bool within_box(Vec2 a, Vec2 b, Vec2 p) {
+  return std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= p.y &&
+         p.y <= std::max(a.y, b.y);
+}
+
+// -1 outside, 0 on the boundary, 1 inside (even-odd over every ring), decided exactly.
+int classify(const PolygonRings& polygon, Vec2 p) {
+  bool inside = false;
+  const auto ring_pass = [&](const std::vector<Vec2>& ring) {
+    for (std::size_t i = 0; i < ring.size(); ++i) {
+      const Vec2 a = ring[i], b = ring[(i + 1) % ring.size()];
+      if (orientation(a, b, p) == 0 && within_box(a, b, p)) return false;
+      if ((a.y > p.y) != (b.y > p.y)) {
+        const Vec2 lo = a.y < b.y ? a : b, hi = a.y < b.y ? b : a;
+        if (orientation(lo, hi, p) > 0) inside = !inside;
+      }
+    }
+    return true;
+  };
+  if (!ring_pass(polygon.outer)) return 0;
+  for (const auto& hole : polygon.holes)
+    if (!ring_pass(hole)) return 0;
+  return inside ? 1 : -1;
+}
+
+// Vertices with an interior angle above 180 degrees (straight and repeated vertices dropped):
+// reflex vertices of the outer ring and convex corners of the holes.
+int reflex_count(const PolygonRings& polygon) {
+  int count = 0;
+  const auto ring_pass = [&](std::vector<Vec2> ring, bool hole) {
+    std::vector<Vec2> kept;
+    for (const Vec2 v : ring)
+      if (kept.empty() || v.x != kept.back().x || v.y != kept.back().y) kept.push_back(v);
+    while (kept.size() > 1 && kept.back().x == kept.front().x && kept.back().y == kept.front().y) kept.pop_back();
+    const bool ccw = area2(kept) > 0.0;
+    const std::size_t n = kept.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const int o = orientation(kept[(i + n - 1) % n], kept[i], kept[(i + 1) % n]);
+      if (o != 0 && ((o < 0) == (ccw != hole))) ++count;
+    }
+  };
+  ring_pass(polygon.outer, false);
+  for (const auto& hole : polygon.holes) ring_pass(hole, true);
+  return count;
+}
+
+struct Sampled {
+  int inside = 0, outside = 0;
+};
+
+// Checks the partition's properties; `samples` are probed for coverage. `area`: whether a
+// shoelace sum in doubles can tell the total area (not for slivers of 1e-310 beside 1e308).
+Sampled check_partition(const PolygonRings& polygon, const Pieces& pieces, const std::vector<Vec2>& samples,
+                        bool area = true) {
+  std::set<std::pair<double, double>> input;
+  for (const Vec2 v : polygon.outer) input.insert({v.x, v.y});
+  for (const auto& hole : polygon.holes)
+    for (const Vec2 v : hole) input.insert({v.x, v.y});
+  bool convex = true, from_input = true;
+  for (const auto& piece : pieces) {
+    const std::size_t n = piece.size();
+    if (n < 3) convex = false;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (orientation(piece[(i + n - 1) % n], piece[i], piece[(i + 1) % n]) <= 0) convex = false;
+      if (!input.count({piece[i].x, piece[i].y})) from_input = false;
+    }
+  }
+  CHECK(convex);  // strictly convex, counter-clockwise, at least 3 vertices
+  CHECK(from_input);
+  double unit = 0.0;
+  for (const Vec2 v : polygon.outer) unit = std::max({unit, std::fabs(v.x), std::fabs(v.y)});
+  const double expected = polygon_area(polygon, unit);
+  if (area) CHECK(std::fabs(pieces_area(pieces, unit) - expected) <= 1e-12 * expected);
+  // Hertel-Mehlhorn: every kept diagonal is needed at a reflex end, at most 2 per reflex vertex,
+  // and d diagonals cut a polygon with h holes into d + 1 - h pieces.
+  const int bound = 2 * reflex_count(polygon) + 1 - static_cast<int>(polygon.holes.size());
+  CHECK(static_cast<int>(pieces.size()) <= bound);
+
+  Sampled sampled;
+  int uncovered = 0, covered_twice = 0, covered_outside = 0;
+  for (const Vec2 p : samples) {
+    const int where = classify(polygon, p);
+    if (where == 0) continue;
+    int closed = 0, strict = 0;
+    for (const auto& piece : pieces) {
+      int lowest = 1;
+      for (std::size_t i = 0; i < piece.size() && lowest >= 0; ++i)
+        lowest = std::min(lowest, orientation(piece[i], piece[(i + 1) % piece.size()], p));
+      if (lowest >= 0) ++closed;
+      if (lowest > 0) ++strict;
+    }
+    if (where > 0) {
+      ++sampled.inside;
+      if (closed == 0) ++uncovered;
+      if (strict > 1) ++covered_twice;
+    } else {
+      ++sampled.outside;
+      if (closed > 0) ++covered_outside;
+    }
+  }
+  CHECK(uncovered == 0);
+  CHECK(covered_twice == 0);
+  CHECK(covered_outside == 0);
+  return sampled;
+}
+
+Pieces partition_ok(const PolygonRings& polygon) {
+  Pieces pieces;
+  std::string error;
+  const bool ok = partition_convex(polygon, pieces, error);
+  CHECK_MESSAGE(ok, error);
+  return pieces;
+}
+
+std::vector<Vec2> random_samples(std::mt19937_64& rng, const std::vector<Vec2>& outer, int count) {
+  Vec2 lo = outer[0], hi = outer[0];
+  for (const Vec2 v : outer) {
+    lo = {std::min(lo.x, v.x), std::min(lo.y, v.y)};
+    hi = {std::max(hi.x, v.x), std::max(hi.y, v.y)};
+  }
+  const double mx = 0.1 * (hi.x - lo.x), my = 0.1 * (hi.y - lo.y);
+  std::vector<Vec2> samples;
+  for (int i = 0; i < count; ++i)
+    samples.push_back({lo.x - mx + (hi.x - lo.x + 2 * mx) * uniform(rng), lo.y - my + (hi.y - lo.y + 2 * my) * uniform(rng)});
+  return samples;
+}
+
+// A polygon star-shaped about `center`: angles spread so that consecutive ones are less than pi
+// apart, radii in [0.2, 1] * radius.
+std::vector<Vec2> random_star(std::mt19937_64& rng, int n, Vec2 center, double radius) {
+  std::vector<Vec2> ring;
+  for (int k = 0; k < n; ++k) {
+    const double angle = 2.0 * 3.14159265358979323846 * (k + 0.45 * uniform(rng)) / n;
+    const double r = radius * (0.2 + 0.8 * uniform(rng));
+    ring.push_back({center.x + r * std::cos(angle), center.y + r * std::sin(angle)});
+  }
+  if (rng() % 2) std::reverse(ring.begin(), ring.end());
+  return ring;
+}
+
+double segment_distance(Vec2 a, Vec2 b, Vec2 p) {
+  const double ex = b.x - a.x, ey = b.y - a.y;
+  double t = ((p.x - a.x) * ex + (p.y - a.y) * ey) / (ex * ex + ey * ey);
+  t = std::clamp(t, 0.0, 1.0);
+  return std::hypot(p.x - (a.x + t * ex), p.y - (a.y + t * ey));
+}
+
+// Up to `holes` small star holes (radius about `size`, centers within `spread` of the origin),
+// each well clear of the outer boundary and of the others.
+void add_random_holes(std::mt19937_64& rng, PolygonRings& polygon, int holes, double size = 0.1,
+                      double spread = 1.0) {
+  std::vector<std::pair<Vec2, double>> placed;
+  for (int attempt = 0; attempt < 200 && static_cast<int>(placed.size()) < holes; ++attempt) {
+    const Vec2 c{spread * (2.0 * uniform(rng) - 1.0), spread * (2.0 * uniform(rng) - 1.0)};
+    const double r = size * (0.2 + uniform(rng));
+    PolygonRings probe{polygon.outer, {}};
+    if (classify(probe, c) <= 0) continue;
+    bool clear = true;
+    for (std::size_t i = 0; i < polygon.outer.size() && clear; ++i)
+      clear = segment_distance(polygon.outer[i], polygon.outer[(i + 1) % polygon.outer.size()], c) > 1.5 * r;
+    for (const auto& [q, rq] : placed) clear = clear && std::hypot(c.x - q.x, c.y - q.y) > 1.2 * (r + rq);
+    if (!clear) continue;
+    placed.push_back({c, r});
+    polygon.holes.push_back(random_star(rng, uniform_int(rng, 3, 8), c, r));
+  }
+}
+
+// A tile-map room: columns i = 0..w-1 of cells [lo_i, hi_i), consecutive columns overlapping,
+// outlined on an integer grid of cell size 4 (straight vertices where neighbours line up);
+// pillars (whole cells or cells inset by 1) where a cell and its 8 neighbours are floor and
+// no other pillar is within one cell.
+PolygonRings random_room(std::mt19937_64& rng) {
+  const int w = uniform_int(rng, 2, 16);
+  std::vector<int> lo(w), hi(w);
+  lo[0] = uniform_int(rng, 0, 4);
+  hi[0] = lo[0] + uniform_int(rng, 1, 8);
+  for (int i = 1; i < w; ++i) {
+    lo[i] = uniform_int(rng, std::max(0, lo[i - 1] - 3), hi[i - 1] - 1);
+    hi[i] = uniform_int(rng, std::max(lo[i], lo[i - 1]) + 1, hi[i - 1] + 3);
+  }
+  PolygonRings room;
+  for (int i = 0; i < w; ++i) {
+    room.outer.push_back({4.0 * i, 4.0 * lo[i]});
+    room.outer.push_back({4.0 * (i + 1), 4.0 * lo[i]});
+  }
+  for (int i = w - 1; i >= 0; --i) {
+    room.outer.push_back({4.0 * (i + 1), 4.0 * hi[i]});
+    room.outer.push_back({4.0 * i, 4.0 * hi[i]});
+  }
+  if (rng() % 2) std::reverse(room.outer.begin(), room.outer.end());
+  std::vector<std::pair<int, int>> pillars;
+  for (int i = 1; i + 1 < w; ++i)
+    for (int j = 0; j < 16; ++j) {
+      bool floor = true;
+      for (int c = i - 1; c <= i + 1; ++c) floor = floor && lo[c] <= j - 1 && hi[c] >= j + 2;
+      if (!floor || rng() % 3 != 0) continue;
+      bool apart = true;
+      for (const auto& [pi, pj] : pillars) apart = apart && std::max(std::abs(pi - i), std::abs(pj - j)) >= 2;
+      if (!apart) continue;
+      pillars.push_back({i, j});
+      const double inset = rng() % 2 ? 1.0 : 0.0;
+      const double x0 = 4.0 * i + inset, x1 = 4.0 * (i + 1) - inset, y0 = 4.0 * j + inset, y1 = 4.0 * (j + 1) - inset;
+      std::vector<Vec2> hole{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+      if (rng() % 2) hole.insert(hole.begin() + 1, Vec2{0.5 * (x0 + x1), y0});  // a straight vertex
+      if (rng() % 2) std::reverse(hole.begin(), hole.end());
+      room.holes.push_back(hole);
+    }
+  return room;
+}
+
+}  // namespace
+
+TEST_CASE("orientation: exact for any finite coordinates") {
+  CHECK(orientation({0, 0}, {1, 0}, {0, 1}) == 1);
+  CHECK(orientation({0, 0}, {0, 1}, {1, 0}) == -1);
+  CHECK(orientation({0, 0}, {1, 1}, {3, 3}) == 0);
+  // Products overflow (1e600) and cancel exactly; the smallest subnormal decides.
+  CHECK(orientation({1e300, 1e300}, {-1e300, -1e300}, {0, 0}) == 0);
+  CHECK(orientation({1e300, 1e300}, {-1e300, -1e300}, {0, 0x1p-1074}) == -1);
+  CHECK(orientation({1e300, 1e300}, {-1e300, -1e300}, {0x1p-1074, 0}) == 1);
+  // The doubles 0.1 and 0.3: 0.1 * 3 - 0.3 is about 2.8e-17 exactly, below the filter's reach.
+  CHECK(orientation({0, 0}, {0.1, 1}, {0.3, 3}) == 1);
+  CHECK(orientation({0, 0}, {0.3, 3}, {0.1, 1}) == -1);
+  // Underflowing products: a turn of 2^-2000 - 2^-2002 is still seen to be to the left.
+  CHECK(orientation({0, 0}, {0x1p-1000, 0x1p-1001}, {0x1p-1001, 0x1p-1000}) == 1);
+  CHECK(orientation({0x1p-1070, 0x1p-1070}, {0x1p-1069, 0x1p-1069}, {0x1p-1068, 0x1p-1068}) == 0);
+}
+
+TEST_CASE("partition_convex: closed forms") {
+  SUBCASE("a square is one piece, its own four corners") {
+    const PolygonRings square{{{0, 0}, {2, 0}, {2, 2}, {0, 2}}, {}};
+    const Pieces pieces = partition_ok(square);
+    REQUIRE(pieces.size() == 1);
+    CHECK(pieces[0].size() == 4);
+    CHECK(pieces_area(pieces) == 4.0);
+  }
+  SUBCASE("an L is exactly two pieces") {
+    const PolygonRings ell{{{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}, {}};
+    const Pieces pieces = partition_ok(ell);
+    CHECK(pieces.size() == 2);
+    CHECK(pieces_area(pieces) == 3.0);
+    check_partition(ell, pieces, {{0.5, 0.5}, {1.5, 0.5}, {0.5, 1.5}, {1.5, 1.5}, {1, 1}, {1, 0.5}, {0.5, 1}});
+  }
+  SUBCASE("a 4 x 4 square with a 2 x 2 hole: area 12, 4 to 8 pieces") {
+    const PolygonRings framed{{{0, 0}, {4, 0}, {4, 4}, {0, 4}}, {{{1, 1}, {3, 1}, {3, 3}, {1, 3}}}};
+    const Pieces pieces = partition_ok(framed);
+    CHECK(pieces_area(pieces) == 12.0);
+    CHECK(pieces.size() >= 4);  // each hole corner needs a cut
+    CHECK(pieces.size() <= 8);  // 2 * 4 reflex corners + 1 - 1 hole
+    std::vector<Vec2> grid;
+    for (int i = 0; i <= 16; ++i)
+      for (int j = 0; j <= 16; ++j) grid.push_back({0.25 * i, 0.25 * j});
+    check_partition(framed, pieces, grid);
+  }
+  SUBCASE("a U (comb with two teeth) and a comb with four") {
+    const PolygonRings u{{{0, 0}, {3, 0}, {3, 3}, {2, 3}, {2, 1}, {1, 1}, {1, 3}, {0, 3}}, {}};
+    const Pieces pieces = partition_ok(u);
+    CHECK(pieces_area(pieces) == 7.0);
+    CHECK(pieces.size() >= 3);
+    CHECK(pieces.size() <= 5);
+    std::vector<Vec2> comb{{0, 0}, {7, 0}};
+    for (int t = 3; t >= 0; --t) {  // teeth [2t, 2t + 1] x [1, 3] on a [0, 7] x [0, 1] base
+      const double x = 2.0 * t;
+      comb.insert(comb.end(), {{x + 1, 3}, {x, 3}});
+      if (t > 0) comb.insert(comb.end(), {{x, 1}, {x - 1, 1}});
+    }
+    const PolygonRings comb_polygon{comb, {}};
+    const Pieces comb_pieces = partition_ok(comb_polygon);
+    CHECK(pieces_area(comb_pieces) == 7.0 + 4 * 2.0);
+    std::vector<Vec2> grid;
+    for (int i = 0; i <= 28; ++i)
+      for (int j = 0; j <= 12; ++j) grid.push_back({0.25 * i, 0.25 * j});
+    check_partition(comb_polygon, comb_pieces, grid);
+  }
+  SUBCASE("straight and repeated vertices are tolerated and dropped") {
+    const PolygonRings noisy{{{0, 0}, {0, 0}, {1, 0}, {2, 0}, {2, 0}, {2, 1}, {2, 2}, {1, 2}, {0, 2}, {0, 1}, {0, 0}}, {}};
+    const Pieces pieces = partition_ok(noisy);
+    REQUIRE(pieces.size() == 1);
+    CHECK(pieces[0].size() == 4);
+    CHECK(pieces_area(pieces) == 4.0);
+  }
+  SUBCASE("both windings give the same pieces' area") {
+    std::vector<Vec2> outer{{0, 0}, {5, 0}, {5, 5}, {3, 2}, {0, 5}};
+    std::vector<Vec2> hole{{1, 1}, {2, 1}, {2, 2}};
+    const PolygonRings ccw{outer, {hole}};
+    std::reverse(outer.begin(), outer.end());
+    std::reverse(hole.begin(), hole.end());
+    const PolygonRings cw{outer, {hole}};
+    const Pieces a = partition_ok(ccw), b = partition_ok(cw);
+    CHECK(pieces_area(a) == doctest::Approx(polygon_area(ccw)).epsilon(1e-15));
+    CHECK(pieces_area(a) == pieces_area(b));
+    CHECK(a.size() == b.size());
+  }
+  SUBCASE("far beyond 2^500 and far below 2^-500 the decisions stay exact") {
+    for (const double s : {1e300, 1e-300}) {
+      CAPTURE(s);
+      const PolygonRings ell{{{0, 0}, {2 * s, 0}, {2 * s, s}, {s, s}, {s, 2 * s}, {0, 2 * s}}, {}};
+      const Pieces pieces = partition_ok(ell);
+      CHECK(pieces.size() == 2);
+      for (const auto& piece : pieces)
+        for (const Vec2 v : piece) CHECK((std::isfinite(v.x) && std::isfinite(v.y)));
+      check_partition(ell, pieces, {{0.5 * s, 0.5 * s}, {1.5 * s, 0.5 * s}, {0.5 * s, 1.5 * s}, {1.5 * s, 1.5 * s}});
+    }
+  }
+  SUBCASE("a hole whose bridge must avoid a closer hole's bridge and a vertex on the ray") {
+    // Holes lined up on one horizontal line: each bridge ray meets the previous hole's vertex.
+    PolygonRings row{{{0, 0}, {20, 0}, {20, 4}, {0, 4}}, {}};
+    for (int k = 0; k < 6; ++k) {
+      const double x = 1.0 + 3.0 * k;
+      row.holes.push_back({{x, 1}, {x + 1, 2}, {x + 2, 2}, {x + 1, 3}});
+    }
+    const Pieces pieces = partition_ok(row);
+    std::vector<Vec2> grid;
+    for (int i = 0; i <= 80; ++i)
+      for (int j = 0; j <= 16; ++j) grid.push_back({0.25 * i, 0.25 * j});
+    check_partition(row, pieces, grid);
+  }
+}
+
+TEST_CASE("partition_convex: random star polygons with and without holes") {
+  std::mt19937_64 rng(20240611);
+  int inside = 0, outside = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    CAPTURE(trial);
+    const int n = trial < 20 ? 3 + trial : uniform_int(rng, 3, 200);
+    PolygonRings polygon{random_star(rng, n, {0, 0}, 1.0), {}};
+    if (trial % 2) add_random_holes(rng, polygon, uniform_int(rng, 1, 5));
+    const Pieces pieces = partition_ok(polygon);
+    std::vector<Vec2> samples = random_samples(rng, polygon.outer, 300);
+    // Points near every hole too, where bridges and the pieces around them are.
+    for (const auto& hole : polygon.holes)
+      for (const Vec2 v : hole)
+        for (int k = 0; k < 4; ++k) samples.push_back({v.x + 0.02 * (uniform(rng) - 0.5), v.y + 0.02 * (uniform(rng) - 0.5)});
+    const Sampled s = check_partition(polygon, pieces, samples);
+    inside += s.inside;
+    outside += s.outside;
+  }
+  CHECK(inside > 10000);  // the sampling did probe both sides
+  CHECK(outside > 10000);
+}
+
+TEST_CASE("partition_convex: tile-map rooms with pillars, probed on the grid lines") {
+  std::mt19937_64 rng(777);
+  int with_holes = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    CAPTURE(trial);
+    const PolygonRings room = random_room(rng);
+    with_holes += room.holes.empty() ? 0 : 1;
+    const Pieces pieces = partition_ok(room);
+    // Integer coordinates: the areas are exact.
+    CHECK(pieces_area(pieces) == polygon_area(room));
+    std::vector<Vec2> samples = random_samples(rng, room.outer, 200);
+    double top = 0.0, right = 0.0;
+    for (const Vec2 v : room.outer) {
+      top = std::max(top, v.y);
+      right = std::max(right, v.x);
+    }
+    // Half-integer points: many on grid lines, piece edges and vertices.
+    for (int k = 0; k < 400; ++k)
+      samples.push_back({0.5 * uniform_int(rng, -2, static_cast<int>(2 * right) + 2),
+                         0.5 * uniform_int(rng, -2, static_cast<int>(2 * top) + 2)});
+    check_partition(room, pieces, samples);
+  }
+  CHECK(with_holes > 50);
+}
+
+TEST_CASE("partition_convex: small-integer polygons, where bridges meet vertices and lines") {
+  // Coordinates on a coarse grid: rays from hole vertices run through other vertices and along
+  // edges, holes share their largest x, many vertices are collinear. Random rings may be
+  // invalid (refused, never for an internal reason); the valid ones must partition exactly.
+  std::mt19937_64 rng(99);
+  int accepted = 0, holed = 0;
+  for (int trial = 0; trial < 600; ++trial) {
+    CAPTURE(trial);
+    PolygonRings polygon;
+    for (const Vec2 v : random_star(rng, uniform_int(rng, 3, 24), {0, 0}, 12.0))
+      polygon.outer.push_back({std::round(v.x), std::round(v.y)});
+    Pieces pieces;
+    std::string error;
+    const auto try_partition = [&] {
+      if (partition_convex(polygon, pieces, error)) return true;
+      CHECK_MESSAGE(error.find("internal") == std::string::npos, error);
+      CHECK(pieces.empty());
+      return false;
+    };
+    if (!try_partition()) continue;
+    // Holes kept only where the polygon stays valid.
+    const int holes = uniform_int(rng, 0, 8);
+    for (int h = 0; h < holes; ++h) {
+      const Vec2 c{static_cast<double>(uniform_int(rng, -8, 8)), static_cast<double>(uniform_int(rng, -8, 8))};
+      std::vector<Vec2> hole;
+      for (const Vec2 v : random_star(rng, uniform_int(rng, 3, 6), {0, 0}, 3.0))
+        hole.push_back({c.x + std::round(v.x), c.y + std::round(v.y)});
+      polygon.holes.push_back(hole);
+      if (!try_partition()) polygon.holes.pop_back();
+    }
+    REQUIRE(try_partition());
+    ++accepted;
+    holed += polygon.holes.empty() ? 0 : 1;
+    CHECK(pieces_area(pieces) == polygon_area(polygon));
+    std::vector<Vec2> samples;
+    for (int i = -26; i <= 26; ++i)
+      for (int j = -26; j <= 26; ++j) samples.push_back({0.5 * i, 0.5 * j});
+    check_partition(polygon, pieces, samples);
+  }
+  CHECK(accepted > 200);
+  CHECK(holed > 100);
+}
+
+TEST_CASE("partition_convex: arbitrary rings of extreme coordinates neither crash nor slip") {
+  // Coordinates from the largest doubles to subnormals: products overflow and underflow, so
+  // every decision goes through the exact fallback. Refusals must be the input's fault, and an
+  // acceptance must still give strictly convex pieces of input vertices.
+  std::mt19937_64 rng(5);
+  const double values[] = {0.0, 1.0, -1.0, 3.0, -0.5, 1e308, -1e308, 1.7e308, 1e-310, -1e-310, 0x1p-1074, 7e200};
+  std::vector<Vec2> probes;  // every pair of values and of their halves: exact, on many lines
+  for (const double x : values)
+    for (const double y : values) {
+      probes.push_back({x, y});
+      probes.push_back({0.5 * x, 0.5 * y});
+    }
+  int accepted = 0, probed = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    CAPTURE(trial);
+    PolygonRings polygon;
+    const auto ring = [&](int n) {
+      std::vector<Vec2> r;
+      for (int k = 0; k < n; ++k) r.push_back({values[rng() % 12], values[rng() % 12]});
+      return r;
+    };
+    polygon.outer = ring(uniform_int(rng, 3, 8));
+    if (rng() % 4 == 0) polygon.holes.push_back(ring(uniform_int(rng, 3, 5)));
+    Pieces pieces;
+    std::string error;
+    if (!partition_convex(polygon, pieces, error)) {
+      CHECK_MESSAGE(error.find("internal") == std::string::npos, error);
+      CHECK(pieces.empty());
+      continue;
+    }
+    ++accepted;
+    probed += check_partition(polygon, pieces, probes, false).inside;
+  }
+  CHECK(accepted > 100);
+  CHECK(probed > 100);
+}
+
+TEST_CASE("partition_convex: refusals name the ring and leave no pieces") {
+  const auto refused = [](const PolygonRings& polygon, const std::string& expected) {
+    Pieces pieces{{{9, 9}, {9, 9}, {9, 9}}};
+    std::string error;
+    CHECK_FALSE(partition_convex(polygon, pieces, error));
+    CHECK_MESSAGE(error.find(expected) != std::string::npos, error);
+    CHECK(pieces.empty());
+  };
+  const std::vector<Vec2> square{{0, 0}, {4, 0}, {4, 4}, {0, 4}};
+  refused({{{0, 0}, {1, 1}, {1, 0}, {0, 1}}, {}}, "outer: edges 0 and 2 cross");
+  refused({{{0, 0}, {2, 0}, {1, 1}, {2, 2}, {0, 2}, {1, 1}}, {}}, "touch");  // a vertex visited twice
+  refused({{{0, 0}, {4, 0}, {4, 4}, {2, 0}, {0, 4}}, {}}, "outer: edges");  // a vertex on another edge
+  refused({square, {{{3, 1}, {5, 1}, {5, 2}, {3, 2}}}}, "holes[0] crosses the outer boundary");
+  refused({square, {{{0, 1}, {1, 1}, {1, 2}}}}, "holes[0] touches the outer boundary");
+  refused({square, {{{5, 5}, {6, 5}, {6, 6}}}}, "holes[0]: not inside the outer boundary");
+  refused({{{1, 1}, {2, 1}, {2, 2}}, {square}}, "holes[0]: not inside the outer boundary");  // the hole holds the outer ring
+  refused({square, {{{1, 1}, {3, 1}, {3, 2}}, {{2.5, 1.2}, {3.5, 3}, {2, 3}}}}, "holes[0] and holes[1] overlap");
+  refused({square, {{{1, 1}, {2, 1}, {2, 2}}, {{2, 2}, {3, 2}, {3, 3}}}}, "holes[0] and holes[1] touch");
+  refused({square, {{{0.5, 0.5}, {3.5, 0.5}, {3.5, 3.5}, {0.5, 3.5}}, {{1, 1}, {2, 1}, {2, 2}}}},
+          "holes[1] lies inside holes[0] (nested holes)");
+  refused({{{0, 0}, {1, 1}, {0, 0}, {1, 1}}, {}}, "outer: fewer than 3 distinct vertices");
+  refused({{}, {}}, "outer: fewer than 3 distinct vertices");
+  refused({square, {{}}}, "holes[0]: fewer than 3 distinct vertices");
+  refused({{{0, 0}, {1, 1}, {2, 2}, {3, 3}}, {}}, "outer: zero area");
+  refused({square, {{{1, 1}, {2, 2}, {3, 3}}}}, "holes[0]: zero area");
+  refused({{{0, 0}, {4, 0}, {6, 0}, {4, 0}, {4, 4}, {0, 4}}, {}}, "outer: the edges at vertex 2 fold back");
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  refused({{{0, 0}, {nan, 0}, {1, 1}}, {}}, "outer: vertex 1 is not finite");
+  refused({square, {{{1, 1}, {2, 1}, {2, -inf}}}}, "holes[0]: vertex 2 is not finite");
+  refused({{{0, 0}, {1, 0}, {1, inf}}, {}}, "outer: vertex 2 is not finite");
+  std::vector<Vec2> huge(detail::kMaxPartitionVertices + 1);
+  for (std::size_t i = 0; i < huge.size(); ++i) huge[i] = {std::cos(1e-4 * static_cast<double>(i)), std::sin(1e-4 * static_cast<double>(i))};
+  refused({huge, {}}, "too many vertices");
+}
+
+TEST_CASE("partition_convex: a 4096-vertex star polygon") {
+  std::mt19937_64 rng(4096);
+  PolygonRings polygon{random_star(rng, 4096, {0, 0}, 1.0), {}};
+  Pieces pieces;
+  std::string error;
+  const auto start = std::chrono::steady_clock::now();
+  const bool ok = partition_convex(polygon, pieces, error);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  MESSAGE("4096-vertex star: " << pieces.size() << " pieces in " << seconds * 1e3 << " ms");
+  REQUIRE_MESSAGE(ok, error);
+  check_partition(polygon, pieces, random_samples(rng, polygon.outer, 2000));
+  // And with 20 holes.
+  add_random_holes(rng, polygon, 20, 0.02, 0.2);
+  CHECK(polygon.holes.size() >= 10);
+  const Pieces holed = partition_ok(polygon);
+  check_partition(polygon, holed, random_samples(rng, polygon.outer, 2000));
+}
+
+}  // namespace par2d::test
