@@ -346,10 +346,11 @@ TEST_CASE("validate_scene checks scenes built in code, with the same places") {
   CHECK(par2d::validate_scene(bad, "code").message().rfind("code: lights[1].circle.center: not a finite", 0) == 0);
 
   bad = scene;
-  bad.occluders.push_back({par2d::Polygon{{{0, 0}, {4, 0}, {1, 1}, {0, 4}}}});
+  // A light must be convex (an occluder may be concave: tests/test_concave_shapes.cpp).
+  bad.lights.push_back({par2d::Polygon{{{0, 0}, {4, 0}, {1, 1}, {0, 4}}}});
   const Status status = par2d::validate_scene(bad, "code");
   CHECK(status.code() == StatusCode::invalid_scene);
-  CHECK(status.message() == "code: occluders[0].polygon: not convex at vertex 2");
+  CHECK(status.message() == "code: lights[0].polygon: not convex at vertex 2");
 
   bad = scene;
   bad.lights.push_back({par2d::Segment{{0, 0}, {1, 0}}, {1, 1, 1}, std::numeric_limits<double>::quiet_NaN()});

@@ -43,7 +43,8 @@ typedef enum par2d_pixel_format {
 } par2d_pixel_format;
 
 typedef enum par2d_shape_kind {
-  PAR2D_SHAPE_POLYGON = 0, /* convex, either winding, >= 3 vertices */
+  PAR2D_SHAPE_POLYGON = 0, /* convex, either winding, >= 3 vertices; an occluder's may be concave
+                              (a simple outline, opaque and dark inside; docs/contract.md section 3) */
   PAR2D_SHAPE_CIRCLE = 1,  /* a disc */
   PAR2D_SHAPE_SEGMENT = 2  /* a line segment */
 } par2d_shape_kind;

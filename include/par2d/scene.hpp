@@ -21,7 +21,10 @@ struct Vec2 {
   double y = 0.0;
 };
 
-// A closed convex polygon. Either winding; repeated and collinear vertices are tolerated.
+// A closed polygon. Either winding; repeated and collinear vertices are tolerated. A light's
+// polygon is convex. An occluder's may be concave (a simple outline: no edge crosses or
+// touches another): it is then rendered as an exact convex partition of it under its one
+// handle (docs/contract.md section 3), and must be opaque, dark inside and not reflecting.
 struct Polygon {
   std::vector<Vec2> vertices;
 };

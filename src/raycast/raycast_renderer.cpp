@@ -12,6 +12,7 @@
 
 #include "geometry/bounce_pieces.hpp"
 #include "geometry/vec2.hpp"
+#include "scene/scene_validate.hpp"
 
 namespace par2d::detail {
 namespace {
@@ -171,9 +172,10 @@ RaycastRenderer::RayShape RaycastRenderer::make_shape(const Shape& shape) {
     bound_radius = 0.5 * std::hypot(segment->b.x - segment->a.x, segment->b.y - segment->a.y);
   } else {
     const auto& poly = std::get<Polygon>(shape);
-    s.kind = Kind::polygon;
+    s.kind = needs_partition(shape) ? Kind::region : Kind::polygon;
     s.first = static_cast<std::uint32_t>(vertices_.size());
     s.count = static_cast<std::uint32_t>(poly.vertices.size());
+    // A concave outline is met as it is: the ray caster does not partition (an independent check).
     // Centered at the bounding box middle; relative coordinates keep the shoelace sum
     // accurate for polygons far from the origin.
     double x0 = kInf, y0 = kInf, x1 = -kInf, y1 = -kInf;
@@ -387,6 +389,21 @@ bool RaycastRenderer::contains(const RayShape& s, Vec2 x) const noexcept {
       }
       return true;
     }
+    case Kind::region: {
+      // Closed: on an edge is inside; elsewhere the even-odd count of edges a ray toward +x crosses.
+      bool on_edge = false, odd = false;
+      for_each_edge(s, [&](Vec2 a, Vec2 b) {
+        if (side_of(a, b, x) == 0.0 && std::min(a.x, b.x) <= x.x && x.x <= std::max(a.x, b.x) &&
+            std::min(a.y, b.y) <= x.y && x.y <= std::max(a.y, b.y))
+          on_edge = true;
+        if ((a.y > x.y) != (b.y > x.y)) {
+          // The crossing lies right of x when x is on the left of the upward edge.
+          const Vec2 lo = a.y < b.y ? a : b, hi = a.y < b.y ? b : a;
+          if (side_of(lo, hi, x) > 0.0) odd = !odd;
+        }
+      });
+      return on_edge || odd;
+    }
   }
   return false;
 }
@@ -420,13 +437,12 @@ double RaycastRenderer::hit_distance(const RayShape& s, Vec2 x, Vec2 d, double l
     }
     case Kind::segment:
       return ray_segment(x, d, s.p0, s.p1);
-    case Kind::polygon: {
+    case Kind::polygon:
+    case Kind::region: {
       if (contains(s, x)) return 0.0;
-      // From outside a convex polygon the first boundary point is the first hit.
-      const Vec2* v = vertices_.data() + s.first;
+      // From outside, the first boundary point is the first hit (convex or not).
       double t = kInf;
-      for (std::uint32_t i = 0; i < s.count; ++i)
-        t = std::min(t, ray_segment(x, d, v[i], v[i + 1 == s.count ? 0 : i + 1]));
+      for_each_edge(s, [&](Vec2 a, Vec2 b) { t = std::min(t, ray_segment(x, d, a, b)); });
       return t;
     }
   }
@@ -507,11 +523,11 @@ double RaycastRenderer::distance_to(const RayShape& s, Vec2 x) const noexcept {
       return power <= 0.0 ? 0.0 : power / (std::hypot(m.x, m.y) + s.radius);
     }
     case Kind::segment: return to_segment(x, s.p0, s.p1);
-    case Kind::polygon: {
+    case Kind::polygon:
+    case Kind::region: {
       if (contains(s, x)) return 0.0;
-      const Vec2* v = vertices_.data() + s.first;
       double d = kInf;
-      for (std::uint32_t i = 0; i < s.count; ++i) d = std::min(d, to_segment(x, v[i], v[i + 1 == s.count ? 0 : i + 1]));
+      for_each_edge(s, [&](Vec2 a, Vec2 b) { d = std::min(d, to_segment(x, a, b)); });
       return d;
     }
   }
@@ -642,6 +658,7 @@ double RaycastRenderer::entry(const RayShape& s, Vec2 x, Vec2 d, std::uint32_t& 
       edge = side < 0.0 ? 0u : 1u;
       return ray_segment(x, d, s.p0, s.p1);
     }
+    case Kind::region: return kInf;  // a concave occluder never reflects (check_occluder)
     case Kind::polygon: {
       if (contains(s, x)) return kInf;
       const Vec2* v = vertices_.data() + s.first;

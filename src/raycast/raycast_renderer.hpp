@@ -47,7 +47,8 @@ class RaycastRenderer {
   std::optional<Vec3> normal_at(int i, int j) const;
 
  private:
-  enum class Kind : std::uint8_t { polygon, circle, segment };
+  // region: a concave polygon (its outline as given, an even-odd region).
+  enum class Kind : std::uint8_t { polygon, circle, segment, region };
 
   // One shape, flattened so the per-ray loop touches contiguous data. The bounding
   // circle (bound_center, bound_radius2) lets most rays skip the exact test.
@@ -64,6 +65,12 @@ class RaycastRenderer {
     std::uint32_t count = 0;
     double orientation = 1.0;
   };
+  // Calls f(a, b) for every edge of a polygon or region.
+  template <class F>
+  void for_each_edge(const RayShape& s, F&& f) const {
+    const Vec2* v = vertices_.data() + s.first;
+    for (std::uint32_t i = 0; i < s.count; ++i) f(v[i], v[i + 1 == s.count ? 0 : i + 1]);
+  }
 
   // Distance along the unit direction d from x to the shape, +inf when missed, 0 when
   // x lies in it (closed shapes). `limit`: a hit at t >= limit may be reported as +inf.

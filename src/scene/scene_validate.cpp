@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "geometry/bounce_pieces.hpp"
+#include "geometry/polygon_partition.hpp"
 #include "lighting/light_emission.hpp"
 #include "geometry/vec2.hpp"
 
@@ -44,8 +45,10 @@ MaybeProblem check_point(const Vec2& p, const std::string& place) {
 // (exact) into [-1, 1], so that edge vectors, cross products and the shoelace sum cannot
 // overflow whatever finite coordinates come in; the tolerance test is scale-invariant, so
 // the verdict is the one the unscaled numbers would give.
-MaybeProblem check_polygon(const Polygon& polygon, const std::string& place) {
-  const std::vector<Vec2>& v = polygon.vertices;
+// `concave` (when given) is set where the vertices fail only for not being convex (a turn
+// against the winding, or winding around more than once), so that the caller can try them as
+// a concave outline.
+MaybeProblem check_convex_ring(const std::vector<Vec2>& v, const std::string& place, bool* concave) {
   const std::size_t n = v.size();
   if (n < 3) return SceneProblem{place, "needs at least 3 vertices, got " + std::to_string(n)};
 
@@ -132,7 +135,10 @@ MaybeProblem check_polygon(const Polygon& polygon, const std::string& place) {
     const bool against = turn.side == -winding || (turn.fold && turn.side == 0);
     if (against && (bad == nullptr || turn.vertex < bad->vertex)) bad = &turn;
   }
-  if (bad != nullptr) return SceneProblem{place, "not convex at vertex " + std::to_string(bad->vertex)};
+  if (bad != nullptr) {
+    if (concave) *concave = true;
+    return SceneProblem{place, "not convex at vertex " + std::to_string(bad->vertex)};
+  }
 
   // Turns all to one side can still wind around more than once (a pentagram's vertex list):
   // a simple convex boundary turns through exactly one revolution.
@@ -140,11 +146,31 @@ MaybeProblem check_polygon(const Polygon& polygon, const std::string& place) {
   for (const Turn& turn : turns) total += turn.angle;
   const double revolutions = std::fabs(total) / (2.0 * kPi);
   if (!(revolutions > 0.5 && revolutions < 1.5)) {
+    if (concave) *concave = true;
     return SceneProblem{place, "self-overlapping (its boundary winds around " +
                                    std::to_string(std::lround(revolutions)) + " times, not once)"};
   }
   if (area2 == 0.0) return SceneProblem{place, "zero area"};
   return std::nullopt;
+}
+
+// A convex polygon; where `concave_allowed` (occluders), else a simple outline that has an
+// exact convex partition (polygon_partition.hpp).
+MaybeProblem check_polygon(const Polygon& polygon, const std::string& place, bool concave_allowed) {
+  bool concave = false;
+  MaybeProblem problem = check_convex_ring(polygon.vertices, place, &concave);
+  if (!problem || !concave || !concave_allowed) return problem;
+  std::string error;
+  if (partition_polygon(polygon, error)) return std::nullopt;
+  // The partition names rings ("outer: ..."); a polygon has only its outline.
+  constexpr std::string_view kOuter = "outer: ";
+  if (error.compare(0, kOuter.size(), kOuter) == 0) error.erase(0, kOuter.size());
+  return SceneProblem{place, error};
+}
+
+bool polygon_needs_partition(const Polygon& polygon) {
+  bool concave = false;
+  return check_convex_ring(polygon.vertices, std::string(), &concave) && concave;
 }
 
 MaybeProblem check_circle(const Circle& circle, const std::string& place) {
@@ -178,6 +204,11 @@ MaybeProblem check_elevation(double value, const std::string& place) {
 }
 
 }  // namespace
+
+bool needs_partition(const Shape& shape) {
+  const auto* polygon = std::get_if<Polygon>(&shape);
+  return polygon != nullptr && polygon_needs_partition(*polygon);
+}
 
 std::string image_side_range_text() {
   return "must be an integer from 1 to " + std::to_string(kMaxImageSide);
@@ -230,8 +261,8 @@ MaybeProblem check_emission_total(const std::vector<Light>& lights) {
   return std::nullopt;
 }
 
-MaybeProblem check_shape(const Shape& shape, const std::string& place) {
-  if (const auto* polygon = std::get_if<Polygon>(&shape)) return check_polygon(*polygon, place + ".polygon");
+MaybeProblem check_shape(const Shape& shape, const std::string& place, bool concave_allowed) {
+  if (const auto* polygon = std::get_if<Polygon>(&shape)) return check_polygon(*polygon, place + ".polygon", concave_allowed);
   if (const auto* circle = std::get_if<Circle>(&shape)) return check_circle(*circle, place + ".circle");
   if (const auto* segment = std::get_if<Segment>(&shape)) return check_segment(*segment, place + ".segment");
   return SceneProblem{place, "has no shape"};  // valueless_by_exception
@@ -320,7 +351,19 @@ MaybeProblem check_light(const Light& light, const std::string& place) {
 }
 
 MaybeProblem check_occluder(const Occluder& occluder, const std::string& place) {
-  if (auto problem = check_shape(occluder.shape, place)) return problem;
+  if (auto problem = check_shape(occluder.shape, place, true)) return problem;
+  // Its convex pieces stand for it: a ray crossing two of them would count a transmittance
+  // twice, a point inside one piece would still be shadowed by the others, and the pieces'
+  // inner edges would reflect. Only the opaque, dark, non-reflecting union is exact.
+  if ((occluder.transmittance != Rgb{0.0, 0.0, 0.0} || occluder.interior != Interior::dark ||
+       occluder.albedo != Rgb{0.0, 0.0, 0.0}) &&
+      needs_partition(occluder.shape)) {
+    const char* term = occluder.transmittance != Rgb{0.0, 0.0, 0.0} ? ".transmittance"
+                       : occluder.interior != Interior::dark          ? ".interior"
+                                                                       : ".albedo";
+    return SceneProblem{place + term, "a concave occluder must be opaque, dark inside and not reflecting "
+                                      "(split it into convex occluders)"};
+  }
   // Places are built only for a problem: a game's Renderer validates every frame's updates
   // without allocating.
   for (std::size_t c = 0; c < occluder.transmittance.size(); ++c) {

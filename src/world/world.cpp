@@ -11,6 +11,7 @@
 
 #include "geometry/aabb.hpp"
 #include "geometry/bounce_pieces.hpp"
+#include "geometry/polygon_partition.hpp"
 #include "lighting/light_emission.hpp"
 #include "scene/scene_validate.hpp"
 
@@ -108,8 +109,28 @@ std::uint32_t World::new_slot(std::uint8_t list, std::int32_t where) {
   slots_[slot].list = list;
   slots_[slot].where = where;
   slots_[slot].internal = false;
-  slots_[slot].companion = kNoCompanion;
+  slots_[slot].next = kNoSlot;
+  slots_[slot].owner = kNoSlot;
   return slot;
+}
+
+std::uint32_t World::chain_slot(std::uint8_t list, std::uint32_t last, std::uint32_t owner) {
+  const std::uint32_t slot = new_slot(list, 0);
+  slots_[slot].internal = true;
+  slots_[slot].owner = owner;
+  slots_[last].next = slot;
+  ++(list == kOccluder ? internal_occluders_ : internal_lights_);
+  return slot;
+}
+
+const Light& World::user_light(std::uint32_t slot) const noexcept {
+  const Slot& s = slots_[slot];
+  return s.list == kLit ? light_sources_[static_cast<std::size_t>(s.where)] : dark_sources_[static_cast<std::size_t>(s.where)];
+}
+
+const Occluder& World::user_occluder(std::uint32_t slot) const noexcept {
+  if (const auto it = compound_occluders_.find(slot); it != compound_occluders_.end()) return it->second;
+  return occluder_sources_[static_cast<std::size_t>(slots_[slot].where)];
 }
 
 Status World::set_frame(int width, int height, const View& view) {
@@ -185,49 +206,44 @@ Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, st
   };
   std::vector<LightHandle> light_handles;
   std::vector<OccluderHandle> occluder_handles;
-  // Lit entries: the user's slot, the light and its part (a split light's second part gets
-  // its internal slot after every handle's, so handles do not depend on shadows).
-  const auto push_entry = [&next](std::uint32_t slot, const Light& light, LightPart part) {
-    Slot& s = next.slots_[slot];
-    s.list = kLit;
-    s.where = static_cast<std::int32_t>(next.light_sources_.size());
-    next.light_sources_.push_back(light);
-    next.light_slots_.push_back(slot);
-    s.part = part;
-  };
-  std::vector<std::pair<std::uint32_t, std::size_t>> split;  // user slot, index in scene.lights
+  // Plain lights and occluders go straight into the lists (prepared together below); a light
+  // its shadow splits and a concave occluder (several entries each) are added once the rest is
+  // prepared, their internal slots after every handle's, so handles do not depend on them.
+  std::vector<std::pair<std::uint32_t, std::size_t>> later_lights, later_occluders;  // user slot, index
   for (std::size_t i = 0; i < scene.lights.size(); ++i) {
     const Light& light = scene.lights[i];
     const std::uint32_t slot = take_slot();
     Slot& s = next.slots_[slot];
-    if (emits(light)) {
-      const LightParts parts = light_parts(light);
-      push_entry(slot, light, parts.first);
-      if (parts.split) split.emplace_back(slot, i);
-    } else {
+    if (!emits(light)) {
       s.list = kDark;
       s.where = static_cast<std::int32_t>(next.dark_sources_.size());
       next.dark_sources_.push_back(light);
       next.dark_slots_.push_back(slot);
+    } else if (const LightParts parts = light_parts(light); parts.split) {
+      later_lights.emplace_back(slot, i);
+    } else {
+      s.list = kLit;
+      s.part = parts.first;
+      s.where = static_cast<std::int32_t>(next.light_sources_.size());
+      next.light_sources_.push_back(light);
+      next.light_slots_.push_back(slot);
     }
     light_handles.push_back({next.make_handle(slot)});
   }
-  for (const Occluder& occluder : scene.occluders) {
+  for (std::size_t i = 0; i < scene.occluders.size(); ++i) {
+    const Occluder& occluder = scene.occluders[i];
     const std::uint32_t slot = take_slot();
-    Slot& s = next.slots_[slot];
-    s.list = kOccluder;
-    s.where = static_cast<std::int32_t>(next.occluder_sources_.size());
-    next.occluder_sources_.push_back(occluder);
-    next.occluder_slots_.push_back(slot);
+    if (needs_partition(occluder.shape)) {
+      later_occluders.emplace_back(slot, i);
+    } else {
+      Slot& s = next.slots_[slot];
+      s.list = kOccluder;
+      s.where = static_cast<std::int32_t>(next.occluder_sources_.size());
+      next.occluder_sources_.push_back(occluder);
+      next.occluder_slots_.push_back(slot);
+    }
     occluder_handles.push_back({next.make_handle(slot)});
   }
-  for (const auto& [user, i] : split) {
-    const std::uint32_t slot = take_slot();
-    next.slots_[slot].internal = true;
-    next.slots_[user].companion = slot;
-    push_entry(slot, scene.lights[i], LightPart::unshadowed);
-  }
-  next.companions_ = split.size();
   for (std::size_t i = next.slots_.size(); i-- > cursor;)
     if (next.slots_[i].generation != 0) next.free_slots_.push_back(static_cast<std::uint32_t>(i));
   next.globals_.ambient = scene.ambient;
@@ -237,6 +253,8 @@ Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, st
   next.globals_.bounce = scene.bounce;
   for (const Occluder& o : scene.occluders) next.bounce_pieces_ += next.bounce_pieces_of(o);
   next.reprepare_all(std::move(converted));
+  for (const auto& [slot, i] : later_occluders) next.push_occluder(scene.occluders[i], slot);
+  for (const auto& [slot, i] : later_lights) next.push_light(scene.lights[i], slot);
   next.observer_ = observer_;
   *this = std::move(next);
   if (observer_) observer_->lights_reset(scene_.lights.size());
@@ -308,33 +326,37 @@ void World::prepare_lit(std::size_t p, const Light& light) {
 }
 
 void World::set_part_emission(std::size_t p) noexcept {
+  // The e_max share goes to the user's first entry only.
+  const Slot& slot = slots_[light_slots_[p]];
   const Light& light = light_sources_[p];
   PreparedLight& prepared = scene_.lights[p];
-  prepared.emission = part_emission(light, part_of(p));
+  prepared.emission = part_emission(light, slot.part);
   const Rgb whole = light_emission(light);
-  prepared.e_max_share = slots_[light_slots_[p]].internal ? 0.0 : std::max({whole[0], whole[1], whole[2]});
+  prepared.e_max_share = slot.internal ? 0.0 : std::max({whole[0], whole[1], whole[2]});
 }
 
 void World::push_light(const Light& light, std::uint32_t slot) {
   if (!emits(light)) return push_dark(light, slot);
   const LightParts parts = light_parts(light);
-  push_lit(light, slot, parts.first);
-  if (!parts.split) return;
-  const std::uint32_t companion = new_slot(kLit, 0);
-  slots_[companion].internal = true;
-  slots_[slot].companion = companion;
-  ++companions_;
-  push_lit(light, companion, LightPart::unshadowed);
+  const LightPart kinds[2] = {parts.first, LightPart::unshadowed};
+  const int part_count = parts.split ? 2 : 1;
+  std::uint32_t last = slot;
+  for (int part = 0; part < part_count; ++part) {
+    if (part > 0) last = chain_slot(kLit, last, slot);
+    push_lit(light, last, kinds[part]);
+  }
 }
 
 void World::erase_light(std::uint32_t slot) {
   if (slots_[slot].list == kDark) return erase_dark(static_cast<std::size_t>(slots_[slot].where));
-  if (const std::uint32_t companion = slots_[slot].companion; companion != kNoCompanion) {
-    erase_lit(static_cast<std::size_t>(slots_[companion].where));
-    release_slot(&slots_[companion]);
-    slots_[slot].companion = kNoCompanion;
-    --companions_;
+  for (std::uint32_t s = slots_[slot].next; s != kNoSlot;) {
+    const std::uint32_t next = slots_[s].next;
+    erase_lit(static_cast<std::size_t>(slots_[s].where));
+    release_slot(&slots_[s]);
+    --internal_lights_;
+    s = next;
   }
+  slots_[slot].next = kNoSlot;
   erase_lit(static_cast<std::size_t>(slots_[slot].where));
 }
 
@@ -390,18 +412,17 @@ void World::erase_dark(std::size_t q) {
 // The lights' total emission with `light` added (in place of lit light `replaced`, if any)
 // must stay within what float32 output can hold, as for scenes (check_emission_total).
 std::optional<SceneProblem> World::emission_total_problem(const Rgb& emission, const Slot* replaced) const {
-  // The lit entries of the replaced light (none: past the end).
-  std::size_t skip[2] = {light_sources_.size(), light_sources_.size()};
-  if (replaced != nullptr && replaced->list == kLit) {
-    skip[0] = static_cast<std::size_t>(replaced->where);
-    if (replaced->companion != kNoCompanion) skip[1] = static_cast<std::size_t>(slots_[replaced->companion].where);
-  }
+  // The lit entries of the replaced light are left out.
+  const std::uint32_t replaced_slot =
+      replaced != nullptr ? static_cast<std::uint32_t>(replaced - slots_.data()) : kNoSlot;
   for (std::size_t c = 0; c < 3; ++c) {
     // Ambient and directional lights add to E too (check_scene_terms); lit lights as prepared.
     double total = emission[c] + globals_.ambient[c];
     for (const DirectionalLight& d : globals_.directional_lights) total += d.intensity * d.color[c];
-    for (std::size_t i = 0; i < light_sources_.size(); ++i)
-      if (i != skip[0] && i != skip[1]) total += scene_.lights[i].emission[c];
+    for (std::size_t i = 0; i < light_sources_.size(); ++i) {
+      const Slot& entry = slots_[light_slots_[i]];
+      if ((entry.internal ? entry.owner : light_slots_[i]) != replaced_slot) total += scene_.lights[i].emission[c];
+    }
     if (!(total <= kMaxTotalEmission))
       return SceneProblem{std::string(), "emission too large: the lights' total intensity * color reaches " +
                                              format_number(total) + " (at most 1e38, so that float32 output stays finite)"};
@@ -432,7 +453,7 @@ Status World::set_model_terms(const char* who, const Scene& terms) {
   if (!problem) {
     Scene total;  // the emission total over lights, directional lights and ambient
     for (std::size_t p = 0; p < light_sources_.size(); ++p)
-      if (!slots_[light_slots_[p]].internal) total.lights.push_back(light_sources_[p]);
+      if (!slots_[light_slots_[p]].internal) total.lights.push_back(user_light(light_slots_[p]));
     total.ambient = terms.ambient;
     total.directional_lights = terms.directional_lights;
     if (auto p = check_scene_terms(total)) problem = p;
@@ -476,8 +497,7 @@ Status World::add_light(const Light& light, LightHandle* handle) {
 bool World::same_parts(const Slot& slot, const Light& light) const noexcept {
   if (slot.list != kLit || !emits(light)) return false;
   const LightParts parts = light_parts(light);
-  return parts.first == slot.part &&
-         parts.split == (slot.companion != kNoCompanion);
+  return parts.first == slot.part && parts.split == (slot.next != kNoSlot);
 }
 
 Status World::update_light(LightHandle handle, const Light& light) {
@@ -488,8 +508,8 @@ Status World::update_light(LightHandle handle, const Light& light) {
   if (auto problem = emission_total_problem(light_emission(light), slot))
     return refused("light " + std::to_string(handle.id), *problem);
   if (same_parts(*slot, light)) {
-    for (const std::uint32_t s : {index, slot->companion}) {
-      if (s == kNoCompanion) continue;
+    for (const std::uint32_t s : {index, slot->next}) {
+      if (s == kNoSlot) continue;
       const auto where = static_cast<std::size_t>(slots_[s].where);
       light_sources_[where] = light;
       prepare_lit(where, light);
@@ -529,8 +549,8 @@ Status World::set_light_emission(LightHandle handle, const Rgb& color, double in
   source.intensity = old_intensity;
   if (in_place) {
     // Only the emission changes: shape, overlaps, separators and reach all stay.
-    for (const std::uint32_t s : {index, slot->companion}) {
-      if (s == kNoCompanion) continue;
+    for (const std::uint32_t s : {index, slot->next}) {
+      if (s == kNoSlot) continue;
       const auto p = static_cast<std::size_t>(slots_[s].where);
       light_sources_[p].color = color;
       light_sources_[p].intensity = intensity;
@@ -583,11 +603,35 @@ Status World::add_occluder(const Occluder& occluder, OccluderHandle* handle) {
   if (auto problem = check_occluder(occluder, std::string())) return refused("add_occluder", *problem);
   const double pieces = bounce_pieces_ + bounce_pieces_of(occluder);
   if (pieces > kMaxBouncePieces) return refused("add_occluder", {"albedo", bounce_pieces_text(pieces)});
+  const std::uint32_t slot = new_slot(kOccluder, 0);
+  bounce_pieces_ = pieces;
+  push_occluder(occluder, slot);
+  handle->id = make_handle(slot);
+  return {};
+}
+
+void World::push_occluder(const Occluder& occluder, std::uint32_t slot) {
+  if (!needs_partition(occluder.shape)) return push_occluder_entry(occluder, slot);
+  // One entry per convex piece: occlusion is a union, and a concave occluder is opaque and
+  // dark inside (check_occluder), so its pieces shadow exactly what it does.
+  compound_occluders_[slot] = occluder;
+  std::string error;
+  partition_polygon(std::get<Polygon>(occluder.shape), pieces_, error);  // validated: it exists
+  Occluder entry = occluder;
+  std::uint32_t last = slot;
+  for (std::size_t k = 0; k < pieces_.size(); ++k) {
+    entry.shape = pieces_[k];
+    if (k > 0) last = chain_slot(kOccluder, last, slot);
+    push_occluder_entry(entry, k == 0 ? slot : last);
+  }
+}
+
+void World::push_occluder_entry(const Occluder& occluder, std::uint32_t slot) {
   const std::size_t k = occluder_sources_.size();
-  const std::uint32_t slot = new_slot(kOccluder, static_cast<std::int32_t>(k));
+  slots_[slot].list = kOccluder;
+  slots_[slot].where = static_cast<std::int32_t>(k);
   occluder_sources_.push_back(occluder);
   occluder_slots_.push_back(slot);
-  bounce_pieces_ = pieces;
   scene_.occluders.emplace_back();
   scene_.occluder_terms.push_back(occluder_terms(occluder));
   update_model_flag(scene_);
@@ -597,19 +641,37 @@ Status World::add_occluder(const Occluder& occluder, OccluderHandle* handle) {
   scene_.separators.resize(scene_.lights.size(), k + 1);
   occluder_changed(k, nullptr);
   ++stats_.index_updates;
-  handle->id = make_handle(slot);
-  return {};
+}
+
+void World::erase_occluder(std::uint32_t slot) {
+  for (std::uint32_t s = slots_[slot].next; s != kNoSlot;) {
+    const std::uint32_t next = slots_[s].next;
+    erase_occluder_entry(static_cast<std::size_t>(slots_[s].where));
+    release_slot(&slots_[s]);
+    --internal_occluders_;
+    s = next;
+  }
+  slots_[slot].next = kNoSlot;
+  erase_occluder_entry(static_cast<std::size_t>(slots_[slot].where));
+  compound_occluders_.erase(slot);
 }
 
 Status World::update_occluder(OccluderHandle handle, const Occluder& occluder) {
   Slot* slot = find(handle.id, true);
   if (!slot) return unknown_handle("occluder", handle.id);
   if (auto problem = check_occluder(occluder, std::string())) return refused("occluder " + std::to_string(handle.id), *problem);
+  const auto index = static_cast<std::uint32_t>(slot - slots_.data());
   const auto k = static_cast<std::size_t>(slot->where);
-  const double pieces = bounce_pieces_ - bounce_pieces_of(occluder_sources_[k]) + bounce_pieces_of(occluder);
+  const double pieces = bounce_pieces_ - bounce_pieces_of(user_occluder(index)) + bounce_pieces_of(occluder);
   if (pieces > kMaxBouncePieces) return refused("occluder " + std::to_string(handle.id), {"albedo", bounce_pieces_text(pieces)});
-  const Aabb old_box = bounds_of(scene_.occluders[k]);
   bounce_pieces_ = pieces;
+  if (compound_occluders_.count(index) != 0 || needs_partition(occluder.shape)) {
+    // A concave occluder's pieces change with it: taken out and put in again.
+    erase_occluder(index);
+    push_occluder(occluder, index);
+    return {};
+  }
+  const Aabb old_box = bounds_of(scene_.occluders[k]);
   occluder_sources_[k] = occluder;
   scene_.occluder_terms[k] = occluder_terms(occluder);
   update_model_flag(scene_);
@@ -624,9 +686,15 @@ Status World::update_occluder(OccluderHandle handle, const Occluder& occluder) {
 Status World::remove_occluder(OccluderHandle handle) {
   Slot* slot = find(handle.id, true);
   if (!slot) return unknown_handle("occluder", handle.id);
-  const auto k = static_cast<std::size_t>(slot->where);
+  const auto index = static_cast<std::uint32_t>(slot - slots_.data());
+  bounce_pieces_ -= bounce_pieces_of(user_occluder(index));
+  erase_occluder(index);
+  release_slot(&slots_[index]);
+  return {};
+}
+
+void World::erase_occluder_entry(std::size_t k) {
   const std::size_t m = occluder_sources_.size() - 1;
-  bounce_pieces_ -= bounce_pieces_of(occluder_sources_[k]);
   if (observer_) observer_->region_changed(bounds_of(scene_.occluders[k]));
   // Occluder m takes index k everywhere.
   for (PreparedLight& light : scene_.lights) {
@@ -656,9 +724,7 @@ Status World::remove_occluder(OccluderHandle handle) {
   update_model_flag(scene_);
   scene_.separators.forget_occluder(m);
   scene_.separators.resize(scene_.lights.size(), m);
-  release_slot(slot);
   ++stats_.index_updates;
-  return {};
 }
 
 const PreparedScene& World::commit() {
@@ -674,14 +740,12 @@ const PreparedScene& World::commit() {
 
 const Light* World::find_light(std::uint64_t id) const noexcept {
   const Slot* slot = const_cast<World*>(this)->find(id, false);
-  if (slot == nullptr) return nullptr;
-  const auto where = static_cast<std::size_t>(slot->where);
-  return slot->list == kLit ? &light_sources_[where] : &dark_sources_[where];
+  return slot == nullptr ? nullptr : &user_light(static_cast<std::uint32_t>(slot - slots_.data()));
 }
 
 const Occluder* World::find_occluder(std::uint64_t id) const noexcept {
   const Slot* slot = const_cast<World*>(this)->find(id, true);
-  return slot == nullptr ? nullptr : &occluder_sources_[static_cast<std::size_t>(slot->where)];
+  return slot == nullptr ? nullptr : &user_occluder(static_cast<std::uint32_t>(slot - slots_.data()));
 }
 
 Scene World::snapshot() const {
@@ -690,9 +754,10 @@ Scene World::snapshot() const {
   out.height = scene_.height;
   out.view = view_;
   for (std::size_t p = 0; p < light_sources_.size(); ++p)
-    if (!slots_[light_slots_[p]].internal) out.lights.push_back(light_sources_[p]);
+    if (!slots_[light_slots_[p]].internal) out.lights.push_back(user_light(light_slots_[p]));
   out.lights.insert(out.lights.end(), dark_sources_.begin(), dark_sources_.end());
-  out.occluders = occluder_sources_;
+  for (std::size_t k = 0; k < occluder_sources_.size(); ++k)
+    if (!slots_[occluder_slots_[k]].internal) out.occluders.push_back(user_occluder(occluder_slots_[k]));
   out.ambient = globals_.ambient;
   out.directional_lights = globals_.directional_lights;
   out.normal = globals_.normal;

@@ -961,14 +961,36 @@ int main(void) {
     free(rgba);
   }
 
-  /* Errors: a non-convex polygon is refused with a message; the world stays as it was. */
+  /* Errors: a concave light and a self-crossing occluder are refused with a message (an
+     occluder may be concave, a light not); the world stays as it was. */
   {
     const double bent[10] = {10, 10, 30, 10, 20, 12, 30, 30, 10, 30};
+    const double crossing[8] = {10, 10, 30, 30, 30, 10, 10, 30};
+    const double grey[3] = {0.5, 0.5, 0.5};
     par2d_shape bad = occluder_shape;
     bad.vertices = bent;
     bad.vertex_count = 5;
+    CHECK(par2d_update_light(r, light, &bad, grey, 1.0) == PAR2D_INVALID_SCENE);
+    CHECK(strstr(par2d_last_error(), "polygon: not convex at vertex 2") != NULL);
+    bad.vertices = crossing;
+    bad.vertex_count = 4;
     CHECK(par2d_update_occluder(r, occluder, &bad) == PAR2D_INVALID_SCENE);
-    CHECK(strstr(par2d_last_error(), "not convex") != NULL);
+    CHECK(strstr(par2d_last_error(), "polygon: edges 0 and 2 cross") != NULL);
+    /* A concave occluder is accepted under one handle, read back as given, and removed whole. */
+    const double ell[12] = {40, 40, 60, 40, 60, 60, 56, 60, 56, 44, 40, 44};
+    par2d_shape concave = occluder_shape;
+    concave.vertices = ell;
+    concave.vertex_count = 6;
+    const size_t before = par2d_occluder_count(r);
+    par2d_occluder corner = 0;
+    CHECK(par2d_add_occluder(r, &concave, &corner) == PAR2D_OK);
+    CHECK(par2d_occluder_count(r) == before + 1);
+    par2d_shape got;
+    memset(&got, 0, sizeof got);
+    CHECK(par2d_get_occluder(r, corner, &got) == PAR2D_OK);
+    CHECK(got.kind == PAR2D_SHAPE_POLYGON && got.vertex_count == 6 && got.vertices[6] == 56.0);
+    CHECK(par2d_remove_occluder(r, corner) == PAR2D_OK);
+    CHECK(par2d_occluder_count(r) == before);
     CHECK(par2d_remove_light(r, light + 12345) == PAR2D_INVALID_ARGUMENT);
     CHECK(par2d_render(r, NULL, PAR2D_RGB_F32, W * 12, 1.0, NULL) == PAR2D_INVALID_ARGUMENT);
     CHECK(par2d_render(r, rgb, PAR2D_RGB_F32, 4, 1.0, NULL) == PAR2D_INVALID_ARGUMENT);

@@ -15,6 +15,8 @@
 #include <vector>
 
 #include "geometry/convex_shape.hpp"
+#include "geometry/polygon_partition.hpp"
+#include "scene/scene_validate.hpp"
 #include "par2d/par2d.hpp"
 #include "support/random_scenes.hpp"
 
@@ -84,7 +86,7 @@ inline Shape decode_shape(ByteReader& in, double origin_x, double origin_y, doub
       const Vec2 b{grid_x(), grid_y()};
       return Segment{a, b};
     }
-    case 3: {  // free polygon: often not convex, then left out
+    case 3: {  // free polygon: often not convex (then an occluder only) or not simple (left out)
       Polygon p;
       const unsigned n = 3 + in.byte() % 6;
       for (unsigned k = 0; k < n; ++k) {
@@ -238,11 +240,13 @@ inline FuzzScene decode_scene(ByteReader& in) {
   f.spp = (view_flags & 8) ? 1 + static_cast<int>(in.byte() % 4) : 1;
   f.rays = 1 + static_cast<int>(in.byte() % 64);
   // A shape that validate_scene refuses is left out, so that most inputs still render.
-  auto accepted = [&](const Shape& shape) {
+  // (A light must be convex; an occluder may be concave.)
+  auto accepted = [&](const Shape& shape, bool light) {
     Scene probe;
     probe.width = probe.height = 1;
     probe.view = {0, 0, 1, 1};
-    probe.occluders.push_back({shape});
+    if (light) probe.lights.push_back({shape});
+    else probe.occluders.push_back({shape});
     return validate_scene(probe).ok();
   };
   const unsigned lights = in.byte() % 5, occluders = in.byte() % 7;
@@ -251,11 +255,11 @@ inline FuzzScene decode_scene(ByteReader& in) {
     light.shape = decode_shape(in, origin, origin, scale);
     light.color = {in.byte() / 255.0, in.byte() / 255.0, in.byte() / 255.0};
     light.intensity = in.byte() / 16.0;
-    if (accepted(light.shape)) s.lights.push_back(light);
+    if (accepted(light.shape, true)) s.lights.push_back(light);
   }
   for (unsigned k = 0; k < occluders; ++k) {
     Occluder occluder{decode_shape(in, origin, origin, scale)};
-    if (accepted(occluder.shape)) s.occluders.push_back(occluder);
+    if (accepted(occluder.shape, false)) s.occluders.push_back(occluder);
   }
   for (const Light& l : s.lights)
     if (const auto* p = std::get_if<Polygon>(&l.shape)) f.polygon_vertices += p->vertices.size();
@@ -312,10 +316,20 @@ inline bool lights_disjoint_from_occluders(const Scene& scene) {
     }
     return detail::make_convex_shape(shape);
   };
+  // A concave occluder meets a light where one of its convex pieces does.
+  std::vector<Shape> occluder_pieces;
+  for (const Occluder& o : scene.occluders) {
+    std::vector<Polygon> pieces;
+    std::string error;
+    if (detail::needs_partition(o.shape) && detail::partition_polygon(std::get<Polygon>(o.shape), pieces, error))
+      occluder_pieces.insert(occluder_pieces.end(), pieces.begin(), pieces.end());
+    else
+      occluder_pieces.push_back(o.shape);
+  }
   for (const Light& l : scene.lights) {
     const detail::ConvexShape ls = scaled(l.shape);
-    for (const Occluder& o : scene.occluders)
-      if (detail::meets_within_contact(ls, scaled(o.shape))) return false;
+    for (const Shape& o : occluder_pieces)
+      if (detail::meets_within_contact(ls, scaled(o))) return false;
   }
   return true;
 }

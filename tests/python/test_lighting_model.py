@@ -211,3 +211,20 @@ def test_bounce_piece_and_albedo_from_a_renderer():
         r.set_bounce(0)
     assert str(e.value) == "set_bounce: bounce.piece: must be > 0, got 0"
     assert r.bounce_piece == 0.5
+
+
+def test_a_concave_occluder_is_one_occluder_and_shadows_as_its_pieces():
+    ell = [[4, 2], [12, 2], [12, 10], [10, 10], [10, 4], [4, 4]]
+    pieces = [[[4, 2], [12, 2], [12, 4], [4, 4]], [[10, 4], [12, 4], [12, 10], [10, 10]]]
+    light = {"circle": {"center": [2, 11], "radius": 1}, "intensity": 3}
+    whole = par2d.render({"width": 16, "height": 12, "lights": [light], "occluders": [{"polygon": ell}]})
+    by_hand = par2d.render({"width": 16, "height": 12, "lights": [light],
+                            "occluders": [{"polygon": p} for p in pieces]})
+    assert np.allclose(whole, by_hand, rtol=0, atol=1e-6 * 3)
+    assert whole[3, 8, 0] == 0.0  # inside the wall
+    r = par2d.Renderer({"width": 16, "height": 12, "lights": [light], "occluders": [{"polygon": ell}]})
+    assert len(r.occluders) == 1
+    assert r.snapshot().to_dict()["occluders"][0]["polygon"] == ell
+    with pytest.raises(par2d.Error) as e:
+        r.update_light(r.lights[0], {"polygon": ell})
+    assert str(e.value) == f"light {r.lights[0]}: polygon: not convex at vertex 4"

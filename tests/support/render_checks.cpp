@@ -2,6 +2,8 @@
 // fuzz targets link random_scenes.cpp without doctest's runtime.
 #include "support/render_checks.hpp"
 
+#include "scene/scene_validate.hpp"
+
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -104,11 +106,23 @@ int boundary_complexity(const Shape& shape) {
   return std::numeric_limits<int>::max();
 }
 
+namespace {
+
+// Half the jumps a shape can put into what a ray meets, as its direction turns: a convex
+// silhouette has two ends (1 here); a concave outline can change at any vertex.
+double silhouette_jumps(const Shape& shape) {
+  if (!detail::needs_partition(shape)) return 1.0;
+  return static_cast<double>(std::get<Polygon>(shape).vertices.size());
+}
+
+}  // namespace
+
 Rgb stratification_bound(const Scene& scene, int rays, bool overlapping, bool shaded) {
   const double shading = shaded && (scene.normal || scene.normal_map) ? 2.0 : 0.0;
   Rgb bound{0, 0, 0};
   for (const Light& l : scene.lights) {
-    double variation = 2.0 + 2.0 * static_cast<double>(scene.occluders.size()) + shading + (l.cone ? 2.0 : 0.0);
+    double variation = 2.0 * silhouette_jumps(l.shape) + shading + (l.cone ? 2.0 : 0.0);
+    for (const Occluder& o : scene.occluders) variation += 2.0 * silhouette_jumps(o.shape);
     if (l.cookie) {  // its weight's total variation around the circle
       for (std::size_t k = 0; k < l.cookie->knots.size(); ++k)
         variation += std::fabs(l.cookie->knots[(k + 1) % l.cookie->knots.size()].weight - l.cookie->knots[k].weight);
@@ -123,7 +137,8 @@ Rgb stratification_bound(const Scene& scene, int rays, bool overlapping, bool sh
     for (int c = 0; c < 3; ++c) bound[c] += e[c] * variation / rays;
   }
   for (const DirectionalLight& d : scene.directional_lights) {
-    const double variation = 2.0 * static_cast<double>(scene.occluders.size()) + shading;
+    double variation = shading;
+    for (const Occluder& o : scene.occluders) variation += 2.0 * silhouette_jumps(o.shape);
     const double share = (d.angle1 - d.angle0) / 360.0;
     for (int c = 0; c < 3; ++c) bound[c] += d.intensity * d.color[c] * share * variation / rays;
   }
