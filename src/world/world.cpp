@@ -347,17 +347,21 @@ void World::push_light(const Light& light, std::uint32_t slot) {
   }
 }
 
-void World::erase_light(std::uint32_t slot) {
-  if (slots_[slot].list == kDark) return erase_dark(static_cast<std::size_t>(slots_[slot].where));
+void World::erase_chain(std::uint32_t slot, void (World::*erase_entry)(std::size_t), std::size_t& internal) {
   for (std::uint32_t s = slots_[slot].next; s != kNoSlot;) {
     const std::uint32_t next = slots_[s].next;
-    erase_lit(static_cast<std::size_t>(slots_[s].where));
+    (this->*erase_entry)(static_cast<std::size_t>(slots_[s].where));
     release_slot(&slots_[s]);
-    --internal_lights_;
+    --internal;
     s = next;
   }
   slots_[slot].next = kNoSlot;
-  erase_lit(static_cast<std::size_t>(slots_[slot].where));
+  (this->*erase_entry)(static_cast<std::size_t>(slots_[slot].where));
+}
+
+void World::erase_light(std::uint32_t slot) {
+  if (slots_[slot].list == kDark) return erase_dark(static_cast<std::size_t>(slots_[slot].where));
+  erase_chain(slot, &World::erase_lit, internal_lights_);
 }
 
 void World::push_lit(const Light& light, std::uint32_t slot, LightPart part) {
@@ -644,15 +648,7 @@ void World::push_occluder_entry(const Occluder& occluder, std::uint32_t slot) {
 }
 
 void World::erase_occluder(std::uint32_t slot) {
-  for (std::uint32_t s = slots_[slot].next; s != kNoSlot;) {
-    const std::uint32_t next = slots_[s].next;
-    erase_occluder_entry(static_cast<std::size_t>(slots_[s].where));
-    release_slot(&slots_[s]);
-    --internal_occluders_;
-    s = next;
-  }
-  slots_[slot].next = kNoSlot;
-  erase_occluder_entry(static_cast<std::size_t>(slots_[slot].where));
+  erase_chain(slot, &World::erase_occluder_entry, internal_occluders_);
   compound_occluders_.erase(slot);
 }
 

@@ -90,6 +90,9 @@ class World {
   static constexpr std::uint32_t kNoSlot = 0xffffffffu;
   // A new internal slot of `list` chained after `last`, owned by `owner`.
   std::uint32_t chain_slot(std::uint8_t list, std::uint32_t last, std::uint32_t owner);
+  // Erases every entry of a user slot's chain with `erase_entry` (an index into its list),
+  // releasing the internal slots (`internal` counts them) and keeping the user's.
+  void erase_chain(std::uint32_t slot, void (World::*erase_entry)(std::size_t), std::size_t& internal);
 
   // A problem when a light emitting `emission` in all, in place of the light in `replaced`
   // (nullptr: added), would take the lights' total emission past kMaxTotalEmission.
