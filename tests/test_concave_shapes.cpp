@@ -129,7 +129,7 @@ TEST_CASE("a level of six tile-map rooms, each one concave occluder, renders as 
 TEST_CASE("concave occluders: the scalar reference matches the ray caster, which meets the outline as given") {
   const Scene scene = room_level(false);
   const detail::RaycastRenderer caster(scene);
-  constexpr int kRays = 8192;
+  constexpr int kRays = 2048;
   const RenderedImage image = render_with(scene, Backend::scalar);
   const Rgb bound = stratification_bound(scene, kRays, false);
   const double skip = 1e-6 * (scene.view.x1 - scene.view.x0) / scene.width;
