@@ -454,8 +454,10 @@ Rgb RaycastRenderer::irradiance(Vec2 world, int rays, double jitter) const {
 }
 
 Rgb RaycastRenderer::irradiance(Vec2 world, int rays, double jitter, const Vec3* normal) const {
-  Rgb e = model_ ? model_irradiance(world, rays, jitter, normal) : plain_irradiance(world, rays, jitter);
-  if (reflectors_.empty()) return e;
+  Rgb e{0.0, 0.0, 0.0};
+  if (term_ != BounceTerm::only)
+    e = model_ ? model_irradiance(world, rays, jitter, normal) : plain_irradiance(world, rays, jitter);
+  if (reflectors_.empty() || term_ == BounceTerm::excluded) return e;
   const Rgb b = bounce_irradiance(world, rays, jitter, normal);
   for (int c = 0; c < 3; ++c) e[c] += b[c];
   return e;

@@ -7,6 +7,7 @@
 #include <optional>
 #include <vector>
 
+#include "par2d/render.hpp"
 #include "par2d/scene.hpp"
 
 namespace par2d::detail {
@@ -39,6 +40,9 @@ class RaycastRenderer {
   // every reflecting occluder the ray enters from outside adds the radiance of the piece it
   // enters by, times the transmittances of the acting occluders met no later (its own never)
   // and the pixel's shading at elevation 0, over rays.
+  // Which terms the two overloads above return (RenderOptions::bounce): both by default, or
+  // the direct light (with the ambient) alone, or the bounce alone.
+  void set_bounce_term(BounceTerm term) noexcept { term_ = term; }
   // The piece radiances for `rays` (cached for the last count asked).
   std::vector<Rgb> bounce_radiances(int rays) const;
 
@@ -149,6 +153,7 @@ class RaycastRenderer {
   std::unique_ptr<BounceCache> bounce_cache_ = std::make_unique<BounceCache>();
   double distance_to(const RayShape& s, Vec2 x) const noexcept;
 
+  BounceTerm term_ = BounceTerm::included;
   bool model_ = false;  // any term of section 6 differs from its default
   std::vector<LightModel> light_terms_;
   std::vector<OccluderModel> occluder_terms_;

@@ -185,7 +185,7 @@ void prepare_bounce_frame(const PreparedScene& scene, BounceFrame& frame, Scalar
 }
 
 Rgb bounce_irradiance(const PreparedScene& scene, const BounceFrame& frame, Vec2 x, const Vec3* normal,
-                      BounceScratch& scratch) {
+                      BounceScratch& scratch, const std::uint32_t* sources, std::size_t source_count) {
   Rgb e{0.0, 0.0, 0.0};
   if (frame.sources.empty()) return e;
   const std::size_t occluders = scene.occluders.size();
@@ -217,8 +217,11 @@ Rgb bounce_irradiance(const PreparedScene& scene, const BounceFrame& frame, Vec2
   for (const std::uint32_t k : scratch.near)
     if (span_of(k).full) scratch.containing.push_back(k);
   AngularProfile<double> profile;
-  for (const BounceSource& source : frame.sources) {
+  const std::size_t walked = sources ? source_count : frame.sources.size();
+  for (std::size_t n = 0; n < walked; ++n) {
+    const BounceSource& source = frame.sources[sources ? sources[n] : n];
     if (!source.lit) continue;
+    ++scratch.source_walks;
     const std::uint32_t j = source.occluder;
     const AngularSpan& arc = span_of(j);
     // Inside its own occluder x meets no piece from the front; seen edge-on, none at all.
@@ -250,6 +253,7 @@ Rgb bounce_irradiance(const PreparedScene& scene, const BounceFrame& frame, Vec2
       if (k == j) continue;
       const AngularSpan& span = span_of(k);
       if (inside[k] || !acts(scene.occluder_terms[k], false, mask)) continue;
+      ++scratch.depth_tests;
       blocked_pieces(source.light, scene.occluders[k], k, x, arc, span, scratch.scalar, scratch.blocked);
       scratch.blocked_occluder.resize(scratch.blocked.size(), k);
     }

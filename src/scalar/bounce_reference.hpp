@@ -59,6 +59,9 @@ struct BounceScratch {
   std::vector<std::uint32_t> span_stamp;
   std::uint32_t stamp = 0;
   std::vector<Vec2> hull_points, hull;  // the hull of x and a reflector
+  // Work counts for FrameStats, accumulated over calls until the owner resets them: lit
+  // sources walked at a point, and occluders depth-tested against a source there.
+  std::uint64_t source_walks = 0, depth_tests = 0;
 };
 
 // The pieces and sources of `scene` (radiances sized, not computed). Nothing when the scene
@@ -77,8 +80,10 @@ void finish_bounce_frame(BounceFrame& frame) noexcept;
 void prepare_bounce_frame(const PreparedScene& scene, BounceFrame& frame, ScalarScratch& scratch);
 
 // The bounce term at x: sum over pieces of L_k (1/2pi) * integral of V_k F_k s, shaded by
-// `normal` (elevation 0) or plain when null.
+// `normal` (elevation 0) or plain when null. `sources`, when given, lists the only sources
+// (indices into frame.sources, `source_count` of them) that may reach x: the others are
+// proven to add nothing there (bounce_tiles.hpp), and are not walked.
 Rgb bounce_irradiance(const PreparedScene& scene, const BounceFrame& frame, Vec2 x, const Vec3* normal,
-                      BounceScratch& scratch);
+                      BounceScratch& scratch, const std::uint32_t* sources = nullptr, std::size_t source_count = 0);
 
 }  // namespace par2d::detail
