@@ -265,6 +265,13 @@ typedef enum par2d_threading {
                                       inside tbb::task_arena::execute); threads is ignored */
 } par2d_threading;
 
+/* Which terms of a scene with one bounce a frame outputs (docs/contract.md section 7). */
+typedef enum par2d_bounce_term {
+  PAR2D_BOUNCE_INCLUDED = 0, /* default: direct light plus the bounce */
+  PAR2D_BOUNCE_EXCLUDED = 1, /* the direct light alone (the ambient term included) */
+  PAR2D_BOUNCE_ONLY = 2      /* the bounce term alone */
+} par2d_bounce_term;
+
 /* The options par2d_options lacks (they came later, so they have their own struct). */
 typedef struct par2d_advanced_options {
   par2d_isa isa;             /* cap on the SIMD level; default PAR2D_ISA_DEFAULT */
@@ -273,6 +280,7 @@ typedef struct par2d_advanced_options {
                                 source; 0: the plain irradiance */
   int sample_needs;          /* nonzero: also measure what pixels need (par2d_frame_stats'
                                 sampled_* fields; about one scalar pixel per 16x16 tile); default 0 */
+  par2d_bounce_term bounce;  /* default PAR2D_BOUNCE_INCLUDED */
 } par2d_advanced_options;
 
 PAR2D_C_API void par2d_advanced_options_default(par2d_advanced_options* options);
@@ -365,6 +373,11 @@ typedef struct par2d_frame_stats {
   /* Only with par2d_advanced_options.sample_needs (else 0): at each tile's middle pixel, by
    * exact double geometry, the lights visible there and the occluders cutting into their arcs. */
   uint64_t sampled_pixels, sampled_visible_lights, sampled_blocking_pairs;
+  /* One bounce (zero without reflecting occluders or with PAR2D_BOUNCE_EXCLUDED): pieces,
+   * reflecting occluders with a lit piece, (tile, lit reflector) pairs and those proofs hid,
+   * (sample, reflector) walks and the occluders depth-tested in them. */
+  uint64_t bounce_pieces, bounce_lit_sources, bounce_tile_sources, bounce_tile_sources_hidden;
+  uint64_t bounce_source_walks, bounce_depth_tests;
 } par2d_frame_stats;
 PAR2D_C_API par2d_status par2d_get_frame_stats(const par2d_renderer* renderer, par2d_frame_stats* out);
 

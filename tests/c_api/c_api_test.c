@@ -861,6 +861,30 @@ static void check_bounce(void) {
   CHECK(par2d_render(r, lit, PAR2D_RGB_F32, sizeof lit, 1.0, row) == PAR2D_OK);
   /* Left of the wall, the lit face reflects onto the floor: more red than before. */
   CHECK(lit[8 * 3] > dark[8 * 3]);
+  /* The terms apart: the direct light alone is the frame without albedo, the bounce alone is
+   * what albedo adds (within float rounding of the sum), and the frame's stats count pieces. */
+  par2d_frame_stats frame;
+  CHECK(par2d_get_frame_stats(r, &frame) == PAR2D_OK && frame.bounce_pieces == 8 && frame.bounce_lit_sources == 1);
+  CHECK(frame.bounce_source_walks > 0 && frame.bounce_tile_sources >= frame.bounce_tile_sources_hidden);
+  float direct[24 * 3], bounce[24 * 3];
+  par2d_advanced_options advanced;
+  CHECK(par2d_get_advanced_options(r, &advanced) == PAR2D_OK && advanced.bounce == PAR2D_BOUNCE_INCLUDED);
+  advanced.bounce = PAR2D_BOUNCE_EXCLUDED;
+  CHECK(par2d_set_advanced_options(r, &advanced) == PAR2D_OK);
+  CHECK(par2d_render(r, direct, PAR2D_RGB_F32, sizeof direct, 1.0, row) == PAR2D_OK);
+  CHECK(memcmp(direct, dark, sizeof dark) == 0);
+  advanced.bounce = PAR2D_BOUNCE_ONLY;
+  CHECK(par2d_set_advanced_options(r, &advanced) == PAR2D_OK);
+  CHECK(par2d_get_advanced_options(r, &advanced) == PAR2D_OK && advanced.bounce == PAR2D_BOUNCE_ONLY);
+  CHECK(par2d_render(r, bounce, PAR2D_RGB_F32, sizeof bounce, 1.0, row) == PAR2D_OK);
+  for (int i = 0; i < 24 * 3; ++i) CHECK(fabs((double)direct[i] + bounce[i] - lit[i]) <= 1e-6 * 3.0);
+  CHECK(bounce[8 * 3] > 0.0f);
+  advanced.bounce = (par2d_bounce_term)3;
+  CHECK_ERROR(par2d_set_advanced_options(r, &advanced), PAR2D_INVALID_ARGUMENT,
+              "par2d_set_advanced_options: bounce 3 is not PAR2D_BOUNCE_INCLUDED, PAR2D_BOUNCE_EXCLUDED or "
+              "PAR2D_BOUNCE_ONLY");
+  advanced.bounce = PAR2D_BOUNCE_INCLUDED;
+  CHECK(par2d_set_advanced_options(r, &advanced) == PAR2D_OK);
   double piece = 0.0;
   CHECK(par2d_get_bounce(r, &piece) == PAR2D_OK && piece == 4.0);
   CHECK(par2d_set_bounce(r, 0.5) == PAR2D_OK);

@@ -213,6 +213,30 @@ def test_bounce_piece_and_albedo_from_a_renderer():
     assert r.bounce_piece == 0.5
 
 
+def test_the_direct_and_bounce_terms_apart():
+    """bounce="excluded" is the scene without albedo, "only" what albedo adds; counted in frame_stats."""
+    scene = {"width": 24, "height": 16,
+             "lights": [{"circle": {"center": [4, 4], "radius": 1.5}, "intensity": 3}],
+             "occluders": [{"polygon": [[10, 2], [12, 2], [12, 12], [10, 12]], "albedo": [0.8, 0.4, 0.2]}]}
+    dark = dict(scene, occluders=[{"polygon": scene["occluders"][0]["polygon"]}])
+    total = par2d.render(scene)
+    direct = par2d.render(scene, bounce="excluded")
+    bounce = par2d.render(scene, bounce="only")
+    np.testing.assert_array_equal(direct, par2d.render(dark))
+    assert bounce[10, 8, 0] > 0.0
+    assert np.allclose(direct + bounce, total, rtol=0, atol=1e-6 * 3)
+    r = par2d.Renderer(scene, bounce="only")
+    assert r.options["bounce"] == "only"
+    np.testing.assert_array_equal(r.render(), bounce)
+    stats = r.frame_stats
+    assert stats["bounce_pieces"] == 8 and stats["bounce_lit_sources"] == 1
+    r.set_options(bounce="excluded")
+    np.testing.assert_array_equal(r.render(), direct)
+    with pytest.raises(par2d.Error) as e:
+        par2d.render(scene, bounce="indirect")
+    assert str(e.value) == 'bounce: unknown name "indirect" (included, excluded, only)'
+
+
 def test_a_concave_occluder_is_one_occluder_and_shadows_as_its_pieces():
     ell = [[4, 2], [12, 2], [12, 10], [10, 10], [10, 4], [4, 4]]
     pieces = [[[4, 2], [12, 2], [12, 4], [4, 4]], [[10, 4], [12, 4], [12, 10], [10, 10]]]
