@@ -9,7 +9,9 @@
 namespace par2d::detail {
 namespace {
 
-// Whether occluders other than source `j`'s own prove every segment from the tile's box to the
+// The occluders whose boxes meet the hull of the tile and the source, in scratch.candidates
+// (every occluder that may stand between a point of the tile and the source); then whether
+// those other than the source's own prove every segment from the tile's box to the
 // source's shape blocked. A piece's light reaches x along a direction only where that
 // direction enters the source's occluder at the piece, and the segment from x to that entry
 // point then meets an opaque occluder first: only opaque, dark-inside occluders acting on the
@@ -36,19 +38,26 @@ void add_bounce_tile(const PreparedScene& scene, const BounceFrame& bounce, int 
                      const TileRect& tile, const TileRect& part, BounceTileScratch& scratch, TileResult& out,
                      FrameCounters& counts) {
   scratch.sources.clear();
+  scratch.first.assign(1, 0);
+  scratch.blockers.clear();
   const std::array<Vec2, 4> corners = tile_corners(scene, tile);
   const Aabb box = bounds_of(corners);
   for (std::uint32_t s = 0; s < bounce.sources.size(); ++s) {
     const BounceSource& source = bounce.sources[s];
     if (!source.lit) continue;
     ++counts.bounce_tile_sources;
-    if (cull && source_hidden(scene, source, corners, box, scratch)) {
+    if (!cull) continue;
+    if (source_hidden(scene, source, corners, box, scratch)) {
       ++counts.bounce_tile_sources_hidden;
       continue;
     }
     scratch.sources.push_back(s);
+    scratch.blockers.insert(scratch.blockers.end(), scratch.candidates.begin(), scratch.candidates.end());
+    scratch.first.push_back(static_cast<std::uint32_t>(scratch.blockers.size()));
   }
-  if (scratch.sources.empty()) return;
+  if (cull && scratch.sources.empty()) return;
+  const BounceSourceSubset subset{scratch.sources.data(), scratch.sources.size(), scratch.first.data(),
+                                  scratch.blockers.data()};
   const bool shade = shading_active(scene, shaded);
   const double inv_spp = 1.0 / spp;
   BounceScratch& reference = scratch.reference;
@@ -61,7 +70,7 @@ void add_bounce_tile(const PreparedScene& scene, const BounceFrame& bounce, int 
         double sx, sy;
         sample_offset(k, spp, sx, sy);
         const Rgb e = bounce_irradiance(scene, bounce, sample_position(scene, i, j, sx, sy), shade ? &normal : nullptr,
-                                        reference, scratch.sources.data(), scratch.sources.size());
+                                        reference, cull ? &subset : nullptr);
         for (int c = 0; c < 3; ++c) sum[c] += e[c];
       }
       const std::size_t at = static_cast<std::size_t>(j - tile.y0) * kTileSize + static_cast<std::size_t>(i - tile.x0);

@@ -20,14 +20,17 @@ namespace par2d::detail {
 struct BounceTileScratch {
   BounceScratch reference;
   OcclusionProofScratch occlusion;
-  std::vector<std::uint32_t> sources;  // this tile's sources that may reach it
+  // This tile's sources that may reach it, each with the occluders that may stand between
+  // (BounceSourceSubset).
+  std::vector<std::uint32_t> sources, first, blockers;
   std::vector<std::uint32_t> candidates, provers;
   std::vector<Vec2> hull_points, hull;
 };
 
 // Adds the mean over each sample of the pixels `part` (within `tile`) of the bounce term to
 // `out` (the tile's result, rows of kTileSize). With `cull`, sources proven hidden from the
-// whole tile are skipped. Counts the work in `counts`.
+// whole tile are skipped and the others' possible blockers are found once for the tile;
+// without, every sample walks every lit source (the reference). Counts the work in `counts`.
 void add_bounce_tile(const PreparedScene& scene, const BounceFrame& bounce, int spp, bool shaded, bool cull,
                      const TileRect& tile, const TileRect& part, BounceTileScratch& scratch, TileResult& out,
                      FrameCounters& counts);

@@ -79,11 +79,22 @@ void finish_bounce_frame(BounceFrame& frame) noexcept;
 // All three, on this thread.
 void prepare_bounce_frame(const PreparedScene& scene, BounceFrame& frame, ScalarScratch& scratch);
 
+// The sources that may reach a region of points and, for each, the occluders that may stand
+// between the region and it (bounce_tiles.hpp): source sources[i] (an index into
+// frame.sources) has blockers[first[i] .. first[i + 1]), a superset of the occluders whose
+// boxes meet the hull of any point of the region and the source.
+struct BounceSourceSubset {
+  const std::uint32_t* sources = nullptr;
+  std::size_t count = 0;
+  const std::uint32_t* first = nullptr;  // count + 1 offsets into blockers
+  const std::uint32_t* blockers = nullptr;
+};
+
 // The bounce term at x: sum over pieces of L_k (1/2pi) * integral of V_k F_k s, shaded by
-// `normal` (elevation 0) or plain when null. `sources`, when given, lists the only sources
-// (indices into frame.sources, `source_count` of them) that may reach x: the others are
-// proven to add nothing there (bounce_tiles.hpp), and are not walked.
+// `normal` (elevation 0) or plain when null. `subset`, when given, holds the only sources that
+// may reach x (the others are proven to add nothing there, and are not walked) and their
+// possible blockers (the occluder index is then not queried per point).
 Rgb bounce_irradiance(const PreparedScene& scene, const BounceFrame& frame, Vec2 x, const Vec3* normal,
-                      BounceScratch& scratch, const std::uint32_t* sources = nullptr, std::size_t source_count = 0);
+                      BounceScratch& scratch, const BounceSourceSubset* subset = nullptr);
 
 }  // namespace par2d::detail
