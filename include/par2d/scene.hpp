@@ -224,7 +224,7 @@ struct LoadOptions {
 };
 
 // Parses and validates a JSON scene. `name` (usually the file name) prefixes every
-// message, e.g. `level.json: lights[2].polygon: not convex at vertex 3`. The scene's folder
+// message, e.g. `level.json: lights[2].polygon: edges 1 and 3 cross`. The scene's folder
 // (for `normal_map`) is the folder part of `name`, the current directory when it has none.
 // A NUL byte anywhere in the text is refused with its offset.
 Status parse_scene(std::string_view json_text, std::string_view name, Scene& out);

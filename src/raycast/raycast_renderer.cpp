@@ -449,6 +449,27 @@ double RaycastRenderer::hit_distance(const RayShape& s, Vec2 x, Vec2 d, double l
   return kInf;
 }
 
+void RaycastRenderer::region_entries(const RayShape& s, Vec2 x, Vec2 d, std::vector<double>& out) const {
+  out.clear();
+  bool inside = contains(s, x);
+  if (inside) out.push_back(0.0);
+  thread_local std::vector<double> crossings;
+  crossings.clear();
+  for_each_edge(s, [&](Vec2 a, Vec2 b) {
+    const double sa = cross(d, a - x), sb = cross(d, b - x);
+    if ((sa > 0.0) == (sb > 0.0)) return;
+    // The crossing point's distance along d: a + u (b - a) with u = sa / (sa - sb).
+    const double u = sa / (sa - sb);
+    const double t = dot(a - x, d) + u * dot(b - a, d);
+    if (t > 0.0) crossings.push_back(t);
+  });
+  std::sort(crossings.begin(), crossings.end());
+  for (const double t : crossings) {
+    inside = !inside;
+    if (inside) out.push_back(t);
+  }
+}
+
 Rgb RaycastRenderer::irradiance(Vec2 world, int rays, double jitter) const {
   return irradiance(world, rays, jitter, nullptr);
 }
@@ -482,6 +503,7 @@ Rgb RaycastRenderer::plain_irradiance(Vec2 world, int rays, double jitter) const
     block_sin[j] = std::sin(step * j);
   }
   double base_cos = 1.0, base_sin = 0.0;
+  std::vector<double> entries;
   for (int k = 0; k < rays; ++k) {
     const int j = k % kBlock;
     if (j == 0) {
@@ -496,11 +518,16 @@ Rgb RaycastRenderer::plain_irradiance(Vec2 world, int rays, double jitter) const
     const double contact =
         t_occ < kInf ? kContactTolerance * std::max({t_occ, std::fabs(x.x), std::fabs(x.y)}) : 0.0;
     for (std::size_t l = 0; l < lights_.size(); ++l) {
-      if (hit_distance(lights_[l], x, d, t_occ) < t_occ - contact) {
-        sum[0] += emission_[l][0];
-        sum[1] += emission_[l][1];
-        sum[2] += emission_[l][2];
+      int count = 0;
+      if (lights_[l].kind != Kind::region) {
+        count = hit_distance(lights_[l], x, d, t_occ) < t_occ - contact ? 1 : 0;
+      } else {  // a concave light: once per entry in front of the occluder
+        region_entries(lights_[l], x, d, entries);
+        for (const double t : entries) count += t < t_occ - contact ? 1 : 0;
       }
+      sum[0] += count * emission_[l][0];
+      sum[1] += count * emission_[l][1];
+      sum[2] += count * emission_[l][2];
     }
   }
   const double inv = 1.0 / rays;
@@ -557,6 +584,7 @@ Rgb RaycastRenderer::lights_along_rays(Vec2 x, double start, double span, int ra
     window[l] = d >= light_terms_[l].range ? 0.0 : d == 0.0 ? 1.0 : std::pow(w, light_terms_[l].falloff);
   }
   std::vector<double> t_occ(n_occ);
+  std::vector<double> entries;
   Rgb lit{0.0, 0.0, 0.0};
   for (int k = 0; k < rays; ++k) {
     const double theta = start + span * (k + jitter) / rays;
@@ -565,8 +593,12 @@ Rgb RaycastRenderer::lights_along_rays(Vec2 x, double start, double span, int ra
       t_occ[b] = b == self ? kInf : (inside[b] ? 0.0 : hit_distance(occluders_[b], x, d, kInf));
     for (std::size_t l = 0; l < lights_.size(); ++l) {
       if (!(window[l] > 0.0)) continue;
-      const double t_light = hit_distance(lights_[l], x, d, kInf);
-      if (!(t_light < kInf)) continue;
+      if (lights_[l].kind == Kind::region) {
+        region_entries(lights_[l], x, d, entries);  // a concave light: once per entry
+      } else {
+        entries.assign(1, hit_distance(lights_[l], x, d, kInf));
+        if (!(entries[0] < kInf)) continue;
+      }
       const LightModel& m = light_terms_[l];
       // Cone: emitted along psi = theta + pi; delta = |psi - phi| wrapped to [0, pi].
       double c = 1.0;
@@ -582,16 +614,19 @@ Rgb RaycastRenderer::lights_along_rays(Vec2 x, double start, double span, int ra
       if (m.cookie) c = cookie_weight(*m.cookie, (theta + 0.5 * kTwoPi) * (360.0 / kTwoPi));
       const double weight = window[l] * c * shade(theta, d, m.elevation);
       if (!(weight > 0.0)) continue;
-      Rgb v{1.0, 1.0, 1.0};
-      for (std::size_t b = 0; b < n_occ; ++b) {
-        if (!(t_occ[b] < kInf) || !acting(b, m.mask, self, inside)) continue;
-        // In front when t_B <= t_L, contacts (as in section 1's path above) included.
-        const double contact = kContactTolerance * std::max({t_occ[b], std::fabs(x.x), std::fabs(x.y)});
-        if (t_light >= t_occ[b] - contact)
-          for (int c3 = 0; c3 < 3; ++c3) v[c3] *= occluder_terms_[b].transmittance[c3];
+      for (const double t_light : entries) {
+        Rgb v{1.0, 1.0, 1.0};
+        for (std::size_t b = 0; b < n_occ; ++b) {
+          if (!(t_occ[b] < kInf) || !acting(b, m.mask, self, inside)) continue;
+          // In front when t_B <= t_L, contacts (as in section 1's path above) included.
+          const double contact = kContactTolerance * std::max({t_occ[b], std::fabs(x.x), std::fabs(x.y)});
+          if (t_light >= t_occ[b] - contact)
+            for (int c3 = 0; c3 < 3; ++c3) v[c3] *= occluder_terms_[b].transmittance[c3];
+        }
+        // A light's shadow removes only the fraction k of what the occluders block.
+        for (int c3 = 0; c3 < 3; ++c3)
+          lit[c3] += emission_[l][c3] * weight * (1.0 - m.shadow[c3] + m.shadow[c3] * v[c3]);
       }
-      // A light's shadow removes only the fraction k of what the occluders block.
-      for (int c3 = 0; c3 < 3; ++c3) lit[c3] += emission_[l][c3] * weight * (1.0 - m.shadow[c3] + m.shadow[c3] * v[c3]);
     }
   }
   return lit;

@@ -80,6 +80,13 @@ class RaycastRenderer {
   // x lies in it (closed shapes). `limit`: a hit at t >= limit may be reported as +inf.
   double hit_distance(const RayShape& s, Vec2 x, Vec2 d, double limit) const noexcept;
   bool contains(const RayShape& s, Vec2 x) const noexcept;
+  // The distances t >= 0, increasing, at which the ray x + t d enters a concave region from
+  // outside (0 first when x lies in it) into `out` (cleared): a concave light adds once per
+  // entry (docs/contract.md section 3). Each boundary crossing toggles inside and outside;
+  // an edge is crossed when its ends lie on different sides of the ray's line, an end on the
+  // line counting with the side cross(d, p - x) <= 0, so a ray through a vertex crosses there
+  // once or not at all.
+  void region_entries(const RayShape& s, Vec2 x, Vec2 d, std::vector<double>& out) const;
   RayShape make_shape(const Shape& shape);
 
   std::vector<Vec2> vertices_;

@@ -300,7 +300,13 @@ MaybeProblem check_cookie(const Cookie& cookie, const std::string& place) {
 }
 
 MaybeProblem check_light(const Light& light, const std::string& place) {
-  if (auto problem = check_shape(light.shape, place)) return problem;
+  if (auto problem = check_shape(light.shape, place, true)) return problem;
+  // A concave light is lit as its convex pieces (World::push_light), exact for terms that
+  // depend on the direction alone; a range window (the distance to the shape) and normalize
+  // (its size) would be each piece's, not the light's.
+  if ((light.range || light.normalize) && needs_partition(light.shape))
+    return SceneProblem{place + (light.range ? ".range" : ".normalize"),
+                        "a concave light takes no range or normalize (split it into convex lights)"};
   for (std::size_t c = 0; c < light.color.size(); ++c) {
     if (auto problem = check_non_negative(light.color[c], indexed(place + ".color", c))) return problem;
   }

@@ -35,7 +35,8 @@ inline constexpr double kMaxTotalEmission = 1e38;
 MaybeProblem check_emission_total(const std::vector<Light>& lights);
 
 // `place` names the light or occluder ("lights[2]"); shape problems add ".polygon" etc.
-// A light's shape must be convex; an occluder's polygon may be concave (`concave_allowed`).
+// With `concave_allowed` (lights and occluders) a polygon may be a concave simple outline
+// that partitions; without, it must be convex.
 MaybeProblem check_shape(const Shape& shape, const std::string& place, bool concave_allowed = false);
 // Whether a valid shape is rendered as a convex partition of it: a polygon whose outline is
 // not convex (within the tolerance the convex check allows).

@@ -31,7 +31,7 @@ LightTerms part_terms(const Light& light, LightPart part, double scale) noexcept
   return terms;
 }
 
-// `who: place: what`, e.g. `light 4294967298: polygon: not convex at vertex 3`.
+// `who: place: what`, e.g. `light 4294967298: polygon: edges 1 and 3 cross`.
 Status refused(const std::string& who, const SceneProblem& problem) {
   std::string message = who + ": ";
   if (!problem.place.empty()) {
@@ -124,6 +124,7 @@ std::uint32_t World::chain_slot(std::uint8_t list, std::uint32_t last, std::uint
 }
 
 const Light& World::user_light(std::uint32_t slot) const noexcept {
+  if (const auto it = compound_lights_.find(slot); it != compound_lights_.end()) return it->second;
   const Slot& s = slots_[slot];
   return s.list == kLit ? light_sources_[static_cast<std::size_t>(s.where)] : dark_sources_[static_cast<std::size_t>(s.where)];
 }
@@ -219,7 +220,7 @@ Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, st
       s.where = static_cast<std::int32_t>(next.dark_sources_.size());
       next.dark_sources_.push_back(light);
       next.dark_slots_.push_back(slot);
-    } else if (const LightParts parts = light_parts(light); parts.split) {
+    } else if (const LightParts parts = light_parts(light); parts.split || needs_partition(light.shape)) {
       later_lights.emplace_back(slot, i);
     } else {
       s.list = kLit;
@@ -331,20 +332,53 @@ void World::set_part_emission(std::size_t p) noexcept {
   const Light& light = light_sources_[p];
   PreparedLight& prepared = scene_.lights[p];
   prepared.emission = part_emission(light, slot.part);
+  if (slot.negative)
+    for (double& e : prepared.emission) e = -e;
   const Rgb whole = light_emission(light);
   prepared.e_max_share = slot.internal ? 0.0 : std::max({whole[0], whole[1], whole[2]});
 }
 
 void World::push_light(const Light& light, std::uint32_t slot) {
   if (!emits(light)) return push_dark(light, slot);
-  const LightParts parts = light_parts(light);
+  if (!needs_partition(light.shape)) {
+    push_light_element(light, slot, slot, true, false);
+    return;
+  }
+  // A concave light: its convex pieces emit like lights, which count a direction once per
+  // piece it meets; where a direction passes from one piece into the next across their shared
+  // boundary, that boundary (a segment light emitting -e, seen with the same visibility as the
+  // piece entered there) takes the second count back. So every direction counts once for
+  // each time it enters the light from outside (docs/contract.md section 3).
+  compound_lights_[slot] = light;
+  std::string error;
+  partition_polygon(std::get<Polygon>(light.shape), pieces_, error);  // check_light found it partitions
+  shared_.clear();
+  shared_boundaries(pieces_, shared_);
+  Light element = light;
+  std::uint32_t last = slot;
+  bool first = true;
+  for (Polygon& piece : pieces_) {
+    element.shape = std::move(piece);
+    last = push_light_element(element, slot, last, first, false);
+    first = false;
+  }
+  for (const Segment& boundary : shared_) {
+    element.shape = boundary;
+    last = push_light_element(element, slot, last, false, true);
+  }
+}
+
+std::uint32_t World::push_light_element(const Light& element, std::uint32_t owner, std::uint32_t last, bool first,
+                                        bool negative) {
+  const LightParts parts = light_parts(element);
   const LightPart kinds[2] = {parts.first, LightPart::unshadowed};
   const int part_count = parts.split ? 2 : 1;
-  std::uint32_t last = slot;
   for (int part = 0; part < part_count; ++part) {
-    if (part > 0) last = chain_slot(kLit, last, slot);
-    push_lit(light, last, kinds[part]);
+    if (!(first && part == 0)) last = chain_slot(kLit, last, owner);
+    slots_[last].negative = negative;
+    push_lit(element, last, kinds[part]);
   }
+  return last;
 }
 
 void World::erase_chain(std::uint32_t slot, void (World::*erase_entry)(std::size_t), std::size_t& internal) {
@@ -362,6 +396,7 @@ void World::erase_chain(std::uint32_t slot, void (World::*erase_entry)(std::size
 void World::erase_light(std::uint32_t slot) {
   if (slots_[slot].list == kDark) return erase_dark(static_cast<std::size_t>(slots_[slot].where));
   erase_chain(slot, &World::erase_lit, internal_lights_);
+  compound_lights_.erase(slot);
 }
 
 void World::push_lit(const Light& light, std::uint32_t slot, LightPart part) {
@@ -500,6 +535,9 @@ Status World::add_light(const Light& light, LightHandle* handle) {
 // so that it can be prepared in place: a moving light keeps its index and caches.
 bool World::same_parts(const Slot& slot, const Light& light) const noexcept {
   if (slot.list != kLit || !emits(light)) return false;
+  // A concave light's entries follow its pieces: it is laid out anew.
+  if (compound_lights_.count(static_cast<std::uint32_t>(&slot - slots_.data())) != 0 || needs_partition(light.shape))
+    return false;
   const LightParts parts = light_parts(light);
   return parts.first == slot.part && parts.split == (slot.next != kNoSlot);
 }
@@ -540,7 +578,10 @@ Status World::set_light_emission(LightHandle handle, const Rgb& color, double in
                   "light " + std::to_string(handle.id) + ": intensity: must be a finite number >= 0");
   const std::uint32_t index = static_cast<std::uint32_t>(slot - slots_.data());
   const auto where = static_cast<std::size_t>(slot->where);
-  Light& source = slot->list == kLit ? light_sources_[where] : dark_sources_[where];
+  const auto compound = compound_lights_.find(index);
+  Light& source = compound != compound_lights_.end() ? compound->second
+                  : slot->list == kLit                ? light_sources_[where]
+                                                      : dark_sources_[where];
   const Rgb emission = light_emission(color, intensity, emission_scale(source));
   if (auto problem = emission_total_problem(emission, slot)) return refused("light " + std::to_string(handle.id), *problem);
   // The new light, built in place (its shape's storage is not copied).

@@ -81,7 +81,11 @@ class World {
     // LightPart) and a concave occluder (one entry per convex piece). The
     // user's slot holds the first entry and starts a chain, through `next`, of internal slots
     // (no handle names them), one per further entry; `owner` is the user's slot.
+    // A concave light is one entry (or two, split by its shadow) per convex piece and per
+    // boundary two pieces share, the latter emitting -e: a direction crossing from one piece
+    // into the next is counted by both and taken back once (push_light).
     bool internal = false;
+    bool negative = false;  // lit entries: a shared boundary of a concave light's pieces
     LightPart part = LightPart::whole;  // lit entries: which part of the light this one renders
     std::uint32_t next = kNoSlot;
     std::uint32_t owner = kNoSlot;
@@ -112,6 +116,11 @@ class World {
   // for the second); erase_light takes them all out again, keeping the user's slot.
   void push_light(const Light& light, std::uint32_t slot);
   void erase_light(std::uint32_t slot);
+  // One convex element of a user's light (the light itself, or a piece or shared boundary of
+  // a concave one) as its parts, chained after `last` (`first`: into the user's slot `owner`);
+  // returns the last slot used.
+  std::uint32_t push_light_element(const Light& element, std::uint32_t owner, std::uint32_t last, bool first,
+                                   bool negative);
   // The same for occluders: one entry, or one per convex piece of a concave one.
   void push_occluder(const Occluder& occluder, std::uint32_t slot);
   void erase_occluder(std::uint32_t slot);
@@ -145,9 +154,11 @@ class World {
   std::vector<std::uint32_t> light_slots_;
   std::size_t internal_lights_ = 0;  // lit entries in internal slots (not the user's first)
   std::size_t internal_occluders_ = 0;
-  // Concave occluders as given, by user slot (their entries hold the pieces).
+  // Concave occluders and lights as given, by user slot (their entries hold the pieces).
   std::unordered_map<std::uint32_t, Occluder> compound_occluders_;
-  std::vector<Polygon> pieces_;  // scratch for partitions
+  std::unordered_map<std::uint32_t, Light> compound_lights_;
+  std::vector<Polygon> pieces_;   // scratch for partitions
+  std::vector<Segment> shared_;   // scratch: the boundaries a partition's pieces share
   std::vector<Light> dark_sources_;
   std::vector<std::uint32_t> dark_slots_;
   // The scene-wide game-model terms as given (ambient, directional lights, normal source);

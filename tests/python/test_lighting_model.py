@@ -250,5 +250,8 @@ def test_a_concave_occluder_is_one_occluder_and_shadows_as_its_pieces():
     assert len(r.occluders) == 1
     assert r.snapshot().to_dict()["occluders"][0]["polygon"] == ell
     with pytest.raises(par2d.Error) as e:
-        r.update_light(r.lights[0], {"polygon": ell})
-    assert str(e.value) == f"light {r.lights[0]}: polygon: not convex at vertex 4"
+        r.update_light(r.lights[0], {"polygon": ell, "range": 5})
+    assert str(e.value) == (f"light {r.lights[0]}: range: a concave light takes no range or normalize "
+                            "(split it into convex lights)")
+    r.update_light(r.lights[0], {"polygon": ell, "intensity": 2})  # a concave light
+    assert r.light(r.lights[0])["polygon"] == ell

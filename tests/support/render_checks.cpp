@@ -2,6 +2,7 @@
 // fuzz targets link random_scenes.cpp without doctest's runtime.
 #include "support/render_checks.hpp"
 
+#include "raycast/raycast_renderer.hpp"
 #include "scene/scene_validate.hpp"
 
 #include <doctest/doctest.h>
@@ -145,6 +146,32 @@ Rgb stratification_bound(const Scene& scene, int rays, bool overlapping, bool sh
   const double par_slack = 1e-6 * emission_max_sum(scene);
   for (double& b : bound) b += par_slack;
   return bound;
+}
+
+RaycastAgreement agreement_with_raycaster(const Scene& scene, const RenderedImage& image, int rays, double skip,
+                                          bool overlapping) {
+  const detail::RaycastRenderer caster(scene);
+  const Rgb bound = stratification_bound(scene, rays, overlapping);
+  RaycastAgreement out;
+  for (int j = 0; j < scene.height; ++j) {
+    for (int i = 0; i < scene.width; ++i) {
+      const Vec2 p = pixel_center(scene, i, j);
+      if (near_boundary(scene, p, skip)) continue;
+      ++out.compared;
+      const Rgb ray = caster.irradiance(p, rays, 0.5);
+      for (int c = 0; c < 3; ++c) {
+        const double ratio = std::fabs(image.at(i, j, c) - ray[c]) / bound[c];
+        if (ratio > out.worst) {
+          out.worst = ratio;
+          std::ostringstream s;
+          s << "pixel (" << i << ", " << j << ") channel " << c << ": image " << image.at(i, j, c) << ", rays "
+            << ray[c];
+          out.where = s.str();
+        }
+      }
+    }
+  }
+  return out;
 }
 
 }  // namespace par2d::test

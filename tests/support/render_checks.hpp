@@ -31,6 +31,18 @@ void check_simd_against_scalar(const Scene& scene, const RenderedImage& ref, con
                                const std::function<bool(Vec2)>& exempt, int min_checked,
                                const std::function<void(const RenderedImage&)>& visit = nullptr);
 
+// The ray caster (`rays` directions, jitter 0.5) at every pixel center farther than `skip`
+// world units from every shape boundary, against `image`: the worst |E_image - E_ray| over
+// stratification_bound(scene, rays, overlapping) (at most 1 means they agree), the pixels
+// compared, and where the worst was.
+struct RaycastAgreement {
+  double worst = 0.0;
+  int compared = 0;
+  std::string where;
+};
+RaycastAgreement agreement_with_raycaster(const Scene& scene, const RenderedImage& image, int rays, double skip,
+                                          bool overlapping = false);
+
 // Compares every pixel farther than `skip` pixel widths from every shape boundary with
 // expected(i, j, pixel center): |got - expected| <= 1e-6 * e_max per channel (docs/contract.md
 // section 5, the scalar path's bound). Reports the worst pixel; returns how many were compared.
