@@ -20,8 +20,8 @@ double distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
   return std::hypot(p.x - (a.x + t * ab.x), p.y - (a.y + t * ab.y));
 }
 
-// Distance from p to the closed shape (0 inside). Polygons are convex (validated), so p
-// is inside when it lies on the same side of every edge.
+// Distance from p to the closed shape (0 inside). A polygon (convex or a concave simple
+// outline) holds p when a ray from p toward +x crosses its edges an odd number of times.
 double distance_to_shape(const Shape& shape, Vec2 p) {
   return std::visit(
       [p](const auto& s) -> double {
@@ -33,15 +33,13 @@ double distance_to_shape(const Shape& shape, Vec2 p) {
         } else {
           const auto& v = s.vertices;
           double best = std::numeric_limits<double>::infinity();
-          bool pos = false, neg = false;
+          bool odd = false;
           for (std::size_t i = 0; i < v.size(); ++i) {
             const Vec2 a = v[i], b = v[(i + 1) % v.size()];
             best = std::min(best, distance_to_segment(p, a, b));
-            const double cross = (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
-            pos = pos || cross > 0.0;
-            neg = neg || cross < 0.0;
+            if ((a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y)) odd = !odd;
           }
-          return pos && neg ? best : 0.0;
+          return odd ? 0.0 : best;
         }
       },
       shape);
