@@ -55,13 +55,18 @@ typedef enum par2d_shape_kind {
 #define PAR2D_MAX_POLYGON_VERTICES 1048576
 #define PAR2D_MAX_DIRECTIONAL_LIGHTS 65536
 
-/* A shape in world coordinates (x right, y down). Only the fields of `kind` are read. */
+/* A shape in world coordinates (x right, y down). Only the fields of `kind` are read. A
+ * polygon may be concave (a simple outline) and have holes (docs/contract.md section 3). */
 typedef struct par2d_shape {
   par2d_shape_kind kind;
-  const double* vertices; /* polygon: x0, y0, x1, y1, ... */
-  size_t vertex_count;    /* polygon: number of (x, y) pairs, at most PAR2D_MAX_POLYGON_VERTICES */
+  const double* vertices; /* polygon: x0, y0, x1, y1, ... of the outline, then of each hole */
+  size_t vertex_count;    /* polygon: (x, y) pairs of the outline, at most PAR2D_MAX_POLYGON_VERTICES */
   double circle[3];       /* circle: center x, center y, radius (> 0) */
   double segment[4];      /* segment: ax, ay, bx, by (distinct points) */
+  /* polygon: hole k's (x, y) pairs follow the outline's and the earlier holes' in `vertices`,
+   * hole_vertex_counts[k] of them; hole_count 0 (and the pointer NULL) for none. */
+  const size_t* hole_vertex_counts;
+  size_t hole_count;
 } par2d_shape;
 
 typedef struct par2d_options {

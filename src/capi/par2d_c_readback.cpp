@@ -149,7 +149,7 @@ par2d_status par2d_get_light(par2d_renderer* r, par2d_light light, par2d_shape* 
   if (r == nullptr) return fail(fn, "renderer is null");
   return guarded(fn, [&] {
     if (par2d::Status s = r->renderer.light(par2d::LightHandle{light}, &r->light); !s.ok()) return to_c(fn, s);
-    if (shape) to_c_shape(r->light.shape, r->vertices_out, *shape);
+    if (shape) to_c_shape(r->light.shape, r->vertices_out, r->holes_out, *shape);
     if (color) std::copy(r->light.color.begin(), r->light.color.end(), color);
     if (intensity) *intensity = r->light.intensity;
     return PAR2D_OK;
@@ -162,7 +162,7 @@ par2d_status par2d_get_occluder(par2d_renderer* r, par2d_occluder occluder, par2
   return guarded(fn, [&] {
     if (par2d::Status s = r->renderer.occluder(par2d::OccluderHandle{occluder}, &r->occluder); !s.ok())
       return to_c(fn, s);
-    if (shape) to_c_shape(r->occluder.shape, r->vertices_out, *shape);
+    if (shape) to_c_shape(r->occluder.shape, r->vertices_out, r->holes_out, *shape);
     return PAR2D_OK;
   });
 }

@@ -58,7 +58,7 @@ inline constexpr std::size_t kMaxPartitionVertices = 65536;
 // hole's bridge scans the ring once); a 4096-vertex polygon takes milliseconds. No input makes it crash, loop or produce non-finite output.
 bool partition_convex(const PolygonRings& polygon, std::vector<std::vector<Vec2>>& pieces, std::string& error);
 
-// The same for a scene Polygon (an outline), its pieces as Polygons. The second form only
+// The same for a scene Polygon (its outline and holes), its pieces as Polygons. The second form only
 // checks that a partition exists (validation), reusing per-thread buffers.
 bool partition_polygon(const Polygon& polygon, std::vector<Polygon>& pieces, std::string& error);
 bool partition_polygon(const Polygon& polygon, std::string& error);

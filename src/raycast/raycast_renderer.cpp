@@ -195,6 +195,12 @@ RaycastRenderer::RayShape RaycastRenderer::make_shape(const Shape& shape) {
     }
     s.orientation = area2 >= 0.0 ? 1.0 : -1.0;
     vertices_.insert(vertices_.end(), poly.vertices.begin(), poly.vertices.end());
+    s.ring_first = static_cast<std::uint32_t>(ring_ends_.size());
+    s.holes = static_cast<std::uint32_t>(poly.holes.size());
+    for (const std::vector<Vec2>& hole : poly.holes) {
+      vertices_.insert(vertices_.end(), hole.begin(), hole.end());
+      ring_ends_.push_back(static_cast<std::uint32_t>(vertices_.size()));
+    }
   }
   // Inflated so that rounding in the early-out can never skip a real (grazing) hit.
   bound_radius = bound_radius * (1.0 + 1e-7) + 1e-300;
@@ -212,7 +218,10 @@ Shape scaled_shape(Shape shape, double f) {
     g->a = {f * g->a.x, f * g->a.y};
     g->b = {f * g->b.x, f * g->b.y};
   } else {
-    for (Vec2& v : std::get<Polygon>(shape).vertices) v = {f * v.x, f * v.y};
+    Polygon& p = std::get<Polygon>(shape);
+    for (Vec2& v : p.vertices) v = {f * v.x, f * v.y};
+    for (std::vector<Vec2>& hole : p.holes)
+      for (Vec2& v : hole) v = {f * v.x, f * v.y};
   }
   return shape;
 }
@@ -262,10 +271,14 @@ double cookie_weight(const Cookie& cookie, double psi) {
 
 RaycastRenderer::RaycastRenderer(const Scene& validated_scene) : scale_(scene_scale(validated_scene)) {
   std::size_t vertex_count = 0;
-  for (const auto& l : validated_scene.lights)
-    if (const auto* p = std::get_if<Polygon>(&l.shape)) vertex_count += p->vertices.size();
-  for (const auto& o : validated_scene.occluders)
-    if (const auto* p = std::get_if<Polygon>(&o.shape)) vertex_count += p->vertices.size();
+  const auto count_vertices = [&vertex_count](const Shape& shape) {
+    if (const auto* p = std::get_if<Polygon>(&shape)) {
+      vertex_count += p->vertices.size();
+      for (const std::vector<Vec2>& hole : p->holes) vertex_count += hole.size();
+    }
+  };
+  for (const auto& l : validated_scene.lights) count_vertices(l.shape);
+  for (const auto& o : validated_scene.occluders) count_vertices(o.shape);
   vertices_.reserve(vertex_count);
   for (const auto& o : validated_scene.occluders) occluders_.push_back(make_shape(scaled_shape(o.shape, scale_)));
   for (const auto& l : validated_scene.lights) {

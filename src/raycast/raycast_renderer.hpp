@@ -68,12 +68,23 @@ class RaycastRenderer {
     std::uint32_t first = 0;
     std::uint32_t count = 0;
     double orientation = 1.0;
+    // region: after its outline, `holes` rings of vertices_, hole r ending (exclusive) at
+    // vertices_ index ring_ends_[ring_first + r].
+    std::uint32_t ring_first = 0, holes = 0;
   };
-  // Calls f(a, b) for every edge of a polygon or region.
+  // Calls f(a, b) for every edge of a polygon or region (a region's holes too).
   template <class F>
   void for_each_edge(const RayShape& s, F&& f) const {
-    const Vec2* v = vertices_.data() + s.first;
-    for (std::uint32_t i = 0; i < s.count; ++i) f(v[i], v[i + 1 == s.count ? 0 : i + 1]);
+    const auto ring = [&](std::uint32_t begin, std::uint32_t end) {
+      for (std::uint32_t i = begin; i < end; ++i) f(vertices_[i], vertices_[i + 1 == end ? begin : i + 1]);
+    };
+    ring(s.first, s.first + s.count);
+    std::uint32_t begin = s.first + s.count;
+    for (std::uint32_t r = 0; r < s.holes; ++r) {
+      const std::uint32_t end = ring_ends_[s.ring_first + r];
+      ring(begin, end);
+      begin = end;
+    }
   }
 
   // Distance along the unit direction d from x to the shape, +inf when missed, 0 when
@@ -90,6 +101,7 @@ class RaycastRenderer {
   RayShape make_shape(const Shape& shape);
 
   std::vector<Vec2> vertices_;
+  std::vector<std::uint32_t> ring_ends_;  // holes of regions (RayShape::ring_first)
   std::vector<RayShape> occluders_;
   std::vector<RayShape> lights_;
   std::vector<Rgb> emission_;  // e_L = intensity * color, parallel to lights_

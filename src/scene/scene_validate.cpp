@@ -154,21 +154,47 @@ MaybeProblem check_convex_ring(const std::vector<Vec2>& v, const std::string& pl
   return std::nullopt;
 }
 
-// A convex polygon; where `concave_allowed` (occluders), else a simple outline that has an
-// exact convex partition (polygon_partition.hpp).
+// A convex polygon; where `concave_allowed`, else a simple outline, with or without holes, that
+// has an exact convex partition (polygon_partition.hpp). `place` ends in ".polygon"; a
+// hole's problem is placed at the sibling ".holes[k]".
 MaybeProblem check_polygon(const Polygon& polygon, const std::string& place, bool concave_allowed) {
   bool concave = false;
   MaybeProblem problem = check_convex_ring(polygon.vertices, place, &concave);
-  if (!problem || !concave || !concave_allowed) return problem;
+  if (polygon.holes.empty() && (!problem || !concave || !concave_allowed)) return problem;
+  constexpr std::string_view kSuffix = ".polygon";
+  const std::string base =
+      place.size() >= kSuffix.size() && place.compare(place.size() - kSuffix.size(), kSuffix.size(), kSuffix) == 0
+          ? place.substr(0, place.size() - kSuffix.size())
+          : place;
+  if (!concave_allowed) return SceneProblem{base + ".holes", "only a light or an occluder's polygon may have holes"};
+  for (std::size_t k = 0; k < polygon.holes.size(); ++k) {
+    const std::string at = indexed(base + ".holes", k);
+    if (polygon.holes[k].size() < 3)
+      return SceneProblem{at, "needs at least 3 vertices, got " + std::to_string(polygon.holes[k].size())};
+    for (std::size_t i = 0; i < polygon.holes[k].size(); ++i)
+      if (auto bad = check_point(polygon.holes[k][i], indexed(at, i))) return bad;
+  }
   std::string error;
   if (partition_polygon(polygon, error)) return std::nullopt;
-  // The partition names rings ("outer: ..."); a polygon has only its outline.
+  // The partition names rings: "outer: ..." is the outline's problem, "holes[k]: ..." a hole's
+  // ("holes[1] and holes[2] overlap ..." is placed at the first).
   constexpr std::string_view kOuter = "outer: ";
-  if (error.compare(0, kOuter.size(), kOuter) == 0) error.erase(0, kOuter.size());
+  if (error.compare(0, kOuter.size(), kOuter) == 0) return SceneProblem{place, error.substr(kOuter.size())};
+  constexpr std::string_view kHoles = "holes[";
+  if (error.compare(0, kHoles.size(), kHoles) == 0) {
+    // "holes[k]: what" and "holes[k] what" name one hole; "holes[j] and holes[k] ..." two.
+    const std::size_t close = error.find(']');
+    if (close != std::string::npos && error.compare(close + 1, 5, " and ") != 0) {
+      const std::size_t what = error.compare(close + 1, 2, ": ") == 0 ? close + 3 : close + 2;
+      return SceneProblem{base + "." + error.substr(0, close + 1), error.substr(std::min(what, error.size()))};
+    }
+    return SceneProblem{base + ".holes", error};
+  }
   return SceneProblem{place, error};
 }
 
 bool polygon_needs_partition(const Polygon& polygon) {
+  if (!polygon.holes.empty()) return true;
   bool concave = false;
   return check_convex_ring(polygon.vertices, std::string(), &concave) && concave;
 }

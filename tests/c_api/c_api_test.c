@@ -1013,8 +1013,37 @@ int main(void) {
     memset(&got, 0, sizeof got);
     CHECK(par2d_get_occluder(r, corner, &got) == PAR2D_OK);
     CHECK(got.kind == PAR2D_SHAPE_POLYGON && got.vertex_count == 6 && got.vertices[6] == 56.0);
+    CHECK(got.hole_count == 0 && got.hole_vertex_counts == NULL);
     CHECK(par2d_remove_occluder(r, corner) == PAR2D_OK);
     CHECK(par2d_occluder_count(r) == before);
+    /* A square with two holes (their vertices after the outline's), and one light with a hole. */
+    const double framed[20] = {40, 40, 60, 40, 60, 60, 40, 60, 42, 42, 48, 42, 48, 48, 42, 48, 52, 52, 56, 52};
+    const double framed_tail[4] = {56, 56, 52, 56};
+    double all[24];
+    memcpy(all, framed, sizeof framed);
+    memcpy(all + 20, framed_tail, sizeof framed_tail);
+    const size_t holes[2] = {4, 4};
+    par2d_shape holed = occluder_shape;
+    holed.vertices = all;
+    holed.vertex_count = 4;
+    holed.hole_vertex_counts = holes;
+    holed.hole_count = 2;
+    par2d_occluder courtyard = 0;
+    CHECK(par2d_add_occluder(r, &holed, &courtyard) == PAR2D_OK);
+    memset(&got, 0, sizeof got);
+    CHECK(par2d_get_occluder(r, courtyard, &got) == PAR2D_OK);
+    CHECK(got.vertex_count == 4 && got.hole_count == 2 && got.hole_vertex_counts[1] == 4 && got.vertices[2 * 9] == 56.0);
+    holed.hole_vertex_counts = NULL;
+    CHECK_ERROR(par2d_update_occluder(r, courtyard, &holed), PAR2D_INVALID_ARGUMENT,
+                "par2d_update_occluder: shape hole_vertex_counts are null");
+    const size_t outside[1] = {3};
+    const double poking[14] = {40, 40, 60, 40, 60, 60, 40, 60, 58, 58, 70, 58, 70, 70};
+    holed.vertices = poking;
+    holed.hole_vertex_counts = outside;
+    holed.hole_count = 1;
+    CHECK(par2d_update_occluder(r, courtyard, &holed) == PAR2D_INVALID_SCENE);
+    CHECK(strstr(par2d_last_error(), "holes[0]: ") != NULL);
+    CHECK(par2d_remove_occluder(r, courtyard) == PAR2D_OK);
     CHECK(par2d_remove_light(r, light + 12345) == PAR2D_INVALID_ARGUMENT);
     CHECK(par2d_render(r, NULL, PAR2D_RGB_F32, W * 12, 1.0, NULL) == PAR2D_INVALID_ARGUMENT);
     CHECK(par2d_render(r, rgb, PAR2D_RGB_F32, 4, 1.0, NULL) == PAR2D_INVALID_ARGUMENT);

@@ -255,3 +255,20 @@ def test_a_concave_occluder_is_one_occluder_and_shadows_as_its_pieces():
                             "(split it into convex lights)")
     r.update_light(r.lights[0], {"polygon": ell, "intensity": 2})  # a concave light
     assert r.light(r.lights[0])["polygon"] == ell
+
+
+def test_polygons_with_holes_as_lights_and_occluders():
+    """A ring light lights its hole from every side; an occluder's hole is read back as given."""
+    scene = {"width": 16, "height": 12,
+             "lights": [{"polygon": [[0, 0], [6, 0], [6, 6], [0, 6]], "holes": [[[2, 2], [4, 2], [4, 4], [2, 4]]]}],
+             "occluders": [{"polygon": [[8, 0], [16, 0], [16, 8], [8, 8]], "holes": [[[9, 1], [11, 1], [11, 3]]]}]}
+    image = par2d.render(scene, backend="scalar")
+    # The hole's centre sees the ring in every direction, entered once: e exactly (to 1e-6).
+    assert abs(float(image[3, 3, 0]) - 1.0) <= 1e-6
+    r = par2d.Renderer(scene)
+    assert r.occluder(r.occluders[0])["holes"] == [[[9, 1], [11, 1], [11, 3]]]
+    assert r.light(r.lights[0])["holes"] == [[[2, 2], [4, 2], [4, 4], [2, 4]]]
+    with pytest.raises(par2d.Error) as e:
+        r.add_occluder({"circle": {"center": [2, 2], "radius": 1}, "holes": []})
+    assert "holes: only a polygon has holes" in str(e.value)
+

@@ -21,7 +21,8 @@ double distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
 }
 
 // Distance from p to the closed shape (0 inside). A polygon (convex or a concave simple
-// outline) holds p when a ray from p toward +x crosses its edges an odd number of times.
+// outline, with or without holes) holds p when a ray from p toward +x crosses its rings'
+// edges an odd number of times.
 double distance_to_shape(const Shape& shape, Vec2 p) {
   return std::visit(
       [p](const auto& s) -> double {
@@ -34,11 +35,15 @@ double distance_to_shape(const Shape& shape, Vec2 p) {
           const auto& v = s.vertices;
           double best = std::numeric_limits<double>::infinity();
           bool odd = false;
-          for (std::size_t i = 0; i < v.size(); ++i) {
-            const Vec2 a = v[i], b = v[(i + 1) % v.size()];
-            best = std::min(best, distance_to_segment(p, a, b));
-            if ((a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y)) odd = !odd;
-          }
+          const auto ring = [&](const std::vector<Vec2>& r) {
+            for (std::size_t i = 0; i < r.size(); ++i) {
+              const Vec2 a = r[i], b = r[(i + 1) % r.size()];
+              best = std::min(best, distance_to_segment(p, a, b));
+              if ((a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y)) odd = !odd;
+            }
+          };
+          ring(v);
+          for (const std::vector<Vec2>& hole : s.holes) ring(hole);  // a hole's inside is outside
           return odd ? 0.0 : best;
         }
       },
@@ -131,6 +136,8 @@ void translate(Shape& shape, Vec2 d) noexcept {
           move(s.b);
         } else {
           for (Vec2& q : s.vertices) move(q);
+          for (std::vector<Vec2>& hole : s.holes)
+            for (Vec2& q : hole) move(q);
         }
       },
       shape);
@@ -149,6 +156,8 @@ void scale(Shape& shape, double factor) noexcept {
           about_center(s.b);
         } else {
           for (Vec2& q : s.vertices) about_center(q);
+          for (std::vector<Vec2>& hole : s.holes)
+            for (Vec2& q : hole) about_center(q);
         }
       },
       shape);
