@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -185,4 +186,37 @@ TEST_CASE("concave lights in scene files: read, written back exactly, and refuse
   CHECK(s.message() == "scene: lights[0].normalize: a concave light takes no range or normalize (split it into convex lights)");
 }
 
+TEST_CASE("random concave and ringed lights on a whole-unit grid: every SIMD level within section 5 of scalar") {
+  // Whole-unit vertices with pixels of 1/4 or 1/5 unit put pixel centres exactly on the
+  // partition's inner boundaries (diagonals included), where the float kernel must decide
+  // each piece and each shared boundary alike.
+  for (std::uint32_t seed = 1; seed <= 6; ++seed) {
+    CAPTURE(seed);
+    std::mt19937 rng(seed);
+    const auto pick = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
+    Scene scene;
+    scene.width = seed % 2 ? 80 : 100;
+    scene.height = seed % 2 ? 64 : 80;
+    scene.view = {0, 0, 20, 16};
+    const int lights = pick(1, 3);
+    for (int k = 0; k < lights; ++k) {
+      const double x = pick(0, 7), y = pick(0, 8), s = pick(1, 2);  // left of x 14: apart from the occluders
+      Polygon shape = k % 3 == 0 ? ell(x, y, s) : k % 3 == 1 ? cup(x, y, s) : Polygon{};
+      if (k % 3 == 2) shape = Polygon{{{x, y}, {x + 6, y}, {x + 6, y + 6}, {x, y + 6}}, {{{x + 2, y + 2}, {x + 4, y + 2}, {x + 4, y + 4}, {x + 2, y + 4}}}};
+      Light light = concave_light(std::move(shape), {1.0, 0.5 + 0.1 * k, 0.3}, 1.0 + k);
+      light.elevation = 15.0 * k;
+      scene.lights.push_back(std::move(light));
+    }
+    scene.occluders.push_back(box(pick(14, 16), pick(0, 4), 19, pick(10, 15), {0.5, 0.7, 0.9}));
+    scene.occluders.push_back(Occluder{Circle{{double(pick(14, 18)), 14.5}, 1}});
+    REQUIRE(validate_scene(scene).ok());
+    const RenderedImage reference = render_or_fail(scene, options_for(Backend::scalar));
+    const double pixel = 20.0 / scene.width;
+    check_simd_against_scalar(
+        scene, reference, "concave lights on a grid", [&](Vec2 p) { return near_boundary(scene, p, 0.05 * pixel); },
+        scene.width * scene.height / 3);
+  }
+}
+
 }  // namespace par2d::test
+

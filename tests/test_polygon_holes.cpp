@@ -66,7 +66,7 @@ double worst_difference(const std::vector<float>& a, const std::vector<float>& b
 
 }  // namespace
 
-TEST_CASE("an occluder with a hole shadows as its convex pieces; a ring light, exact on every ISA" * per_isa()) {
+TEST_CASE("an occluder with a hole shadows as its convex pieces; a ring light, exact on every ISA") {
   const Scene scene = courtyard(false);
   REQUIRE(validate_scene(scene).ok());
   const RenderedImage reference = render_or_fail(scene, options_for(Backend::scalar));

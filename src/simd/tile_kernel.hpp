@@ -151,7 +151,8 @@ PAR2D_KERNEL_INLINE void vertex_tangents(const TileWork& work, const KernelShape
     // line has the negated normal and offset (kernel_shape), so where a concave light's two
     // pieces both hold a point of their shared boundary, the boundary's segment holds it too,
     // and where one piece does not, the segment does not either (World::push_light's sum).
-    inside = (xsimd::abs(side) <= B(kOnBoundary)) & (xsimd::fma(lox, hix, loy * hiy) <= B(0.0f));
+    inside = s.closed ? (xsimd::abs(side) <= B(kOnBoundary)) & (xsimd::fma(lox, hix, loy * hiy) <= B(0.0f))
+                      : B(0.0f) > B(0.0f);
     const B bx = hix, by = hiy;
     hix = xsimd::select(swap, lox, bx);
     hiy = xsimd::select(swap, loy, by);
