@@ -316,30 +316,43 @@ inline bool lights_disjoint_from_occluders(const Scene& scene) {
     }
     return detail::make_convex_shape(shape);
   };
-  // A concave occluder meets a light where one of its convex pieces does.
-  std::vector<Shape> occluder_pieces;
-  for (const Occluder& o : scene.occluders) {
+  // A concave (or holed) shape meets another where one of its convex pieces does.
+  const auto pieces_of = [](const Shape& shape, std::vector<Shape>& out) {
     std::vector<Polygon> pieces;
     std::string error;
-    if (detail::needs_partition(o.shape) && detail::partition_polygon(std::get<Polygon>(o.shape), pieces, error))
-      occluder_pieces.insert(occluder_pieces.end(), pieces.begin(), pieces.end());
+    if (detail::needs_partition(shape) && detail::partition_polygon(std::get<Polygon>(shape), pieces, error))
+      out.insert(out.end(), pieces.begin(), pieces.end());
     else
-      occluder_pieces.push_back(o.shape);
-  }
-  for (const Light& l : scene.lights) {
-    const detail::ConvexShape ls = scaled(l.shape);
+      out.push_back(shape);
+  };
+  std::vector<Shape> occluder_pieces, light_pieces;
+  for (const Occluder& o : scene.occluders) pieces_of(o.shape, occluder_pieces);
+  for (const Light& l : scene.lights) pieces_of(l.shape, light_pieces);
+  for (const Shape& l : light_pieces) {
+    const detail::ConvexShape ls = scaled(l);
     for (const Shape& o : occluder_pieces)
       if (detail::meets_within_contact(ls, scaled(o))) return false;
   }
   return true;
 }
 
-// Finite, 0 <= E <= sum of e_L per channel (float rounding allowed).
+// Finite, 0 <= E <= sum of e_L per channel, a concave light's times the most entries a ray
+// can make into it (float rounding allowed).
 inline std::string check_bounds(const Scene& scene, const test::RenderedImage& image, const char* what) {
-  // Every weight of the lighting model (window, cone, shading, transmittance) is in [0, 1].
+  // Every weight of the lighting model (window, cone, shading, transmittance) is in [0, 1]. A
+  // concave light counts once per entry (docs/contract.md section 3): a ray crosses each of
+  // its edges at most once and enters at every other crossing, or at 0 from inside it.
   double sum[3] = {scene.ambient[0], scene.ambient[1], scene.ambient[2]};
-  for (const Light& l : scene.lights)
-    for (int c = 0; c < 3; ++c) sum[c] += l.intensity * l.color[c];
+  for (const Light& l : scene.lights) {
+    double entries = 1.0;
+    if (detail::needs_partition(l.shape)) {
+      const Polygon& p = std::get<Polygon>(l.shape);
+      double edges = static_cast<double>(p.vertices.size());
+      for (const std::vector<Vec2>& hole : p.holes) edges += static_cast<double>(hole.size());
+      entries = 1.0 + std::floor(0.5 * edges);
+    }
+    for (int c = 0; c < 3; ++c) sum[c] += entries * l.intensity * l.color[c];
+  }
   for (const DirectionalLight& d : scene.directional_lights)
     for (int c = 0; c < 3; ++c) sum[c] += d.intensity * d.color[c];
   for (int j = 0; j < image.height; ++j)
