@@ -26,8 +26,7 @@ namespace detail {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-// docs/contract.md section 3: a turn with |cross(e1, e2)| <= kStraightTolerance * |e1| * |e2|
-// (plus the coordinates' rounding, below) is straight.
+// docs/contract.md section 3: a turn with |cross(e1, e2)| <= kStraightTolerance * |e1| * |e2| is straight.
 constexpr double kStraightTolerance = 1e-9;
 
 std::string indexed(const std::string& place, std::size_t index) {
@@ -109,12 +108,7 @@ MaybeProblem check_convex_ring(const std::vector<Vec2>& v, const std::string& pl
     const Vec2& e2 = edges[(k + 1) % edges.size()].d;
     const double c = cross(e1, e2);
     const double d = dot(e1, e2);
-    // Straight within 1e-9 of the edges' product, or within the vertices' own rounding: the
-    // coordinates are scaled to at most 1 here, where a few ulps (2^-50) of position move the
-    // cross product by that times the edges' length. A dent the size of rounding (a circle's
-    // outline written out far from the origin) is no concavity.
-    const double l1 = std::hypot(e1.x, e1.y), l2 = std::hypot(e2.x, e2.y);
-    const double tolerance = kStraightTolerance * l1 * l2 + 0x1p-50 * (l1 + l2);
+    const double tolerance = kStraightTolerance * std::hypot(e1.x, e1.y) * std::hypot(e2.x, e2.y);
     Turn turn{0, false, std::atan2(c, d), edges[k].end};
     if (std::fabs(c) > tolerance || d < 0.0) {
       turn.side = c > 0.0 ? 1 : (c < 0.0 ? -1 : 0);
