@@ -341,4 +341,11 @@ par2d::RenderOptions make_options(const py::object& backend_arg, const py::objec
   return options;
 }
 
+par2d::BounceTerm to_bounce_term(const py::object& obj) {
+  const std::string name = to_text(obj, "bounce");
+  const auto term = par2d::parse_bounce_term(name.c_str());
+  if (!term) raise(par2d::StatusCode::invalid_argument, "bounce: unknown name \"" + name + "\" (included, excluded, only)");
+  return *term;
+}
+
 }  // namespace par2d::python

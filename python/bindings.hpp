@@ -72,6 +72,8 @@ std::uint64_t handle_id(const py::handle& handle, const char* kind);  // kind: "
 
 par2d::RenderOptions make_options(const py::object& backend, const py::object& threads, const py::object& spp,
                                   int rays, const py::object& isa, const py::object& culling);
+// "included", "excluded" or "only" (RenderOptions::bounce).
+par2d::BounceTerm to_bounce_term(const py::object& obj);
 
 // ---- Scenes (scene.cpp) -----------------------------------------------------------------------
 

@@ -149,9 +149,10 @@ void define_module(py::module_& m) {
       "render",
       [](const py::object& scene_or_dict, const py::object& backend, const py::object& threads, const py::object& spp,
          const py::object& rays, const py::object& isa, const py::object& culling, const py::object& out,
-         const py::object& shaded) {
+         const py::object& shaded, const py::object& bounce) {
         par2d::RenderOptions options = make_options(backend, threads, spp, to_int(rays, "rays"), isa, culling);
         options.shaded = to_bool(shaded, "shaded");
+        options.bounce = to_bounce_term(bounce);
         std::optional<PyScene> holder;
         const PyScene& scene = as_scene(scene_or_dict, holder);
         py::array image;
@@ -165,12 +166,14 @@ void define_module(py::module_& m) {
       },
       py::arg("scene"), py::kw_only(), py::arg("backend") = "auto", py::arg("threads") = 0, py::arg("spp") = 1,
       py::arg("rays") = 1024, py::arg("isa") = py::none(), py::arg("culling") = true, py::arg("out") = py::none(),
-      py::arg("shaded") = true,
+      py::arg("shaded") = true, py::arg("bounce") = "included",
       "Linear irradiance of `scene` (a Scene or a dict) as a float32 array of shape (height, width, 3),\n"
       "row 0 at the top. backend: auto|simd|scalar|raycast; threads: 0 = all; spp: samples per pixel;\n"
       "rays: directions per sample for raycast; isa: cap the SIMD level (scalar|sse4|avx2|avx512);\n"
       "out: an existing array to fill instead of a new one; shaded=False: the plain irradiance of a scene\n"
-      "with a normal source (no normal-map shading). The GIL is released while rendering.");
+      "with a normal source (no normal-map shading); bounce: with reflecting occluders, included (direct\n"
+      "plus one bounce), excluded (the direct light alone) or only (the bounce term alone). The GIL is\n"
+      "released while rendering.");
 
   bind_renderer(m);
 

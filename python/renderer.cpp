@@ -29,16 +29,18 @@ class PyRenderer {
  public:
   PyRenderer(const py::object& scene, const py::object& backend, const py::object& threads, const py::object& isa,
              const py::object& spp, const py::object& culling, const py::object& shaded,
-             const py::object& sample_needs) {
-    set_options(backend, threads, isa, spp, culling, shaded, sample_needs);
+             const py::object& sample_needs, const py::object& bounce) {
+    set_options(backend, threads, isa, spp, culling, shaded, sample_needs, bounce);
     if (!scene.is_none()) set_scene(scene);
   }
 
   void set_options(const py::object& backend, const py::object& threads, const py::object& isa, const py::object& spp,
-                   const py::object& culling, const py::object& shaded, const py::object& sample_needs) {
+                   const py::object& culling, const py::object& shaded, const py::object& sample_needs,
+                   const py::object& bounce) {
     par2d::RenderOptions options = make_options(backend, threads, spp, 1024, isa, culling);
     options.shaded = to_bool(shaded, "shaded");
     options.sample_needs = to_bool(sample_needs, "sample_needs");
+    options.bounce = to_bounce_term(bounce);
     par2d::Status status;
     {
       WorldLock lock(mutex_);
@@ -226,6 +228,9 @@ class PyRenderer {
     PAR2D_FRAME_STAT(light_samples) PAR2D_FRAME_STAT(pair_samples) PAR2D_FRAME_STAT(scalar_tiles)
     PAR2D_FRAME_STAT(layer_tiles_reused) PAR2D_FRAME_STAT(layer_tiles_filled)
     PAR2D_FRAME_STAT(sampled_pixels) PAR2D_FRAME_STAT(sampled_visible_lights) PAR2D_FRAME_STAT(sampled_blocking_pairs)
+    PAR2D_FRAME_STAT(bounce_pieces) PAR2D_FRAME_STAT(bounce_lit_sources) PAR2D_FRAME_STAT(bounce_tile_sources)
+    PAR2D_FRAME_STAT(bounce_tile_sources_hidden) PAR2D_FRAME_STAT(bounce_source_walks)
+    PAR2D_FRAME_STAT(bounce_depth_tests)
 #undef PAR2D_FRAME_STAT
     return d;
   }
@@ -276,6 +281,7 @@ class PyRenderer {
     d["culling"] = o.culling;
     d["shaded"] = o.shaded;
     d["sample_needs"] = o.sample_needs;
+    d["bounce"] = par2d::bounce_term_name(o.bounce);
     return d;
   }
 
@@ -464,20 +470,22 @@ void bind_renderer(py::module_& m) {
                          "never rebuilds the occluder index. Lights and occluders are dicts shaped like one entry\n"
                          "of the scene file's lists. A refused update raises par2d.Error and changes nothing.")
       .def(py::init<const py::object&, const py::object&, const py::object&, const py::object&, const py::object&,
-                    const py::object&, const py::object&, const py::object&>(),
+                    const py::object&, const py::object&, const py::object&, const py::object&>(),
            py::arg("scene") = py::none(), py::kw_only(), py::arg("backend") = "auto", py::arg("threads") = 0,
            py::arg("isa") = py::none(), py::arg("spp") = 1, py::arg("culling") = true, py::arg("shaded") = true,
-           py::arg("sample_needs") = false,
+           py::arg("sample_needs") = false, py::arg("bounce") = "included",
            "A renderer holding `scene` (a Scene or a dict), or an empty world (then call set_frame).\n"
            "backend: auto|simd|scalar (raycast is refused); threads: 0 = all; shaded=False: the plain\n"
-           "irradiance even with a normal source; sample_needs=True: frame_stats' sampled_* counts too.")
+           "irradiance even with a normal source; sample_needs=True: frame_stats' sampled_* counts too;\n"
+           "bounce: included|excluded|only, which terms of one bounce a frame outputs.")
       .def("set_options", &PyRenderer::set_options, py::kw_only(), py::arg("backend") = "auto", py::arg("threads") = 0,
            py::arg("isa") = py::none(), py::arg("spp") = 1, py::arg("culling") = true, py::arg("shaded") = true,
-           py::arg("sample_needs") = false,
-           "Backend, threads, isa cap, samples per pixel, culling, shading and sampled needs for the next frames.")
+           py::arg("sample_needs") = false, py::arg("bounce") = "included",
+           "Backend, threads, isa cap, samples per pixel, culling, shading, sampled needs and the bounce\n"
+           "terms (included|excluded|only) for the next frames.")
       .def_property_readonly("options", &PyRenderer::options,
                              "dict: backend, threads (workers used), isa (the level used on this CPU), spp, culling, shaded,\n"
-                             "sample_needs.")
+                             "sample_needs, bounce.")
       .def("light", &PyRenderer::light, py::arg("handle"),
            "The light a handle names, as a dict like an entry of the scene file's lights (color and intensity\n"
            "always; the lighting-model terms where not default).")

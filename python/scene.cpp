@@ -1,6 +1,6 @@
 // Python module: scenes. Dicts cross into C++ as JSON text, so a dict is checked by the same
-// loader as a file and its errors read the same (`<dict>: lights[2].polygon: not convex at
-// vertex 3`, docs/contract.md section 3); par2d.Scene wraps a validated par2d::Scene; normal
+// loader as a file and its errors read the same (`<dict>: lights[2].polygon: edges 1 and 3
+// cross`, docs/contract.md section 3); par2d.Scene wraps a validated par2d::Scene; normal
 // maps, lights and occluders given to a Renderer are converted here too.
 #include <pybind11/stl.h>
 

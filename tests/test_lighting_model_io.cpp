@@ -140,10 +140,12 @@ std::vector<float> read_pfm_file(const std::string& path) {
 }
 
 // What the library renders for `scene`, shaded or plain, as the CLI's PFM holds it.
-std::vector<float> render_direct(const Scene& scene, bool shaded) {
+std::vector<float> render_direct(const Scene& scene, bool shaded,
+                                 par2d::BounceTerm bounce = par2d::BounceTerm::included) {
   std::vector<float> pixels(3 * static_cast<std::size_t>(scene.width) * static_cast<std::size_t>(scene.height));
   par2d::RenderOptions options;
   options.shaded = shaded;
+  options.bounce = bounce;
   par2d::ImageView view{pixels.data(), scene.width, scene.height, 3 * static_cast<std::ptrdiff_t>(scene.width)};
   REQUIRE(par2d::render(scene, options, view).ok());
   return pixels;
@@ -737,6 +739,30 @@ TEST_CASE("the CLI writes the plain irradiance next to the shaded one, all files
   // Two options naming one file are refused before anything is rendered.
   CHECK(run_cli({"render", dir / "scene.json", "-o", dir / "x.png", "--plain-png", dir / "x.png"}) == 2);
   CHECK_FALSE(fs::exists(dir / "x.png"));
+}
+
+TEST_CASE("the CLI's --bounce renders the direct and bounce terms apart; an unknown term is refused" *
+          par2d::test::per_isa()) {
+  TempDir dir("par2d_bounce_cli");
+  {
+    std::ofstream(dir / "scene.json")
+        << R"({"width": 24, "height": 16, "lights": [{"circle": {"center": [4, 4], "radius": 1.5}, "intensity": 3}],)"
+           R"( "occluders": [{"polygon": [[10, 2], [12, 2], [12, 12], [10, 12]], "albedo": [0.8, 0.4, 0.2]}]})";
+  }
+  Scene scene;
+  REQUIRE(par2d::load_scene_file(dir / "scene.json", scene).ok());
+  for (const par2d::BounceTerm term :
+       {par2d::BounceTerm::included, par2d::BounceTerm::excluded, par2d::BounceTerm::only}) {
+    const std::string name = par2d::bounce_term_name(term);
+    CAPTURE(name);
+    REQUIRE(run_cli({"render", dir / "scene.json", "--bounce", name, "--pfm", dir / (name + ".pfm")}) == 0);
+    CHECK(read_pfm_file(dir / (name + ".pfm")) == render_direct(scene, true, term));
+  }
+  CHECK(read_pfm_file(dir / "only.pfm") != read_pfm_file(dir / "included.pfm"));
+  std::string err;
+  CHECK(run_cli_err({"render", dir / "scene.json", "--bounce", "indirect", "--pfm", dir / "x.pfm"}, err) == 2);
+  CHECK(err.find("unknown bounce term 'indirect' (expected included, excluded or only)") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "x.pfm"));
 }
 
 TEST_CASE("a large normal map is checked in blocks: the first bad pixel of a late block is named, tiny normals pass") {

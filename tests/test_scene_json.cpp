@@ -200,28 +200,28 @@ TEST_CASE("polygon: at least 3 vertices") {
   check_refused(with_polygon("[]"), "lights[0].polygon: needs at least 3 vertices, got 0");
 }
 
-TEST_CASE("polygon: a turn against the winding is named by its vertex") {
-  // An arrowhead: vertex 3 is reflex.
-  check_refused(with_polygon("[[0, 0], [10, 5], [0, 10], [3, 5]]"), "lights[0].polygon: not convex at vertex 3");
-  // The same, clockwise and starting elsewhere.
-  check_refused(with_polygon("[[10, 5], [0, 0], [3, 5], [0, 10]]"), "lights[0].polygon: not convex at vertex 2");
-  // A bow-tie has zero signed area and is still not convex.
-  check_refused(with_polygon("[[0, 0], [2, 2], [2, 0], [0, 2]]"), "lights[0].polygon: not convex at vertex");
+TEST_CASE("polygon: a simple concave outline is a shape; crossings and folds are named by edge and vertex") {
+  // An arrowhead (vertex 3 reflex), either winding: a concave light (test_concave_lights.cpp).
+  CHECK(parse(with_polygon("[[0, 0], [10, 5], [0, 10], [3, 5]]")).ok());
+  CHECK(parse(with_polygon("[[10, 5], [0, 0], [3, 5], [0, 10]]")).ok());
+  // A bow-tie crosses itself.
+  check_refused(with_polygon("[[0, 0], [2, 2], [2, 0], [0, 2]]"), "lights[0].polygon: edges 0 and 2 cross");
   // A spike that runs out along an edge and back folds at its tip.
-  check_refused(with_polygon("[[0, 0], [15, 0], [10, 0], [0, 10]]"), "lights[0].polygon: not convex at vertex 1");
+  check_refused(with_polygon("[[0, 0], [15, 0], [10, 0], [0, 10]]"),
+                "lights[0].polygon: the edges at vertex 1 fold back onto each other");
 }
 
 TEST_CASE("polygon: folds (an edge running straight back) are refused at the fold's vertex, one or several") {
   // Every other turn here is convex: only the fold check can refuse these.
-  check_refused(with_polygon("[[0, 0], [6, 0], [3, 0], [6, 0], [3, 3]]"), "lights[0].polygon: not convex at vertex 1");
+  check_refused(with_polygon("[[0, 0], [6, 0], [3, 0], [6, 0], [3, 3]]"), "lights[0].polygon: the edges at vertex 1 fold back onto each other");
   check_refused(with_polygon("[[0, 0], [10, 0], [10, 10], [10, 5], [10, 10], [0, 10]]"),
-                "lights[0].polygon: not convex at vertex 2");
+                "lights[0].polygon: the edges at vertex 2 fold back onto each other");
   check_refused(with_polygon("[[0, 0], [10, 0], [5, 0], [10, 0], [5, 0], [10, 0], [10, 10], [0, 10]]"),
-                "lights[0].polygon: not convex at vertex 1");
+                "lights[0].polygon: the edges at vertex 1 fold back onto each other");
   check_refused(with_polygon("[[0, 0], [10, 0], [10, 10], [10, 5], [10, 10], [0, 10], [5, 10], [0, 10]]"),
-                "lights[0].polygon: not convex at vertex 2");
+                "lights[0].polygon: the edges at vertex 2 fold back onto each other");
   check_refused(with_polygon("[[0, 10], [10, 10], [10, 0], [10, 5], [10, 0], [0, 0]]"),
-                "lights[0].polygon: not convex at vertex 2");
+                "lights[0].polygon: the edges at vertex 2 fold back onto each other");
   // Property: a fold spliced into any edge of convex integer polygons (exact midpoints), either
   // winding, is named at the edge's end vertex.
   const int octagon[8][2] = {{4, 0}, {12, 0}, {16, 4}, {16, 12}, {12, 16}, {4, 16}, {0, 12}, {0, 4}};
@@ -245,7 +245,8 @@ TEST_CASE("polygon: folds (an edge running straight back) are refused at the fol
       }
       if (fold_vertex < 0) continue;
       list += "]";
-      check_refused(with_polygon(list), "lights[0].polygon: not convex at vertex " + std::to_string(fold_vertex));
+      check_refused(with_polygon(list),
+                    "lights[0].polygon: the edges at vertex " + std::to_string(fold_vertex) + " fold back");
     }
   }
 }
@@ -253,10 +254,10 @@ TEST_CASE("polygon: folds (an edge running straight back) are refused at the fol
 TEST_CASE("polygon: a vertex list that winds around twice is refused") {
   // A pentagram: every turn is to the same side, but the boundary goes round twice.
   check_refused(with_polygon("[[0, -10], [5.878, 8.09], [-9.511, -3.09], [9.511, -3.09], [-5.878, 8.09]]"),
-                "lights[0].polygon: self-overlapping");
+                "lights[0].polygon: edges 1 and 3 cross");
   // A square listed twice over.
   check_refused(with_polygon("[[0, 0], [1, 0], [1, 1], [0, 1], [0, 0], [1, 0], [1, 1], [0, 1]]"),
-                "lights[0].polygon: self-overlapping");
+                "lights[0].polygon: edges 0 and 3 touch");
 }
 
 TEST_CASE("polygon: zero area is refused") {
@@ -346,10 +347,11 @@ TEST_CASE("validate_scene checks scenes built in code, with the same places") {
   CHECK(par2d::validate_scene(bad, "code").message().rfind("code: lights[1].circle.center: not a finite", 0) == 0);
 
   bad = scene;
-  bad.occluders.push_back({par2d::Polygon{{{0, 0}, {4, 0}, {1, 1}, {0, 4}}}});
+  // A polygon must be a simple outline (it may be concave: tests/test_concave_lights.cpp).
+  bad.lights.push_back({par2d::Polygon{{{0, 0}, {4, 0}, {0, 4}, {4, 4}}}});
   const Status status = par2d::validate_scene(bad, "code");
   CHECK(status.code() == StatusCode::invalid_scene);
-  CHECK(status.message() == "code: occluders[0].polygon: not convex at vertex 2");
+  CHECK(status.message() == "code: lights[0].polygon: edges 1 and 3 cross");
 
   bad = scene;
   bad.lights.push_back({par2d::Segment{{0, 0}, {1, 0}}, {1, 1, 1}, std::numeric_limits<double>::quiet_NaN()});

@@ -129,6 +129,24 @@ def main():
         "occluders": [circle(250, 300, 12), circle(420, 250, 10)],
     })
 
+    # Shadow strength and colour: the same lamp and pillar three times, with full shadows, half
+    # shadows (strength 0.5), and shadows coloured deep blue (the blue of the light passes).
+    # Ranges keep the three apart: a partial shadow lets light through every occluder.
+    lamps, pillars = [], []
+    for k, shadow in enumerate([None, {"strength": 0.5}, {"strength": 1, "color": [0.1, 0.2, 0.85]}]):
+        x = 128 + 256 * k
+        lamp = torch(x, 60, r=7, intensity=5, color=(1.0, 0.9, 0.75), range=125, falloff=1)
+        if shadow:
+            lamp["shadow"] = shadow
+        lamps.append(lamp)
+        pillars.append(box(x - 20, 110, x + 20, 135))
+    write_scene("lighting_shadow.json", {
+        "width": 768, "height": 256,
+        "ambient": [0.01, 0.01, 0.012],
+        "lights": lamps,
+        "occluders": pillars,
+    })
+
     # Sun through windows: a directional light at infinity; penumbrae widen with distance.
     wall = [box(0, 90, 90, 106), box(130, 90, 230, 106), box(270, 90, 370, 106), box(410, 90, 512, 106)]
     write_scene("lighting_sun.json", {

@@ -43,7 +43,8 @@ typedef enum par2d_pixel_format {
 } par2d_pixel_format;
 
 typedef enum par2d_shape_kind {
-  PAR2D_SHAPE_POLYGON = 0, /* convex, either winding, >= 3 vertices */
+  PAR2D_SHAPE_POLYGON = 0, /* convex, either winding, >= 3 vertices; an occluder's may be concave
+                              (a simple outline, opaque and dark inside; docs/contract.md section 3) */
   PAR2D_SHAPE_CIRCLE = 1,  /* a disc */
   PAR2D_SHAPE_SEGMENT = 2  /* a line segment */
 } par2d_shape_kind;
@@ -54,13 +55,18 @@ typedef enum par2d_shape_kind {
 #define PAR2D_MAX_POLYGON_VERTICES 1048576
 #define PAR2D_MAX_DIRECTIONAL_LIGHTS 65536
 
-/* A shape in world coordinates (x right, y down). Only the fields of `kind` are read. */
+/* A shape in world coordinates (x right, y down). Only the fields of `kind` are read. A
+ * polygon may be concave (a simple outline) and have holes (docs/contract.md section 3). */
 typedef struct par2d_shape {
   par2d_shape_kind kind;
-  const double* vertices; /* polygon: x0, y0, x1, y1, ... */
-  size_t vertex_count;    /* polygon: number of (x, y) pairs, at most PAR2D_MAX_POLYGON_VERTICES */
+  const double* vertices; /* polygon: x0, y0, x1, y1, ... of the outline, then of each hole */
+  size_t vertex_count;    /* polygon: (x, y) pairs of the outline, at most PAR2D_MAX_POLYGON_VERTICES */
   double circle[3];       /* circle: center x, center y, radius (> 0) */
   double segment[4];      /* segment: ax, ay, bx, by (distinct points) */
+  /* polygon: hole k's (x, y) pairs follow the outline's and the earlier holes' in `vertices`,
+   * hole_vertex_counts[k] of them; hole_count 0 (and the pointer NULL) for none. */
+  const size_t* hole_vertex_counts;
+  size_t hole_count;
 } par2d_shape;
 
 typedef struct par2d_options {
@@ -264,6 +270,13 @@ typedef enum par2d_threading {
                                       inside tbb::task_arena::execute); threads is ignored */
 } par2d_threading;
 
+/* Which terms of a scene with one bounce a frame outputs (docs/contract.md section 7). */
+typedef enum par2d_bounce_term {
+  PAR2D_BOUNCE_INCLUDED = 0, /* default: direct light plus the bounce */
+  PAR2D_BOUNCE_EXCLUDED = 1, /* the direct light alone (the ambient term included) */
+  PAR2D_BOUNCE_ONLY = 2      /* the bounce term alone */
+} par2d_bounce_term;
+
 /* The options par2d_options lacks (they came later, so they have their own struct). */
 typedef struct par2d_advanced_options {
   par2d_isa isa;             /* cap on the SIMD level; default PAR2D_ISA_DEFAULT */
@@ -272,6 +285,7 @@ typedef struct par2d_advanced_options {
                                 source; 0: the plain irradiance */
   int sample_needs;          /* nonzero: also measure what pixels need (par2d_frame_stats'
                                 sampled_* fields; about one scalar pixel per 16x16 tile); default 0 */
+  par2d_bounce_term bounce;  /* default PAR2D_BOUNCE_INCLUDED */
 } par2d_advanced_options;
 
 PAR2D_C_API void par2d_advanced_options_default(par2d_advanced_options* options);
@@ -364,6 +378,11 @@ typedef struct par2d_frame_stats {
   /* Only with par2d_advanced_options.sample_needs (else 0): at each tile's middle pixel, by
    * exact double geometry, the lights visible there and the occluders cutting into their arcs. */
   uint64_t sampled_pixels, sampled_visible_lights, sampled_blocking_pairs;
+  /* One bounce (zero without reflecting occluders or with PAR2D_BOUNCE_EXCLUDED): pieces,
+   * reflecting occluders with a lit piece, (tile, lit reflector) pairs and those proofs hid,
+   * (sample, reflector) walks and the occluders depth-tested in them. */
+  uint64_t bounce_pieces, bounce_lit_sources, bounce_tile_sources, bounce_tile_sources_hidden;
+  uint64_t bounce_source_walks, bounce_depth_tests;
 } par2d_frame_stats;
 PAR2D_C_API par2d_status par2d_get_frame_stats(const par2d_renderer* renderer, par2d_frame_stats* out);
 

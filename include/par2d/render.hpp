@@ -24,6 +24,19 @@ enum class Backend {
 const char* backend_name(Backend backend) noexcept;
 std::optional<Backend> parse_backend(const char* name) noexcept;
 
+// Which terms of a scene with one bounce (docs/contract.md section 7) a render outputs, so
+// that a host can composite or inspect the direct and the indirect light apart. A scene with
+// no reflecting occluder has no bounce term: `only` renders it black, the others the same.
+enum class BounceTerm {
+  included,  // direct light plus the bounce (the contract's value)
+  excluded,  // the direct light alone (section 6), as if every albedo were zero
+  only,      // the bounce term alone: what `included` adds to `excluded`
+};
+
+// "included", "excluded", "only".
+const char* bounce_term_name(BounceTerm term) noexcept;
+std::optional<BounceTerm> parse_bounce_term(const char* name) noexcept;
+
 // Where render's parallel work runs.
 enum class Threading {
   // par2d's own pool of `threads` workers: a one-shot render makes one per call; a Renderer
@@ -61,6 +74,9 @@ struct RenderOptions {
   // 16x16 tile, about a scalar pixel's cost per tile). render()'s FrameStats overload sets it;
   // a Renderer fills them in frame_stats() when it is set. Default: false.
   bool sample_needs = false;
+  // With reflecting occluders: the direct light and the bounce together, or one of them (see
+  // BounceTerm; the ambient term belongs to the direct light). Default: included.
+  BounceTerm bounce = BounceTerm::included;
 };
 
 // The worker count a render with these options uses from the calling thread: `threads`
@@ -142,6 +158,15 @@ struct FrameStats {
   std::uint64_t sampled_pixels = 0;
   std::uint64_t sampled_visible_lights = 0;
   std::uint64_t sampled_blocking_pairs = 0;
+  // One bounce (docs/contract.md section 7; zero without reflecting occluders or when
+  // RenderOptions::bounce excludes it). The term is computed exactly, piece by piece: there
+  // is no grouping of pieces, so no cluster or refinement counts.
+  std::uint64_t bounce_pieces = 0;               // pieces the reflecting occluders are cut into
+  std::uint64_t bounce_lit_sources = 0;          // reflecting occluders with a lit piece
+  std::uint64_t bounce_tile_sources = 0;         // (tile, lit source) combinations looked at
+  std::uint64_t bounce_tile_sources_hidden = 0;  // ... that occlusion proofs hid from the whole tile
+  std::uint64_t bounce_source_walks = 0;         // (sample, source) walks over a source's pieces
+  std::uint64_t bounce_depth_tests = 0;          // occluders depth-tested against a source at a sample
 };
 
 // render() that also reports the frame's work in `stats` (overwritten), including the sampled

@@ -2,7 +2,10 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
+#include <initializer_list>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -21,9 +24,54 @@ struct Vec2 {
   double y = 0.0;
 };
 
-// A closed convex polygon. Either winding; repeated and collinear vertices are tolerated.
+// The holes of a polygon, each a ring of vertices (either winding, the first not repeated at
+// the end). Kept out of line, so that a polygon without holes costs one null pointer more
+// than its outline (levels hold many shapes); copies copy the rings.
+class PolygonHoles {
+ public:
+  using Ring = std::vector<Vec2>;
+  PolygonHoles() noexcept = default;
+  PolygonHoles(std::vector<Ring> rings)  // NOLINT: implicit, so Polygon{outline, {hole, ...}} reads
+      : rings_(rings.empty() ? nullptr : std::make_unique<std::vector<Ring>>(std::move(rings))) {}
+  PolygonHoles(std::initializer_list<Ring> rings) : PolygonHoles(std::vector<Ring>(rings)) {}
+  PolygonHoles(const PolygonHoles& other)
+      : rings_(other.empty() ? nullptr : std::make_unique<std::vector<Ring>>(*other.rings_)) {}
+  PolygonHoles(PolygonHoles&&) noexcept = default;
+  PolygonHoles& operator=(const PolygonHoles& other) {
+    if (this != &other) rings_ = other.empty() ? nullptr : std::make_unique<std::vector<Ring>>(*other.rings_);
+    return *this;
+  }
+  PolygonHoles& operator=(PolygonHoles&&) noexcept = default;
+  ~PolygonHoles() = default;
+
+  bool empty() const noexcept { return !rings_ || rings_->empty(); }
+  std::size_t size() const noexcept { return rings_ ? rings_->size() : 0; }
+  const Ring& operator[](std::size_t i) const { return (*rings_)[i]; }
+  Ring& operator[](std::size_t i) { return (*rings_)[i]; }
+  const Ring* begin() const noexcept { return rings_ ? rings_->data() : nullptr; }
+  const Ring* end() const noexcept { return rings_ ? rings_->data() + rings_->size() : nullptr; }
+  Ring* begin() noexcept { return rings_ ? rings_->data() : nullptr; }
+  Ring* end() noexcept { return rings_ ? rings_->data() + rings_->size() : nullptr; }
+  void push_back(Ring ring) {
+    if (!rings_) rings_ = std::make_unique<std::vector<Ring>>();
+    rings_->push_back(std::move(ring));
+  }
+  void clear() noexcept { rings_.reset(); }
+
+ private:
+  std::unique_ptr<std::vector<Ring>> rings_;
+};
+
+// A closed polygon: its outline `vertices` and, optionally, holes. Either winding; repeated
+// and collinear vertices are tolerated. A convex outline without holes is rendered as it is;
+// a concave outline (a simple one: no edge crosses or touches another, adjacent edges do not
+// fold back) or one with holes (each a simple ring strictly inside the outline, apart from
+// the others) is rendered as an exact convex partition of its region under its one handle
+// (docs/contract.md section 3). Such an occluder must be opaque, dark inside and not
+// reflecting; such a light takes no range or normalize.
 struct Polygon {
   std::vector<Vec2> vertices;
+  PolygonHoles holes;
 };
 
 // A closed disc.
@@ -221,7 +269,7 @@ struct LoadOptions {
 };
 
 // Parses and validates a JSON scene. `name` (usually the file name) prefixes every
-// message, e.g. `level.json: lights[2].polygon: not convex at vertex 3`. The scene's folder
+// message, e.g. `level.json: lights[2].polygon: edges 1 and 3 cross`. The scene's folder
 // (for `normal_map`) is the folder part of `name`, the current directory when it has none.
 // A NUL byte anywhere in the text is refused with its offset.
 Status parse_scene(std::string_view json_text, std::string_view name, Scene& out);

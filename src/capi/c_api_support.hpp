@@ -22,7 +22,8 @@ struct par2d_renderer {
   // returns a scene's handles only from set_scene, so the C side keeps the list.
   std::vector<par2d_light> lights;
   std::vector<par2d_occluder> occluders;
-  std::vector<double> vertices_out;  // par2d_get_light/_occluder's polygon vertices
+  std::vector<double> vertices_out;      // par2d_get_light/_occluder's polygon vertices
+  std::vector<std::size_t> holes_out;    // ... and its holes' vertex counts
 };
 
 namespace par2d::capi {
@@ -99,10 +100,30 @@ inline par2d_status convert_shape(const char* function, const par2d_shape* in, p
         return fail(function, "shape vertex_count " + std::to_string(in->vertex_count) + " is more than " +
                                   std::to_string(PAR2D_MAX_POLYGON_VERTICES));
       if (in->vertices == nullptr && in->vertex_count > 0) return fail(function, "shape vertices are null");
+      if (in->hole_count > 0 && in->hole_vertex_counts == nullptr)
+        return fail(function, "shape hole_vertex_counts are null");
+      std::size_t total = in->vertex_count;
+      for (std::size_t k = 0; k < in->hole_count; ++k) {
+        total += in->hole_vertex_counts[k];
+        if (in->hole_vertex_counts[k] > PAR2D_MAX_POLYGON_VERTICES || total > PAR2D_MAX_POLYGON_VERTICES)
+          return fail(function, "shape vertex_count and hole_vertex_counts add up to more than " +
+                                    std::to_string(PAR2D_MAX_POLYGON_VERTICES));
+      }
       if (!std::holds_alternative<par2d::Polygon>(out)) out = par2d::Polygon{};
-      auto& v = std::get<par2d::Polygon>(out).vertices;
+      auto& polygon = std::get<par2d::Polygon>(out);
+      auto& v = polygon.vertices;
       v.resize(in->vertex_count);
       for (std::size_t i = 0; i < in->vertex_count; ++i) v[i] = {in->vertices[2 * i], in->vertices[2 * i + 1]};
+      polygon.holes.clear();
+      const double* next = in->vertices + 2 * in->vertex_count;
+      for (std::size_t k = 0; k < in->hole_count; ++k) {
+        std::vector<par2d::Vec2> ring(in->hole_vertex_counts[k]);
+        for (par2d::Vec2& p : ring) {
+          p = {next[0], next[1]};
+          next += 2;
+        }
+        polygon.holes.push_back(std::move(ring));
+      }
       return PAR2D_OK;
     }
     case PAR2D_SHAPE_CIRCLE:
@@ -176,12 +197,21 @@ inline par2d_status apply_options(const char* fn, const par2d_options& in, par2d
 }
 
 // `out` is written only once the vertices are copied, so a failed copy leaves it as it was.
-inline void to_c_shape(const par2d::Shape& in, std::vector<double>& vertices, par2d_shape& out) {
+inline void to_c_shape(const par2d::Shape& in, std::vector<double>& vertices, std::vector<std::size_t>& holes,
+                       par2d_shape& out) {
   if (const auto* p = std::get_if<par2d::Polygon>(&in)) {
     vertices.clear();
-    for (const par2d::Vec2& v : p->vertices) {
-      vertices.push_back(v.x);
-      vertices.push_back(v.y);
+    holes.clear();
+    const auto put = [&vertices](const std::vector<par2d::Vec2>& ring) {
+      for (const par2d::Vec2& v : ring) {
+        vertices.push_back(v.x);
+        vertices.push_back(v.y);
+      }
+    };
+    put(p->vertices);
+    for (const std::vector<par2d::Vec2>& hole : p->holes) {
+      put(hole);
+      holes.push_back(hole.size());
     }
   }
   out = par2d_shape{};
@@ -189,6 +219,8 @@ inline void to_c_shape(const par2d::Shape& in, std::vector<double>& vertices, pa
     out.kind = PAR2D_SHAPE_POLYGON;
     out.vertices = vertices.data();
     out.vertex_count = p->vertices.size();
+    out.hole_vertex_counts = holes.empty() ? nullptr : holes.data();
+    out.hole_count = holes.size();
   } else if (const auto* c = std::get_if<par2d::Circle>(&in)) {
     out.kind = PAR2D_SHAPE_CIRCLE;
     out.circle[0] = c->center.x;

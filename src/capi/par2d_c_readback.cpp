@@ -47,6 +47,7 @@ void par2d_advanced_options_default(par2d_advanced_options* options) {
   options->threading = PAR2D_THREADING_OWN_POOL;
   options->shaded = 1;
   options->sample_needs = 0;
+  options->bounce = PAR2D_BOUNCE_INCLUDED;
 }
 
 par2d_status par2d_get_advanced_options(const par2d_renderer* r, par2d_advanced_options* out) {
@@ -60,6 +61,7 @@ par2d_status par2d_get_advanced_options(const par2d_renderer* r, par2d_advanced_
                                                                  : PAR2D_THREADING_OWN_POOL;
   out->shaded = o.shaded ? 1 : 0;
   out->sample_needs = o.sample_needs ? 1 : 0;
+  out->bounce = static_cast<par2d_bounce_term>(static_cast<int>(o.bounce));
   return PAR2D_OK;
 }
 
@@ -68,6 +70,10 @@ par2d_status par2d_set_advanced_options(par2d_renderer* r, const par2d_advanced_
   if (r == nullptr) return fail(fn, "renderer is null");
   if (options == nullptr) return fail(fn, "options is null");
   const long long isa = raw_enum(options->isa), threading = raw_enum(options->threading);
+  const long long bounce = raw_enum(options->bounce);
+  if (bounce < PAR2D_BOUNCE_INCLUDED || bounce > PAR2D_BOUNCE_ONLY)
+    return fail(fn, "bounce " + std::to_string(bounce) +
+                        " is not PAR2D_BOUNCE_INCLUDED, PAR2D_BOUNCE_EXCLUDED or PAR2D_BOUNCE_ONLY");
   if (isa < PAR2D_ISA_DEFAULT || isa > PAR2D_ISA_NEON64)
     return fail(fn, "isa " + std::to_string(isa) + " is not PAR2D_ISA_DEFAULT or a PAR2D_ISA_* level");
   if (threading != PAR2D_THREADING_OWN_POOL && threading != PAR2D_THREADING_CALLER_ARENA)
@@ -81,6 +87,7 @@ par2d_status par2d_set_advanced_options(par2d_renderer* r, const par2d_advanced_
                                                             : par2d::Threading::own_pool;
     o.shaded = options->shaded != 0;
     o.sample_needs = options->sample_needs != 0;
+    o.bounce = static_cast<par2d::BounceTerm>(bounce);
     return to_c(fn, r->renderer.set_options(o));
   });
 }
@@ -142,7 +149,7 @@ par2d_status par2d_get_light(par2d_renderer* r, par2d_light light, par2d_shape* 
   if (r == nullptr) return fail(fn, "renderer is null");
   return guarded(fn, [&] {
     if (par2d::Status s = r->renderer.light(par2d::LightHandle{light}, &r->light); !s.ok()) return to_c(fn, s);
-    if (shape) to_c_shape(r->light.shape, r->vertices_out, *shape);
+    if (shape) to_c_shape(r->light.shape, r->vertices_out, r->holes_out, *shape);
     if (color) std::copy(r->light.color.begin(), r->light.color.end(), color);
     if (intensity) *intensity = r->light.intensity;
     return PAR2D_OK;
@@ -155,7 +162,7 @@ par2d_status par2d_get_occluder(par2d_renderer* r, par2d_occluder occluder, par2
   return guarded(fn, [&] {
     if (par2d::Status s = r->renderer.occluder(par2d::OccluderHandle{occluder}, &r->occluder); !s.ok())
       return to_c(fn, s);
-    if (shape) to_c_shape(r->occluder.shape, r->vertices_out, *shape);
+    if (shape) to_c_shape(r->occluder.shape, r->vertices_out, r->holes_out, *shape);
     return PAR2D_OK;
   });
 }
@@ -263,7 +270,13 @@ par2d_status par2d_get_frame_stats(const par2d_renderer* r, par2d_frame_stats* o
                            s.layer_tiles_filled,
                            s.sampled_pixels,
                            s.sampled_visible_lights,
-                           s.sampled_blocking_pairs};
+                           s.sampled_blocking_pairs,
+                           s.bounce_pieces,
+                           s.bounce_lit_sources,
+                           s.bounce_tile_sources,
+                           s.bounce_tile_sources_hidden,
+                           s.bounce_source_walks,
+                           s.bounce_depth_tests};
   return PAR2D_OK;
 }
 
@@ -276,3 +289,8 @@ static_assert(PAR2D_ISA_SCALAR == static_cast<int>(par2d::Isa::scalar) &&
                   PAR2D_ISA_AVX512 == static_cast<int>(par2d::Isa::avx512) &&
                   PAR2D_ISA_NEON64 == static_cast<int>(par2d::Isa::neon64),
               "par2d_isa and par2d::Isa differ");
+// par2d_bounce_term mirrors par2d::BounceTerm (cast in the advanced options above).
+static_assert(PAR2D_BOUNCE_INCLUDED == static_cast<int>(par2d::BounceTerm::included) &&
+                  PAR2D_BOUNCE_EXCLUDED == static_cast<int>(par2d::BounceTerm::excluded) &&
+                  PAR2D_BOUNCE_ONLY == static_cast<int>(par2d::BounceTerm::only),
+              "par2d_bounce_term and par2d::BounceTerm differ");

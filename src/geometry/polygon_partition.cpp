@@ -755,4 +755,26 @@ bool partition_convex(const PolygonRings& polygon, std::vector<std::vector<Vec2>
   return true;
 }
 
+bool partition_polygon(const Polygon& polygon, std::vector<Polygon>& pieces, std::string& error) {
+  thread_local std::vector<std::vector<Vec2>> raw;
+  pieces.clear();
+  thread_local PolygonRings rings;
+  rings.outer = polygon.vertices;
+  rings.holes.assign(polygon.holes.begin(), polygon.holes.end());
+  if (!partition_convex(rings, raw, error)) return false;
+  pieces.resize(raw.size());
+  for (std::size_t k = 0; k < raw.size(); ++k) {
+    pieces[k].vertices = raw[k];
+  }
+  return true;
+}
+
+bool partition_polygon(const Polygon& polygon, std::string& error) {
+  thread_local PolygonRings rings;
+  thread_local std::vector<std::vector<Vec2>> raw;
+  rings.outer = polygon.vertices;
+  rings.holes.assign(polygon.holes.begin(), polygon.holes.end());
+  return partition_convex(rings, raw, error);
+}
+
 }  // namespace par2d::detail

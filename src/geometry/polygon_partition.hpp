@@ -58,6 +58,19 @@ inline constexpr std::size_t kMaxPartitionVertices = 65536;
 // hole's bridge scans the ring once); a 4096-vertex polygon takes milliseconds. No input makes it crash, loop or produce non-finite output.
 bool partition_convex(const PolygonRings& polygon, std::vector<std::vector<Vec2>>& pieces, std::string& error);
 
+// The same for a scene Polygon (its outline and holes), its pieces as Polygons. The second form only
+// checks that a partition exists (validation), reusing per-thread buffers.
+bool partition_polygon(const Polygon& polygon, std::vector<Polygon>& pieces, std::string& error);
+bool partition_polygon(const Polygon& polygon, std::string& error);
+
+// The boundaries that pieces of a partition (as partition_polygon makes them) share: where a
+// straight path passes from one piece into another without leaving the polygon. Appends each
+// shared stretch once, as a segment of positive length between two piece vertices (`out` is
+// not cleared). Exact: collinearity by `orientation`, order along the line by coordinates.
+// O(e log e + s) for e piece edges and s pairs of edges that overlap in x (or y, for
+// vertical ones).
+void shared_boundaries(const std::vector<Polygon>& pieces, std::vector<Segment>& out);
+
 // The exact sign of cross(b - a, c - a) (twice the signed area of a, b, c): +1 when c lies
 // strictly left of the line a -> b in a y-up frame, -1 strictly right, 0 exactly on it. Exact
 // for all finite coordinates (no overflow or underflow assumption): a floating-point filter

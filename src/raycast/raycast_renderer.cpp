@@ -12,6 +12,8 @@
 
 #include "geometry/bounce_pieces.hpp"
 #include "geometry/vec2.hpp"
+#include "raycast/ray_exact.hpp"
+#include "scene/scene_validate.hpp"
 
 namespace par2d::detail {
 namespace {
@@ -48,108 +50,9 @@ constexpr double kTwoPi = 6.283185307179586476925286766559;
 constexpr double kContactTolerance = 0x1p-40;
 
 
-// Exact sum of n doubles (n <= 32) to within an ulp or so of the result, by distillation:
-// passes of error-free additions (Knuth's two-sum) along the terms until none changes, which
-// leaves them nonoverlapping, largest last. Written apart from src/geometry's expansions.
-double distilled_sum(double* t, int n) noexcept {
-  for (int pass = 0; pass < 4 * n + 8; ++pass) {
-    bool changed = false;
-    for (int i = 1; i < n; ++i) {
-      const double s = t[i - 1] + t[i];
-      const double v = s - t[i - 1];
-      const double e = (t[i - 1] - (s - v)) + (t[i] - v);
-      if (s != t[i] || e != t[i - 1]) changed = true;
-      t[i] = s;
-      t[i - 1] = e;
-    }
-    if (!changed) break;
-  }
-  double sum = 0.0;
-  for (int i = 0; i < n; ++i) sum += t[i];
-  return sum;
-}
-
-// Writes a*b as two terms summing to it exactly (fused multiply-add gives the rounding error).
-void push_product(double a, double b, double* t, int& n) noexcept {
-  const double p = a * b;
-  t[n++] = p;
-  t[n++] = std::fma(a, b, -p);
-}
-
-// cross(a - x, b - a) (= cross(a - x, b - x)), accurate where the plain products cancel: a
-// segment 1e17 long a unit from x. The plain value is kept when it is far above its rounding.
-double side_of(Vec2 a, Vec2 b, Vec2 x) noexcept {
-  const Vec2 w = a - x, e = b - a;
-  const double l = w.x * e.y, r = w.y * e.x;
-  const double magnitude = std::fabs(l) + std::fabs(r);
-  if (std::fabs(l - r) > 0x1p-20 * magnitude || !(magnitude < kInf)) return l - r;
-  // a - x = ah + al and b - x = bh + bl exactly (two-sum), then the eight products, each split.
-  auto split_difference = [](double p, double q, double& hi, double& lo) {
-    hi = p - q;
-    const double v = hi - p;
-    lo = (p - (hi - v)) + (-q - v);
-  };
-  double ahx, alx, ahy, aly, bhx, blx, bhy, bly;
-  split_difference(a.x, x.x, ahx, alx);
-  split_difference(a.y, x.y, ahy, aly);
-  split_difference(b.x, x.x, bhx, blx);
-  split_difference(b.y, x.y, bhy, bly);
-  double t[16];
-  int n = 0;
-  for (double ax : {ahx, alx})
-    for (double by : {bhy, bly}) push_product(ax, by, t, n);
-  for (double ay : {ahy, aly})
-    for (double bx : {bhx, blx}) push_product(-ay, bx, t, n);
-  return distilled_sum(t, n);
-}
-
-// |x - c|^2 - r^2, accurate where it cancels (x near a circle of radius 1e17).
-double power_of(Vec2 c, double r, Vec2 x) noexcept {
-  const Vec2 m = x - c;
-  const double mm = dot(m, m), rr = r * r;
-  if (std::fabs(mm - rr) > 0x1p-20 * (mm + rr) || !(mm + rr < kInf)) return mm - rr;
-  double t[16];
-  int n = 0;
-  for (int axis = 0; axis < 2; ++axis) {
-    const double p = axis == 0 ? x.x : x.y, q = axis == 0 ? c.x : c.y;
-    const double hi = p - q, v = hi - p, lo = (p - (hi - v)) + (-q - v);
-    push_product(hi, hi, t, n);
-    push_product(2.0 * hi, lo, t, n);
-    push_product(lo, lo, t, n);
-  }
-  push_product(-r, r, t, n);
-  return distilled_sum(t, n);
-}
-
-// Smallest t >= 0 with x + t*d on the closed segment [a, b], or +inf.
-double ray_segment(Vec2 x, Vec2 d, Vec2 a, Vec2 b) noexcept {
-  const Vec2 e = b - a;
-  const Vec2 w = a - x;
-  const double denom = cross(d, e);
-  if (denom == 0.0) {
-    // Parallel: only a collinear segment can be hit, and then at its nearer end
-    // (or at t = 0 when x lies on it).
-    if (cross(w, d) != 0.0) return kInf;
-    double ta = dot(w, d);
-    double tb = dot(b - x, d);
-    if (ta > tb) std::swap(ta, tb);
-    if (tb < 0.0) return kInf;
-    return ta <= 0.0 ? 0.0 : ta;
-  }
-  // The ray's line separates a from b (or touches one): decided by each end's own side, so
-  // a vertex shared by two segments (a segment light ending at an occluder's corner) is on the
-  // same side for both. The quotient s = cross(w, d) / denom in [0, 1] rounds differently per
-  // segment there, and a ray through the corner hit the light but missed the occluder.
-  const double side_a = cross(d, w), side_b = cross(d, b - x);
-  if ((side_a > 0.0 && side_b > 0.0) || (side_a < 0.0 && side_b < 0.0)) return kInf;
-  // The hit is a point of the segment, so its distance along the ray (|d| = 1) lies between
-  // the ends' own. Clamped there: for a ray almost along the segment the quotient is two
-  // rounding residues (a ray along a light's edge from an occluder's corner where the edge
-  // starts put the hit before the corner, and the light in front of the occluder).
-  const double ta = dot(w, d), tb = dot(b - x, d);
-  const double t = std::clamp(side_of(a, b, x) / denom, std::min(ta, tb), std::max(ta, tb));
-  return t < 0.0 ? kInf : t;
-}
+using ray_exact::power_of;
+using ray_exact::ray_segment;
+using ray_exact::side_of;
 
 }  // namespace
 
@@ -171,9 +74,10 @@ RaycastRenderer::RayShape RaycastRenderer::make_shape(const Shape& shape) {
     bound_radius = 0.5 * std::hypot(segment->b.x - segment->a.x, segment->b.y - segment->a.y);
   } else {
     const auto& poly = std::get<Polygon>(shape);
-    s.kind = Kind::polygon;
+    s.kind = needs_partition(shape) ? Kind::region : Kind::polygon;
     s.first = static_cast<std::uint32_t>(vertices_.size());
     s.count = static_cast<std::uint32_t>(poly.vertices.size());
+    // A concave outline is met as it is: the ray caster does not partition (an independent check).
     // Centered at the bounding box middle; relative coordinates keep the shoelace sum
     // accurate for polygons far from the origin.
     double x0 = kInf, y0 = kInf, x1 = -kInf, y1 = -kInf;
@@ -193,6 +97,12 @@ RaycastRenderer::RayShape RaycastRenderer::make_shape(const Shape& shape) {
     }
     s.orientation = area2 >= 0.0 ? 1.0 : -1.0;
     vertices_.insert(vertices_.end(), poly.vertices.begin(), poly.vertices.end());
+    s.ring_first = static_cast<std::uint32_t>(ring_ends_.size());
+    s.holes = static_cast<std::uint32_t>(poly.holes.size());
+    for (const std::vector<Vec2>& hole : poly.holes) {
+      vertices_.insert(vertices_.end(), hole.begin(), hole.end());
+      ring_ends_.push_back(static_cast<std::uint32_t>(vertices_.size()));
+    }
   }
   // Inflated so that rounding in the early-out can never skip a real (grazing) hit.
   bound_radius = bound_radius * (1.0 + 1e-7) + 1e-300;
@@ -210,7 +120,10 @@ Shape scaled_shape(Shape shape, double f) {
     g->a = {f * g->a.x, f * g->a.y};
     g->b = {f * g->b.x, f * g->b.y};
   } else {
-    for (Vec2& v : std::get<Polygon>(shape).vertices) v = {f * v.x, f * v.y};
+    Polygon& p = std::get<Polygon>(shape);
+    for (Vec2& v : p.vertices) v = {f * v.x, f * v.y};
+    for (std::vector<Vec2>& hole : p.holes)
+      for (Vec2& v : hole) v = {f * v.x, f * v.y};
   }
   return shape;
 }
@@ -260,10 +173,14 @@ double cookie_weight(const Cookie& cookie, double psi) {
 
 RaycastRenderer::RaycastRenderer(const Scene& validated_scene) : scale_(scene_scale(validated_scene)) {
   std::size_t vertex_count = 0;
-  for (const auto& l : validated_scene.lights)
-    if (const auto* p = std::get_if<Polygon>(&l.shape)) vertex_count += p->vertices.size();
-  for (const auto& o : validated_scene.occluders)
-    if (const auto* p = std::get_if<Polygon>(&o.shape)) vertex_count += p->vertices.size();
+  const auto count_vertices = [&vertex_count](const Shape& shape) {
+    if (const auto* p = std::get_if<Polygon>(&shape)) {
+      vertex_count += p->vertices.size();
+      for (const std::vector<Vec2>& hole : p->holes) vertex_count += hole.size();
+    }
+  };
+  for (const auto& l : validated_scene.lights) count_vertices(l.shape);
+  for (const auto& o : validated_scene.occluders) count_vertices(o.shape);
   vertices_.reserve(vertex_count);
   for (const auto& o : validated_scene.occluders) occluders_.push_back(make_shape(scaled_shape(o.shape, scale_)));
   for (const auto& l : validated_scene.lights) {
@@ -387,6 +304,21 @@ bool RaycastRenderer::contains(const RayShape& s, Vec2 x) const noexcept {
       }
       return true;
     }
+    case Kind::region: {
+      // Closed: on an edge is inside; elsewhere the even-odd count of edges a ray toward +x crosses.
+      bool on_edge = false, odd = false;
+      for_each_edge(s, [&](Vec2 a, Vec2 b) {
+        if (side_of(a, b, x) == 0.0 && std::min(a.x, b.x) <= x.x && x.x <= std::max(a.x, b.x) &&
+            std::min(a.y, b.y) <= x.y && x.y <= std::max(a.y, b.y))
+          on_edge = true;
+        if ((a.y > x.y) != (b.y > x.y)) {
+          // The crossing lies right of x when x is on the left of the upward edge.
+          const Vec2 lo = a.y < b.y ? a : b, hi = a.y < b.y ? b : a;
+          if (side_of(lo, hi, x) > 0.0) odd = !odd;
+        }
+      });
+      return on_edge || odd;
+    }
   }
   return false;
 }
@@ -420,17 +352,37 @@ double RaycastRenderer::hit_distance(const RayShape& s, Vec2 x, Vec2 d, double l
     }
     case Kind::segment:
       return ray_segment(x, d, s.p0, s.p1);
-    case Kind::polygon: {
+    case Kind::polygon:
+    case Kind::region: {
       if (contains(s, x)) return 0.0;
-      // From outside a convex polygon the first boundary point is the first hit.
-      const Vec2* v = vertices_.data() + s.first;
+      // From outside, the first boundary point is the first hit (convex or not).
       double t = kInf;
-      for (std::uint32_t i = 0; i < s.count; ++i)
-        t = std::min(t, ray_segment(x, d, v[i], v[i + 1 == s.count ? 0 : i + 1]));
+      for_each_edge(s, [&](Vec2 a, Vec2 b) { t = std::min(t, ray_segment(x, d, a, b)); });
       return t;
     }
   }
   return kInf;
+}
+
+void RaycastRenderer::region_entries(const RayShape& s, Vec2 x, Vec2 d, std::vector<double>& out) const {
+  out.clear();
+  bool inside = contains(s, x);
+  if (inside) out.push_back(0.0);
+  thread_local std::vector<double> crossings;
+  crossings.clear();
+  for_each_edge(s, [&](Vec2 a, Vec2 b) {
+    const double sa = cross(d, a - x), sb = cross(d, b - x);
+    if ((sa > 0.0) == (sb > 0.0)) return;
+    // The crossing point's distance along d: a + u (b - a) with u = sa / (sa - sb).
+    const double u = sa / (sa - sb);
+    const double t = dot(a - x, d) + u * dot(b - a, d);
+    if (t > 0.0) crossings.push_back(t);
+  });
+  std::sort(crossings.begin(), crossings.end());
+  for (const double t : crossings) {
+    inside = !inside;
+    if (inside) out.push_back(t);
+  }
 }
 
 Rgb RaycastRenderer::irradiance(Vec2 world, int rays, double jitter) const {
@@ -438,8 +390,10 @@ Rgb RaycastRenderer::irradiance(Vec2 world, int rays, double jitter) const {
 }
 
 Rgb RaycastRenderer::irradiance(Vec2 world, int rays, double jitter, const Vec3* normal) const {
-  Rgb e = model_ ? model_irradiance(world, rays, jitter, normal) : plain_irradiance(world, rays, jitter);
-  if (reflectors_.empty()) return e;
+  Rgb e{0.0, 0.0, 0.0};
+  if (term_ != BounceTerm::only)
+    e = model_ ? model_irradiance(world, rays, jitter, normal) : plain_irradiance(world, rays, jitter);
+  if (reflectors_.empty() || term_ == BounceTerm::excluded) return e;
   const Rgb b = bounce_irradiance(world, rays, jitter, normal);
   for (int c = 0; c < 3; ++c) e[c] += b[c];
   return e;
@@ -464,6 +418,7 @@ Rgb RaycastRenderer::plain_irradiance(Vec2 world, int rays, double jitter) const
     block_sin[j] = std::sin(step * j);
   }
   double base_cos = 1.0, base_sin = 0.0;
+  std::vector<double> entries;
   for (int k = 0; k < rays; ++k) {
     const int j = k % kBlock;
     if (j == 0) {
@@ -478,11 +433,16 @@ Rgb RaycastRenderer::plain_irradiance(Vec2 world, int rays, double jitter) const
     const double contact =
         t_occ < kInf ? kContactTolerance * std::max({t_occ, std::fabs(x.x), std::fabs(x.y)}) : 0.0;
     for (std::size_t l = 0; l < lights_.size(); ++l) {
-      if (hit_distance(lights_[l], x, d, t_occ) < t_occ - contact) {
-        sum[0] += emission_[l][0];
-        sum[1] += emission_[l][1];
-        sum[2] += emission_[l][2];
+      int count = 0;
+      if (lights_[l].kind != Kind::region) {
+        count = hit_distance(lights_[l], x, d, t_occ) < t_occ - contact ? 1 : 0;
+      } else {  // a concave light: once per entry in front of the occluder
+        region_entries(lights_[l], x, d, entries);
+        for (const double t : entries) count += t < t_occ - contact ? 1 : 0;
       }
+      sum[0] += count * emission_[l][0];
+      sum[1] += count * emission_[l][1];
+      sum[2] += count * emission_[l][2];
     }
   }
   const double inv = 1.0 / rays;
@@ -507,11 +467,11 @@ double RaycastRenderer::distance_to(const RayShape& s, Vec2 x) const noexcept {
       return power <= 0.0 ? 0.0 : power / (std::hypot(m.x, m.y) + s.radius);
     }
     case Kind::segment: return to_segment(x, s.p0, s.p1);
-    case Kind::polygon: {
+    case Kind::polygon:
+    case Kind::region: {
       if (contains(s, x)) return 0.0;
-      const Vec2* v = vertices_.data() + s.first;
       double d = kInf;
-      for (std::uint32_t i = 0; i < s.count; ++i) d = std::min(d, to_segment(x, v[i], v[i + 1 == s.count ? 0 : i + 1]));
+      for_each_edge(s, [&](Vec2 a, Vec2 b) { d = std::min(d, to_segment(x, a, b)); });
       return d;
     }
   }
@@ -539,6 +499,7 @@ Rgb RaycastRenderer::lights_along_rays(Vec2 x, double start, double span, int ra
     window[l] = d >= light_terms_[l].range ? 0.0 : d == 0.0 ? 1.0 : std::pow(w, light_terms_[l].falloff);
   }
   std::vector<double> t_occ(n_occ);
+  std::vector<double> entries;
   Rgb lit{0.0, 0.0, 0.0};
   for (int k = 0; k < rays; ++k) {
     const double theta = start + span * (k + jitter) / rays;
@@ -547,8 +508,12 @@ Rgb RaycastRenderer::lights_along_rays(Vec2 x, double start, double span, int ra
       t_occ[b] = b == self ? kInf : (inside[b] ? 0.0 : hit_distance(occluders_[b], x, d, kInf));
     for (std::size_t l = 0; l < lights_.size(); ++l) {
       if (!(window[l] > 0.0)) continue;
-      const double t_light = hit_distance(lights_[l], x, d, kInf);
-      if (!(t_light < kInf)) continue;
+      if (lights_[l].kind == Kind::region) {
+        region_entries(lights_[l], x, d, entries);  // a concave light: once per entry
+      } else {
+        entries.assign(1, hit_distance(lights_[l], x, d, kInf));
+        if (!(entries[0] < kInf)) continue;
+      }
       const LightModel& m = light_terms_[l];
       // Cone: emitted along psi = theta + pi; delta = |psi - phi| wrapped to [0, pi].
       double c = 1.0;
@@ -564,16 +529,19 @@ Rgb RaycastRenderer::lights_along_rays(Vec2 x, double start, double span, int ra
       if (m.cookie) c = cookie_weight(*m.cookie, (theta + 0.5 * kTwoPi) * (360.0 / kTwoPi));
       const double weight = window[l] * c * shade(theta, d, m.elevation);
       if (!(weight > 0.0)) continue;
-      Rgb v{1.0, 1.0, 1.0};
-      for (std::size_t b = 0; b < n_occ; ++b) {
-        if (!(t_occ[b] < kInf) || !acting(b, m.mask, self, inside)) continue;
-        // In front when t_B <= t_L, contacts (as in section 1's path above) included.
-        const double contact = kContactTolerance * std::max({t_occ[b], std::fabs(x.x), std::fabs(x.y)});
-        if (t_light >= t_occ[b] - contact)
-          for (int c3 = 0; c3 < 3; ++c3) v[c3] *= occluder_terms_[b].transmittance[c3];
+      for (const double t_light : entries) {
+        Rgb v{1.0, 1.0, 1.0};
+        for (std::size_t b = 0; b < n_occ; ++b) {
+          if (!(t_occ[b] < kInf) || !acting(b, m.mask, self, inside)) continue;
+          // In front when t_B <= t_L, contacts (as in section 1's path above) included.
+          const double contact = kContactTolerance * std::max({t_occ[b], std::fabs(x.x), std::fabs(x.y)});
+          if (t_light >= t_occ[b] - contact)
+            for (int c3 = 0; c3 < 3; ++c3) v[c3] *= occluder_terms_[b].transmittance[c3];
+        }
+        // A light's shadow removes only the fraction k of what the occluders block.
+        for (int c3 = 0; c3 < 3; ++c3)
+          lit[c3] += emission_[l][c3] * weight * (1.0 - m.shadow[c3] + m.shadow[c3] * v[c3]);
       }
-      // A light's shadow removes only the fraction k of what the occluders block.
-      for (int c3 = 0; c3 < 3; ++c3) lit[c3] += emission_[l][c3] * weight * (1.0 - m.shadow[c3] + m.shadow[c3] * v[c3]);
     }
   }
   return lit;
@@ -642,6 +610,7 @@ double RaycastRenderer::entry(const RayShape& s, Vec2 x, Vec2 d, std::uint32_t& 
       edge = side < 0.0 ? 0u : 1u;
       return ray_segment(x, d, s.p0, s.p1);
     }
+    case Kind::region: return kInf;  // a concave occluder never reflects (check_occluder)
     case Kind::polygon: {
       if (contains(s, x)) return kInf;
       const Vec2* v = vertices_.data() + s.first;

@@ -7,6 +7,7 @@
 #include <optional>
 #include <vector>
 
+#include "par2d/render.hpp"
 #include "par2d/scene.hpp"
 
 namespace par2d::detail {
@@ -39,6 +40,9 @@ class RaycastRenderer {
   // every reflecting occluder the ray enters from outside adds the radiance of the piece it
   // enters by, times the transmittances of the acting occluders met no later (its own never)
   // and the pixel's shading at elevation 0, over rays.
+  // Which terms the two overloads above return (RenderOptions::bounce): both by default, or
+  // the direct light (with the ambient) alone, or the bounce alone.
+  void set_bounce_term(BounceTerm term) noexcept { term_ = term; }
   // The piece radiances for `rays` (cached for the last count asked).
   std::vector<Rgb> bounce_radiances(int rays) const;
 
@@ -47,7 +51,8 @@ class RaycastRenderer {
   std::optional<Vec3> normal_at(int i, int j) const;
 
  private:
-  enum class Kind : std::uint8_t { polygon, circle, segment };
+  // region: a concave polygon (its outline as given, an even-odd region).
+  enum class Kind : std::uint8_t { polygon, circle, segment, region };
 
   // One shape, flattened so the per-ray loop touches contiguous data. The bounding
   // circle (bound_center, bound_radius2) lets most rays skip the exact test.
@@ -63,15 +68,40 @@ class RaycastRenderer {
     std::uint32_t first = 0;
     std::uint32_t count = 0;
     double orientation = 1.0;
+    // region: after its outline, `holes` rings of vertices_, hole r ending (exclusive) at
+    // vertices_ index ring_ends_[ring_first + r].
+    std::uint32_t ring_first = 0, holes = 0;
   };
+  // Calls f(a, b) for every edge of a polygon or region (a region's holes too).
+  template <class F>
+  void for_each_edge(const RayShape& s, F&& f) const {
+    const auto ring = [&](std::uint32_t begin, std::uint32_t end) {
+      for (std::uint32_t i = begin; i < end; ++i) f(vertices_[i], vertices_[i + 1 == end ? begin : i + 1]);
+    };
+    ring(s.first, s.first + s.count);
+    std::uint32_t begin = s.first + s.count;
+    for (std::uint32_t r = 0; r < s.holes; ++r) {
+      const std::uint32_t end = ring_ends_[s.ring_first + r];
+      ring(begin, end);
+      begin = end;
+    }
+  }
 
   // Distance along the unit direction d from x to the shape, +inf when missed, 0 when
   // x lies in it (closed shapes). `limit`: a hit at t >= limit may be reported as +inf.
   double hit_distance(const RayShape& s, Vec2 x, Vec2 d, double limit) const noexcept;
   bool contains(const RayShape& s, Vec2 x) const noexcept;
+  // The distances t >= 0, increasing, at which the ray x + t d enters a concave region from
+  // outside (0 first when x lies in it) into `out` (cleared): a concave light adds once per
+  // entry (docs/contract.md section 3). Each boundary crossing toggles inside and outside;
+  // an edge is crossed when its ends lie on different sides of the ray's line, an end on the
+  // line counting with the side cross(d, p - x) <= 0, so a ray through a vertex crosses there
+  // once or not at all.
+  void region_entries(const RayShape& s, Vec2 x, Vec2 d, std::vector<double>& out) const;
   RayShape make_shape(const Shape& shape);
 
   std::vector<Vec2> vertices_;
+  std::vector<std::uint32_t> ring_ends_;  // holes of regions (RayShape::ring_first)
   std::vector<RayShape> occluders_;
   std::vector<RayShape> lights_;
   std::vector<Rgb> emission_;  // e_L = intensity * color, parallel to lights_
@@ -142,6 +172,7 @@ class RaycastRenderer {
   std::unique_ptr<BounceCache> bounce_cache_ = std::make_unique<BounceCache>();
   double distance_to(const RayShape& s, Vec2 x) const noexcept;
 
+  BounceTerm term_ = BounceTerm::included;
   bool model_ = false;  // any term of section 6 differs from its default
   std::vector<LightModel> light_terms_;
   std::vector<OccluderModel> occluder_terms_;

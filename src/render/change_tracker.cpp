@@ -39,7 +39,8 @@ bool FrameKey::operator==(const FrameKey& o) const noexcept {
          extent == o.extent && model == o.model && bounce == o.bounce && data == o.data && format == o.format &&
          row_stride == o.row_stride && exposure == o.exposure && settings.spp == o.settings.spp &&
          settings.culling == o.settings.culling && settings.isa == o.settings.isa &&
-         settings.shaded == o.settings.shaded && settings.sample_needs == o.settings.sample_needs;
+         settings.shaded == o.settings.shaded && settings.sample_needs == o.settings.sample_needs &&
+         settings.bounce == o.settings.bounce;
 }
 
 void ChangeTracker::lights_reset(std::size_t count) noexcept {

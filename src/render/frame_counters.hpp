@@ -48,6 +48,13 @@ struct FrameCounters {
   std::uint64_t sampled_pixels = 0;
   std::uint64_t sampled_visible_lights = 0;
   std::uint64_t sampled_blocking_pairs = 0;
+  // One bounce (bounce_tiles.cpp; the frame's pieces and lit sources by frame_driver.cpp).
+  std::uint64_t bounce_pieces = 0;
+  std::uint64_t bounce_lit_sources = 0;
+  std::uint64_t bounce_tile_sources = 0;
+  std::uint64_t bounce_tile_sources_hidden = 0;
+  std::uint64_t bounce_source_walks = 0;
+  std::uint64_t bounce_depth_tests = 0;
 
   FrameCounters& operator+=(const FrameCounters& o) noexcept {
     blocks += o.blocks;
@@ -77,11 +84,17 @@ struct FrameCounters {
     sampled_pixels += o.sampled_pixels;
     sampled_visible_lights += o.sampled_visible_lights;
     sampled_blocking_pairs += o.sampled_blocking_pairs;
+    bounce_pieces += o.bounce_pieces;
+    bounce_lit_sources += o.bounce_lit_sources;
+    bounce_tile_sources += o.bounce_tile_sources;
+    bounce_tile_sources_hidden += o.bounce_tile_sources_hidden;
+    bounce_source_walks += o.bounce_source_walks;
+    bounce_depth_tests += o.bounce_depth_tests;
     return *this;
   }
 };
 // A new field must be added above too.
-static_assert(sizeof(FrameCounters) == 27 * sizeof(std::uint64_t), "FrameCounters::operator+= adds every field");
+static_assert(sizeof(FrameCounters) == 33 * sizeof(std::uint64_t), "FrameCounters::operator+= adds every field");
 
 // The public report of a frame's counts: the one place FrameCounters map to FrameStats.
 inline FrameStats to_frame_stats(const FrameCounters& c) noexcept {
@@ -113,6 +126,12 @@ inline FrameStats to_frame_stats(const FrameCounters& c) noexcept {
   s.sampled_pixels = c.sampled_pixels;
   s.sampled_visible_lights = c.sampled_visible_lights;
   s.sampled_blocking_pairs = c.sampled_blocking_pairs;
+  s.bounce_pieces = c.bounce_pieces;
+  s.bounce_lit_sources = c.bounce_lit_sources;
+  s.bounce_tile_sources = c.bounce_tile_sources;
+  s.bounce_tile_sources_hidden = c.bounce_tile_sources_hidden;
+  s.bounce_source_walks = c.bounce_source_walks;
+  s.bounce_depth_tests = c.bounce_depth_tests;
   return s;
 }
 

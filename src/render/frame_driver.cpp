@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <iterator>
 #include <memory>
 #include <vector>
 
+#include "render/bounce_tiles.hpp"
 #include "render/cell_lists.hpp"
 #include "render/frame_counters.hpp"
 #include "render/kernel_table.hpp"
@@ -77,30 +79,6 @@ void sample_needs(const PreparedScene& scene, const TileRect& part, const TileSe
   }
 }
 
-// Adds the bounce term (docs/contract.md section 7) to pixels `part` of the tile result: the
-// mean over each pixel's samples of the scalar reference's bounce_irradiance. No SIMD form
-// exists yet, so every backend adds the exact term here, after its direct light.
-void add_bounce(const PreparedScene& scene, const BounceFrame& bounce, int spp, bool shaded, const TileRect& part,
-                int tile_x0, int tile_y0, BounceScratch& scratch, TileResult& out) {
-  const bool shade = shading_active(scene, shaded);
-  const double inv_spp = 1.0 / spp;
-  for (int j = part.y0; j < part.y1; ++j) {
-    for (int i = part.x0; i < part.x1; ++i) {
-      const Vec3 normal = scene.normal_at(i, j);
-      Rgb sum{0.0, 0.0, 0.0};
-      for (int k = 0; k < spp; ++k) {
-        double sx, sy;
-        sample_offset(k, spp, sx, sy);
-        const Rgb e = bounce_irradiance(scene, bounce, sample_position(scene, i, j, sx, sy), shade ? &normal : nullptr,
-                                        scratch);
-        for (int c = 0; c < 3; ++c) sum[c] += e[c];
-      }
-      const std::size_t at = static_cast<std::size_t>(j - tile_y0) * kTileSize + static_cast<std::size_t>(i - tile_x0);
-      for (int c = 0; c < 3; ++c) out.rgb[c][at] += static_cast<float>(sum[c] * inv_spp);
-    }
-  }
-}
-
 }  // namespace
 
 // Everything one lane of blocks reuses from tile to tile and frame to frame.
@@ -109,7 +87,7 @@ struct FrameEngine::ThreadState final : TileKernelRunner {
   TileSetupScratch setup;
   CellListScratch cells;
   ScalarScratch scalar;
-  BounceScratch bounce;
+  BounceTileScratch bounce;
   std::unique_ptr<float[]> scratch;  // 64-byte aligned view into it via `aligned`
   std::size_t scratch_floats = 0;
   float* aligned = nullptr;
@@ -232,7 +210,11 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
     }
   }
   const bool cull = settings.culling && reach != nullptr;
-  const bool bouncing = scene.bounce;
+  // RenderOptions::bounce: the bounce term where the scene has one and the options want it;
+  // the direct light (kernel or reference, with the ambient) unless only the bounce is asked.
+  const bool bouncing = scene.bounce && settings.bounce != BounceTerm::excluded;
+  const bool direct = settings.bounce != BounceTerm::only;
+  if (!direct) layers = nullptr;
   VectorTileStores stores;
   if (kernels) {
     stores = kernels->stores;
@@ -268,7 +250,7 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
       return;
     }
     if (layers) start_layered_block(scene.lights.size(), layers->block(frame_block), state.layered);
-    if (kernels) {
+    if (kernels && direct) {
       const std::uint64_t tried = state.setup.occlusion.proofs_tried;
       const std::uint64_t succeeded = state.setup.occlusion.proofs_succeeded;
       gather_block_candidates(scene, block, cull ? reach : nullptr, state.setup,
@@ -279,7 +261,9 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
       count_block(scene, state.setup, tried, succeeded, skipped, counts);
     }
     for_each_tile([&](const TileRect& tile, const TileRect& part, int t) {
-      if (!kernels) {  // Isa::scalar: the reference, tile by tile
+      if (!direct) {
+        for (auto& channel : state.result.rgb) std::fill(std::begin(channel), std::end(channel), 0.0f);
+      } else if (!kernels) {  // Isa::scalar: the reference, tile by tile
         ++counts.scalar_tiles;
         render_tile_scalar(scene, settings.spp, part, tile.x0, tile.y0, state.scalar, state.result, settings.shaded);
       } else if (layers) {
@@ -295,7 +279,8 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
         state.run(state.work, state.result);
       }
       if (bouncing)
-        add_bounce(scene, *bounce_, settings.spp, settings.shaded, part, tile.x0, tile.y0, state.bounce, state.result);
+        add_bounce_tile(scene, *bounce_, settings.spp, settings.shaded, settings.culling && kernels != nullptr, tile,
+                        part, state.bounce, state.result, counts);
       store_tile(state.result, tile.x0, tile.y0, part, target, stores);
     });
     if (layers && layers->may_fill(frame_block)) layers->finish_block(frame_block);
@@ -349,6 +334,10 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
   if (!stats) return;
   FrameCounters sum;
   for (int lane = 0; lane < lanes; ++lane) sum += states_[static_cast<std::size_t>(lane)].counts;
+  if (bouncing) {
+    sum.bounce_pieces = bounce_->pieces.size();
+    for (const BounceSource& source : bounce_->sources) sum.bounce_lit_sources += source.lit ? 1u : 0u;
+  }
   *stats = to_frame_stats(sum);
 }
 

@@ -26,6 +26,7 @@ struct FrameSettings {
   Isa isa = Isa::scalar;
   bool shaded = false;  // RenderOptions::shaded (docs/contract.md section 6)
   bool sample_needs = false;  // fill FrameStats' sampled counts (one exact pixel per tile)
+  BounceTerm bounce = BounceTerm::included;  // RenderOptions::bounce (docs/contract.md section 7)
 };
 
 // Renders frames of prepared scenes into host buffers, tile by tile, keeping every

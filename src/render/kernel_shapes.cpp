@@ -231,6 +231,11 @@ KernelShape kernel_shape(const ConvexShape& shape, const TileFrame& frame, const
   k.count = static_cast<std::uint32_t>(n);
   k.may_contain = boxes_meet(bounds_of(s), bounds_of(corners));
   k.first = grow_vertices(work, n);
+  // A line's offset is taken at the lesser of its two ends (by x, then y), so that two shapes
+  // sharing an edge (a concave light's pieces, and the segment of their shared boundary) get
+  // offsets and normals that are exact negations of each other: a point of the edge is then
+  // inside both or neither, and on the segment exactly then (vertex_tangents).
+  const auto lesser = [](Vec2 a, Vec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y) ? a : b; };
   for (std::size_t i = 0; i < n; ++i) {
     const Vec2 v = s.vertices[i];
     const std::size_t j = k.first + i;
@@ -239,7 +244,7 @@ KernelShape kernel_shape(const ConvexShape& shape, const TileFrame& frame, const
       const Vec2 normal = s.edge_normals[i];
       work.edge_nx[j] = static_cast<float>(normal.x);
       work.edge_ny[j] = static_cast<float>(normal.y);
-      work.edge_c[j] = frame.line_offset(normal, v);
+      work.edge_c[j] = frame.line_offset(normal, lesser(v, s.vertices[(i + 1) % n]));
     }
   }
   if (s.kind == ShapeKind::segment) {
@@ -250,7 +255,7 @@ KernelShape kernel_shape(const ConvexShape& shape, const TileFrame& frame, const
     const Vec2 normal{-e.y / len, e.x / len};
     work.edge_nx[k.first] = static_cast<float>(normal.x);
     work.edge_ny[k.first] = static_cast<float>(normal.y);
-    work.edge_c[k.first] = frame.line_offset(normal, s.vertices[0]);
+    work.edge_c[k.first] = frame.line_offset(normal, lesser(s.vertices[0], s.vertices[1]));
   }
   return k;
 }

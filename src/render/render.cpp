@@ -50,6 +50,23 @@ std::optional<Backend> parse_backend(const char* name) noexcept {
   return std::nullopt;
 }
 
+const char* bounce_term_name(BounceTerm term) noexcept {
+  switch (term) {
+    case BounceTerm::included: return "included";
+    case BounceTerm::excluded: return "excluded";
+    case BounceTerm::only: return "only";
+  }
+  return "unknown";
+}
+
+std::optional<BounceTerm> parse_bounce_term(const char* name) noexcept {
+  const std::string_view n = name ? name : "";
+  if (n == "included") return BounceTerm::included;
+  if (n == "excluded") return BounceTerm::excluded;
+  if (n == "only") return BounceTerm::only;
+  return std::nullopt;
+}
+
 void sample_offset(int k, int spp, double& dx, double& dy) noexcept {
   if (spp <= 1) {
     dx = dy = 0.5;
@@ -92,6 +109,9 @@ Status check_options(const RenderOptions& options, const char* who) {
     return bad("unknown backend " + std::to_string(static_cast<int>(options.backend)));
   if (options.threading != Threading::own_pool && options.threading != Threading::caller_arena)
     return bad("unknown threading " + std::to_string(static_cast<int>(options.threading)));
+  if (options.bounce != BounceTerm::included && options.bounce != BounceTerm::excluded &&
+      options.bounce != BounceTerm::only)
+    return bad("unknown bounce term " + std::to_string(static_cast<int>(options.bounce)));
   return {};
 }
 
@@ -162,7 +182,8 @@ Status render_raycast(const Scene& scene, const RenderOptions& options, const Im
   if (Status s = detail::check_options(checked, "render_raycast"); !s.ok()) return s;
   return detail::guarded("render_raycast", [&]() -> Status {
     if (Status s = validate_scene(scene); !s.ok()) return s;
-    const detail::RaycastRenderer caster(scene);
+    detail::RaycastRenderer caster(scene);
+    caster.set_bounce_term(options.bounce);
     detail::for_each_block(scene.width, scene.height, worker_threads(options.threads),
                            [&](const detail::TileRect& block, int) {
                              detail::render_rect_raycast(scene, caster, options.spp, options.rays, block, image,

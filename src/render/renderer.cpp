@@ -246,7 +246,7 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
     target.exposure = buffer.exposure;
     target.region = {region.x0, region.y0, region.x1, region.y1};
     const detail::FrameSettings settings{impl.options.spp, culling, isa, impl.options.shaded,
-                                         impl.options.sample_needs};
+                                         impl.options.sample_needs, impl.options.bounce};
     const std::vector<detail::LightReach>* reach = culling ? &impl.reach.reach() : nullptr;
     const bool whole = region.x0 == 0 && region.y0 == 0 && region.x1 == width() && region.y1 == height();
     const std::vector<std::uint8_t>* dirty = nullptr;

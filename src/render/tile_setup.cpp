@@ -119,6 +119,7 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     const bool ranged = model && light.terms.has_range();
     kl.shape = kernel_shape(light.shape, frame, corners, light_pairs.general || ranged, work, scratch.shapes,
                             scratch.block, &scratch.shapes.light_block_pairs[l]);
+    kl.shape.closed = true;
     bool clipped = light_pairs.clipped;
     if (clipped && culling && clip_needless(light.shape, view, light_pairs)) clipped = false;
     if (clipped) {

@@ -186,7 +186,7 @@ void prepare_bounce_frame(const PreparedScene& scene, BounceFrame& frame, Scalar
 }
 
 Rgb bounce_irradiance(const PreparedScene& scene, const BounceFrame& frame, Vec2 x, const Vec3* normal,
-                      BounceScratch& scratch) {
+                      BounceScratch& scratch, const BounceSourceSubset* subset) {
   Rgb e{0.0, 0.0, 0.0};
   if (frame.sources.empty()) return e;
   const std::size_t occluders = scene.occluders.size();
@@ -218,8 +218,11 @@ Rgb bounce_irradiance(const PreparedScene& scene, const BounceFrame& frame, Vec2
   for (const std::uint32_t k : scratch.near)
     if (span_of(k).full) scratch.containing.push_back(k);
   AngularProfile<double> profile;
-  for (const BounceSource& source : frame.sources) {
+  const std::size_t walked = subset ? subset->count : frame.sources.size();
+  for (std::size_t n = 0; n < walked; ++n) {
+    const BounceSource& source = frame.sources[subset ? subset->sources[n] : n];
     if (!source.lit) continue;
+    ++scratch.source_walks;
     const std::uint32_t j = source.occluder;
     const AngularSpan& arc = span_of(j);
     // Inside its own occluder x meets no piece from the front; seen edge-on, none at all.
@@ -241,16 +244,27 @@ Rgb bounce_irradiance(const PreparedScene& scene, const BounceFrame& frame, Vec2
     }
     if (scratch.emitters.empty()) continue;
     // Only an occluder meeting a segment from x to a point of the reflector can come first:
-    // its box meets the convex hull of x and the reflector.
-    hull_with_shape(&x, 1, scene.occluders[j], scratch.hull_points, scratch.hull);
-    scratch.near.clear();
-    scene.occluder_bvh.query_convex(scratch.hull.data(), static_cast<int>(scratch.hull.size()), scratch.near);
+    // its box meets the convex hull of x and the reflector (or the region's list holds it).
+    const std::uint32_t* near = nullptr;
+    std::size_t near_count = 0;
+    if (subset) {
+      near = subset->blockers + subset->first[n];
+      near_count = subset->first[n + 1] - subset->first[n];
+    } else {
+      hull_with_shape(&x, 1, scene.occluders[j], scratch.hull_points, scratch.hull);
+      scratch.near.clear();
+      scene.occluder_bvh.query_convex(scratch.hull.data(), static_cast<int>(scratch.hull.size()), scratch.near);
+      near = scratch.near.data();
+      near_count = scratch.near.size();
+    }
     scratch.blocked.clear();
     scratch.blocked_occluder.clear();
-    for (const std::uint32_t k : scratch.near) {
+    for (std::size_t q = 0; q < near_count; ++q) {
+      const std::uint32_t k = near[q];
       if (k == j) continue;
       const AngularSpan& span = span_of(k);
       if (inside[k] || !acts(scene.occluder_terms[k], false, mask)) continue;
+      ++scratch.depth_tests;
       blocked_pieces(source.light, scene.occluders[k], k, x, arc, span, scratch.scalar, scratch.blocked);
       scratch.blocked_occluder.resize(scratch.blocked.size(), k);
     }

@@ -59,6 +59,9 @@ struct BounceScratch {
   std::vector<std::uint32_t> span_stamp;
   std::uint32_t stamp = 0;
   std::vector<Vec2> hull_points, hull;  // the hull of x and a reflector
+  // Work counts for FrameStats, accumulated over calls until the owner resets them: lit
+  // sources walked at a point, and occluders depth-tested against a source there.
+  std::uint64_t source_walks = 0, depth_tests = 0;
 };
 
 // The pieces and sources of `scene` (radiances sized, not computed). Nothing when the scene
@@ -76,9 +79,22 @@ void finish_bounce_frame(BounceFrame& frame) noexcept;
 // All three, on this thread.
 void prepare_bounce_frame(const PreparedScene& scene, BounceFrame& frame, ScalarScratch& scratch);
 
+// The sources that may reach a region of points and, for each, the occluders that may stand
+// between the region and it (bounce_tiles.hpp): source sources[i] (an index into
+// frame.sources) has blockers[first[i] .. first[i + 1]), a superset of the occluders whose
+// boxes meet the hull of any point of the region and the source.
+struct BounceSourceSubset {
+  const std::uint32_t* sources = nullptr;
+  std::size_t count = 0;
+  const std::uint32_t* first = nullptr;  // count + 1 offsets into blockers
+  const std::uint32_t* blockers = nullptr;
+};
+
 // The bounce term at x: sum over pieces of L_k (1/2pi) * integral of V_k F_k s, shaded by
-// `normal` (elevation 0) or plain when null.
+// `normal` (elevation 0) or plain when null. `subset`, when given, holds the only sources that
+// may reach x (the others are proven to add nothing there, and are not walked) and their
+// possible blockers (the occluder index is then not queried per point).
 Rgb bounce_irradiance(const PreparedScene& scene, const BounceFrame& frame, Vec2 x, const Vec3* normal,
-                      BounceScratch& scratch);
+                      BounceScratch& scratch, const BounceSourceSubset* subset = nullptr);
 
 }  // namespace par2d::detail

@@ -69,7 +69,7 @@ class SceneBuilder {
 
   // What a container holds, which decides what its values mean.
   // `numbers`: a fixed-length array of numbers (a color, a normal, angles) stored at `target`.
-  enum class Role { root, skip, view, list, element, polygon, point, circle, segment, numbers, cone, cookie, knots, knot, shadow, bounce };
+  enum class Role { root, skip, view, list, element, polygon, holes, ring, point, circle, segment, numbers, cone, cookie, knots, knot, shadow, bounce };
   enum class ListKind { lights, occluders, directionals };
 
   // Where a `numbers` array goes and what it must look like.
@@ -118,6 +118,7 @@ class SceneBuilder {
     Cookie cookie;
     bool has_knots = false;
     Polygon polygon;
+    bool has_holes = false;  // a "holes" key was read (only a polygon takes one)
     Circle circle;
     bool has_center = false, has_radius = false;
     Segment segment;

@@ -48,13 +48,14 @@ void SceneBuilder::check_key(const Frame& frame) {
       fail(place, "unknown key (expected angles, color, intensity, mask, elevation)");
   } else if (frame.role == Role::element) {
     const bool shape = k == "polygon" || k == "circle" || k == "segment";
+    const bool holes = k == "holes";
     const bool light_term = k == "color" || k == "intensity" || k == "range" || k == "falloff" ||
                             k == "normalize" || k == "cone" || k == "cookie" || k == "mask" ||
                             k == "elevation" || k == "shadow";
     const bool occluder_term = k == "transmittance" || k == "mask" || k == "interior" || k == "albedo";
     if (!element_.light && (k == "color" || k == "intensity")) {
       fail(place, "occluders take no color or intensity");
-    } else if (!shape && !(element_.light ? light_term : occluder_term)) {
+    } else if (!shape && !holes && !(element_.light ? light_term : occluder_term)) {
       fail(place, element_.light
                       ? "unknown key (expected polygon, circle, segment, color, intensity, range, falloff, "
                         "normalize, cone, cookie, mask, elevation, shadow)"
@@ -100,7 +101,9 @@ bool SceneBuilder::scalar(const Scalar& v) {
         break;
       case Role::list: fail(place, "expected an object"); break;
       case Role::element: element_scalar(frame, v, place); break;
-      case Role::polygon: fail(place, "expected [x, y]"); break;
+      case Role::polygon:
+      case Role::ring: fail(place, "expected [x, y]"); break;
+      case Role::holes: fail(place, "expected an array of [x, y] vertices"); break;
       case Role::point:
         if (!v.is_number() || frame.count >= 2) fail(frame.place, "expected [x, y]");
         else point_[frame.count] = v.number;
@@ -241,6 +244,11 @@ SceneBuilder::Role SceneBuilder::container_role(bool object, const std::string& 
       return Role::element;
     case Role::element:
       if (k == "polygon") return object ? refuse(place, "expected an array of [x, y] vertices") : Role::polygon;
+      if (k == "holes") {
+        if (object) return refuse(place, "expected an array of holes, each an array of [x, y] vertices");
+        element_.has_holes = true;
+        return Role::holes;
+      }
       if (k == "circle") return object ? Role::circle : refuse(place, "expected {\"center\": [x, y], \"radius\": r}");
       if (k == "segment") return object ? refuse(place, "expected [[x, y], [x, y]]") : Role::segment;
       if (k == "color") {
@@ -273,7 +281,12 @@ SceneBuilder::Role SceneBuilder::container_role(bool object, const std::string& 
     case Role::segment:
       if (frame.count >= 2) return refuse(frame.place, "expected [[x, y], [x, y]]");
       return object ? refuse(place, "expected [x, y]") : Role::point;
-    case Role::polygon: return object ? refuse(place, "expected [x, y]") : Role::point;
+    case Role::polygon:
+    case Role::ring: return object ? refuse(place, "expected [x, y]") : Role::point;
+    case Role::holes:
+      if (object) return refuse(place, "expected an array of [x, y] vertices");
+      element_.polygon.holes.push_back({});
+      return Role::ring;
     case Role::circle:
       if (k == "center") return object ? refuse(place, "expected [x, y]") : Role::point;
       return refuse(place, "expected a number");  // radius
@@ -318,6 +331,8 @@ void SceneBuilder::finish(const Frame& frame) {
       const Frame& parent = frames_.back();
       if (parent.role == Role::polygon) {
         element_.polygon.vertices.push_back(p);
+      } else if (parent.role == Role::ring) {
+        element_.polygon.holes[element_.polygon.holes.size() - 1].push_back(p);
       } else if (parent.role == Role::circle) {
         element_.circle.center = p;
         element_.has_center = true;
@@ -361,6 +376,8 @@ void SceneBuilder::finish(const Frame& frame) {
       }
       return;
     case Role::polygon:
+    case Role::holes:
+    case Role::ring:
     case Role::knots:
     case Role::shadow:
     case Role::bounce:
@@ -379,6 +396,7 @@ void SceneBuilder::finish_element(const std::string& place) {
     return;
   }
   if (e.shape == nullptr) return fail(place, "needs one of polygon, circle, segment");
+  if (e.has_holes && e.shape[0] != 'p') return fail(member_place(place, "holes"), "only a polygon has holes");
   Shape shape;
   if (e.shape[0] == 'p') shape = std::move(e.polygon);
   else if (e.shape[0] == 'c') shape = e.circle;

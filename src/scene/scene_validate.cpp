@@ -13,8 +13,13 @@
 #include <vector>
 
 #include "geometry/bounce_pieces.hpp"
+#include "geometry/polygon_partition.hpp"
 #include "lighting/light_emission.hpp"
 #include "geometry/vec2.hpp"
+
+// A level holds many shapes: holes live out of line, so a polygon costs its outline's vector
+// and one pointer (tests/test_scene_loading.cpp loads 8 MB of shapes within 3x the text).
+static_assert(sizeof(par2d::Polygon) <= 32, "keep a Polygon's holes out of line");
 
 namespace par2d {
 namespace detail {
@@ -44,8 +49,10 @@ MaybeProblem check_point(const Vec2& p, const std::string& place) {
 // (exact) into [-1, 1], so that edge vectors, cross products and the shoelace sum cannot
 // overflow whatever finite coordinates come in; the tolerance test is scale-invariant, so
 // the verdict is the one the unscaled numbers would give.
-MaybeProblem check_polygon(const Polygon& polygon, const std::string& place) {
-  const std::vector<Vec2>& v = polygon.vertices;
+// `concave` (when given) is set where the vertices fail only for not being convex (a turn
+// against the winding, or winding around more than once), so that the caller can try them as
+// a concave outline.
+MaybeProblem check_convex_ring(const std::vector<Vec2>& v, const std::string& place, bool* concave) {
   const std::size_t n = v.size();
   if (n < 3) return SceneProblem{place, "needs at least 3 vertices, got " + std::to_string(n)};
 
@@ -132,7 +139,10 @@ MaybeProblem check_polygon(const Polygon& polygon, const std::string& place) {
     const bool against = turn.side == -winding || (turn.fold && turn.side == 0);
     if (against && (bad == nullptr || turn.vertex < bad->vertex)) bad = &turn;
   }
-  if (bad != nullptr) return SceneProblem{place, "not convex at vertex " + std::to_string(bad->vertex)};
+  if (bad != nullptr) {
+    if (concave) *concave = true;
+    return SceneProblem{place, "not convex at vertex " + std::to_string(bad->vertex)};
+  }
 
   // Turns all to one side can still wind around more than once (a pentagram's vertex list):
   // a simple convex boundary turns through exactly one revolution.
@@ -140,11 +150,57 @@ MaybeProblem check_polygon(const Polygon& polygon, const std::string& place) {
   for (const Turn& turn : turns) total += turn.angle;
   const double revolutions = std::fabs(total) / (2.0 * kPi);
   if (!(revolutions > 0.5 && revolutions < 1.5)) {
+    if (concave) *concave = true;
     return SceneProblem{place, "self-overlapping (its boundary winds around " +
                                    std::to_string(std::lround(revolutions)) + " times, not once)"};
   }
   if (area2 == 0.0) return SceneProblem{place, "zero area"};
   return std::nullopt;
+}
+
+// A convex polygon; where `concave_allowed`, else a simple outline, with or without holes, that
+// has an exact convex partition (polygon_partition.hpp). `place` ends in ".polygon"; a
+// hole's problem is placed at the sibling ".holes[k]".
+MaybeProblem check_polygon(const Polygon& polygon, const std::string& place, bool concave_allowed) {
+  bool concave = false;
+  MaybeProblem problem = check_convex_ring(polygon.vertices, place, &concave);
+  if (polygon.holes.empty() && (!problem || !concave || !concave_allowed)) return problem;
+  constexpr std::string_view kSuffix = ".polygon";
+  const std::string base =
+      place.size() >= kSuffix.size() && place.compare(place.size() - kSuffix.size(), kSuffix.size(), kSuffix) == 0
+          ? place.substr(0, place.size() - kSuffix.size())
+          : place;
+  if (!concave_allowed) return SceneProblem{base + ".holes", "only a light or an occluder's polygon may have holes"};
+  for (std::size_t k = 0; k < polygon.holes.size(); ++k) {
+    const std::string at = indexed(base + ".holes", k);
+    if (polygon.holes[k].size() < 3)
+      return SceneProblem{at, "needs at least 3 vertices, got " + std::to_string(polygon.holes[k].size())};
+    for (std::size_t i = 0; i < polygon.holes[k].size(); ++i)
+      if (auto bad = check_point(polygon.holes[k][i], indexed(at, i))) return bad;
+  }
+  std::string error;
+  if (partition_polygon(polygon, error)) return std::nullopt;
+  // The partition names rings: "outer: ..." is the outline's problem, "holes[k]: ..." a hole's
+  // ("holes[1] and holes[2] overlap ..." is placed at the first).
+  constexpr std::string_view kOuter = "outer: ";
+  if (error.compare(0, kOuter.size(), kOuter) == 0) return SceneProblem{place, error.substr(kOuter.size())};
+  constexpr std::string_view kHoles = "holes[";
+  if (error.compare(0, kHoles.size(), kHoles) == 0) {
+    // "holes[k]: what" and "holes[k] what" name one hole; "holes[j] and holes[k] ..." two.
+    const std::size_t close = error.find(']');
+    if (close != std::string::npos && error.compare(close + 1, 5, " and ") != 0) {
+      const std::size_t what = error.compare(close + 1, 2, ": ") == 0 ? close + 3 : close + 2;
+      return SceneProblem{base + "." + error.substr(0, close + 1), error.substr(std::min(what, error.size()))};
+    }
+    return SceneProblem{base + ".holes", error};
+  }
+  return SceneProblem{place, error};
+}
+
+bool polygon_needs_partition(const Polygon& polygon) {
+  if (!polygon.holes.empty()) return true;
+  bool concave = false;
+  return check_convex_ring(polygon.vertices, std::string(), &concave) && concave;
 }
 
 MaybeProblem check_circle(const Circle& circle, const std::string& place) {
@@ -178,6 +234,11 @@ MaybeProblem check_elevation(double value, const std::string& place) {
 }
 
 }  // namespace
+
+bool needs_partition(const Shape& shape) {
+  const auto* polygon = std::get_if<Polygon>(&shape);
+  return polygon != nullptr && polygon_needs_partition(*polygon);
+}
 
 std::string image_side_range_text() {
   return "must be an integer from 1 to " + std::to_string(kMaxImageSide);
@@ -230,8 +291,8 @@ MaybeProblem check_emission_total(const std::vector<Light>& lights) {
   return std::nullopt;
 }
 
-MaybeProblem check_shape(const Shape& shape, const std::string& place) {
-  if (const auto* polygon = std::get_if<Polygon>(&shape)) return check_polygon(*polygon, place + ".polygon");
+MaybeProblem check_shape(const Shape& shape, const std::string& place, bool concave_allowed) {
+  if (const auto* polygon = std::get_if<Polygon>(&shape)) return check_polygon(*polygon, place + ".polygon", concave_allowed);
   if (const auto* circle = std::get_if<Circle>(&shape)) return check_circle(*circle, place + ".circle");
   if (const auto* segment = std::get_if<Segment>(&shape)) return check_segment(*segment, place + ".segment");
   return SceneProblem{place, "has no shape"};  // valueless_by_exception
@@ -269,7 +330,13 @@ MaybeProblem check_cookie(const Cookie& cookie, const std::string& place) {
 }
 
 MaybeProblem check_light(const Light& light, const std::string& place) {
-  if (auto problem = check_shape(light.shape, place)) return problem;
+  if (auto problem = check_shape(light.shape, place, true)) return problem;
+  // A concave light is lit as its convex pieces (World::push_light), exact for terms that
+  // depend on the direction alone; a range window (the distance to the shape) and normalize
+  // (its size) would be each piece's, not the light's.
+  if ((light.range || light.normalize) && needs_partition(light.shape))
+    return SceneProblem{place + (light.range ? ".range" : ".normalize"),
+                        "a concave light takes no range or normalize (split it into convex lights)"};
   for (std::size_t c = 0; c < light.color.size(); ++c) {
     if (auto problem = check_non_negative(light.color[c], indexed(place + ".color", c))) return problem;
   }
@@ -320,7 +387,19 @@ MaybeProblem check_light(const Light& light, const std::string& place) {
 }
 
 MaybeProblem check_occluder(const Occluder& occluder, const std::string& place) {
-  if (auto problem = check_shape(occluder.shape, place)) return problem;
+  if (auto problem = check_shape(occluder.shape, place, true)) return problem;
+  // Its convex pieces stand for it: a ray crossing two of them would count a transmittance
+  // twice, a point inside one piece would still be shadowed by the others, and the pieces'
+  // inner edges would reflect. Only the opaque, dark, non-reflecting union is exact.
+  if ((occluder.transmittance != Rgb{0.0, 0.0, 0.0} || occluder.interior != Interior::dark ||
+       occluder.albedo != Rgb{0.0, 0.0, 0.0}) &&
+      needs_partition(occluder.shape)) {
+    const char* term = occluder.transmittance != Rgb{0.0, 0.0, 0.0} ? ".transmittance"
+                       : occluder.interior != Interior::dark          ? ".interior"
+                                                                       : ".albedo";
+    return SceneProblem{place + term, "a concave occluder must be opaque, dark inside and not reflecting "
+                                      "(split it into convex occluders)"};
+  }
   // Places are built only for a problem: a game's Renderer validates every frame's updates
   // without allocating.
   for (std::size_t c = 0; c < occluder.transmittance.size(); ++c) {

@@ -35,7 +35,12 @@ inline constexpr double kMaxTotalEmission = 1e38;
 MaybeProblem check_emission_total(const std::vector<Light>& lights);
 
 // `place` names the light or occluder ("lights[2]"); shape problems add ".polygon" etc.
-MaybeProblem check_shape(const Shape& shape, const std::string& place);
+// With `concave_allowed` (lights and occluders) a polygon may be a concave simple outline
+// that partitions; without, it must be convex.
+MaybeProblem check_shape(const Shape& shape, const std::string& place, bool concave_allowed = false);
+// Whether a valid shape is rendered as a convex partition of it: a polygon whose outline is
+// not convex (within the tolerance the convex check allows).
+bool needs_partition(const Shape& shape);
 MaybeProblem check_light(const Light& light, const std::string& place);
 MaybeProblem check_occluder(const Occluder& occluder, const std::string& place);
 // The game lighting model's scene-wide terms (docs/contract.md section 6).

@@ -39,12 +39,24 @@ void put_shape(std::string& out, const Shape& shape) {
       [&out](const auto& s) {
         using T = std::decay_t<decltype(s)>;
         if constexpr (std::is_same_v<T, Polygon>) {
-          out += "\"polygon\": [";
-          for (std::size_t i = 0; i < s.vertices.size(); ++i) {
-            if (i > 0) out += ", ";
-            put_point(out, s.vertices[i]);
+          const auto put_ring = [&out](const std::vector<Vec2>& ring) {
+            out += '[';
+            for (std::size_t i = 0; i < ring.size(); ++i) {
+              if (i > 0) out += ", ";
+              put_point(out, ring[i]);
+            }
+            out += ']';
+          };
+          out += "\"polygon\": ";
+          put_ring(s.vertices);
+          if (!s.holes.empty()) {
+            out += ", \"holes\": [";
+            for (std::size_t k = 0; k < s.holes.size(); ++k) {
+              if (k > 0) out += ", ";
+              put_ring(s.holes[k]);
+            }
+            out += ']';
           }
-          out += ']';
         } else if constexpr (std::is_same_v<T, Circle>) {
           out += "\"circle\": { \"center\": ";
           put_point(out, s.center);

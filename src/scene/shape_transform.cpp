@@ -67,6 +67,11 @@ Status transform_shape(const Shape& local, const Transform& t, Shape& out) {
     std::vector<Vec2>& to = std::get<Polygon>(out).vertices;
     if (&to != &from) to.resize(from.size());  // within capacity after the first placement
     for (std::size_t k = 0; k < from.size(); ++k) to[k] = place(from[k]);
+    // Holes move with the outline (copied first unless placed in place).
+    Polygon& placed = std::get<Polygon>(out);
+    if (&out != &local) placed.holes = std::get<Polygon>(local).holes;
+    for (std::vector<Vec2>& hole : placed.holes)
+      for (Vec2& v : hole) v = place(v);
   }
   return {};
 }

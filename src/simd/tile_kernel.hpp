@@ -115,6 +115,11 @@ PAR2D_KERNEL_INLINE xsimd::batch<float, A> circle_excess(const KernelShape& s, c
   return xsimd::fma(qx, qx, qy * qy) - B(2.0f * s.r) * xsimd::fma(B(s.ux), qx, B(s.uy) * qy);
 }
 
+// How far outside a polygon's edge line (kernel units, about a pixel each) a point still
+// counts as inside, and how near a segment's line as on it: far below the 0.05 pixel widths
+// near boundaries where docs/contract.md section 5 lets float decide either way.
+inline constexpr float kOnBoundary = 0x1p-12f;
+
 // Tangent directions (lo clockwise, hi counter-clockwise) of a polygon or segment from
 // (px, py), and whether the point is inside. Outside a convex polygon all vertices lie in an
 // open half-plane of directions, where the pseudo-cross sign is a total order: running min
@@ -135,12 +140,19 @@ PAR2D_KERNEL_INLINE void vertex_tangents(const TileWork& work, const KernelShape
   const float* vy = work.vy.data() + s.first;
   lox = B(vx[0]) - px, loy = B(vy[0]) - py;
   if (s.kind == ShapeKind::segment) {
-    inside = B(0.0f) > B(0.0f);  // a segment has no interior
     hix = B(vx[1]) - px, hiy = B(vy[1]) - py;
     // The side of the segment's line (edge slot 0, see kernel_shape in render/kernel_shapes.cpp)
     // orders the ends: cross(a - x, b - x) = |b - a| (n.x - c). From the line's offset, not the
     // ends' cross product, which loses its sign for a point near a segment whose ends are far.
-    const auto swap = xsimd::fma(B(work.edge_nx[s.first]), px, B(work.edge_ny[s.first]) * py) < B(work.edge_c[s.first]);
+    const B side = xsimd::fma(B(work.edge_nx[s.first]), px, B(work.edge_ny[s.first]) * py) - B(work.edge_c[s.first]);
+    const auto swap = side < B(0.0f);
+    // A point on the segment is in it, as the reference has it (closed shapes), within the
+    // tolerance the polygon test below allows, and by the same offset: a polygon edge on this
+    // line has the negated normal and offset (kernel_shape), so where a concave light's two
+    // pieces both hold a point of their shared boundary, the boundary's segment holds it too,
+    // and where one piece does not, the segment does not either (World::push_light's sum).
+    inside = s.closed ? (xsimd::abs(side) <= B(kOnBoundary)) & (xsimd::fma(lox, hix, loy * hiy) <= B(0.0f))
+                      : B(0.0f) > B(0.0f);
     const B bx = hix, by = hiy;
     hix = xsimd::select(swap, lox, bx);
     hiy = xsimd::select(swap, loy, by);
@@ -169,7 +181,9 @@ PAR2D_KERNEL_INLINE void vertex_tangents(const TileWork& work, const KernelShape
   B outside_by = B(nc[0]) - xsimd::fma(B(nx[0]), px, B(ny[0]) * py);
   for (std::uint32_t i = 1; i < s.count; ++i)
     outside_by = xsimd::max(outside_by, B(nc[i]) - xsimd::fma(B(nx[i]), px, B(ny[i]) * py));
-  inside = outside_by <= B(0.0f);
+  // Within kOnBoundary of an edge's line counts as inside: nearer, the directions to that
+  // edge's ends are too close to opposite for the running min and max to order them.
+  inside = outside_by <= B(kOnBoundary);
 }
 
 // Tangent directions (lo clockwise, hi counter-clockwise) of a whole, unclipped shape from

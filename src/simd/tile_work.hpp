@@ -38,6 +38,9 @@ struct KernelShape {
   std::uint32_t count = 0;
   bool may_contain = true;  // polygons: whether the tile meets the bounding box (else skip the inside test)
   bool ordered = false;     // segments: vertex first is the clockwise tangent over the whole tile (a tile tangent pair)
+  // Segment lights: a sample on the segment (within kOnBoundary, simd/tile_kernel.hpp) is in it,
+  // as a polygon edge's is; an occluder segment has no interior for the kernel.
+  bool closed = false;
   // Occluders whose arcs the kernel takes and lights with pairs, in plain (not game-model)
   // tiles (assign_arc_window in render/kernel_shapes.cpp): every direction from a tile sample to a
   // point whose angle the kernel takes (a polygon's or segment's vertices, a circle's

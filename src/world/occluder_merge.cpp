@@ -21,7 +21,7 @@ struct Box {
 // The rectangle a polygon occluder is, if it is one: 4 vertices on two x and two y values.
 bool as_box(const Occluder& o, Box& out) {
   const auto* p = std::get_if<Polygon>(&o.shape);
-  if (!p || p->vertices.size() != 4) return false;
+  if (!p || p->vertices.size() != 4 || !p->holes.empty()) return false;
   double xs[2] = {p->vertices[0].x, p->vertices[0].x}, ys[2] = {p->vertices[0].y, p->vertices[0].y};
   int nx = 1, ny = 1;
   for (const Vec2 v : p->vertices) {

@@ -11,60 +11,14 @@
 
 #include "geometry/aabb.hpp"
 #include "geometry/bounce_pieces.hpp"
+#include "geometry/polygon_partition.hpp"
 #include "lighting/light_emission.hpp"
 #include "scene/scene_validate.hpp"
+#include "world/world_support.hpp"
 
 namespace par2d::detail {
-namespace {
 
-bool emits(const Light& light) noexcept {
-  const double e = std::max({light.intensity * light.color[0], light.intensity * light.color[1],
-                             light.intensity * light.color[2]});
-  return e > 0.0;
-}
-
-// A part's terms: the light's, with no occluder acting on its unshadowed part.
-LightTerms part_terms(const Light& light, LightPart part, double scale) noexcept {
-  LightTerms terms = light_terms(light, scale);
-  if (part == LightPart::unshadowed) terms.mask = 0;
-  return terms;
-}
-
-// `who: place: what`, e.g. `light 4294967298: polygon: not convex at vertex 3`.
-Status refused(const std::string& who, const SceneProblem& problem) {
-  std::string message = who + ": ";
-  if (!problem.place.empty()) {
-    // Places come as ".polygon..." relative to the object.
-    message += problem.place[0] == '.' ? problem.place.substr(1) : problem.place;
-    message += ": ";
-  }
-  message += problem.what;
-  return Status(StatusCode::invalid_scene, std::move(message));
-}
-
-Status unknown_handle(const char* kind, std::uint64_t id) {
-  return Status(StatusCode::invalid_argument, std::string("unknown ") + kind + " handle " + std::to_string(id));
-}
-
-// Keeps a light's overlap list sorted by occluder, its overlaps in step.
-void erase_overlap(PreparedLight& light, std::uint32_t k) {
-  auto& list = light.overlapping_occluders;
-  const auto it = std::lower_bound(list.begin(), list.end(), k);
-  if (it == list.end() || *it != k) return;
-  const auto i = it - list.begin();
-  list.erase(it);
-  light.overlaps.erase(light.overlaps.begin() + i);
-}
-
-void insert_overlap(PreparedLight& light, std::uint32_t k, LightOverlap overlap) {
-  auto& list = light.overlapping_occluders;
-  const auto it = std::lower_bound(list.begin(), list.end(), k);
-  const auto i = it - list.begin();
-  list.insert(it, k);
-  light.overlaps.insert(light.overlaps.begin() + i, std::move(overlap));
-}
-
-}  // namespace
+using namespace world_support;
 
 World::World() { scene_.separators.reset(0, 0); }
 
@@ -108,8 +62,29 @@ std::uint32_t World::new_slot(std::uint8_t list, std::int32_t where) {
   slots_[slot].list = list;
   slots_[slot].where = where;
   slots_[slot].internal = false;
-  slots_[slot].companion = kNoCompanion;
+  slots_[slot].next = kNoSlot;
+  slots_[slot].owner = kNoSlot;
   return slot;
+}
+
+std::uint32_t World::chain_slot(std::uint8_t list, std::uint32_t last, std::uint32_t owner) {
+  const std::uint32_t slot = new_slot(list, 0);
+  slots_[slot].internal = true;
+  slots_[slot].owner = owner;
+  slots_[last].next = slot;
+  ++(list == kOccluder ? internal_occluders_ : internal_lights_);
+  return slot;
+}
+
+const Light& World::user_light(std::uint32_t slot) const noexcept {
+  if (const auto it = compound_lights_.find(slot); it != compound_lights_.end()) return it->second;
+  const Slot& s = slots_[slot];
+  return s.list == kLit ? light_sources_[static_cast<std::size_t>(s.where)] : dark_sources_[static_cast<std::size_t>(s.where)];
+}
+
+const Occluder& World::user_occluder(std::uint32_t slot) const noexcept {
+  if (const auto it = compound_occluders_.find(slot); it != compound_occluders_.end()) return it->second;
+  return occluder_sources_[static_cast<std::size_t>(slots_[slot].where)];
 }
 
 Status World::set_frame(int width, int height, const View& view) {
@@ -185,49 +160,44 @@ Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, st
   };
   std::vector<LightHandle> light_handles;
   std::vector<OccluderHandle> occluder_handles;
-  // Lit entries: the user's slot, the light and its part (a split light's second part gets
-  // its internal slot after every handle's, so handles do not depend on shadows).
-  const auto push_entry = [&next](std::uint32_t slot, const Light& light, LightPart part) {
-    Slot& s = next.slots_[slot];
-    s.list = kLit;
-    s.where = static_cast<std::int32_t>(next.light_sources_.size());
-    next.light_sources_.push_back(light);
-    next.light_slots_.push_back(slot);
-    s.part = part;
-  };
-  std::vector<std::pair<std::uint32_t, std::size_t>> split;  // user slot, index in scene.lights
+  // Plain lights and occluders go straight into the lists (prepared together below); a light
+  // its shadow splits and a concave occluder (several entries each) are added once the rest is
+  // prepared, their internal slots after every handle's, so handles do not depend on them.
+  std::vector<std::pair<std::uint32_t, std::size_t>> later_lights, later_occluders;  // user slot, index
   for (std::size_t i = 0; i < scene.lights.size(); ++i) {
     const Light& light = scene.lights[i];
     const std::uint32_t slot = take_slot();
     Slot& s = next.slots_[slot];
-    if (emits(light)) {
-      const LightParts parts = light_parts(light);
-      push_entry(slot, light, parts.first);
-      if (parts.split) split.emplace_back(slot, i);
-    } else {
+    if (!emits(light)) {
       s.list = kDark;
       s.where = static_cast<std::int32_t>(next.dark_sources_.size());
       next.dark_sources_.push_back(light);
       next.dark_slots_.push_back(slot);
+    } else if (const LightParts parts = light_parts(light); parts.split || needs_partition(light.shape)) {
+      later_lights.emplace_back(slot, i);
+    } else {
+      s.list = kLit;
+      s.part = parts.first;
+      s.where = static_cast<std::int32_t>(next.light_sources_.size());
+      next.light_sources_.push_back(light);
+      next.light_slots_.push_back(slot);
     }
     light_handles.push_back({next.make_handle(slot)});
   }
-  for (const Occluder& occluder : scene.occluders) {
+  for (std::size_t i = 0; i < scene.occluders.size(); ++i) {
+    const Occluder& occluder = scene.occluders[i];
     const std::uint32_t slot = take_slot();
-    Slot& s = next.slots_[slot];
-    s.list = kOccluder;
-    s.where = static_cast<std::int32_t>(next.occluder_sources_.size());
-    next.occluder_sources_.push_back(occluder);
-    next.occluder_slots_.push_back(slot);
+    if (needs_partition(occluder.shape)) {
+      later_occluders.emplace_back(slot, i);
+    } else {
+      Slot& s = next.slots_[slot];
+      s.list = kOccluder;
+      s.where = static_cast<std::int32_t>(next.occluder_sources_.size());
+      next.occluder_sources_.push_back(occluder);
+      next.occluder_slots_.push_back(slot);
+    }
     occluder_handles.push_back({next.make_handle(slot)});
   }
-  for (const auto& [user, i] : split) {
-    const std::uint32_t slot = take_slot();
-    next.slots_[slot].internal = true;
-    next.slots_[user].companion = slot;
-    push_entry(slot, scene.lights[i], LightPart::unshadowed);
-  }
-  next.companions_ = split.size();
   for (std::size_t i = next.slots_.size(); i-- > cursor;)
     if (next.slots_[i].generation != 0) next.free_slots_.push_back(static_cast<std::uint32_t>(i));
   next.globals_.ambient = scene.ambient;
@@ -237,6 +207,8 @@ Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, st
   next.globals_.bounce = scene.bounce;
   for (const Occluder& o : scene.occluders) next.bounce_pieces_ += next.bounce_pieces_of(o);
   next.reprepare_all(std::move(converted));
+  for (const auto& [slot, i] : later_occluders) next.push_occluder(scene.occluders[i], slot);
+  for (const auto& [slot, i] : later_lights) next.push_light(scene.lights[i], slot);
   next.observer_ = observer_;
   *this = std::move(next);
   if (observer_) observer_->lights_reset(scene_.lights.size());
@@ -308,34 +280,76 @@ void World::prepare_lit(std::size_t p, const Light& light) {
 }
 
 void World::set_part_emission(std::size_t p) noexcept {
+  // The e_max share goes to the user's first entry only.
+  const Slot& slot = slots_[light_slots_[p]];
   const Light& light = light_sources_[p];
   PreparedLight& prepared = scene_.lights[p];
-  prepared.emission = part_emission(light, part_of(p));
+  prepared.emission = part_emission(light, slot.part);
+  if (slot.negative)
+    for (double& e : prepared.emission) e = -e;
   const Rgb whole = light_emission(light);
-  prepared.e_max_share = slots_[light_slots_[p]].internal ? 0.0 : std::max({whole[0], whole[1], whole[2]});
+  prepared.e_max_share = slot.internal ? 0.0 : std::max({whole[0], whole[1], whole[2]});
 }
 
 void World::push_light(const Light& light, std::uint32_t slot) {
   if (!emits(light)) return push_dark(light, slot);
-  const LightParts parts = light_parts(light);
-  push_lit(light, slot, parts.first);
-  if (!parts.split) return;
-  const std::uint32_t companion = new_slot(kLit, 0);
-  slots_[companion].internal = true;
-  slots_[slot].companion = companion;
-  ++companions_;
-  push_lit(light, companion, LightPart::unshadowed);
+  if (!needs_partition(light.shape)) {
+    push_light_element(light, slot, slot, true, false);
+    return;
+  }
+  // A concave light: its convex pieces emit like lights, which count a direction once per
+  // piece it meets; where a direction passes from one piece into the next across their shared
+  // boundary, that boundary (a segment light emitting -e, seen with the same visibility as the
+  // piece entered there) takes the second count back. So every direction counts once for
+  // each time it enters the light from outside (docs/contract.md section 3).
+  compound_lights_[slot] = light;
+  std::string error;
+  partition_polygon(std::get<Polygon>(light.shape), pieces_, error);  // check_light found it partitions
+  shared_.clear();
+  shared_boundaries(pieces_, shared_);
+  Light element = light;
+  std::uint32_t last = slot;
+  bool first = true;
+  for (Polygon& piece : pieces_) {
+    element.shape = std::move(piece);
+    last = push_light_element(element, slot, last, first, false);
+    first = false;
+  }
+  for (const Segment& boundary : shared_) {
+    element.shape = boundary;
+    last = push_light_element(element, slot, last, false, true);
+  }
+}
+
+std::uint32_t World::push_light_element(const Light& element, std::uint32_t owner, std::uint32_t last, bool first,
+                                        bool negative) {
+  const LightParts parts = light_parts(element);
+  const LightPart kinds[2] = {parts.first, LightPart::unshadowed};
+  const int part_count = parts.split ? 2 : 1;
+  for (int part = 0; part < part_count; ++part) {
+    if (!(first && part == 0)) last = chain_slot(kLit, last, owner);
+    slots_[last].negative = negative;
+    push_lit(element, last, kinds[part]);
+  }
+  return last;
+}
+
+void World::erase_chain(std::uint32_t slot, void (World::*erase_entry)(std::size_t), std::size_t& internal) {
+  for (std::uint32_t s = slots_[slot].next; s != kNoSlot;) {
+    const std::uint32_t next = slots_[s].next;
+    (this->*erase_entry)(static_cast<std::size_t>(slots_[s].where));
+    release_slot(&slots_[s]);
+    --internal;
+    s = next;
+  }
+  slots_[slot].next = kNoSlot;
+  (this->*erase_entry)(static_cast<std::size_t>(slots_[slot].where));
 }
 
 void World::erase_light(std::uint32_t slot) {
   if (slots_[slot].list == kDark) return erase_dark(static_cast<std::size_t>(slots_[slot].where));
-  if (const std::uint32_t companion = slots_[slot].companion; companion != kNoCompanion) {
-    erase_lit(static_cast<std::size_t>(slots_[companion].where));
-    release_slot(&slots_[companion]);
-    slots_[slot].companion = kNoCompanion;
-    --companions_;
-  }
-  erase_lit(static_cast<std::size_t>(slots_[slot].where));
+  erase_chain(slot, &World::erase_lit, internal_lights_);
+  compound_lights_.erase(slot);
 }
 
 void World::push_lit(const Light& light, std::uint32_t slot, LightPart part) {
@@ -390,18 +404,17 @@ void World::erase_dark(std::size_t q) {
 // The lights' total emission with `light` added (in place of lit light `replaced`, if any)
 // must stay within what float32 output can hold, as for scenes (check_emission_total).
 std::optional<SceneProblem> World::emission_total_problem(const Rgb& emission, const Slot* replaced) const {
-  // The lit entries of the replaced light (none: past the end).
-  std::size_t skip[2] = {light_sources_.size(), light_sources_.size()};
-  if (replaced != nullptr && replaced->list == kLit) {
-    skip[0] = static_cast<std::size_t>(replaced->where);
-    if (replaced->companion != kNoCompanion) skip[1] = static_cast<std::size_t>(slots_[replaced->companion].where);
-  }
+  // The lit entries of the replaced light are left out.
+  const std::uint32_t replaced_slot =
+      replaced != nullptr ? static_cast<std::uint32_t>(replaced - slots_.data()) : kNoSlot;
   for (std::size_t c = 0; c < 3; ++c) {
     // Ambient and directional lights add to E too (check_scene_terms); lit lights as prepared.
     double total = emission[c] + globals_.ambient[c];
     for (const DirectionalLight& d : globals_.directional_lights) total += d.intensity * d.color[c];
-    for (std::size_t i = 0; i < light_sources_.size(); ++i)
-      if (i != skip[0] && i != skip[1]) total += scene_.lights[i].emission[c];
+    for (std::size_t i = 0; i < light_sources_.size(); ++i) {
+      const Slot& entry = slots_[light_slots_[i]];
+      if ((entry.internal ? entry.owner : light_slots_[i]) != replaced_slot) total += scene_.lights[i].emission[c];
+    }
     if (!(total <= kMaxTotalEmission))
       return SceneProblem{std::string(), "emission too large: the lights' total intensity * color reaches " +
                                              format_number(total) + " (at most 1e38, so that float32 output stays finite)"};
@@ -432,7 +445,7 @@ Status World::set_model_terms(const char* who, const Scene& terms) {
   if (!problem) {
     Scene total;  // the emission total over lights, directional lights and ambient
     for (std::size_t p = 0; p < light_sources_.size(); ++p)
-      if (!slots_[light_slots_[p]].internal) total.lights.push_back(light_sources_[p]);
+      if (!slots_[light_slots_[p]].internal) total.lights.push_back(user_light(light_slots_[p]));
     total.ambient = terms.ambient;
     total.directional_lights = terms.directional_lights;
     if (auto p = check_scene_terms(total)) problem = p;
@@ -475,9 +488,11 @@ Status World::add_light(const Light& light, LightHandle* handle) {
 // so that it can be prepared in place: a moving light keeps its index and caches.
 bool World::same_parts(const Slot& slot, const Light& light) const noexcept {
   if (slot.list != kLit || !emits(light)) return false;
+  // A concave light's entries follow its pieces: it is laid out anew.
+  if (compound_lights_.count(static_cast<std::uint32_t>(&slot - slots_.data())) != 0 || needs_partition(light.shape))
+    return false;
   const LightParts parts = light_parts(light);
-  return parts.first == slot.part &&
-         parts.split == (slot.companion != kNoCompanion);
+  return parts.first == slot.part && parts.split == (slot.next != kNoSlot);
 }
 
 Status World::update_light(LightHandle handle, const Light& light) {
@@ -488,8 +503,8 @@ Status World::update_light(LightHandle handle, const Light& light) {
   if (auto problem = emission_total_problem(light_emission(light), slot))
     return refused("light " + std::to_string(handle.id), *problem);
   if (same_parts(*slot, light)) {
-    for (const std::uint32_t s : {index, slot->companion}) {
-      if (s == kNoCompanion) continue;
+    for (const std::uint32_t s : {index, slot->next}) {
+      if (s == kNoSlot) continue;
       const auto where = static_cast<std::size_t>(slots_[s].where);
       light_sources_[where] = light;
       prepare_lit(where, light);
@@ -516,7 +531,10 @@ Status World::set_light_emission(LightHandle handle, const Rgb& color, double in
                   "light " + std::to_string(handle.id) + ": intensity: must be a finite number >= 0");
   const std::uint32_t index = static_cast<std::uint32_t>(slot - slots_.data());
   const auto where = static_cast<std::size_t>(slot->where);
-  Light& source = slot->list == kLit ? light_sources_[where] : dark_sources_[where];
+  const auto compound = compound_lights_.find(index);
+  Light& source = compound != compound_lights_.end() ? compound->second
+                  : slot->list == kLit                ? light_sources_[where]
+                                                      : dark_sources_[where];
   const Rgb emission = light_emission(color, intensity, emission_scale(source));
   if (auto problem = emission_total_problem(emission, slot)) return refused("light " + std::to_string(handle.id), *problem);
   // The new light, built in place (its shape's storage is not copied).
@@ -529,8 +547,8 @@ Status World::set_light_emission(LightHandle handle, const Rgb& color, double in
   source.intensity = old_intensity;
   if (in_place) {
     // Only the emission changes: shape, overlaps, separators and reach all stay.
-    for (const std::uint32_t s : {index, slot->companion}) {
-      if (s == kNoCompanion) continue;
+    for (const std::uint32_t s : {index, slot->next}) {
+      if (s == kNoSlot) continue;
       const auto p = static_cast<std::size_t>(slots_[s].where);
       light_sources_[p].color = color;
       light_sources_[p].intensity = intensity;
@@ -558,109 +576,6 @@ Status World::remove_light(LightHandle handle) {
   return {};
 }
 
-// Occluder k has a new shape (or is new): its overlaps with lights, its separators and the
-// reach of lights whose proofs looked where it was or is.
-void World::occluder_changed(std::size_t k, const Aabb* old_box) {
-  const ConvexShape& occ = scene_.occluders[k];
-  const Aabb box = bounds_of(occ);
-  const auto index = static_cast<std::uint32_t>(k);
-  for (PreparedLight& light : scene_.lights) {
-    erase_overlap(light, index);
-    if (!boxes_meet(bounds_of(light.shape), box) || !meets_within_contact(light.shape, occ)) continue;
-    LightOverlap overlap;
-    describe_overlap(light.shape, occ, overlap);
-    insert_overlap(light, index, std::move(overlap));
-  }
-  scene_.separators.forget_occluder(k);
-  if (observer_) {
-    if (old_box) observer_->region_changed(*old_box);
-    observer_->region_changed(box);
-  }
-}
-
-Status World::add_occluder(const Occluder& occluder, OccluderHandle* handle) {
-  if (handle == nullptr) return Status(StatusCode::invalid_argument, "add_occluder: handle is null");
-  if (auto problem = check_occluder(occluder, std::string())) return refused("add_occluder", *problem);
-  const double pieces = bounce_pieces_ + bounce_pieces_of(occluder);
-  if (pieces > kMaxBouncePieces) return refused("add_occluder", {"albedo", bounce_pieces_text(pieces)});
-  const std::size_t k = occluder_sources_.size();
-  const std::uint32_t slot = new_slot(kOccluder, static_cast<std::int32_t>(k));
-  occluder_sources_.push_back(occluder);
-  occluder_slots_.push_back(slot);
-  bounce_pieces_ = pieces;
-  scene_.occluders.emplace_back();
-  scene_.occluder_terms.push_back(occluder_terms(occluder));
-  update_model_flag(scene_);
-  make_convex_shape(occluder.shape, scene_.occluders[k]);
-  scale_shape(scene_.occluders[k], factor_);
-  scene_.occluder_bvh.insert(bounds_of(scene_.occluders[k]));
-  scene_.separators.resize(scene_.lights.size(), k + 1);
-  occluder_changed(k, nullptr);
-  ++stats_.index_updates;
-  handle->id = make_handle(slot);
-  return {};
-}
-
-Status World::update_occluder(OccluderHandle handle, const Occluder& occluder) {
-  Slot* slot = find(handle.id, true);
-  if (!slot) return unknown_handle("occluder", handle.id);
-  if (auto problem = check_occluder(occluder, std::string())) return refused("occluder " + std::to_string(handle.id), *problem);
-  const auto k = static_cast<std::size_t>(slot->where);
-  const double pieces = bounce_pieces_ - bounce_pieces_of(occluder_sources_[k]) + bounce_pieces_of(occluder);
-  if (pieces > kMaxBouncePieces) return refused("occluder " + std::to_string(handle.id), {"albedo", bounce_pieces_text(pieces)});
-  const Aabb old_box = bounds_of(scene_.occluders[k]);
-  bounce_pieces_ = pieces;
-  occluder_sources_[k] = occluder;
-  scene_.occluder_terms[k] = occluder_terms(occluder);
-  update_model_flag(scene_);
-  make_convex_shape(occluder.shape, scene_.occluders[k]);
-  scale_shape(scene_.occluders[k], factor_);
-  scene_.occluder_bvh.update(static_cast<std::uint32_t>(k), bounds_of(scene_.occluders[k]));
-  occluder_changed(k, &old_box);
-  ++stats_.index_updates;
-  return {};
-}
-
-Status World::remove_occluder(OccluderHandle handle) {
-  Slot* slot = find(handle.id, true);
-  if (!slot) return unknown_handle("occluder", handle.id);
-  const auto k = static_cast<std::size_t>(slot->where);
-  const std::size_t m = occluder_sources_.size() - 1;
-  bounce_pieces_ -= bounce_pieces_of(occluder_sources_[k]);
-  if (observer_) observer_->region_changed(bounds_of(scene_.occluders[k]));
-  // Occluder m takes index k everywhere.
-  for (PreparedLight& light : scene_.lights) {
-    erase_overlap(light, static_cast<std::uint32_t>(k));
-    if (k == m) continue;
-    auto& list = light.overlapping_occluders;
-    const auto it = std::lower_bound(list.begin(), list.end(), static_cast<std::uint32_t>(m));
-    if (it == list.end() || *it != m) continue;
-    LightOverlap overlap = std::move(light.overlaps[static_cast<std::size_t>(it - list.begin())]);
-    erase_overlap(light, static_cast<std::uint32_t>(m));
-    insert_overlap(light, static_cast<std::uint32_t>(k), std::move(overlap));
-  }
-  scene_.occluder_bvh.remove(static_cast<std::uint32_t>(k));
-  if (k != m) {
-    std::swap(occluder_sources_[k], occluder_sources_[m]);
-    occluder_slots_[k] = occluder_slots_[m];
-    std::swap(scene_.occluders[k], scene_.occluders[m]);
-    std::swap(scene_.occluder_terms[k], scene_.occluder_terms[m]);
-    scene_.separators.move_occluder(m, k);
-    slots_[occluder_slots_[k]].where = static_cast<std::int32_t>(k);
-    if (observer_) observer_->occluder_renumbered(bounds_of(scene_.occluders[k]));
-  }
-  occluder_sources_.pop_back();
-  occluder_slots_.pop_back();
-  scene_.occluders.pop_back();
-  scene_.occluder_terms.pop_back();
-  update_model_flag(scene_);
-  scene_.separators.forget_occluder(m);
-  scene_.separators.resize(scene_.lights.size(), m);
-  release_slot(slot);
-  ++stats_.index_updates;
-  return {};
-}
-
 const PreparedScene& World::commit() {
   // The coordinate scale follows the view and the largest coordinate (scene_scale); when
   // it changes, everything is prepared again (a zoom by a power of two, far-flung shapes).
@@ -674,14 +589,12 @@ const PreparedScene& World::commit() {
 
 const Light* World::find_light(std::uint64_t id) const noexcept {
   const Slot* slot = const_cast<World*>(this)->find(id, false);
-  if (slot == nullptr) return nullptr;
-  const auto where = static_cast<std::size_t>(slot->where);
-  return slot->list == kLit ? &light_sources_[where] : &dark_sources_[where];
+  return slot == nullptr ? nullptr : &user_light(static_cast<std::uint32_t>(slot - slots_.data()));
 }
 
 const Occluder* World::find_occluder(std::uint64_t id) const noexcept {
   const Slot* slot = const_cast<World*>(this)->find(id, true);
-  return slot == nullptr ? nullptr : &occluder_sources_[static_cast<std::size_t>(slot->where)];
+  return slot == nullptr ? nullptr : &user_occluder(static_cast<std::uint32_t>(slot - slots_.data()));
 }
 
 Scene World::snapshot() const {
@@ -690,9 +603,10 @@ Scene World::snapshot() const {
   out.height = scene_.height;
   out.view = view_;
   for (std::size_t p = 0; p < light_sources_.size(); ++p)
-    if (!slots_[light_slots_[p]].internal) out.lights.push_back(light_sources_[p]);
+    if (!slots_[light_slots_[p]].internal) out.lights.push_back(user_light(light_slots_[p]));
   out.lights.insert(out.lights.end(), dark_sources_.begin(), dark_sources_.end());
-  out.occluders = occluder_sources_;
+  for (std::size_t k = 0; k < occluder_sources_.size(); ++k)
+    if (!slots_[occluder_slots_[k]].internal) out.occluders.push_back(user_occluder(occluder_slots_[k]));
   out.ambient = globals_.ambient;
   out.directional_lights = globals_.directional_lights;
   out.normal = globals_.normal;

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "par2d/renderer.hpp"
@@ -53,9 +54,9 @@ class World {
   bool has_frame() const noexcept { return scene_.width > 0; }
   const View& view() const noexcept { return view_; }
   std::size_t light_count() const noexcept {
-    return light_sources_.size() - companions_ + dark_sources_.size();
+    return light_sources_.size() - internal_lights_ + dark_sources_.size();
   }
-  std::size_t occluder_count() const noexcept { return occluder_sources_.size(); }
+  std::size_t occluder_count() const noexcept { return occluder_sources_.size() - internal_occluders_; }
 
   // Brings everything derived up to date for a frame: coordinate scale, bounds and the index
   // (rebuilt only when refits have degraded it). Allocates nothing in steady state.
@@ -76,14 +77,26 @@ class World {
     std::uint32_t generation = 1;  // 0: retired (see release_slot)
     std::int32_t where = -1;  // index into the owning array, -1 when free
     std::uint8_t list = 0;    // kLit / kDark / kOccluder
-    // A light split by its shadow (light_emission.hpp's LightPart): the user's slot holds the
-    // shadowed part and names the slot of the unshadowed part, an internal slot no handle names.
+    // One user object can be several entries: a light split by its shadow (light_emission.hpp's
+    // LightPart) and a concave occluder (one entry per convex piece). The
+    // user's slot holds the first entry and starts a chain, through `next`, of internal slots
+    // (no handle names them), one per further entry; `owner` is the user's slot.
+    // A concave light is one entry (or two, split by its shadow) per convex piece and per
+    // boundary two pieces share, the latter emitting -e: a direction crossing from one piece
+    // into the next is counted by both and taken back once (push_light).
     bool internal = false;
+    bool negative = false;  // lit entries: a shared boundary of a concave light's pieces
     LightPart part = LightPart::whole;  // lit entries: which part of the light this one renders
-    std::uint32_t companion = kNoCompanion;
+    std::uint32_t next = kNoSlot;
+    std::uint32_t owner = kNoSlot;
   };
   LightPart part_of(std::size_t p) const noexcept { return slots_[light_slots_[p]].part; }
-  static constexpr std::uint32_t kNoCompanion = 0xffffffffu;
+  static constexpr std::uint32_t kNoSlot = 0xffffffffu;
+  // A new internal slot of `list` chained after `last`, owned by `owner`.
+  std::uint32_t chain_slot(std::uint8_t list, std::uint32_t last, std::uint32_t owner);
+  // Erases every entry of a user slot's chain with `erase_entry` (an index into its list),
+  // releasing the internal slots (`internal` counts them) and keeping the user's.
+  void erase_chain(std::uint32_t slot, void (World::*erase_entry)(std::size_t), std::size_t& internal);
 
   // A problem when a light emitting `emission` in all, in place of the light in `replaced`
   // (nullptr: added), would take the lights' total emission past kMaxTotalEmission.
@@ -103,6 +116,19 @@ class World {
   // for the second); erase_light takes them all out again, keeping the user's slot.
   void push_light(const Light& light, std::uint32_t slot);
   void erase_light(std::uint32_t slot);
+  // One convex element of a user's light (the light itself, or a piece or shared boundary of
+  // a concave one) as its parts, chained after `last` (`first`: into the user's slot `owner`);
+  // returns the last slot used.
+  std::uint32_t push_light_element(const Light& element, std::uint32_t owner, std::uint32_t last, bool first,
+                                   bool negative);
+  // The same for occluders: one entry, or one per convex piece of a concave one.
+  void push_occluder(const Occluder& occluder, std::uint32_t slot);
+  void erase_occluder(std::uint32_t slot);
+  void push_occluder_entry(const Occluder& occluder, std::uint32_t slot);
+  void erase_occluder_entry(std::size_t k);
+  // The user's light or occluder behind a user slot's first entry (a concave one as given).
+  const Light& user_light(std::uint32_t slot) const noexcept;
+  const Occluder& user_occluder(std::uint32_t slot) const noexcept;
   bool same_parts(const Slot& slot, const Light& light) const noexcept;
   // Lit entry p's emission and e_max share from its source and part.
   void set_part_emission(std::size_t p) noexcept;
@@ -126,7 +152,13 @@ class World {
   // Emitting lights, parallel to scene_.lights; dark (zero emission) lights aside.
   std::vector<Light> light_sources_;
   std::vector<std::uint32_t> light_slots_;
-  std::size_t companions_ = 0;          // lit entries that are a split light's second part
+  std::size_t internal_lights_ = 0;  // lit entries in internal slots (not the user's first)
+  std::size_t internal_occluders_ = 0;
+  // Concave occluders and lights as given, by user slot (their entries hold the pieces).
+  std::unordered_map<std::uint32_t, Occluder> compound_occluders_;
+  std::unordered_map<std::uint32_t, Light> compound_lights_;
+  std::vector<Polygon> pieces_;   // scratch for partitions
+  std::vector<Segment> shared_;   // scratch: the boundaries a partition's pieces share
   std::vector<Light> dark_sources_;
   std::vector<std::uint32_t> dark_slots_;
   // The scene-wide game-model terms as given (ambient, directional lights, normal source);

@@ -861,6 +861,30 @@ static void check_bounce(void) {
   CHECK(par2d_render(r, lit, PAR2D_RGB_F32, sizeof lit, 1.0, row) == PAR2D_OK);
   /* Left of the wall, the lit face reflects onto the floor: more red than before. */
   CHECK(lit[8 * 3] > dark[8 * 3]);
+  /* The terms apart: the direct light alone is the frame without albedo, the bounce alone is
+   * what albedo adds (within float rounding of the sum), and the frame's stats count pieces. */
+  par2d_frame_stats frame;
+  CHECK(par2d_get_frame_stats(r, &frame) == PAR2D_OK && frame.bounce_pieces == 8 && frame.bounce_lit_sources == 1);
+  CHECK(frame.bounce_source_walks > 0 && frame.bounce_tile_sources >= frame.bounce_tile_sources_hidden);
+  float direct[24 * 3], bounce[24 * 3];
+  par2d_advanced_options advanced;
+  CHECK(par2d_get_advanced_options(r, &advanced) == PAR2D_OK && advanced.bounce == PAR2D_BOUNCE_INCLUDED);
+  advanced.bounce = PAR2D_BOUNCE_EXCLUDED;
+  CHECK(par2d_set_advanced_options(r, &advanced) == PAR2D_OK);
+  CHECK(par2d_render(r, direct, PAR2D_RGB_F32, sizeof direct, 1.0, row) == PAR2D_OK);
+  CHECK(memcmp(direct, dark, sizeof dark) == 0);
+  advanced.bounce = PAR2D_BOUNCE_ONLY;
+  CHECK(par2d_set_advanced_options(r, &advanced) == PAR2D_OK);
+  CHECK(par2d_get_advanced_options(r, &advanced) == PAR2D_OK && advanced.bounce == PAR2D_BOUNCE_ONLY);
+  CHECK(par2d_render(r, bounce, PAR2D_RGB_F32, sizeof bounce, 1.0, row) == PAR2D_OK);
+  for (int i = 0; i < 24 * 3; ++i) CHECK(fabs((double)direct[i] + bounce[i] - lit[i]) <= 1e-6 * 3.0);
+  CHECK(bounce[8 * 3] > 0.0f);
+  advanced.bounce = (par2d_bounce_term)3;
+  CHECK_ERROR(par2d_set_advanced_options(r, &advanced), PAR2D_INVALID_ARGUMENT,
+              "par2d_set_advanced_options: bounce 3 is not PAR2D_BOUNCE_INCLUDED, PAR2D_BOUNCE_EXCLUDED or "
+              "PAR2D_BOUNCE_ONLY");
+  advanced.bounce = PAR2D_BOUNCE_INCLUDED;
+  CHECK(par2d_set_advanced_options(r, &advanced) == PAR2D_OK);
   double piece = 0.0;
   CHECK(par2d_get_bounce(r, &piece) == PAR2D_OK && piece == 4.0);
   CHECK(par2d_set_bounce(r, 0.5) == PAR2D_OK);
@@ -961,14 +985,65 @@ int main(void) {
     free(rgba);
   }
 
-  /* Errors: a non-convex polygon is refused with a message; the world stays as it was. */
+  /* Errors: a concave light and a self-crossing occluder are refused with a message (an
+     occluder may be concave, a light not); the world stays as it was. */
   {
-    const double bent[10] = {10, 10, 30, 10, 20, 12, 30, 30, 10, 30};
+    const double bent[10] = {10, 10, 30, 10, 20, 10, 30, 30, 10, 30}; /* folds back at vertex 1 */
+    const double crossing[8] = {10, 10, 30, 30, 30, 10, 10, 30};
+    const double grey[3] = {0.5, 0.5, 0.5};
     par2d_shape bad = occluder_shape;
     bad.vertices = bent;
     bad.vertex_count = 5;
+    CHECK(par2d_update_light(r, light, &bad, grey, 1.0) == PAR2D_INVALID_SCENE);
+    CHECK(strstr(par2d_last_error(), "polygon: the edges at vertex 1 fold back onto each other") != NULL);
+    bad.vertices = crossing;
+    bad.vertex_count = 4;
     CHECK(par2d_update_occluder(r, occluder, &bad) == PAR2D_INVALID_SCENE);
-    CHECK(strstr(par2d_last_error(), "not convex") != NULL);
+    CHECK(strstr(par2d_last_error(), "polygon: edges 0 and 2 cross") != NULL);
+    /* A concave occluder is accepted under one handle, read back as given, and removed whole. */
+    const double ell[12] = {40, 40, 60, 40, 60, 60, 56, 60, 56, 44, 40, 44};
+    par2d_shape concave = occluder_shape;
+    concave.vertices = ell;
+    concave.vertex_count = 6;
+    const size_t before = par2d_occluder_count(r);
+    par2d_occluder corner = 0;
+    CHECK(par2d_add_occluder(r, &concave, &corner) == PAR2D_OK);
+    CHECK(par2d_occluder_count(r) == before + 1);
+    par2d_shape got;
+    memset(&got, 0, sizeof got);
+    CHECK(par2d_get_occluder(r, corner, &got) == PAR2D_OK);
+    CHECK(got.kind == PAR2D_SHAPE_POLYGON && got.vertex_count == 6 && got.vertices[6] == 56.0);
+    CHECK(got.hole_count == 0 && got.hole_vertex_counts == NULL);
+    CHECK(par2d_remove_occluder(r, corner) == PAR2D_OK);
+    CHECK(par2d_occluder_count(r) == before);
+    /* A square with two holes (their vertices after the outline's), and one light with a hole. */
+    const double framed[20] = {40, 40, 60, 40, 60, 60, 40, 60, 42, 42, 48, 42, 48, 48, 42, 48, 52, 52, 56, 52};
+    const double framed_tail[4] = {56, 56, 52, 56};
+    double all[24];
+    memcpy(all, framed, sizeof framed);
+    memcpy(all + 20, framed_tail, sizeof framed_tail);
+    const size_t holes[2] = {4, 4};
+    par2d_shape holed = occluder_shape;
+    holed.vertices = all;
+    holed.vertex_count = 4;
+    holed.hole_vertex_counts = holes;
+    holed.hole_count = 2;
+    par2d_occluder courtyard = 0;
+    CHECK(par2d_add_occluder(r, &holed, &courtyard) == PAR2D_OK);
+    memset(&got, 0, sizeof got);
+    CHECK(par2d_get_occluder(r, courtyard, &got) == PAR2D_OK);
+    CHECK(got.vertex_count == 4 && got.hole_count == 2 && got.hole_vertex_counts[1] == 4 && got.vertices[2 * 9] == 56.0);
+    holed.hole_vertex_counts = NULL;
+    CHECK_ERROR(par2d_update_occluder(r, courtyard, &holed), PAR2D_INVALID_ARGUMENT,
+                "par2d_update_occluder: shape hole_vertex_counts are null");
+    const size_t outside[1] = {3};
+    const double poking[14] = {40, 40, 60, 40, 60, 60, 40, 60, 58, 58, 70, 58, 70, 70};
+    holed.vertices = poking;
+    holed.hole_vertex_counts = outside;
+    holed.hole_count = 1;
+    CHECK(par2d_update_occluder(r, courtyard, &holed) == PAR2D_INVALID_SCENE);
+    CHECK(strstr(par2d_last_error(), "holes[0]: ") != NULL);
+    CHECK(par2d_remove_occluder(r, courtyard) == PAR2D_OK);
     CHECK(par2d_remove_light(r, light + 12345) == PAR2D_INVALID_ARGUMENT);
     CHECK(par2d_render(r, NULL, PAR2D_RGB_F32, W * 12, 1.0, NULL) == PAR2D_INVALID_ARGUMENT);
     CHECK(par2d_render(r, rgb, PAR2D_RGB_F32, 4, 1.0, NULL) == PAR2D_INVALID_ARGUMENT);

@@ -15,6 +15,8 @@
 #include <vector>
 
 #include "geometry/convex_shape.hpp"
+#include "geometry/polygon_partition.hpp"
+#include "scene/scene_validate.hpp"
 #include "par2d/par2d.hpp"
 #include "support/random_scenes.hpp"
 
@@ -84,7 +86,7 @@ inline Shape decode_shape(ByteReader& in, double origin_x, double origin_y, doub
       const Vec2 b{grid_x(), grid_y()};
       return Segment{a, b};
     }
-    case 3: {  // free polygon: often not convex, then left out
+    case 3: {  // free polygon: often not convex (then an occluder only) or not simple (left out)
       Polygon p;
       const unsigned n = 3 + in.byte() % 6;
       for (unsigned k = 0; k < n; ++k) {
@@ -238,11 +240,13 @@ inline FuzzScene decode_scene(ByteReader& in) {
   f.spp = (view_flags & 8) ? 1 + static_cast<int>(in.byte() % 4) : 1;
   f.rays = 1 + static_cast<int>(in.byte() % 64);
   // A shape that validate_scene refuses is left out, so that most inputs still render.
-  auto accepted = [&](const Shape& shape) {
+  // (A light must be convex; an occluder may be concave.)
+  auto accepted = [&](const Shape& shape, bool light) {
     Scene probe;
     probe.width = probe.height = 1;
     probe.view = {0, 0, 1, 1};
-    probe.occluders.push_back({shape});
+    if (light) probe.lights.push_back({shape});
+    else probe.occluders.push_back({shape});
     return validate_scene(probe).ok();
   };
   const unsigned lights = in.byte() % 5, occluders = in.byte() % 7;
@@ -251,11 +255,11 @@ inline FuzzScene decode_scene(ByteReader& in) {
     light.shape = decode_shape(in, origin, origin, scale);
     light.color = {in.byte() / 255.0, in.byte() / 255.0, in.byte() / 255.0};
     light.intensity = in.byte() / 16.0;
-    if (accepted(light.shape)) s.lights.push_back(light);
+    if (accepted(light.shape, true)) s.lights.push_back(light);
   }
   for (unsigned k = 0; k < occluders; ++k) {
     Occluder occluder{decode_shape(in, origin, origin, scale)};
-    if (accepted(occluder.shape)) s.occluders.push_back(occluder);
+    if (accepted(occluder.shape, false)) s.occluders.push_back(occluder);
   }
   for (const Light& l : s.lights)
     if (const auto* p = std::get_if<Polygon>(&l.shape)) f.polygon_vertices += p->vertices.size();
@@ -312,20 +316,43 @@ inline bool lights_disjoint_from_occluders(const Scene& scene) {
     }
     return detail::make_convex_shape(shape);
   };
-  for (const Light& l : scene.lights) {
-    const detail::ConvexShape ls = scaled(l.shape);
-    for (const Occluder& o : scene.occluders)
-      if (detail::meets_within_contact(ls, scaled(o.shape))) return false;
+  // A concave (or holed) shape meets another where one of its convex pieces does.
+  const auto pieces_of = [](const Shape& shape, std::vector<Shape>& out) {
+    std::vector<Polygon> pieces;
+    std::string error;
+    if (detail::needs_partition(shape) && detail::partition_polygon(std::get<Polygon>(shape), pieces, error))
+      out.insert(out.end(), pieces.begin(), pieces.end());
+    else
+      out.push_back(shape);
+  };
+  std::vector<Shape> occluder_pieces, light_pieces;
+  for (const Occluder& o : scene.occluders) pieces_of(o.shape, occluder_pieces);
+  for (const Light& l : scene.lights) pieces_of(l.shape, light_pieces);
+  for (const Shape& l : light_pieces) {
+    const detail::ConvexShape ls = scaled(l);
+    for (const Shape& o : occluder_pieces)
+      if (detail::meets_within_contact(ls, scaled(o))) return false;
   }
   return true;
 }
 
-// Finite, 0 <= E <= sum of e_L per channel (float rounding allowed).
+// Finite, 0 <= E <= sum of e_L per channel, a concave light's times the most entries a ray
+// can make into it (float rounding allowed).
 inline std::string check_bounds(const Scene& scene, const test::RenderedImage& image, const char* what) {
-  // Every weight of the lighting model (window, cone, shading, transmittance) is in [0, 1].
+  // Every weight of the lighting model (window, cone, shading, transmittance) is in [0, 1]. A
+  // concave light counts once per entry (docs/contract.md section 3): a ray crosses each of
+  // its edges at most once and enters at every other crossing, or at 0 from inside it.
   double sum[3] = {scene.ambient[0], scene.ambient[1], scene.ambient[2]};
-  for (const Light& l : scene.lights)
-    for (int c = 0; c < 3; ++c) sum[c] += l.intensity * l.color[c];
+  for (const Light& l : scene.lights) {
+    double entries = 1.0;
+    if (detail::needs_partition(l.shape)) {
+      const Polygon& p = std::get<Polygon>(l.shape);
+      double edges = static_cast<double>(p.vertices.size());
+      for (const std::vector<Vec2>& hole : p.holes) edges += static_cast<double>(hole.size());
+      entries = 1.0 + std::floor(0.5 * edges);
+    }
+    for (int c = 0; c < 3; ++c) sum[c] += entries * l.intensity * l.color[c];
+  }
   for (const DirectionalLight& d : scene.directional_lights)
     for (int c = 0; c < 3; ++c) sum[c] += d.intensity * d.color[c];
   for (int j = 0; j < image.height; ++j)
@@ -370,7 +397,16 @@ inline std::string check_render_scene(const FuzzScene& f, bool compare_simd = tr
                                      std::fabs(scene.view.y1)});
   const bool resolvable = test::pixel_width(scene) >= 1e-9 * magnitude;
   const bool compare = compare_simd && f.spp == 1 && resolvable && lights_disjoint_from_occluders(scene);
-  const double tolerance = 1e-4 * test::emission_max_sum(scene);
+  // docs/contract.md section 5: a concave (or holed) light adds 2e-6 e_L per vertex of its
+  // rings to the bound (its pieces and their shared boundaries each carry float error; FINDINGS.md #18).
+  double tolerance = 1e-4 * test::emission_max_sum(scene);
+  for (const Light& l : scene.lights) {
+    if (!detail::needs_partition(l.shape)) continue;
+    const Polygon& p = std::get<Polygon>(l.shape);
+    double vertices = static_cast<double>(p.vertices.size());
+    for (const std::vector<Vec2>& hole : p.holes) vertices += static_cast<double>(hole.size());
+    tolerance += 2e-6 * vertices * std::max({l.intensity * l.color[0], l.intensity * l.color[1], l.intensity * l.color[2]});
+  }
   const double near = 0.05 * test::pixel_width(scene);
   for (Isa isa : kSimdIsas) {
     if (!isa_supported(isa)) continue;

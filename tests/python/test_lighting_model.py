@@ -211,3 +211,64 @@ def test_bounce_piece_and_albedo_from_a_renderer():
         r.set_bounce(0)
     assert str(e.value) == "set_bounce: bounce.piece: must be > 0, got 0"
     assert r.bounce_piece == 0.5
+
+
+def test_the_direct_and_bounce_terms_apart():
+    """bounce="excluded" is the scene without albedo, "only" what albedo adds; counted in frame_stats."""
+    scene = {"width": 24, "height": 16,
+             "lights": [{"circle": {"center": [4, 4], "radius": 1.5}, "intensity": 3}],
+             "occluders": [{"polygon": [[10, 2], [12, 2], [12, 12], [10, 12]], "albedo": [0.8, 0.4, 0.2]}]}
+    dark = dict(scene, occluders=[{"polygon": scene["occluders"][0]["polygon"]}])
+    total = par2d.render(scene)
+    direct = par2d.render(scene, bounce="excluded")
+    bounce = par2d.render(scene, bounce="only")
+    np.testing.assert_array_equal(direct, par2d.render(dark))
+    assert bounce[10, 8, 0] > 0.0
+    assert np.allclose(direct + bounce, total, rtol=0, atol=1e-6 * 3)
+    r = par2d.Renderer(scene, bounce="only")
+    assert r.options["bounce"] == "only"
+    np.testing.assert_array_equal(r.render(), bounce)
+    stats = r.frame_stats
+    assert stats["bounce_pieces"] == 8 and stats["bounce_lit_sources"] == 1
+    r.set_options(bounce="excluded")
+    np.testing.assert_array_equal(r.render(), direct)
+    with pytest.raises(par2d.Error) as e:
+        par2d.render(scene, bounce="indirect")
+    assert str(e.value) == 'bounce: unknown name "indirect" (included, excluded, only)'
+
+
+def test_a_concave_occluder_is_one_occluder_and_shadows_as_its_pieces():
+    ell = [[4, 2], [12, 2], [12, 10], [10, 10], [10, 4], [4, 4]]
+    pieces = [[[4, 2], [12, 2], [12, 4], [4, 4]], [[10, 4], [12, 4], [12, 10], [10, 10]]]
+    light = {"circle": {"center": [2, 11], "radius": 1}, "intensity": 3}
+    whole = par2d.render({"width": 16, "height": 12, "lights": [light], "occluders": [{"polygon": ell}]})
+    by_hand = par2d.render({"width": 16, "height": 12, "lights": [light],
+                            "occluders": [{"polygon": p} for p in pieces]})
+    assert np.allclose(whole, by_hand, rtol=0, atol=1e-6 * 3)
+    assert whole[3, 8, 0] == 0.0  # inside the wall
+    r = par2d.Renderer({"width": 16, "height": 12, "lights": [light], "occluders": [{"polygon": ell}]})
+    assert len(r.occluders) == 1
+    assert r.snapshot().to_dict()["occluders"][0]["polygon"] == ell
+    with pytest.raises(par2d.Error) as e:
+        r.update_light(r.lights[0], {"polygon": ell, "range": 5})
+    assert str(e.value) == (f"light {r.lights[0]}: range: a concave light takes no range or normalize "
+                            "(split it into convex lights)")
+    r.update_light(r.lights[0], {"polygon": ell, "intensity": 2})  # a concave light
+    assert r.light(r.lights[0])["polygon"] == ell
+
+
+def test_polygons_with_holes_as_lights_and_occluders():
+    """A ring light lights its hole from every side; an occluder's hole is read back as given."""
+    scene = {"width": 16, "height": 12,
+             "lights": [{"polygon": [[0, 0], [6, 0], [6, 6], [0, 6]], "holes": [[[2, 2], [4, 2], [4, 4], [2, 4]]]}],
+             "occluders": [{"polygon": [[8, 0], [16, 0], [16, 8], [8, 8]], "holes": [[[9, 1], [11, 1], [11, 3]]]}]}
+    image = par2d.render(scene, backend="scalar")
+    # The hole's centre sees the ring in every direction, entered once: e exactly (to 1e-6).
+    assert abs(float(image[3, 3, 0]) - 1.0) <= 1e-6
+    r = par2d.Renderer(scene)
+    assert r.occluder(r.occluders[0])["holes"] == [[[9, 1], [11, 1], [11, 3]]]
+    assert r.light(r.lights[0])["holes"] == [[[2, 2], [4, 2], [4, 4], [2, 4]]]
+    with pytest.raises(par2d.Error) as e:
+        r.add_occluder({"circle": {"center": [2, 2], "radius": 1}, "holes": []})
+    assert "holes: only a polygon has holes" in str(e.value)
+

@@ -140,10 +140,10 @@ def test_isa_option_and_names(tmp_path):
 
 def test_bad_scene_raises_with_the_loaders_one_line_message():
     bad = one_circle_light()
-    bad["lights"].append({"polygon": [[0, 0], [10, 0], [10, 10], [5, 2]]})
+    bad["lights"].append({"polygon": [[0, 0], [10, 10], [10, 0], [0, 10]]})
     with pytest.raises(par2d.Error) as e:
         par2d.Scene.from_dict(bad, name="level")
-    assert str(e.value) == "level: lights[1].polygon: not convex at vertex 3"
+    assert str(e.value) == "level: lights[1].polygon: edges 0 and 2 cross"
     assert e.value.code == "invalid_scene"
     with pytest.raises(par2d.Error) as e:
         par2d.render(dict(bad, colour=[1, 1, 1]))

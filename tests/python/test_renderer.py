@@ -283,7 +283,7 @@ def test_options_and_frame_stats():
     r = par2d.Renderer(small_example_dict(), threads=1, spp=2, isa="scalar", shaded=False)
     o = r.options
     assert o == {"backend": "auto", "threads": 1, "isa": "scalar", "spp": 2, "culling": True, "shaded": False,
-                 "sample_needs": False}
+                 "sample_needs": False, "bounce": "included"}
     assert r.frame_stats["pixels"] == 0
     r.render()
     s = r.frame_stats

@@ -2,6 +2,9 @@
 // fuzz targets link random_scenes.cpp without doctest's runtime.
 #include "support/render_checks.hpp"
 
+#include "raycast/raycast_renderer.hpp"
+#include "scene/scene_validate.hpp"
+
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -104,11 +107,23 @@ int boundary_complexity(const Shape& shape) {
   return std::numeric_limits<int>::max();
 }
 
+namespace {
+
+// Half the jumps a shape can put into what a ray meets, as its direction turns: a convex
+// silhouette has two ends (1 here); a concave outline can change at any vertex.
+double silhouette_jumps(const Shape& shape) {
+  if (!detail::needs_partition(shape)) return 1.0;
+  return static_cast<double>(std::get<Polygon>(shape).vertices.size());
+}
+
+}  // namespace
+
 Rgb stratification_bound(const Scene& scene, int rays, bool overlapping, bool shaded) {
   const double shading = shaded && (scene.normal || scene.normal_map) ? 2.0 : 0.0;
   Rgb bound{0, 0, 0};
   for (const Light& l : scene.lights) {
-    double variation = 2.0 + 2.0 * static_cast<double>(scene.occluders.size()) + shading + (l.cone ? 2.0 : 0.0);
+    double variation = 2.0 * silhouette_jumps(l.shape) + shading + (l.cone ? 2.0 : 0.0);
+    for (const Occluder& o : scene.occluders) variation += 2.0 * silhouette_jumps(o.shape);
     if (l.cookie) {  // its weight's total variation around the circle
       for (std::size_t k = 0; k < l.cookie->knots.size(); ++k)
         variation += std::fabs(l.cookie->knots[(k + 1) % l.cookie->knots.size()].weight - l.cookie->knots[k].weight);
@@ -123,13 +138,54 @@ Rgb stratification_bound(const Scene& scene, int rays, bool overlapping, bool sh
     for (int c = 0; c < 3; ++c) bound[c] += e[c] * variation / rays;
   }
   for (const DirectionalLight& d : scene.directional_lights) {
-    const double variation = 2.0 * static_cast<double>(scene.occluders.size()) + shading;
+    double variation = shading;
+    for (const Occluder& o : scene.occluders) variation += 2.0 * silhouette_jumps(o.shape);
     const double share = (d.angle1 - d.angle0) / 360.0;
     for (int c = 0; c < 3; ++c) bound[c] += d.intensity * d.color[c] * share * variation / rays;
   }
   const double par_slack = 1e-6 * emission_max_sum(scene);
   for (double& b : bound) b += par_slack;
   return bound;
+}
+
+RaycastAgreement agreement_with_raycaster(const Scene& scene, const RenderedImage& image, int rays, double skip,
+                                          bool overlapping) {
+  const detail::RaycastRenderer caster(scene);
+  const Rgb bound = stratification_bound(scene, rays, overlapping);
+  RaycastAgreement out;
+  for (int j = 0; j < scene.height; ++j) {
+    for (int i = 0; i < scene.width; ++i) {
+      const Vec2 p = pixel_center(scene, i, j);
+      if (near_boundary(scene, p, skip)) continue;
+      ++out.compared;
+      const Rgb ray = caster.irradiance(p, rays, 0.5);
+      for (int c = 0; c < 3; ++c) {
+        const double ratio = std::fabs(image.at(i, j, c) - ray[c]) / bound[c];
+        if (ratio > out.worst) {
+          out.worst = ratio;
+          std::ostringstream s;
+          s << "pixel (" << i << ", " << j << ") channel " << c << ": image " << image.at(i, j, c) << ", rays "
+            << ray[c];
+          out.where = s.str();
+        }
+      }
+    }
+  }
+  return out;
+}
+
+double renderer_snapshot_difference(Renderer& renderer) {
+  const int width = renderer.width(), height = renderer.height();
+  std::vector<float> frame(static_cast<std::size_t>(width) * height * 3);
+  REQUIRE(renderer.render(ImageView{frame.data(), width, height, static_cast<std::ptrdiff_t>(width) * 3}).ok());
+  const Scene snapshot = renderer.snapshot();
+  CHECK(snapshot.lights.size() == renderer.light_count());
+  CHECK(snapshot.occluders.size() == renderer.occluder_count());
+  const RenderedImage once = render_or_fail(snapshot, renderer.options());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < frame.size(); ++i) worst = std::max(worst, std::fabs(double(frame[i]) - once.pixels[i]));
+  const double e_max = max_emission_sum(snapshot);
+  return e_max > 0.0 ? worst / e_max : worst;
 }
 
 }  // namespace par2d::test

@@ -4,6 +4,7 @@
 #include <functional>
 #include <string>
 
+#include "par2d/renderer.hpp"
 #include "support/random_scenes.hpp"
 
 namespace par2d::test {
@@ -30,6 +31,24 @@ Comparison compare_renders(const Scene& scene, const RenderedImage& ref, const R
 void check_simd_against_scalar(const Scene& scene, const RenderedImage& ref, const std::string& what,
                                const std::function<bool(Vec2)>& exempt, int min_checked,
                                const std::function<void(const RenderedImage&)>& visit = nullptr);
+
+// A frame of `renderer` (float RGB, its whole size) against a one-shot render of its
+// snapshot with its options: the worst channel difference over the snapshot's e_max (0 when
+// it has no light). The two may order a user shape's entries differently, so sums may round
+// differently; section 5's 1e-6 e_max is what a caller checks.
+double renderer_snapshot_difference(Renderer& renderer);
+
+// The ray caster (`rays` directions, jitter 0.5) at every pixel center farther than `skip`
+// world units from every shape boundary, against `image`: the worst |E_image - E_ray| over
+// stratification_bound(scene, rays, overlapping) (at most 1 means they agree), the pixels
+// compared, and where the worst was.
+struct RaycastAgreement {
+  double worst = 0.0;
+  int compared = 0;
+  std::string where;
+};
+RaycastAgreement agreement_with_raycaster(const Scene& scene, const RenderedImage& image, int rays, double skip,
+                                          bool overlapping = false);
 
 // Compares every pixel farther than `skip` pixel widths from every shape boundary with
 // expected(i, j, pixel center): |got - expected| <= 1e-6 * e_max per channel (docs/contract.md

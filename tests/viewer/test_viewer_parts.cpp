@@ -52,6 +52,20 @@ TEST_CASE("pick_light takes the light within the radius, the nearest, and the la
   overlap.lights.push_back(Light{Circle{{60, 20}, 3}, {1, 1, 1}, 1});
   CHECK(pick_light(overlap, {60, 20}, 0.0) == 3u);  // drawn last, picked first
   CHECK(pick_light(overlap, {52, 12}, 0.0) == 1u);  // only the square there
+  // A concave light (an L): picked inside either arm, not in the notch between them.
+  Scene ell = s;
+  ell.lights.push_back(Light{Polygon{{{100, 0}, {130, 0}, {130, 10}, {110, 10}, {110, 30}, {100, 30}}}, {1, 1, 1}, 1});
+  CHECK(pick_light(ell, {125, 5}, 0.0) == 3u);
+  CHECK(pick_light(ell, {105, 25}, 0.0) == 3u);
+  CHECK(!pick_light(ell, {112, 25}, 0.0));  // in the notch, 2 right of the upright arm
+  CHECK(pick_light(ell, {112, 25}, 2.5) == 3u);
+  // A ring light: not picked in its hole, away from the hole's edges.
+  Scene ring = s;
+  ring.lights.push_back(Light{Polygon{{{100, 0}, {130, 0}, {130, 30}, {100, 30}}, {{{105, 5}, {125, 5}, {125, 25}, {105, 25}}}},
+                              {1, 1, 1}, 1});
+  CHECK(pick_light(ring, {102, 15}, 0.0) == 3u);
+  CHECK(!pick_light(ring, {115, 15}, 5.0));  // 10 from the hole's edges
+  CHECK(pick_light(ring, {115, 15}, 10.5) == 3u);
 }
 
 TEST_CASE("move and scale keep shapes' form: circle radius, polygon about its vertex mean, segment about its middle") {

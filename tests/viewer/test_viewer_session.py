@@ -178,6 +178,7 @@ def test_drag_resize_add_delete_reload_and_save(display, tmp_path):
 
     # The screenshot is `par2d render` of the saved scene with the viewer's backend, ISA and exposure.
     isa = saved_line.split("isa ")[1].split(",")[0]
+    assert saved_line.split("bounce ")[1].split(",")[0] == "included"
     reference = str(tmp_path / "reference.png")
     subprocess.run([CLI, "render", saved_path, "-o", reference, "--backend", "simd", "--isa", isa,
                     "--exposure", "1.25"], check=True)
@@ -216,3 +217,34 @@ def test_no_display_is_one_line_error(tmp_path):
     result = subprocess.run([CLI, "view", str(scene)], env=env, capture_output=True, text=True, timeout=TIMEOUT)
     assert result.returncode == 1
     assert result.stderr.startswith("par2d: cannot open a window: ") and result.stderr.count("\n") == 1
+
+
+def test_the_bounce_key_cycles_the_terms_and_the_screenshot_follows(display, tmp_path):
+    # examples/bounce_corner.json's kind of scene: a lamp and a red reflecting wall.
+    scene = {"width": 512, "height": 384, "view": [0, 0, 160, 120],
+             "lights": [{"circle": {"center": [40, 40], "radius": 6}, "intensity": 4}],
+             "occluders": [{"polygon": [[100, 10], [110, 10], [110, 110], [100, 110]], "albedo": [0.9, 0.2, 0.1]}]}
+    scene_path = str(tmp_path / "bounce.json")
+    write_atomically(scene_path, json.dumps(scene))
+    session = Session(display, scene_path)
+    session.move(100, 300)
+    session.key("g")
+    session.expect("bounce excluded")
+    session.key("g")
+    session.expect("bounce only")
+    session.key("s")
+    saved_line = session.expect("saved ")
+    assert ", bounce only," in saved_line
+    session.expect("captured the window in ")
+    session.close()
+    saved_path = saved_line.split("saved ")[1].split(" and ")[0]
+    isa = saved_line.split("isa ")[1].split(",")[0]
+    reference = str(tmp_path / "reference.png")
+    subprocess.run([CLI, "render", saved_path, "-o", reference, "--backend", "simd", "--isa", isa,
+                    "--bounce", "only"], check=True)
+    with open(str(tmp_path / "bounce.screenshot.png"), "rb") as a, open(reference, "rb") as b:
+        assert a.read() == b.read(), "screenshot differs from par2d render --bounce only"
+    # Only the bounce: the light the red wall throws back, red over green over blue.
+    shot = png(reference)
+    r, g, b = shot[192, 288]  # world (90, 60), between the lamp and the wall
+    assert r > g > b

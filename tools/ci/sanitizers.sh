@@ -21,10 +21,15 @@ DEBUG_FLAGS=(-DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_C_FLAGS
 
 run_asan() {
   local t0; t0=$(stamp)
+  # Built with Debian's clang, warnings as errors: this is also the gate that everything
+  # (library, CLI, tools, tests, benchmarks) compiles cleanly with clang, and clang builds
+  # this configuration in about a third of GCC's time (measured: ~270 s against 749 s on
+  # 2 cores). The user's test command and the long tier run the GCC build.
   # Kernel files at -O2 like the rest: a sanitizer build leaves their inlining to the compiler
   # (PAR2D_KERNEL_INLINE_HINTS, see CMakeLists.txt), which is what made them take minutes here.
-  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo "${DEBUG_FLAGS[@]}" -DPAR2D_SANITIZE=address,undefined \
-        -DPAR2D_KERNEL_OPTIMIZATION=-O2 -DPAR2D_BUILD_BENCH=OFF -DPAR2D_BUILD_FUZZ=OFF >/dev/null
+  CC=${CC_CLANG:-clang-14} CXX=${CXX_CLANG:-clang++-14} \
+    cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo "${DEBUG_FLAGS[@]}" -DPAR2D_SANITIZE=address,undefined \
+          -DCMAKE_CXX_FLAGS=-Werror -DPAR2D_KERNEL_OPTIMIZATION=-O2 -DPAR2D_BUILD_BENCH=ON -DPAR2D_BUILD_FUZZ=OFF >/dev/null
   cmake --build build-asan -j"$JOBS"
   local t1; t1=$(stamp)
   # The suite's default tier once (its SIMD tests compare every ISA with the scalar reference

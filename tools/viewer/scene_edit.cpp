@@ -20,8 +20,9 @@ double distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
   return std::hypot(p.x - (a.x + t * ab.x), p.y - (a.y + t * ab.y));
 }
 
-// Distance from p to the closed shape (0 inside). Polygons are convex (validated), so p
-// is inside when it lies on the same side of every edge.
+// Distance from p to the closed shape (0 inside). A polygon (convex or a concave simple
+// outline, with or without holes) holds p when a ray from p toward +x crosses its rings'
+// edges an odd number of times.
 double distance_to_shape(const Shape& shape, Vec2 p) {
   return std::visit(
       [p](const auto& s) -> double {
@@ -33,15 +34,17 @@ double distance_to_shape(const Shape& shape, Vec2 p) {
         } else {
           const auto& v = s.vertices;
           double best = std::numeric_limits<double>::infinity();
-          bool pos = false, neg = false;
-          for (std::size_t i = 0; i < v.size(); ++i) {
-            const Vec2 a = v[i], b = v[(i + 1) % v.size()];
-            best = std::min(best, distance_to_segment(p, a, b));
-            const double cross = (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
-            pos = pos || cross > 0.0;
-            neg = neg || cross < 0.0;
-          }
-          return pos && neg ? best : 0.0;
+          bool odd = false;
+          const auto ring = [&](const std::vector<Vec2>& r) {
+            for (std::size_t i = 0; i < r.size(); ++i) {
+              const Vec2 a = r[i], b = r[(i + 1) % r.size()];
+              best = std::min(best, distance_to_segment(p, a, b));
+              if ((a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y)) odd = !odd;
+            }
+          };
+          ring(v);
+          for (const std::vector<Vec2>& hole : s.holes) ring(hole);  // a hole's inside is outside
+          return odd ? 0.0 : best;
         }
       },
       shape);
@@ -133,6 +136,8 @@ void translate(Shape& shape, Vec2 d) noexcept {
           move(s.b);
         } else {
           for (Vec2& q : s.vertices) move(q);
+          for (std::vector<Vec2>& hole : s.holes)
+            for (Vec2& q : hole) move(q);
         }
       },
       shape);
@@ -151,6 +156,8 @@ void scale(Shape& shape, double factor) noexcept {
           about_center(s.b);
         } else {
           for (Vec2& q : s.vertices) about_center(q);
+          for (std::vector<Vec2>& hole : s.holes)
+            for (Vec2& q : hole) about_center(q);
         }
       },
       shape);

@@ -379,6 +379,13 @@ class Viewer {
         if (Status s = apply_options(); !s) message(s.message(), true);
         log_line(std::string("backend ") + backend_name(options_.backend));
         break;
+      case SDLK_g:  // one bounce: both terms, the direct light alone, the bounce alone
+        options_.bounce = options_.bounce == BounceTerm::included   ? BounceTerm::excluded
+                          : options_.bounce == BounceTerm::excluded ? BounceTerm::only
+                                                                    : BounceTerm::included;
+        if (Status s = apply_options(); !s) message(s.message(), true);
+        log_line(std::string("bounce ") + bounce_term_name(options_.bounce));
+        break;
       case SDLK_i: next_isa(); break;
       case SDLK_s: save(); break;
       case SDLK_r: reload(); break;
@@ -480,7 +487,8 @@ class Viewer {
     capture_window_ = true;  // after the next draw, so the capture shows this frame
     message("saved " + save_path_ + " and " + screenshot_path_, false);
     log_line("saved " + save_path_ + " and " + screenshot_path_ + " (backend " + backend_name(options_.backend) +
-             ", isa " + isa_name(resolved_isa(options_)) + format(", exposure %.6g)", exposure_));
+             ", isa " + isa_name(resolved_isa(options_)) + ", bounce " + bounce_term_name(options_.bounce) +
+             format(", exposure %.6g)", exposure_));
   }
 
   // The renderer writes sRGB bytes (with the exposure) straight into the locked texture:
@@ -564,6 +572,7 @@ class Viewer {
            {"drag a light: move   wheel over it: resize",
             "A: add a light at the mouse   D/Del: delete the light under it",
             "B: SIMD/scalar   I: next ISA   +/-: exposure",
+            "G: one bounce: with it, without it, the bounce alone",
             "S: save scene (never over the opened file) + screenshot",
             "R: reload the file now (edits lost)   Q: quit"})
         y += text(line, 8, y, grey);
