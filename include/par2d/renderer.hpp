@@ -71,10 +71,11 @@ Status render(const Scene& scene, const RenderOptions& options, const FrameBuffe
 //
 // Cost model: changing a light (shape, position, color, intensity) never touches the occluder
 // index; changing an occluder updates the index in place and re-proves the reach of the lights
-// whose earlier proofs looked at its old or new place. A frame creates no threads. It
-// allocates no memory once the per-thread scratch has grown to what the level needs: a frame
-// like earlier ones allocates nothing; lights moved to new places can still grow the scratch
-// now and then (docs/performance.md, "Allocations per frame").
+// whose earlier proofs looked at its old or new place. A frame creates no threads. Buffers are
+// reserved by the scene's counts (lights, occluders, the most vertices of a shape) when those
+// grow, so moving, resizing or recolouring existing convex lights anywhere allocates nothing,
+// in update_light or in render, once a frame of the scene has rendered; reservations are
+// capped for levels of thousands of occluders (docs/api.md, "Cost model").
 class Renderer {
  public:
   Renderer();

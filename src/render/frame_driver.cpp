@@ -110,6 +110,8 @@ struct FrameEngine::ThreadState final : TileKernelRunner {
   // Capped at kReservedKernelFloats (2 MiB): a tile past that (hundreds of occluders in one
   // tile) grows the scratch.
   static constexpr std::size_t kReservedKernelFloats = std::size_t{1} << 19;
+  // Kernel shape vertices reserved per tile at most (5 floats each).
+  static constexpr std::size_t kReservedTileVertices = 16384;
   static std::size_t kernel_floats_bound(const SceneBounds& bounds, int lanes) noexcept {
     const std::size_t occluders = bounds.occluders, lights = bounds.lights + bounds.directionals;
     const std::size_t points = 2 * std::max<std::size_t>(bounds.max_vertices, 2);
@@ -148,7 +150,12 @@ struct FrameEngine::ThreadState final : TileKernelRunner {
     cells.occluder_discs.reserve(occluders);
     cells.occluder_cells.reserve(occluders);
     cells.pair_cells.reserve(std::min(occluders, pairs));  // one light's pairs
-    if (cells.pair_buffer.size() < kMaxTileCells * pairs) cells.pair_buffer.resize(kMaxTileCells * pairs);
+    // A tile's kernel shapes: each light and occluder once, a polygon clipped to the near box
+    // (clip_to_box: 4 more points at most) or a light's visible part (one more).
+    const std::size_t vertices = std::min((lights + occluders) * (bounds.max_vertices + 8), kReservedTileVertices);
+    if (work.vx.size() < vertices)
+      for (std::vector<float>* v : {&work.vx, &work.vy, &work.edge_nx, &work.edge_ny, &work.edge_c}) v->resize(vertices);
+    cells.pair_buffer.reserve(kMaxTileCells * pairs);  // sized within this as tiles need (untouched till then)
     const std::size_t kernel_floats = kernel_floats_bound(bounds, lanes);
     if (kernel_floats > scratch_floats) allocate_kernel_scratch(kernel_floats);
   }
@@ -174,7 +181,9 @@ struct FrameEngine::ThreadState final : TileKernelRunner {
   }
   void allocate_kernel_scratch(std::size_t floats) {
     scratch_floats = floats;
-    scratch = std::make_unique<float[]>(scratch_floats + 16);
+    // Not zeroed (the kernel writes before it reads): pages of a reservation no tile needs
+    // are never touched.
+    scratch.reset(new float[scratch_floats + 16]);
     const auto address = reinterpret_cast<std::uintptr_t>(scratch.get());
     aligned = scratch.get() + ((64 - address % 64) % 64) / sizeof(float);
   }

@@ -30,7 +30,8 @@ class BlockRuns {
   void reserve_for(std::size_t keys, std::size_t capacity) {
     serial_.resize(keys, 0);
     first_.resize(keys, 0);
-    entries_.resize(capacity);
+    entries_.reserve(capacity);  // sized within this as blocks deal runs: pages untouched till used
+    capacity_ = std::max(capacity_, capacity);
   }
   // Forgets the runs of the previous block (their keys' serials are older than the new block's).
   void start_block() noexcept { used_ = 0; }
@@ -38,10 +39,11 @@ class BlockRuns {
   // call in the block; null when the capacity left in the block is less than `count`.
   Entry* run(std::size_t key, std::size_t count, std::uint64_t serial) noexcept {
     if (serial_[key] != serial) {
-      if (entries_.size() - used_ < count) return nullptr;
+      if (capacity_ - used_ < count) return nullptr;
       serial_[key] = serial;
       first_[key] = used_;
       used_ += count;
+      if (entries_.size() < used_) entries_.resize(used_);  // within the reserved capacity
       std::fill_n(entries_.data() + first_[key], count, Entry{});
     }
     return entries_.data() + first_[key];
@@ -56,6 +58,7 @@ class BlockRuns {
   std::vector<std::uint64_t> serial_;  // per key: BlockView::serial of its run
   std::vector<std::size_t> first_;     // per key: its run's first entry
   std::size_t used_ = 0;               // entries dealt in the current block
+  std::size_t capacity_ = 0;           // entries a block may deal (reserved)
 };
 
 // Per-thread buffers of the pair setup, most of them per block and found on first use.

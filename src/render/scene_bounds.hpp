@@ -27,6 +27,12 @@ struct SceneBounds {
     return std::min((lights + directionals) * occluders, kReservedTilePairs);
   }
 
+  // A light's block candidates and the occluders one occlusion proof holds are reserved for
+  // at most kReservedCandidates per lane (a block of a dense level that sees more grows them):
+  // lights x occluders per lane would be megabytes in levels of thousands of occluders.
+  static constexpr std::size_t kReservedCandidates = 512;
+  std::size_t candidates() const noexcept { return std::min(occluders, kReservedCandidates); }
+
   bool operator==(const SceneBounds& o) const noexcept {
     return lights == o.lights && occluders == o.occluders && directionals == o.directionals &&
            max_vertices == o.max_vertices;

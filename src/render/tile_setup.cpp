@@ -14,10 +14,10 @@ void TileSetupScratch::reserve_for(const SceneBounds& bounds) {
   // A light's block candidates name each occluder at most once (the index's query reports a
   // leaf once; without culling every occluder is listed once).
   block_candidates.resize(lights);
-  for (std::vector<std::uint32_t>& c : block_candidates) c.reserve(bounds.occluders);
+  for (std::vector<std::uint32_t>& c : block_candidates) c.reserve(bounds.candidates());
   block_shadowed.reserve(lights);
   culling.reserve_for(bounds);
-  occlusion.reserve_for(bounds.occluders, bounds.max_vertices, std::max(kBlockStripBudget, kTileStripBudget));
+  occlusion.reserve_for(bounds.candidates(), bounds.max_vertices, std::max(kBlockStripBudget, kTileStripBudget));
   pairs.reserve_for(lights, bounds.occluders);
   shapes.start_block(lights, bounds.occluders);  // per shape, sized here once
   // A tile's occluders are distinct scene occluders; its lights distinct scene lights.

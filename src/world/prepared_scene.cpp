@@ -329,21 +329,56 @@ bool clip_light_by_occluder(const ConvexShape& light, const ConvexShape& occlude
   return false;
 }
 
-// The most points boundary_intersections reports for two shapes: two for two circles, two
-// per edge against a circle, and otherwise at most four per pair of edges (where they cross,
-// or the ends of the piece they share when collinear).
-std::size_t meeting_points_bound(const ConvexShape& a, const ConvexShape& b) noexcept {
-  auto edges = [](const ConvexShape& s) -> std::size_t {
-    const std::size_t n = s.vertices.size();
-    return n >= 3 ? n : n - 1;
-  };
-  if (a.kind == ShapeKind::circle && b.kind == ShapeKind::circle) return 2;
-  if (a.kind == ShapeKind::circle) return 2 * edges(b);
-  if (b.kind == ShapeKind::circle) return 2 * edges(a);
-  return 4 * edges(a) * edges(b);
+// Edges of a shape's boundary as boundary_intersections walks them (none for a circle).
+std::size_t boundary_edges(const ConvexShape& s) noexcept {
+  if (s.kind == ShapeKind::circle) return 0;
+  const std::size_t n = s.vertices.size();
+  return n >= 3 ? n : n - 1;
+}
+
+// The most points boundary_intersections reports for shapes of these edge counts (0: a
+// circle): two for two circles, two per edge against a circle, and otherwise at most four per
+// pair of edges (where they cross, or the ends of the piece they share when collinear).
+std::size_t meeting_points_bound(std::size_t a_edges, std::size_t b_edges) noexcept {
+  if (a_edges == 0 && b_edges == 0) return 2;
+  if (a_edges == 0 || b_edges == 0) return 2 * (a_edges + b_edges);
+  return 4 * a_edges * b_edges;
 }
 
 }  // namespace
+
+void reserve_overlaps(PreparedScene& scene, const ConvexShape* light, const ConvexShape* occluder) {
+  PreparedScene::OverlapReserve& r = scene.overlap_reserve;
+  if (light == nullptr && occluder == nullptr) {
+    for (const PreparedLight& l : scene.lights) r.light_edges = std::max(r.light_edges, boundary_edges(l.shape));
+    for (const ConvexShape& o : scene.occluders) r.occluder_edges = std::max(r.occluder_edges, boundary_edges(o));
+  }
+  if (light) r.light_edges = std::max(r.light_edges, boundary_edges(*light));
+  if (occluder) r.occluder_edges = std::max(r.occluder_edges, boundary_edges(*occluder));
+  const std::size_t lights = scene.lights.size();
+  const std::size_t per_light = std::min(scene.occluders.size(), kReservedOverlapsPerLight);
+  const std::size_t points =
+      std::min(meeting_points_bound(r.light_edges, r.occluder_edges), kReservedOverlapPoints);
+  if (lights <= r.lights && per_light <= r.per_light && points <= r.points) return;
+  r.lights = std::max(r.lights, lights);
+  r.per_light = std::max(r.per_light, per_light);
+  r.points = std::max(r.points, points);
+  std::size_t in_use = 0;
+  for (PreparedLight& l : scene.lights) {
+    l.overlaps.reserve(r.per_light);
+    l.overlapping_occluders.reserve(scene.occluders.size());
+    for (LightOverlap& o : l.overlaps) o.points.reserve(r.points);
+    in_use += l.overlaps.size();
+  }
+  for (LightOverlap& o : scene.spare_overlaps) o.points.reserve(r.points);
+  const std::size_t pool = std::max(r.lights * r.per_light, in_use + scene.spare_overlaps.size());
+  // Every overlap can come back to the spares at once.
+  scene.spare_overlaps.reserve(pool);
+  while (in_use + scene.spare_overlaps.size() < pool) {
+    scene.spare_overlaps.emplace_back();
+    scene.spare_overlaps.back().points.reserve(r.points);
+  }
+}
 
 void describe_overlap(const ConvexShape& light, const ConvexShape& occluder, LightOverlap& out) {
   out.points.clear();
@@ -362,6 +397,7 @@ void find_light_overlaps(const PreparedScene& scene, PreparedLight& light, std::
   // The index reports each occluder at most once, and the light meets each at most once.
   near.reserve(scene.occluders.size());
   light.overlapping_occluders.reserve(scene.occluders.size());
+  light.overlaps.reserve(scene.overlap_reserve.per_light);
   near.clear();
   const ConvexShape& ls = light.shape;
   scene.occluder_bvh.query_box({ls.bounds_min.x, ls.bounds_min.y, ls.bounds_max.x, ls.bounds_max.y}, near);
@@ -377,7 +413,7 @@ void find_light_overlaps(const PreparedScene& scene, PreparedLight& light, std::
     }
     // Room for the pair's points at once: the pool's buffers then grow only as far as the
     // shapes' vertex counts need, not with each new most of meeting points.
-    light.overlaps.back().points.reserve(meeting_points_bound(ls, occ));
+    light.overlaps.back().points.reserve(meeting_points_bound(boundary_edges(ls), boundary_edges(occ)));
     describe_overlap(ls, occ, light.overlaps.back());
   }
 }

@@ -138,8 +138,13 @@ struct PreparedScene {
   int width = 0, height = 0;
   View view;
   std::vector<PreparedLight> lights;  // lights with non-zero emission only
-  // Overlaps no light holds now, kept with their buffers (find_light_overlaps).
+  // Overlaps no light holds now, kept with their buffers (find_light_overlaps), and what
+  // the pool of overlaps (these and the lights') is reserved for (reserve_overlaps).
   std::vector<LightOverlap> spare_overlaps;
+  struct OverlapReserve {
+    std::size_t lights = 0, per_light = 0, points = 0;  // reserved for
+    std::size_t light_edges = 0, occluder_edges = 0;    // the most edges seen (never shrink)
+  } overlap_reserve;
   std::vector<ConvexShape> occluders;
   double e_max = 0.0;  // docs/contract.md section 5
   // Largest distance from the view's center to any point of the view or of a shape's box.
@@ -202,6 +207,15 @@ void update_scene_bounds(PreparedScene& scene) noexcept;
 // pool holds as many overlaps, with as many points, as the scene has needed at once.
 void find_light_overlaps(const PreparedScene& scene, PreparedLight& light, std::vector<std::uint32_t>& scratch,
                          std::vector<LightOverlap>& spares);
+// The pool of overlaps reserved so that lights move anywhere without allocating: every light
+// holds room for min(occluders, kReservedOverlapsPerLight) overlaps, the pool holds that many
+// per light, and each has room for the most meeting points of any light and occluder of the
+// scene (at most kReservedOverlapPoints). `light` / `occluder`: a shape just made (its edges
+// may raise the most seen), or both null to look at every shape. Allocates only when the
+// counts or the most edges grow; otherwise O(1).
+inline constexpr std::size_t kReservedOverlapsPerLight = 16;
+inline constexpr std::size_t kReservedOverlapPoints = 256;
+void reserve_overlaps(PreparedScene& scene, const ConvexShape* light, const ConvexShape* occluder);
 // `out` for a light and an occluder that meet (meets_within_contact).
 void describe_overlap(const ConvexShape& light, const ConvexShape& occluder, LightOverlap& out);
 

@@ -252,6 +252,7 @@ void World::reprepare_all(std::shared_ptr<const WorldNormals> converted) {
   globals_.view = view_;
   prepare_model_terms(globals_, scene_, std::move(converted));
   rebuild_index();
+  reserve_overlaps(scene_, nullptr, nullptr);
   for (PreparedLight& l : scene_.lights) find_light_overlaps(scene_, l, query_, scene_.spare_overlaps);
   scene_.separators.reset(scene_.lights.size(), scene_.occluders.size());
   update_scene_bounds(scene_);
@@ -274,6 +275,7 @@ void World::prepare_lit(std::size_t p, const Light& light) {
   set_part_emission(p);
   prepared.terms = part_terms(light, part_of(p), factor_);
   update_model_flag(scene_);
+  reserve_overlaps(scene_, &prepared.shape, nullptr);
   find_light_overlaps(scene_, prepared, query_, scene_.spare_overlaps);
   scene_.separators.forget_light(p);
   if (observer_) observer_->light_changed(p);
@@ -383,6 +385,8 @@ void World::erase_lit(std::size_t p) {
   }
   light_sources_.pop_back();
   light_slots_.pop_back();
+  // Its overlaps go back to the pool (reserve_overlaps).
+  for (LightOverlap& o : scene_.lights.back().overlaps) scene_.spare_overlaps.push_back(std::move(o));
   scene_.lights.pop_back();
   update_model_flag(scene_);
   if (observer_) observer_->light_erased(p);

@@ -23,10 +23,16 @@ void World::occluder_changed(std::size_t k, const Aabb* old_box) {
   const ConvexShape& occ = scene_.occluders[k];
   const Aabb box = bounds_of(occ);
   const auto index = static_cast<std::uint32_t>(k);
+  reserve_overlaps(scene_, nullptr, &occ);
+  std::vector<LightOverlap>& spares = scene_.spare_overlaps;
   for (PreparedLight& light : scene_.lights) {
-    erase_overlap(light, index);
+    erase_overlap(light, index, spares);
     if (!boxes_meet(bounds_of(light.shape), box) || !meets_within_contact(light.shape, occ)) continue;
     LightOverlap overlap;
+    if (!spares.empty()) {
+      overlap = std::move(spares.back());
+      spares.pop_back();
+    }
     describe_overlap(light.shape, occ, overlap);
     insert_overlap(light, index, std::move(overlap));
   }
@@ -129,13 +135,13 @@ void World::erase_occluder_entry(std::size_t k) {
   if (observer_) observer_->region_changed(bounds_of(scene_.occluders[k]));
   // Occluder m takes index k everywhere.
   for (PreparedLight& light : scene_.lights) {
-    erase_overlap(light, static_cast<std::uint32_t>(k));
+    erase_overlap(light, static_cast<std::uint32_t>(k), scene_.spare_overlaps);
     if (k == m) continue;
     auto& list = light.overlapping_occluders;
     const auto it = std::lower_bound(list.begin(), list.end(), static_cast<std::uint32_t>(m));
     if (it == list.end() || *it != m) continue;
     LightOverlap overlap = std::move(light.overlaps[static_cast<std::size_t>(it - list.begin())]);
-    erase_overlap(light, static_cast<std::uint32_t>(m));
+    erase_overlap(light, static_cast<std::uint32_t>(m), scene_.spare_overlaps);
     insert_overlap(light, static_cast<std::uint32_t>(k), std::move(overlap));
   }
   scene_.occluder_bvh.remove(static_cast<std::uint32_t>(k));

@@ -45,13 +45,16 @@ inline Status unknown_handle(const char* kind, std::uint64_t id) {
 }
 
 // Keeps a light's overlap list sorted by occluder, its overlaps in step.
-inline void erase_overlap(PreparedLight& light, std::uint32_t k) {
+// The overlap goes to `spares` with its buffer (the pool of find_light_overlaps).
+inline void erase_overlap(PreparedLight& light, std::uint32_t k, std::vector<LightOverlap>& spares) {
   auto& list = light.overlapping_occluders;
   const auto it = std::lower_bound(list.begin(), list.end(), k);
   if (it == list.end() || *it != k) return;
   const auto i = it - list.begin();
   list.erase(it);
-  light.overlaps.erase(light.overlaps.begin() + i);
+  std::rotate(light.overlaps.begin() + i, light.overlaps.begin() + i + 1, light.overlaps.end());
+  spares.push_back(std::move(light.overlaps.back()));
+  light.overlaps.pop_back();
 }
 
 inline void insert_overlap(PreparedLight& light, std::uint32_t k, LightOverlap overlap) {
