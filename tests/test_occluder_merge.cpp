@@ -62,6 +62,46 @@ TEST_CASE("tilemap merging: different properties, reflecting walls and other sha
   CHECK(out.size() == in.size());
 }
 
+// Why translucent and lit-interior rows stay apart: merging them would change the image. A
+// light at the left end of a row of two boxes, a pixel past the right end looking along the
+// row, and a pixel inside the first box.
+TEST_CASE("tilemap merging: translucent and lit-interior rows stay apart, since merged they would light differently") {
+  Scene scene;
+  scene.width = 64;
+  scene.height = 16;
+  scene.view = {0, 0, 64, 16};
+  scene.lights.push_back(Light{Circle{{2, 8}, 1.5}, {1, 1, 1}, 4.0});
+  auto row = [](Occluder o) {
+    Occluder a = o, b = o;
+    a.shape = box(8, 6, 24, 10).shape;
+    b.shape = box(24, 6, 40, 10).shape;
+    return std::vector<Occluder>{a, b};
+  };
+  Occluder glass = box(0, 0, 1, 1);
+  glass.transmittance = {0.5, 0.5, 0.5};
+  Occluder lit = box(0, 0, 1, 1);
+  lit.interior = Interior::lit;
+  Occluder clear_red = box(0, 0, 1, 1);
+  clear_red.transmittance = {1, 0, 0};  // channels of 0 and 1: merging changes nothing
+  const Occluder kinds[] = {glass, lit, clear_red};
+  for (int i = 0; i < 3; ++i) {
+    const Occluder& kind = kinds[i];
+    Scene apart = scene;
+    apart.occluders = row(kind);
+    Scene joined = scene;
+    joined.occluders = {kind};
+    joined.occluders[0].shape = box(8, 6, 40, 10).shape;
+    const RenderedImage a = render_or_fail(apart, options_for(Backend::scalar, Isa::scalar));
+    const RenderedImage j = render_or_fail(joined, options_for(Backend::scalar, Isa::scalar));
+    const bool same = compare_renders(apart, a, j, 1e-6 * emission_max_sum(apart), 0.05).over == 0;
+    const bool merges = detail::merge_tilemap_boxes(apart.occluders).size() == 1;
+    CAPTURE(kind.transmittance[0]);
+    CAPTURE(static_cast<int>(kind.interior));
+    CHECK(merges == same);
+    CHECK(merges == (i == 2));
+  }
+}
+
 TEST_CASE("tilemap merging: the grid's tilemaps merge into the merged levels' boxes, and render the same image") {
   for (const double tile : {16.0, 32.0}) {
     bench::WallLevel level;

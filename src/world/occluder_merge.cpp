@@ -43,8 +43,18 @@ bool as_box(const Occluder& o, Box& out) {
   return true;
 }
 
+// Only where the union's visibility is each box's: a ray along a row crosses every box of it,
+// and a point on a shared edge lies in two, so with transmittances multiplying per occluder
+// crossed (docs/contract.md section 6) a translucent row would let t^2 through where the
+// merged box lets t. A channel of 0 or 1 is the same however often it is crossed. A lit
+// interior ignores only the box the point is in, so the next box of the row still shadows
+// it: such boxes stay apart too. Reflecting walls' bounce pieces follow their given edges.
 bool mergeable(const Occluder& o) {
-  return o.albedo[0] == 0.0 && o.albedo[1] == 0.0 && o.albedo[2] == 0.0;
+  for (int c = 0; c < 3; ++c) {
+    if (o.albedo[c] != 0.0) return false;
+    if (o.transmittance[c] != 0.0 && o.transmittance[c] != 1.0) return false;
+  }
+  return o.interior == Interior::dark;
 }
 
 // Properties as a sortable key.

@@ -19,8 +19,10 @@ struct MergedOccluder {
 
 // Every occluder in exactly one group, groups in the order of their first source. A group of
 // two or more holds axis-aligned rectangles (a polygon of 4 vertices on two x and two y
-// values) with equal transmittance, mask, interior and albedo (albedo 0 only: a reflecting
-// wall's boundary pieces follow its given vertices, docs/contract.md section 7), that a row
+// values) with equal transmittance and mask, a dark interior, every transmittance channel 0
+// or 1 (a translucent row crossed lengthwise multiplies one transmittance per box) and albedo
+// 0 (a reflecting wall's boundary pieces follow its given vertices, docs/contract.md section
+// 7), that a row
 // (same y0 and y1, each box's x1 the next one's x0) or, for the boxes no row took, a column
 // joins end to end. Coordinates are compared exactly, so the union is exactly the merged box
 // and every renderer sees the same occluded set: merging changes no image beyond rounding.
