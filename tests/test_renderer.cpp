@@ -175,10 +175,16 @@ TEST_CASE("moving one pillar updates the index in place and re-proves only the l
   REQUIRE(r.set_scene(level, nullptr, &occluders).ok());
   frame_rgb(r);
   const RendererStats before = r.stats();
-  // The last occluder is a pillar in the bottom-right room.
-  Occluder pillar = level.occluders.back();
+  // The last square pillar (10 units across; the walls are 32-unit cells, merged in rows).
+  std::size_t last = level.occluders.size();
+  while (last-- > 0) {
+    const auto* p = std::get_if<Polygon>(&level.occluders[last].shape);
+    if (p && p->vertices[1].x - p->vertices[0].x == 10.0) break;
+  }
+  REQUIRE(last < level.occluders.size());
+  Occluder pillar = level.occluders[last];
   pillar.shape = moved(pillar.shape, 3.0, -2.0);
-  REQUIRE(r.update_occluder(occluders.back(), pillar).ok());
+  REQUIRE(r.update_occluder(occluders[last], pillar).ok());
   const std::vector<float> image = frame_rgb(r);
   const RendererStats after = r.stats();
   CHECK(after.index_builds == before.index_builds);

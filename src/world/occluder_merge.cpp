@@ -1,13 +1,10 @@
 // Tilemap box merging: see occluder_merge.hpp.
 //
-// Wiring (not done here; the World's incremental frames are being reworked): the World would
-// keep, per handle, the group it belongs to, prepare only the groups' occluders, and on
-// update_occluder / remove_occluder of a member split its group back into its members and
-// merge that row again (only boxes of the same row or column can join it), reporting the
-// group's old and new boxes as changed regions. Handles stay the caller's boxes.
+// The World keeps the groups behind the callers' handles: world/world_merge.cpp.
 #include "world/occluder_merge.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <tuple>
 
@@ -67,19 +64,31 @@ Polygon box_polygon(const Box& b) { return Polygon{{{b.x0, b.y0}, {b.x1, b.y0}, 
 
 }  // namespace
 
-std::vector<MergedOccluder> merge_tilemap_boxes(const std::vector<Occluder>& occluders) {
-  const std::size_t n = occluders.size();
+bool mergeable_box(const Occluder& o) {
+  Box b;
+  return mergeable(o) && as_box(o, b);
+}
+
+bool joinable(const Occluder& a, const Occluder& b) {
+  Box p, q;
+  if (!mergeable(a) || !mergeable(b) || !as_box(a, p) || !as_box(b, q) || properties(a) != properties(b)) return false;
+  const bool row = p.y0 == q.y0 && p.y1 == q.y1 && (p.x1 == q.x0 || q.x1 == p.x0);
+  const bool column = p.x0 == q.x0 && p.x1 == q.x1 && (p.y1 == q.y0 || q.y1 == p.y0);
+  return row || column;
+}
+
+std::vector<BoxRun> tilemap_box_runs(std::size_t n, const std::function<const Occluder&(std::size_t)>& occluder) {
   std::vector<Box> boxes(n);
   std::vector<char> is_box(n, 0);
-  for (std::size_t i = 0; i < n; ++i) is_box[i] = mergeable(occluders[i]) && as_box(occluders[i], boxes[i]);
-  std::vector<std::ptrdiff_t> group(n, -1);  // index into `runs`
-  std::vector<std::vector<std::size_t>> runs;
+  for (std::size_t i = 0; i < n; ++i) is_box[i] = mergeable(occluder(i)) && as_box(occluder(i), boxes[i]);
+  std::vector<char> taken(n, 0);
+  std::vector<BoxRun> runs;
 
   // Rows, then columns of what is left: sort by (line, properties, start) and join ends.
   for (int pass = 0; pass < 2; ++pass) {
     std::vector<std::size_t> order;
     for (std::size_t i = 0; i < n; ++i)
-      if (is_box[i] && group[i] < 0) order.push_back(i);
+      if (is_box[i] && !taken[i]) order.push_back(i);
     auto key = [&](std::size_t i) {
       const Box& b = boxes[i];
       return pass == 0 ? std::make_tuple(b.y0, b.y1, b.x0) : std::make_tuple(b.x0, b.x1, b.y0);
@@ -88,49 +97,88 @@ std::vector<MergedOccluder> merge_tilemap_boxes(const std::vector<Occluder>& occ
       const auto ka = key(a), kb = key(b);
       if (std::get<0>(ka) != std::get<0>(kb)) return std::get<0>(ka) < std::get<0>(kb);
       if (std::get<1>(ka) != std::get<1>(kb)) return std::get<1>(ka) < std::get<1>(kb);
-      if (properties(occluders[a]) != properties(occluders[b])) return properties(occluders[a]) < properties(occluders[b]);
+      if (properties(occluder(a)) != properties(occluder(b))) return properties(occluder(a)) < properties(occluder(b));
       return std::get<2>(ka) < std::get<2>(kb);
     });
-    for (std::size_t s = 0; s < order.size();) {
-      std::size_t e = s + 1;
-      while (e < order.size()) {
-        const Box &prev = boxes[order[e - 1]], &next = boxes[order[e]];
-        const bool same_line = pass == 0 ? (prev.y0 == next.y0 && prev.y1 == next.y1) : (prev.x0 == next.x0 && prev.x1 == next.x1);
-        const bool joined = pass == 0 ? prev.x1 == next.x0 : prev.y1 == next.y0;
-        if (!same_line || !joined || properties(occluders[order[e - 1]]) != properties(occluders[order[e]])) break;
-        ++e;
+    // Within each line (and properties), boxes join end to end: a box continues the chain
+    // ending where it starts (the earliest such chain), else starts one. Boxes that overlap
+    // or lie between do not break a chain, so whether two boxes join depends only on the
+    // boxes meeting them (World::may_join relies on this).
+    std::vector<std::vector<std::size_t>> chains;
+    std::vector<std::size_t> open;  // indices into `chains` that may still grow
+    auto end_of = [&](std::size_t chain) {
+      const Box& b = boxes[chains[chain].back()];
+      return pass == 0 ? b.x1 : b.y1;
+    };
+    auto flush = [&] {
+      for (const std::size_t c : open) {
+        if (chains[c].size() < 2) continue;
+        BoxRun run;
+        run.sources = chains[c];
+        std::sort(run.sources.begin(), run.sources.end());
+        Box u = boxes[run.sources[0]];
+        for (const std::size_t k : run.sources) {
+          taken[k] = 1;
+          u.x0 = std::min(u.x0, boxes[k].x0);
+          u.y0 = std::min(u.y0, boxes[k].y0);
+          u.x1 = std::max(u.x1, boxes[k].x1);
+          u.y1 = std::max(u.y1, boxes[k].y1);
+        }
+        run.shape = box_polygon(u);
+        runs.push_back(std::move(run));
       }
-      if (e - s >= 2) {
-        for (std::size_t k = s; k < e; ++k) group[order[k]] = static_cast<std::ptrdiff_t>(runs.size());
-        runs.emplace_back(order.begin() + static_cast<std::ptrdiff_t>(s), order.begin() + static_cast<std::ptrdiff_t>(e));
+      open.clear();
+      chains.clear();
+    };
+    for (std::size_t s = 0; s < order.size(); ++s) {
+      const std::size_t i = order[s];
+      if (s > 0) {
+        const Box &prev = boxes[order[s - 1]], &b = boxes[i];
+        const bool same_line = pass == 0 ? (prev.y0 == b.y0 && prev.y1 == b.y1) : (prev.x0 == b.x0 && prev.x1 == b.x1);
+        if (!same_line || properties(occluder(order[s - 1])) != properties(occluder(i))) flush();
       }
-      s = e;
+      const double start = pass == 0 ? boxes[i].x0 : boxes[i].y0;
+      // Chains ending before this start can grow no more (starts only increase): retired.
+      std::size_t kept = 0, joined = chains.size();
+      for (const std::size_t c : open) {
+        const double end = end_of(c);
+        if (end < start) {
+          if (chains[c].size() >= 2) open[kept++] = c;  // still emitted at the flush
+          continue;
+        }
+        if (end == start && joined == chains.size()) joined = c;
+        open[kept++] = c;
+      }
+      open.resize(kept);
+      if (joined < chains.size()) {
+        chains[joined].push_back(i);
+      } else {
+        chains.push_back({i});
+        open.push_back(chains.size() - 1);
+      }
     }
+    flush();
   }
+  std::sort(runs.begin(), runs.end(), [](const BoxRun& a, const BoxRun& b) { return a.sources[0] < b.sources[0]; });
+  return runs;
+}
 
+std::vector<MergedOccluder> merge_tilemap_boxes(const std::vector<Occluder>& occluders) {
+  const std::vector<BoxRun> runs =
+      tilemap_box_runs(occluders.size(), [&](std::size_t i) -> const Occluder& { return occluders[i]; });
+  std::vector<std::ptrdiff_t> group(occluders.size(), -1);
+  for (std::size_t g = 0; g < runs.size(); ++g)
+    for (const std::size_t k : runs[g].sources) group[k] = static_cast<std::ptrdiff_t>(g);
   std::vector<MergedOccluder> out;
-  std::vector<char> emitted(runs.size(), 0);
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < occluders.size(); ++i) {
     if (group[i] < 0) {
       out.push_back({occluders[i], {i}});
-      continue;
+    } else if (runs[static_cast<std::size_t>(group[i])].sources[0] == i) {
+      const BoxRun& run = runs[static_cast<std::size_t>(group[i])];
+      MergedOccluder m{occluders[i], run.sources};
+      m.occluder.shape = run.shape;
+      out.push_back(std::move(m));
     }
-    const auto g = static_cast<std::size_t>(group[i]);
-    if (emitted[g]) continue;
-    emitted[g] = 1;
-    MergedOccluder m;
-    m.sources = runs[g];
-    std::sort(m.sources.begin(), m.sources.end());
-    Box u = boxes[m.sources[0]];
-    for (const std::size_t k : m.sources) {
-      u.x0 = std::min(u.x0, boxes[k].x0);
-      u.y0 = std::min(u.y0, boxes[k].y0);
-      u.x1 = std::max(u.x1, boxes[k].x1);
-      u.y1 = std::max(u.y1, boxes[k].y1);
-    }
-    m.occluder = occluders[m.sources[0]];
-    m.occluder.shape = box_polygon(u);
-    out.push_back(std::move(m));
   }
   return out;
 }

@@ -1,9 +1,10 @@
 // Occluder merging for tilemaps (issue 39, item 2): runs of equal axis-aligned wall boxes that
 // share whole edges, each replaced by the one box that is their union. A pure function; the
-// World is to keep the groups behind its handles (see the note in occluder_merge.cpp).
+// World keeps the groups behind its handles (world/world_merge.cpp).
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "par2d/scene.hpp"
@@ -27,5 +28,18 @@ struct MergedOccluder {
 // joins end to end. Coordinates are compared exactly, so the union is exactly the merged box
 // and every renderer sees the same occluded set: merging changes no image beyond rounding.
 std::vector<MergedOccluder> merge_tilemap_boxes(const std::vector<Occluder>& occluders);
+
+// The same as runs only: each group of two or more boxes (sources ascending, runs in the order
+// of their first source) and the box that is their union; `occluder(i)` gives the i-th of `n`.
+struct BoxRun {
+  Polygon shape;
+  std::vector<std::size_t> sources;
+};
+// Whether `o` can join a run at all: a mergeable box (then a change to it can change runs).
+bool mergeable_box(const Occluder& o);
+// Whether two boxes can join end to end: both mergeable, equal properties, a whole edge shared.
+// A box joinable with no other is in no run and changes none.
+bool joinable(const Occluder& a, const Occluder& b);
+std::vector<BoxRun> tilemap_box_runs(std::size_t n, const std::function<const Occluder&(std::size_t)>& occluder);
 
 }  // namespace par2d::detail

@@ -64,6 +64,7 @@ std::uint32_t World::new_slot(std::uint8_t list, std::int32_t where) {
   slots_[slot].internal = false;
   slots_[slot].next = kNoSlot;
   slots_[slot].owner = kNoSlot;
+  slots_[slot].group = kNoSlot;
   return slot;
 }
 
@@ -84,6 +85,7 @@ const Light& World::user_light(std::uint32_t slot) const noexcept {
 
 const Occluder& World::user_occluder(std::uint32_t slot) const noexcept {
   if (const auto it = compound_occluders_.find(slot); it != compound_occluders_.end()) return it->second;
+  if (const auto it = merged_sources_.find(slot); it != merged_sources_.end()) return it->second;
   return occluder_sources_[static_cast<std::size_t>(slots_[slot].where)];
 }
 
@@ -164,6 +166,7 @@ Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, st
   // its shadow splits and a concave occluder (several entries each) are added once the rest is
   // prepared, their internal slots after every handle's, so handles do not depend on them.
   std::vector<std::pair<std::uint32_t, std::size_t>> later_lights, later_occluders;  // user slot, index
+  std::vector<std::pair<std::uint32_t, std::size_t>> plain_occluders;
   for (std::size_t i = 0; i < scene.lights.size(); ++i) {
     const Light& light = scene.lights[i];
     const std::uint32_t slot = take_slot();
@@ -187,17 +190,10 @@ Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, st
   for (std::size_t i = 0; i < scene.occluders.size(); ++i) {
     const Occluder& occluder = scene.occluders[i];
     const std::uint32_t slot = take_slot();
-    if (needs_partition(occluder.shape)) {
-      later_occluders.emplace_back(slot, i);
-    } else {
-      Slot& s = next.slots_[slot];
-      s.list = kOccluder;
-      s.where = static_cast<std::int32_t>(next.occluder_sources_.size());
-      next.occluder_sources_.push_back(occluder);
-      next.occluder_slots_.push_back(slot);
-    }
+    (needs_partition(occluder.shape) ? later_occluders : plain_occluders).emplace_back(slot, i);
     occluder_handles.push_back({next.make_handle(slot)});
   }
+  next.push_loaded_occluders(scene, plain_occluders);
   for (std::size_t i = next.slots_.size(); i-- > cursor;)
     if (next.slots_[i].generation != 0) next.free_slots_.push_back(static_cast<std::uint32_t>(i));
   next.globals_.ambient = scene.ambient;
@@ -609,8 +605,15 @@ Scene World::snapshot() const {
   for (std::size_t p = 0; p < light_sources_.size(); ++p)
     if (!slots_[light_slots_[p]].internal) out.lights.push_back(user_light(light_slots_[p]));
   out.lights.insert(out.lights.end(), dark_sources_.begin(), dark_sources_.end());
-  for (std::size_t k = 0; k < occluder_sources_.size(); ++k)
-    if (!slots_[occluder_slots_[k]].internal) out.occluders.push_back(user_occluder(occluder_slots_[k]));
+  for (std::size_t k = 0; k < occluder_sources_.size(); ++k) {
+    const std::uint32_t slot = occluder_slots_[k];
+    if (slots_[slot].internal) continue;
+    if (const auto group = merge_groups_.find(slot); group != merge_groups_.end()) {
+      for (const std::uint32_t member : group->second) out.occluders.push_back(merged_sources_.at(member));
+    } else {
+      out.occluders.push_back(user_occluder(slot));
+    }
+  }
   out.ambient = globals_.ambient;
   out.directional_lights = globals_.directional_lights;
   out.normal = globals_.normal;

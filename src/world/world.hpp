@@ -56,7 +56,9 @@ class World {
   std::size_t light_count() const noexcept {
     return light_sources_.size() - internal_lights_ + dark_sources_.size();
   }
-  std::size_t occluder_count() const noexcept { return occluder_sources_.size() - internal_occluders_; }
+  std::size_t occluder_count() const noexcept {
+    return occluder_sources_.size() - internal_occluders_ + merged_followers_;
+  }
 
   // Brings everything derived up to date for a frame: coordinate scale, bounds and the index
   // (rebuilt only when refits have degraded it). Allocates nothing in steady state.
@@ -89,6 +91,9 @@ class World {
     LightPart part = LightPart::whole;  // lit entries: which part of the light this one renders
     std::uint32_t next = kNoSlot;
     std::uint32_t owner = kNoSlot;
+    // A tilemap box merged with its row or column into one entry (world_merge.cpp): the
+    // group's leader slot, which holds the entry.
+    std::uint32_t group = kNoSlot;
   };
   LightPart part_of(std::size_t p) const noexcept { return slots_[light_slots_[p]].part; }
   static constexpr std::uint32_t kNoSlot = 0xffffffffu;
@@ -126,6 +131,8 @@ class World {
   void erase_occluder(std::uint32_t slot);
   void push_occluder_entry(const Occluder& occluder, std::uint32_t slot);
   void erase_occluder_entry(std::size_t k);
+  // A user's occluder (in no group) given a new shape or properties.
+  void update_entry(std::uint32_t slot, const Occluder& occluder);
   // The user's light or occluder behind a user slot's first entry (a concave one as given).
   const Light& user_light(std::uint32_t slot) const noexcept;
   const Occluder& user_occluder(std::uint32_t slot) const noexcept;
@@ -159,6 +166,27 @@ class World {
   std::unordered_map<std::uint32_t, Light> compound_lights_;
   std::vector<Polygon> pieces_;   // scratch for partitions
   std::vector<Segment> shared_;   // scratch: the boundaries a partition's pieces share
+  // Tilemap boxes merged into one entry per group (world_merge.cpp): per leader slot the
+  // group's user slots (leader first), per member slot its box as given.
+  std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> merge_groups_;
+  std::unordered_map<std::uint32_t, Occluder> merged_sources_;
+  std::size_t merged_followers_ = 0;  // group members that are not its leader
+  // The group of user slot `slot`, if any, split back into one entry per box; its members
+  // (empty: it was in none).
+  std::vector<std::uint32_t> dissolve_group(std::uint32_t slot);
+  // The groups made again what merging the world's boxes now gives (after a box changed).
+  void regroup();
+  // Whether `box` (world coordinates) shares a whole edge with a box it could join (through
+  // the index; no allocation): if neither a box's old nor new shape may join and it was in no
+  // group, the groups cannot change.
+  bool may_join(const Occluder& box);
+  // These user slots (each one plain box entry, in no group, in snapshot order) as one group.
+  void form_group(const std::vector<std::uint32_t>& members);
+  // A plain occluder as given, in a group or not.
+  const Occluder& plain_source(std::uint32_t slot) const noexcept;
+  std::vector<std::uint32_t> regroup_order_;  // scratch
+  // set_scene: the plain occluders (user slot, index in `scene`) into the lists, merged.
+  void push_loaded_occluders(const Scene& scene, const std::vector<std::pair<std::uint32_t, std::size_t>>& plain);
   std::vector<Light> dark_sources_;
   std::vector<std::uint32_t> dark_slots_;
   // The scene-wide game-model terms as given (ambient, directional lights, normal source);

@@ -11,6 +11,7 @@
 #include "geometry/polygon_partition.hpp"
 #include "lighting/light_emission.hpp"
 #include "scene/scene_validate.hpp"
+#include "world/occluder_merge.hpp"
 #include "world/world_support.hpp"
 
 namespace par2d::detail {
@@ -52,6 +53,7 @@ Status World::add_occluder(const Occluder& occluder, OccluderHandle* handle) {
   bounce_pieces_ = pieces;
   push_occluder(occluder, slot);
   handle->id = make_handle(slot);
+  if (may_join(occluder)) regroup();
   return {};
 }
 
@@ -98,16 +100,26 @@ Status World::update_occluder(OccluderHandle handle, const Occluder& occluder) {
   if (!slot) return unknown_handle("occluder", handle.id);
   if (auto problem = check_occluder(occluder, std::string())) return refused("occluder " + std::to_string(handle.id), *problem);
   const auto index = static_cast<std::uint32_t>(slot - slots_.data());
-  const auto k = static_cast<std::size_t>(slot->where);
   const double pieces = bounce_pieces_ - bounce_pieces_of(user_occluder(index)) + bounce_pieces_of(occluder);
   if (pieces > kMaxBouncePieces) return refused("occluder " + std::to_string(handle.id), {"albedo", bounce_pieces_text(pieces)});
   bounce_pieces_ = pieces;
+  // A merged tilemap box: its group is split into its boxes, this one changes, and the rest
+  // (with this one, if it still joins) merge again.
+  const bool boxes = slots_[index].group != kNoSlot || may_join(user_occluder(index)) || may_join(occluder);
+  dissolve_group(index);
+  update_entry(index, occluder);
+  if (boxes) regroup();
+  return {};
+}
+
+void World::update_entry(std::uint32_t index, const Occluder& occluder) {
   if (compound_occluders_.count(index) != 0 || needs_partition(occluder.shape)) {
     // A concave occluder's pieces change with it: taken out and put in again.
     erase_occluder(index);
     push_occluder(occluder, index);
-    return {};
+    return;
   }
+  const auto k = static_cast<std::size_t>(slots_[index].where);
   const Aabb old_box = bounds_of(scene_.occluders[k]);
   occluder_sources_[k] = occluder;
   scene_.occluder_terms[k] = occluder_terms(occluder);
@@ -117,7 +129,6 @@ Status World::update_occluder(OccluderHandle handle, const Occluder& occluder) {
   scene_.occluder_bvh.update(static_cast<std::uint32_t>(k), bounds_of(scene_.occluders[k]));
   occluder_changed(k, &old_box);
   ++stats_.index_updates;
-  return {};
 }
 
 Status World::remove_occluder(OccluderHandle handle) {
@@ -125,8 +136,11 @@ Status World::remove_occluder(OccluderHandle handle) {
   if (!slot) return unknown_handle("occluder", handle.id);
   const auto index = static_cast<std::uint32_t>(slot - slots_.data());
   bounce_pieces_ -= bounce_pieces_of(user_occluder(index));
+  const bool box = slots_[index].group != kNoSlot || may_join(user_occluder(index));
+  dissolve_group(index);
   erase_occluder(index);
   release_slot(&slots_[index]);
+  if (box) regroup();
   return {};
 }
 
