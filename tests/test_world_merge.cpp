@@ -113,6 +113,17 @@ TEST_CASE("world merging: 300 random edits of a tilemap keep the groups canonica
     detail::World world;
     std::vector<OccluderHandle> world_handles;
     REQUIRE(world.set_scene(level, nullptr, &world_handles).ok());
+    // An incremental Renderer beside it, rendering after every edit: only the blocks the
+    // edits (and the regrouping they cause) mark are computed, and its buffer must still be
+    // a full render's, byte for byte.
+    Renderer inc;
+    REQUIRE(inc.set_options(options).ok());
+    std::vector<OccluderHandle> inc_handles;
+    REQUIRE(inc.set_scene(level, nullptr, &inc_handles).ok());
+    REQUIRE(inc.set_incremental(true).ok());
+    std::vector<float> inc_pixels(static_cast<std::size_t>(inc.width()) * inc.height() * 3, -1.0f);
+    const ImageView inc_view{inc_pixels.data(), inc.width(), inc.height(),
+                             static_cast<std::ptrdiff_t>(inc.width()) * 3};
     std::vector<Occluder> shapes = level.occluders;
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -129,18 +140,23 @@ TEST_CASE("world merging: 300 random edits of a tilemap keep the groups canonica
         const double off = unit(rng) < 0.2 ? 3.0 : 0.0;
         Occluder o = box(x + off, y, x + off + tile, y + tile);
         OccluderHandle h, wh;
+        OccluderHandle ih;
         REQUIRE(r.add_occluder(o, &h).ok());
         REQUIRE(world.add_occluder(o, &wh).ok());
+        REQUIRE(inc.add_occluder(o, &ih).ok());
         handles.push_back(h);
         world_handles.push_back(wh);
+        inc_handles.push_back(ih);
         shapes.push_back(o);
       } else {
         const auto i = static_cast<std::size_t>(unit(rng) * static_cast<double>(handles.size()));
         if (what < 0.35) {
           REQUIRE(r.remove_occluder(handles[i]).ok());
           REQUIRE(world.remove_occluder(world_handles[i]).ok());
+          REQUIRE(inc.remove_occluder(inc_handles[i]).ok());
           handles.erase(handles.begin() + static_cast<std::ptrdiff_t>(i));
           world_handles.erase(world_handles.begin() + static_cast<std::ptrdiff_t>(i));
+          inc_handles.erase(inc_handles.begin() + static_cast<std::ptrdiff_t>(i));
           shapes.erase(shapes.begin() + static_cast<std::ptrdiff_t>(i));
         } else {
           Occluder o = shapes[i];
@@ -165,6 +181,7 @@ TEST_CASE("world merging: 300 random edits of a tilemap keep the groups canonica
           }
           REQUIRE(r.update_occluder(handles[i], o).ok());
           REQUIRE(world.update_occluder(world_handles[i], o).ok());
+          REQUIRE(inc.update_occluder(inc_handles[i], o).ok());
           shapes[i] = o;
         }
       }
@@ -179,8 +196,11 @@ TEST_CASE("world merging: 300 random edits of a tilemap keep the groups canonica
         REQUIRE(r.occluder(handles[k], &o).ok());
         REQUIRE(text(o) == text(shapes[k]));
       }
+      REQUIRE(inc.render(inc_view).ok());
       if (step % 15 == 14) {
-        REQUIRE(same_bits(frame(r), one_shot(r.snapshot(), r.options())));
+        const std::vector<float> full = one_shot(r.snapshot(), r.options());
+        REQUIRE(same_bits(frame(r), full));
+        REQUIRE(same_bits(inc_pixels, full));
         ++checked_frames;
       }
     }
