@@ -14,8 +14,7 @@ using namespace par2d::test;
 
 namespace {
 
-void check_level(const bench::WallLevel& level, const std::string& what) {
-  const Scene scene = bench::wall_level(level);
+void check_scene(const Scene& scene, const std::string& what) {
   REQUIRE(validate_scene(scene).ok());
   REQUIRE(!scene.lights.empty());
   const RenderedImage ref = render_or_fail(scene, options_for(Backend::scalar, Isa::scalar));
@@ -23,6 +22,8 @@ void check_level(const bench::WallLevel& level, const std::string& what) {
   check_simd_against_scalar(
       scene, ref, what, [&](Vec2 p) { return near_boundary(scene, p, exempt); }, scene.width * scene.height / 2);
 }
+
+void check_level(const bench::WallLevel& level, const std::string& what) { check_scene(bench::wall_level(level), what); }
 
 bench::WallLevel small_level(std::uint32_t seed) {
   bench::WallLevel level;
@@ -74,5 +75,25 @@ TEST_CASE("torches poking into walls over the grid's tile sizes, depths and styl
         check_level(level, "seed " + std::to_string(level.seed));
       }
     }
+  }
+}
+
+// Tiles wholly inside a wall skip the lights the wall shadows (render/tile_setup.cpp): only an
+// opaque wall, dark inside, acting on the light. Walls that let light through or in, or that
+// do not act on the torches, must leave those tiles their lights.
+TEST_CASE("tiles inside walls: only opaque, dark walls acting on a light drop it (every ISA, culling on and off)") {
+  const Scene plain = bench::wall_level(small_level(3950));
+  for (int variant = 0; variant < 4; ++variant) {
+    Scene scene = plain;
+    for (std::size_t k = 0; k < scene.occluders.size(); ++k) {
+      Occluder& o = scene.occluders[k];
+      if (k % 2 != 0) continue;  // every other wall box changes: mixed rows
+      if (variant == 1) o.transmittance = {0.5, 0.25, 0.0};
+      if (variant == 2) o.interior = Interior::lit;
+      if (variant == 3) o.mask = 2;  // the torches keep the default mask (all bits): still acts
+    }
+    if (variant == 3)
+      for (Light& l : scene.lights) l.mask = 1;  // ... now it does not act on them
+    check_scene(scene, "variant " + std::to_string(variant));
   }
 }

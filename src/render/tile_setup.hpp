@@ -40,6 +40,9 @@ struct TileSetupScratch {
   // TileWork::lights entry (plain scenes), for the cell lists.
   TilePlan plan;
   std::vector<std::uint32_t> tile_lights;
+  // Occluders that meet the block and are at least a tile wide and high: those that may hold
+  // a whole tile (build_tile_work), and scratch for the block's query.
+  std::vector<std::uint32_t> block_enclosers, enclosers_query;
 
   // The scene counts its buffers are reserved for (reserve_for).
   SceneBounds reserved;
