@@ -16,6 +16,7 @@
 #include "render/frame_output.hpp"
 #include "world/occluder_bvh.hpp"
 #include "support/random_scenes.hpp"
+#include "support/render_checks.hpp"
 #include "support/test_tiers.hpp"
 
 namespace par2d::test {
@@ -37,23 +38,8 @@ RenderOptions options_for(Isa isa) {
   return o;
 }
 
-std::vector<float> frame_rgb(Renderer& r) {
-  std::vector<float> pixels(static_cast<std::size_t>(r.width()) * r.height() * 3, -1.0f);
-  const Status s = r.render(ImageView{pixels.data(), r.width(), r.height(), static_cast<std::ptrdiff_t>(r.width()) * 3});
-  REQUIRE_MESSAGE(s.ok(), s.message());
-  return pixels;
-}
 
-std::vector<float> one_shot(const Scene& scene, const RenderOptions& options) {
-  Status s;
-  RenderedImage image = render_image(scene, options, s);
-  REQUIRE_MESSAGE(s.ok(), s.message());
-  return image.pixels;
-}
 
-bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
-}
 
 Shape moved(const Shape& shape, double dx, double dy) {
   Shape out = shape;

@@ -5,7 +5,6 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
-#include <cstring>
 #include <random>
 #include <string>
 #include <vector>
@@ -14,13 +13,15 @@
 #include "par2d/renderer.hpp"
 #include "par2d/scene_write.hpp"
 #include "support/random_scenes.hpp"
+#include "support/render_checks.hpp"
 #include "support/test_tiers.hpp"
 #include "world/occluder_merge.hpp"
 #include "world/world.hpp"
 
 using namespace par2d;
-using par2d::test::render_image;
-using par2d::test::RenderedImage;
+using par2d::test::frame_rgb;
+using par2d::test::one_shot;
+using par2d::test::same_bits;
 
 namespace {
 
@@ -56,24 +57,8 @@ std::vector<std::string> occluder_texts(const Scene& scene) {
   return out;
 }
 
-std::vector<float> frame(Renderer& r) {
-  std::vector<float> pixels(static_cast<std::size_t>(r.width()) * r.height() * 3, -1.0f);
-  const Status s =
-      r.render(ImageView{pixels.data(), r.width(), r.height(), static_cast<std::ptrdiff_t>(r.width()) * 3});
-  REQUIRE_MESSAGE(s.ok(), s.message());
-  return pixels;
-}
 
-std::vector<float> one_shot(const Scene& scene, const RenderOptions& options) {
-  Status s;
-  RenderedImage image = render_image(scene, options, s);
-  REQUIRE_MESSAGE(s.ok(), s.message());
-  return image.pixels;
-}
 
-bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
-}
 
 }  // namespace
 
@@ -199,7 +184,7 @@ TEST_CASE("world merging: 300 random edits of a tilemap keep the groups canonica
       REQUIRE(inc.render(inc_view).ok());
       if (step % 15 == 14) {
         const std::vector<float> full = one_shot(r.snapshot(), r.options());
-        REQUIRE(same_bits(frame(r), full));
+        REQUIRE(same_bits(frame_rgb(r), full));
         REQUIRE(same_bits(inc_pixels, full));
         ++checked_frames;
       }

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <variant>
 #include <sstream>
@@ -186,6 +187,24 @@ double renderer_snapshot_difference(Renderer& renderer) {
   for (std::size_t i = 0; i < frame.size(); ++i) worst = std::max(worst, std::fabs(double(frame[i]) - once.pixels[i]));
   const double e_max = max_emission_sum(snapshot);
   return e_max > 0.0 ? worst / e_max : worst;
+}
+
+std::vector<float> frame_rgb(Renderer& r) {
+  std::vector<float> pixels(static_cast<std::size_t>(r.width()) * r.height() * 3, -1.0f);
+  const Status s = r.render(ImageView{pixels.data(), r.width(), r.height(), static_cast<std::ptrdiff_t>(r.width()) * 3});
+  REQUIRE_MESSAGE(s.ok(), s.message());
+  return pixels;
+}
+
+std::vector<float> one_shot(const Scene& scene, const RenderOptions& options) {
+  Status s;
+  RenderedImage image = render_image(scene, options, s);
+  REQUIRE_MESSAGE(s.ok(), s.message());
+  return image.pixels;
+}
+
+bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
 
 }  // namespace par2d::test

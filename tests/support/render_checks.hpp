@@ -38,6 +38,12 @@ void check_simd_against_scalar(const Scene& scene, const RenderedImage& ref, con
 // differently; section 5's 1e-6 e_max is what a caller checks.
 double renderer_snapshot_difference(Renderer& renderer);
 
+// A Renderer's whole frame as float RGB (fails the test case on an error), a one-shot render
+// of a scene likewise, and whether two such images are equal bit for bit.
+std::vector<float> frame_rgb(Renderer& r);
+std::vector<float> one_shot(const Scene& scene, const RenderOptions& options);
+bool same_bits(const std::vector<float>& a, const std::vector<float>& b);
+
 // The ray caster (`rays` directions, jitter 0.5) at every pixel center farther than `skip`
 // world units from every shape boundary, against `image`: the worst |E_image - E_ray| over
 // stratification_bound(scene, rays, overlapping) (at most 1 means they agree), the pixels
