@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -83,26 +84,30 @@ int run_cli(const std::vector<std::string>& args) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
-// Runs the CLI with `args`; its exit status, and its standard error in `err`.
-int run_cli_err(const std::vector<std::string>& args, std::string& err) {
-  TempDir capture("par2d_cli_err");
-  const std::string err_path = capture / "stderr.txt";
+// Runs the CLI with `args`; its exit status, and what it wrote to file descriptor `fd` (1:
+// standard output, 2: standard error) in `text`.
+int run_cli_capture(const std::vector<std::string>& args, int fd, std::string& text) {
+  TempDir capture("par2d_cli_capture");
+  const std::string text_path = capture / "captured.txt";
   std::vector<char*> argv{const_cast<char*>(PAR2D_CLI_PATH)};
   for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
   posix_spawn_file_actions_t actions;
   REQUIRE(posix_spawn_file_actions_init(&actions) == 0);
-  REQUIRE(posix_spawn_file_actions_addopen(&actions, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600) == 0);
+  REQUIRE(posix_spawn_file_actions_addopen(&actions, fd, text_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600) == 0);
   pid_t pid = 0;
   const int spawned = posix_spawn(&pid, PAR2D_CLI_PATH, &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   REQUIRE(spawned == 0);
   int status = 0;
   REQUIRE(waitpid(pid, &status, 0) == pid);
-  std::ifstream in(err_path, std::ios::binary);
-  err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  std::ifstream in(text_path, std::ios::binary);
+  text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
+
+// Its exit status, and its standard error in `err`.
+int run_cli_err(const std::vector<std::string>& args, std::string& err) { return run_cli_capture(args, 2, err); }
 
 std::string file_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -925,4 +930,26 @@ TEST_CASE("bench --width/--height on a normal-mapped scene is refused naming the
   // Its own size is fine.
   std::string err;
   CHECK(run_cli_err({"bench", dir / "s.json", "--backend", "scalar", "--frames", "1", "--width", "4"}, err) == 0);
+}
+
+// `bench --stats` puts the kernel's pairs per sample against the pairs each pixel needs
+// (issue 39's measure of wasted kernel work): the ratio of the two numbers it prints.
+TEST_CASE("bench --stats reports the kernel's pairs per sample over the exact pairs per pixel") {
+  TempDir dir("par2d_model_io");
+  std::ofstream(dir / "s.json") << R"({"width": 96, "height": 64, "lights": [{"circle": {"center": [20, 30], "radius": 4}}],
+    "occluders": [{"circle": {"center": [40, 30], "radius": 5}}, {"polygon": [[60, 10], [70, 10], [70, 50], [60, 50]]},
+                  {"circle": {"center": [30, 50], "radius": 3}}]})";
+  std::string out;
+  REQUIRE(run_cli_capture({"bench", dir / "s.json", "--frames", "1", "--threads", "1", "--stats"}, 1, out) == 0);
+  CAPTURE(out);
+  double arcs = 0, kernel = 0, visible = 0, exact = 0, ratio = 0;
+  const std::size_t at_kernel = out.find("per sample (kernel):"), at_exact = out.find("sampled pixels):");
+  REQUIRE(at_kernel != std::string::npos);
+  REQUIRE(at_exact != std::string::npos);
+  REQUIRE(std::sscanf(out.c_str() + at_kernel, "per sample (kernel): %lf light arcs, %lf pairs", &arcs, &kernel) == 2);
+  REQUIRE(std::sscanf(out.c_str() + at_exact,
+                      "sampled pixels): %lf lights visible, %lf occluders cutting into their arcs; the kernel takes %lfx",
+                      &visible, &exact, &ratio) == 3);
+  REQUIRE(exact > 0.0);
+  CHECK(std::abs(ratio - kernel / exact) <= 0.05 * ratio + 0.01);  // the printed numbers are rounded
 }

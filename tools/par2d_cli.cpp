@@ -395,9 +395,14 @@ void print_stats(const par2d::FrameStats& s) {
       ratio(s.tile_pairs_outside_hull, s.tiles));
   std::printf("  per sample (kernel): %.2f light arcs, %.2f pairs; %.2f samples per pixel (tile padding included)\n",
               ratio(s.light_samples, s.samples), ratio(s.pair_samples, s.samples), ratio(s.samples, s.pixels));
-  std::printf("  per pixel (exact, at %llu sampled pixels): %.2f lights visible, %.2f occluders cutting into their arcs\n",
+  std::printf("  per pixel (exact, at %llu sampled pixels): %.2f lights visible, %.2f occluders cutting into their arcs",
               static_cast<unsigned long long>(s.sampled_pixels), ratio(s.sampled_visible_lights, s.sampled_pixels),
               ratio(s.sampled_blocking_pairs, s.sampled_pixels));
+  // The kernel's pairs per sample over the pairs a pixel needs: the work culling left over.
+  if (s.sampled_blocking_pairs > 0 && s.samples > 0)
+    std::printf("; the kernel takes %.1fx those pairs",
+                ratio(s.pair_samples, s.samples) / ratio(s.sampled_blocking_pairs, s.sampled_pixels));
+  std::printf("\n");
   std::printf("  tiles computed by the scalar reference: %llu\n", static_cast<unsigned long long>(s.scalar_tiles));
   if (s.bounce_pieces == 0) return;
   std::printf(
