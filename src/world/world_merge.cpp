@@ -7,6 +7,7 @@
 // set_scene would make of the world's boxes as they now are (in snapshot order), so a frame
 // stays bit for bit a one-shot render of the snapshot. Only changes to or from a box regroup.
 #include <algorithm>
+#include <unordered_map>
 
 #include "geometry/aabb.hpp"
 #include "world/occluder_merge.hpp"
@@ -107,24 +108,27 @@ void World::regroup() {
   const std::vector<BoxRun> runs =
       tilemap_box_runs(order.size(), [&](std::size_t i) -> const Occluder& { return plain_source(order[i]); });
   // Groups that are still runs stay; the others are split, and new runs formed.
+  std::unordered_map<std::uint32_t, std::size_t> run_of_leader;
+  run_of_leader.reserve(runs.size());
+  for (std::size_t r = 0; r < runs.size(); ++r) run_of_leader.emplace(order[runs[r].sources[0]], r);
+  auto same_members = [&](const BoxRun& run, const std::vector<std::uint32_t>& members) {
+    if (run.sources.size() != members.size()) return false;
+    for (std::size_t i = 0; i < members.size(); ++i)
+      if (order[run.sources[i]] != members[i]) return false;
+    return true;
+  };
   std::vector<std::vector<std::uint32_t>> wanted;
   for (const BoxRun& run : runs) {
+    const auto current = merge_groups_.find(order[run.sources[0]]);
+    if (current != merge_groups_.end() && same_members(run, current->second)) continue;
     std::vector<std::uint32_t> members;
     for (const std::size_t i : run.sources) members.push_back(order[i]);
-    const auto current = merge_groups_.find(members[0]);
-    if (current != merge_groups_.end() && current->second == members) continue;
     wanted.push_back(std::move(members));
   }
   std::vector<std::uint32_t> stale;
   for (const auto& [leader, members] : merge_groups_) {
-    const auto run =
-        std::find_if(runs.begin(), runs.end(), [&](const BoxRun& r) { return order[r.sources[0]] == leader; });
-    bool kept = false;
-    if (run != runs.end() && run->sources.size() == members.size()) {
-      kept = true;
-      for (std::size_t i = 0; i < members.size() && kept; ++i) kept = order[run->sources[i]] == members[i];
-    }
-    if (!kept) stale.push_back(leader);
+    const auto run = run_of_leader.find(leader);
+    if (run == run_of_leader.end() || !same_members(runs[run->second], members)) stale.push_back(leader);
   }
   for (const std::uint32_t leader : stale) dissolve_group(leader);
   for (const std::vector<std::uint32_t>& members : wanted) form_group(members);
