@@ -41,20 +41,36 @@ std::optional<Line> disc_separator(const ConvexShape& positive, const ConvexShap
 
 }  // namespace
 
+bool PairSeparators::too_many(std::size_t lights, std::size_t occluders) noexcept {
+  return occluders != 0 && lights > kMaxCachedPairs / occluders;
+}
+
+void PairSeparators::drop() noexcept {
+  state_.reset();
+  lines_.reset();
+  rows_ = stride_ = 0;
+}
+
 void PairSeparators::reset(std::size_t lights, std::size_t occluders) {
-  lights_ = rows_ = lights;
-  occluders_ = stride_ = occluders;
+  lights_ = lights;
+  occluders_ = occluders;
+  if (too_many(lights, occluders)) return drop();
+  rows_ = lights;
+  stride_ = occluders;
   state_ = std::make_unique<std::atomic<std::uint8_t>[]>(lights * occluders);
   lines_ = std::make_unique<Line[]>(lights * occluders);
 }
 
 void PairSeparators::resize(std::size_t lights, std::size_t occluders) {
-  if (lights > rows_ || occluders > stride_) {
-    const std::size_t rows = std::max(lights, 2 * rows_), stride = std::max(occluders, 2 * stride_);
+  if (too_many(lights, occluders)) {
+    drop();
+  } else if (!state_ || lights > rows_ || occluders > stride_) {
+    std::size_t rows = std::max(lights, 2 * rows_), stride = std::max(occluders, 2 * stride_);
+    if (too_many(rows, stride)) rows = lights, stride = occluders;
     auto state = std::make_unique<std::atomic<std::uint8_t>[]>(rows * stride);  // value-initialized: kUnknown
     auto lines = std::make_unique<Line[]>(rows * stride);
-    for (std::size_t l = 0; l < lights_; ++l) {
-      for (std::size_t k = 0; k < occluders_; ++k) {
+    for (std::size_t l = 0; state_ && l < std::min(lights_, rows_); ++l) {
+      for (std::size_t k = 0; k < std::min(occluders_, stride_); ++k) {
         const std::uint8_t seen = state_[l * stride_ + k].load(std::memory_order_relaxed);
         // A slot some thread was computing is simply forgotten.
         if (seen == kSeparated || seen == kTouching) {
@@ -74,10 +90,12 @@ void PairSeparators::resize(std::size_t lights, std::size_t occluders) {
 }
 
 void PairSeparators::forget_light(std::size_t light) noexcept {
+  if (!state_ || light >= rows_) return;
   for (std::size_t k = 0; k < stride_; ++k) state_[light * stride_ + k].store(kUnknown, std::memory_order_relaxed);
 }
 
 void PairSeparators::forget_occluder(std::size_t occluder) noexcept {
+  if (!state_ || occluder >= stride_) return;
   for (std::size_t l = 0; l < rows_; ++l) state_[l * stride_ + occluder].store(kUnknown, std::memory_order_relaxed);
 }
 
@@ -89,25 +107,32 @@ void PairSeparators::copy_pair(std::size_t from, std::size_t to) noexcept {
 }
 
 void PairSeparators::move_light(std::size_t from, std::size_t to) noexcept {
+  if (!state_ || from >= rows_ || to >= rows_) return;
   for (std::size_t k = 0; k < stride_; ++k) copy_pair(from * stride_ + k, to * stride_ + k);
 }
 
 void PairSeparators::move_occluder(std::size_t from, std::size_t to) noexcept {
+  if (!state_ || from >= stride_ || to >= stride_) return;
   for (std::size_t l = 0; l < rows_; ++l) copy_pair(l * stride_ + from, l * stride_ + to);
 }
 
 std::optional<Line> PairSeparators::get(std::size_t light, std::size_t occluder, const ConvexShape& light_shape,
                                         const ConvexShape& occluder_shape) const noexcept {
+  auto compute = [&] {
+    std::optional<Line> line = disc_separator(occluder_shape, light_shape);
+    if (!line || !separates(*line, occluder_shape, light_shape)) {
+      line = separating_line(occluder_shape, light_shape);
+      if (line && !separates(*line, occluder_shape, light_shape)) line.reset();
+    }
+    return line;
+  };
+  if (!state_) return compute();  // too many pairs to keep: found anew each time
   const std::size_t index = light * stride_ + occluder;
   std::atomic<std::uint8_t>& state = state_[index];
   const std::uint8_t seen = state.load(std::memory_order_acquire);
   if (seen == kSeparated) return lines_[index];
   if (seen == kTouching) return std::nullopt;
-  std::optional<Line> line = disc_separator(occluder_shape, light_shape);
-  if (!line || !separates(*line, occluder_shape, light_shape)) {
-    line = separating_line(occluder_shape, light_shape);
-    if (line && !separates(*line, occluder_shape, light_shape)) line.reset();
-  }
+  const std::optional<Line> line = compute();
   // Only the thread that claims the slot writes it; a thread that loses the race just
   // uses its own (identical) result.
   std::uint8_t expected = kUnknown;
@@ -360,23 +385,27 @@ void reserve_overlaps(PreparedScene& scene, const ConvexShape* light, const Conv
   const std::size_t points =
       std::min(meeting_points_bound(r.light_edges, r.occluder_edges), kReservedOverlapPoints);
   if (lights <= r.lights && per_light <= r.per_light && points <= r.points) return;
-  r.lights = std::max(r.lights, lights);
+  // Lights are counted up twofold, so that adding thousands of lights one by one (a concave
+  // light's pieces) tops the pool up a few times, not once per light.
+  if (lights > r.lights) r.lights = std::max(lights, 2 * r.lights);
   r.per_light = std::max(r.per_light, per_light);
   r.points = std::max(r.points, points);
   std::size_t in_use = 0;
+  for (const PreparedLight& l : scene.lights) in_use += l.overlaps.size();
+  const std::size_t pool = std::max(r.lights * r.per_light, in_use + scene.spare_overlaps.size());
+  // Each overlap's room for points, within kReservedPoolPoints in all.
+  const std::size_t room = std::min(r.points, kReservedPoolPoints / std::max<std::size_t>(pool, 1));
   for (PreparedLight& l : scene.lights) {
     l.overlaps.reserve(r.per_light);
     l.overlapping_occluders.reserve(scene.occluders.size());
-    for (LightOverlap& o : l.overlaps) o.points.reserve(r.points);
-    in_use += l.overlaps.size();
+    for (LightOverlap& o : l.overlaps) o.points.reserve(room);
   }
-  for (LightOverlap& o : scene.spare_overlaps) o.points.reserve(r.points);
-  const std::size_t pool = std::max(r.lights * r.per_light, in_use + scene.spare_overlaps.size());
+  for (LightOverlap& o : scene.spare_overlaps) o.points.reserve(room);
   // Every overlap can come back to the spares at once.
   scene.spare_overlaps.reserve(pool);
   while (in_use + scene.spare_overlaps.size() < pool) {
     scene.spare_overlaps.emplace_back();
-    scene.spare_overlaps.back().points.reserve(r.points);
+    scene.spare_overlaps.back().points.reserve(room);
   }
 }
 

@@ -108,6 +108,10 @@ struct PreparedLight {
 // matters to many tiles, and the exact closest-point computation costs more than a tile.
 class PairSeparators {
  public:
+  // At most this many pairs are kept (2 MB of states, 64 MB of lines): a world with more
+  // (thousands of concave pieces against thousands of occluders) finds each line anew when
+  // asked, the same line, rather than holding gigabytes.
+  static constexpr std::size_t kMaxCachedPairs = std::size_t{1} << 21;
   // All pairs unknown, for `lights` x `occluders`.
   void reset(std::size_t lights, std::size_t occluders);
   // Persistent worlds (single-threaded, between frames): room for `lights` x `occluders`
@@ -125,6 +129,8 @@ class PairSeparators {
  private:
   enum : std::uint8_t { kUnknown = 0, kComputing = 1, kSeparated = 2, kTouching = 3 };
   void copy_pair(std::size_t from, std::size_t to) noexcept;
+  static bool too_many(std::size_t lights, std::size_t occluders) noexcept;
+  void drop() noexcept;  // keep nothing (too many pairs)
   std::size_t lights_ = 0, occluders_ = 0;
   std::size_t rows_ = 0, stride_ = 0;  // capacity: lights x occluders
   std::unique_ptr<std::atomic<std::uint8_t>[]> state_;
@@ -210,11 +216,12 @@ void find_light_overlaps(const PreparedScene& scene, PreparedLight& light, std::
 // The pool of overlaps reserved so that lights move anywhere without allocating: every light
 // holds room for min(occluders, kReservedOverlapsPerLight) overlaps, the pool holds that many
 // per light, and each has room for the most meeting points of any light and occluder of the
-// scene (at most kReservedOverlapPoints). `light` / `occluder`: a shape just made (its edges
+// scene (at most kReservedOverlapPoints, and kReservedPoolPoints over the pool). `light` / `occluder`: a shape just made (its edges
 // may raise the most seen), or both null to look at every shape. Allocates only when the
 // counts or the most edges grow; otherwise O(1).
 inline constexpr std::size_t kReservedOverlapsPerLight = 16;
 inline constexpr std::size_t kReservedOverlapPoints = 256;
+inline constexpr std::size_t kReservedPoolPoints = std::size_t{1} << 18;  // 4 MiB of points in all
 void reserve_overlaps(PreparedScene& scene, const ConvexShape* light, const ConvexShape* occluder);
 // `out` for a light and an occluder that meet (meets_within_contact).
 void describe_overlap(const ConvexShape& light, const ConvexShape& occluder, LightOverlap& out);
