@@ -211,3 +211,71 @@ TEST_CASE("random concave and ringed lights on a whole-unit grid: every SIMD lev
 
 }  // namespace par2d::test
 
+
+namespace par2d::test {
+namespace {
+
+// A comb of `teeth` teeth 1 wide and 10 tall on a base 1 high, 2 apart, counter-clockwise:
+// a ray along the base's length enters every tooth.
+Polygon comb(int teeth) {
+  Polygon p;
+  const double right = 2.0 * teeth - 1.0;
+  p.vertices = {{0, 0}, {right, 0}, {right, 10}};
+  for (int k = teeth - 1; k >= 1; --k) {
+    const double x = 2.0 * k;
+    p.vertices.insert(p.vertices.end(), {{x, 10}, {x, 1}, {x - 1, 1}, {x - 1, 10}});
+  }
+  p.vertices.push_back({0, 10});
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("a concave light counts once per entry: E passes e, stays within e times 1 + n/2, and the limit counts entries" *
+          per_isa()) {
+  const Polygon teeth = comb(10);
+  const double entries = 1.0 + std::floor(0.5 * static_cast<double>(teeth.vertices.size()));
+  Scene scene = lit_by(concave_light(teeth, {1, 1, 1}, 1.0), {});
+  scene.width = 96;
+  scene.height = 16;
+  scene.view = {-30, 2, 50, 8};
+  // A row through the teeth from outside: rays along it enter tooth after tooth.
+  double largest = 0.0;
+  for (Backend backend : {Backend::scalar, Backend::simd}) {
+    RenderOptions o;
+    o.backend = backend;
+    o.threads = 1;
+    const RenderedImage image = render_or_fail(scene, o);
+    for (float e : image.pixels) {
+      CHECK(e >= 0.0f);
+      CHECK(e <= entries);
+      largest = std::max(largest, static_cast<double>(e));
+    }
+  }
+  CHECK(largest > 1.5);  // more than the light's one emission: the bound must count entries
+  // An emission whose entries pass float32's range is refused, in files and in a Renderer.
+  scene.lights[0].intensity = 1e38 / entries * 1.5;
+  Status status = validate_scene(scene, "comb.json");
+  REQUIRE_FALSE(status.ok());
+  CHECK(status.message().rfind("comb.json: lights[0]: emission too large", 0) == 0);
+  scene.lights[0].intensity = 1e38 / entries * 0.5;
+  CHECK(validate_scene(scene, "comb.json").ok());
+  for (Backend backend : {Backend::scalar, Backend::simd}) {
+    RenderOptions o;
+    o.backend = backend;
+    o.threads = 1;
+    for (float e : render_or_fail(scene, o).pixels) CHECK(std::isfinite(e));
+  }
+  Renderer renderer;
+  REQUIRE(renderer.set_frame(8, 8, View{-30, 2, 50, 8}).ok());
+  LightHandle lamp, other;
+  CHECK_FALSE(renderer.add_light(concave_light(teeth, {1, 1, 1}, 1e38 / entries * 1.5), &lamp).ok());
+  REQUIRE(renderer.add_light(concave_light(teeth, {1, 1, 1}, 1e38 / entries * 0.5), &lamp).ok());
+  // The concave light already holds half the limit through its entries: a convex light with
+  // 0.6 of the limit, or the comb brightened past it, is refused.
+  CHECK_FALSE(renderer.add_light(Light{Circle{{60, 5}, 1}, {1, 1, 1}, 0.6e38}, &other).ok());
+  CHECK_FALSE(renderer.set_light_emission(lamp, {1, 1, 1}, 1e38 / entries * 1.2).ok());
+  CHECK(renderer.add_light(Light{Circle{{60, 5}, 1}, {1, 1, 1}, 0.4e38}, &other).ok());
+}
+
+}  // namespace par2d::test

@@ -139,6 +139,27 @@ MaybeProblem check_convex_ring(const std::vector<Vec2>& v, const std::string& pl
     const bool against = turn.side == -winding || (turn.fold && turn.side == 0);
     if (against && (bad == nullptr || turn.vertex < bad->vertex)) bad = &turn;
   }
+  // Straight turns may not add up to a pocket: the boundary's direction, summed turn by turn
+  // with the winding positive, never falls back by more than one straight turn's tolerance
+  // below the highest it has reached. Each tolerated turn alone bends by at most ~1e-9 rad,
+  // but a thousand of them against the winding make a dent that an exact convex treatment
+  // (and the vertex cleanup of make_convex_shape) would fill. A turn beyond the tolerance with
+  // the winding lifts the direction above every earlier maximum, so one lap started after such
+  // a turn sees every run of straight turns whole, including one that wraps past vertex 0.
+  if (bad == nullptr) {
+    std::size_t start = 0;
+    while (start < turns.size() && !(turns[start].side == winding && !turns[start].fold)) ++start;
+    double direction = 0.0, highest = 0.0;
+    for (std::size_t step = 1; start < turns.size() && step <= turns.size(); ++step) {
+      const Turn& turn = turns[(start + step) % turns.size()];
+      direction += turn.angle * static_cast<double>(winding);
+      highest = std::max(highest, direction);
+      if (highest - direction > kStraightTolerance) {
+        bad = &turn;
+        break;
+      }
+    }
+  }
   if (bad != nullptr) {
     if (concave) *concave = true;
     return SceneProblem{place, "not convex at vertex " + std::to_string(bad->vertex)};
@@ -276,13 +297,25 @@ MaybeProblem check_view(const View& view, int width, int height) {
   return std::nullopt;
 }
 
+double concave_entries_bound(const Polygon& polygon) noexcept {
+  double edges = static_cast<double>(polygon.vertices.size());
+  for (const std::vector<Vec2>& hole : polygon.holes) edges += static_cast<double>(hole.size());
+  return 1.0 + std::floor(0.5 * edges);
+}
+
+double light_entries_bound(const Light& light) {
+  return needs_partition(light.shape) ? concave_entries_bound(std::get<Polygon>(light.shape)) : 1.0;
+}
+
 MaybeProblem check_emission_total(const std::vector<Light>& lights) {
   Rgb total{0.0, 0.0, 0.0};
   for (std::size_t i = 0; i < lights.size(); ++i) {
+    const double entries = light_entries_bound(lights[i]);
     for (int c = 0; c < 3; ++c) {
-      total[c] += detail::light_emission(lights[i])[static_cast<std::size_t>(c)];
+      total[c] += entries * detail::light_emission(lights[i])[static_cast<std::size_t>(c)];
       if (!(total[c] <= kMaxTotalEmission)) {
-        return SceneProblem{indexed("lights", i), "emission too large: the lights' total intensity * color reaches " +
+        return SceneProblem{indexed("lights", i), "emission too large: the lights' total intensity * color (a concave "
+                                                      "light's times the most times a ray enters it) reaches " +
                                                       format_number(total[c]) + " (at most 1e38, so that float32 "
                                                       "output stays finite)"};
       }
@@ -535,7 +568,8 @@ MaybeProblem check_scene_terms(const Scene& scene, NormalsCheck normals) {
   Rgb total{0.0, 0.0, 0.0};
   for (const Light& light : scene.lights) {
     const Rgb e = detail::light_emission(light);
-    for (std::size_t c = 0; c < 3; ++c) total[c] += e[c];
+    const double entries = light_entries_bound(light);
+    for (std::size_t c = 0; c < 3; ++c) total[c] += entries * e[c];
   }
   auto over = [&](const std::string& place) -> MaybeProblem {
     for (std::size_t c = 0; c < 3; ++c) {

@@ -31,8 +31,16 @@ MaybeProblem check_view(const View& view, int width, int height);
 // and this keeps it, and every float the SIMD path forms from it, finite in float32 output
 // (FLT_MAX is 3.4e38; the margin covers 2*pi-scaled partial sums and rounding).
 inline constexpr double kMaxTotalEmission = 1e38;
-// The first light at which the running total of some channel passes kMaxTotalEmission.
+// The first light at which the running total of some channel, each light counted as
+// light_entries_bound times its emission, passes kMaxTotalEmission.
 MaybeProblem check_emission_total(const std::vector<Light>& lights);
+// The most times a ray enters a concave (or holed) polygon light: a line crosses each of its
+// n edges (outline and holes) at most once and enters at every other crossing, or at 0 from
+// inside: 1 + floor(n / 2). A concave light adds its emission once per entry (docs/contract.md
+// section 3), so E can reach this multiple of it.
+double concave_entries_bound(const Polygon& polygon) noexcept;
+// That bound for a valid light: 1 for a convex shape, concave_entries_bound for a partitioned one.
+double light_entries_bound(const Light& light);
 
 // `place` names the light or occluder ("lights[2]"); shape problems add ".polygon" etc.
 // With `concave_allowed` (lights and occluders) a polygon may be a concave simple outline
@@ -58,7 +66,8 @@ enum class NormalsCheck { each, size_only };
 // The map's size against the image's, its buffer's length, each normal finite and non-zero.
 MaybeProblem check_normal_map(const NormalMap& map, int width, int height, NormalsCheck normals = NormalsCheck::each);
 // Every term that needs the whole scene: at most one normal source, the normal source's size,
-// and the total emission (lights, directional lights and ambient) within kMaxTotalEmission.
+// and the total emission (lights as light_entries_bound times theirs, directional lights and
+// ambient) within kMaxTotalEmission.
 MaybeProblem check_scene_terms(const Scene& scene, NormalsCheck normals = NormalsCheck::each);
 // par2d::validate_scene, with the normal map's normals checked as `normals` says.
 Status validate_scene(const Scene& scene, std::string_view name, NormalsCheck normals);

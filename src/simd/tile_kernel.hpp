@@ -120,6 +120,31 @@ PAR2D_KERNEL_INLINE xsimd::batch<float, A> circle_excess(const KernelShape& s, c
 // near boundaries where docs/contract.md section 5 lets float decide either way.
 inline constexpr float kOnBoundary = 0x1p-12f;
 
+// Squared distance from (px, py) to the nearest of the shape's first `edges` edge segments
+// (vertex i to vertex i + 1, the last closing to vertex 0), each projection clamped to its
+// segment's ends.
+template <class A>
+inline xsimd::batch<float, A> edge_distance2(const TileWork& work, const KernelShape& s, std::uint32_t edges,
+                                             const xsimd::batch<float, A>& px,
+                                             const xsimd::batch<float, A>& py) noexcept {
+  using B = xsimd::batch<float, A>;
+  const float* vx = work.vx.data() + s.first;
+  const float* vy = work.vy.data() + s.first;
+  B best(std::numeric_limits<float>::infinity());
+  for (std::uint32_t i = 0; i < edges; ++i) {
+    const std::uint32_t j = i + 1 == s.count ? 0 : i + 1;
+    const B ax = px - B(vx[i]), ay = py - B(vy[i]);
+    const float ex = vx[j] - vx[i], ey = vy[j] - vy[i];
+    const float len2 = ex * ex + ey * ey;
+    const B t = len2 > 0.0f ? xsimd::min(xsimd::max(xsimd::fma(ax, B(ex), ay * B(ey)) * B(1.0f / len2), B(0.0f)),
+                                         B(1.0f))
+                            : B(0.0f);
+    const B qx = xsimd::fnma(t, B(ex), ax), qy = xsimd::fnma(t, B(ey), ay);
+    best = xsimd::min(best, xsimd::fma(qx, qx, qy * qy));
+  }
+  return best;
+}
+
 // Tangent directions (lo clockwise, hi counter-clockwise) of a polygon or segment from
 // (px, py), and whether the point is inside. Outside a convex polygon all vertices lie in an
 // open half-plane of directions, where the pseudo-cross sign is a total order: running min
@@ -184,6 +209,14 @@ PAR2D_KERNEL_INLINE void vertex_tangents(const TileWork& work, const KernelShape
   // Within kOnBoundary of an edge's line counts as inside: nearer, the directions to that
   // edge's ends are too close to opposite for the running min and max to order them.
   inside = outside_by <= B(kOnBoundary);
+  // The edge lines only bound the polygon from outside: near a thin polygon's tip, a point
+  // well away from it can lie within kOnBoundary of two edge lines that cross there (a
+  // sliver pointing at it). Lanes not clearly inside (by more than kOnBoundary) are inside
+  // only where an edge segment, not just its line, passes within kOnBoundary; the directions
+  // to a sliver seen end-on are all close together, which the running min and max order.
+  const auto unclear = inside & (outside_by > B(-kOnBoundary));
+  if (xsimd::any(unclear))
+    inside = (inside & ~unclear) | (unclear & (edge_distance2<A>(work, s, s.count, px, py) <= B(kOnBoundary * kOnBoundary)));
 }
 
 // Tangent directions (lo clockwise, hi counter-clockwise) of a whole, unclipped shape from
@@ -796,22 +829,8 @@ inline xsimd::batch<float, A> shape_distance(const TileWork& work, const KernelS
     const B r(s.r);
     return excess / (xsimd::sqrt(xsimd::fma(r, r, excess)) + r);
   }
-  const float* vx = work.vx.data() + s.first;
-  const float* vy = work.vy.data() + s.first;
   const std::uint32_t edges = s.kind == ShapeKind::segment ? 1 : s.count;
-  B best(std::numeric_limits<float>::infinity());
-  for (std::uint32_t i = 0; i < edges; ++i) {
-    const std::uint32_t j = i + 1 == s.count ? 0 : i + 1;
-    const B ax = px - B(vx[i]), ay = py - B(vy[i]);
-    const float ex = vx[j] - vx[i], ey = vy[j] - vy[i];
-    const float len2 = ex * ex + ey * ey;
-    const B t = len2 > 0.0f ? xsimd::min(xsimd::max(xsimd::fma(ax, B(ex), ay * B(ey)) * B(1.0f / len2), B(0.0f)),
-                                         B(1.0f))
-                            : B(0.0f);
-    const B qx = xsimd::fnma(t, B(ex), ax), qy = xsimd::fnma(t, B(ey), ay);
-    best = xsimd::min(best, xsimd::fma(qx, qx, qy * qy));
-  }
-  B d = xsimd::sqrt(best);
+  B d = xsimd::sqrt(edge_distance2<A>(work, s, edges, px, py));
   if (s.kind == ShapeKind::polygon) {
     const float* nx = work.edge_nx.data() + s.first;
     const float* ny = work.edge_ny.data() + s.first;

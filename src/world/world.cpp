@@ -401,23 +401,45 @@ void World::erase_dark(std::size_t q) {
   dark_slots_.pop_back();
 }
 
+// A light's emission times the most times a ray enters it (light_entries_bound).
+Rgb World::entries_emission(const Light& light) {
+  Rgb emission = light_emission(light);
+  const double entries = light_entries_bound(light);
+  for (double& e : emission) e *= entries;
+  return emission;
+}
+
 // The lights' total emission with `light` added (in place of lit light `replaced`, if any)
 // must stay within what float32 output can hold, as for scenes (check_emission_total).
 std::optional<SceneProblem> World::emission_total_problem(const Rgb& emission, const Slot* replaced) const {
   // The lit entries of the replaced light are left out.
   const std::uint32_t replaced_slot =
       replaced != nullptr ? static_cast<std::uint32_t>(replaced - slots_.data()) : kNoSlot;
+  // Ambient and directional lights add to E too (check_scene_terms); lit lights as prepared,
+  // but a concave light as a whole: its entries' emissions (pieces, and shared boundaries that
+  // take counts back) sum to about one emission, while a ray can enter it up to
+  // concave_entries_bound times.
+  Rgb total = emission;
   for (std::size_t c = 0; c < 3; ++c) {
-    // Ambient and directional lights add to E too (check_scene_terms); lit lights as prepared.
-    double total = emission[c] + globals_.ambient[c];
-    for (const DirectionalLight& d : globals_.directional_lights) total += d.intensity * d.color[c];
-    for (std::size_t i = 0; i < light_sources_.size(); ++i) {
-      const Slot& entry = slots_[light_slots_[i]];
-      if ((entry.internal ? entry.owner : light_slots_[i]) != replaced_slot) total += scene_.lights[i].emission[c];
-    }
-    if (!(total <= kMaxTotalEmission))
+    total[c] += globals_.ambient[c];
+    for (const DirectionalLight& d : globals_.directional_lights) total[c] += d.intensity * d.color[c];
+  }
+  for (std::size_t i = 0; i < light_sources_.size(); ++i) {
+    const Slot& entry = slots_[light_slots_[i]];
+    const std::uint32_t owner = entry.internal ? entry.owner : light_slots_[i];
+    if (owner == replaced_slot || (!compound_lights_.empty() && compound_lights_.count(owner) != 0)) continue;
+    for (std::size_t c = 0; c < 3; ++c) total[c] += scene_.lights[i].emission[c];
+  }
+  for (const auto& [owner, light] : compound_lights_) {
+    if (owner == replaced_slot) continue;
+    const Rgb whole = light_emission(light);
+    const double entries = concave_entries_bound(std::get<Polygon>(light.shape));
+    for (std::size_t c = 0; c < 3; ++c) total[c] += entries * whole[c];
+  }
+  for (std::size_t c = 0; c < 3; ++c) {
+    if (!(total[c] <= kMaxTotalEmission))
       return SceneProblem{std::string(), "emission too large: the lights' total intensity * color reaches " +
-                                             format_number(total) + " (at most 1e38, so that float32 output stays finite)"};
+                                             format_number(total[c]) + " (at most 1e38, so that float32 output stays finite)"};
   }
   return std::nullopt;
 }
@@ -477,7 +499,7 @@ Status World::set_model_terms(const char* who, const Scene& terms) {
 Status World::add_light(const Light& light, LightHandle* handle) {
   if (handle == nullptr) return Status(StatusCode::invalid_argument, "add_light: handle is null");
   if (auto problem = check_light(light, std::string())) return refused("add_light", *problem);
-  if (auto problem = emission_total_problem(light_emission(light), nullptr)) return refused("add_light", *problem);
+  if (auto problem = emission_total_problem(entries_emission(light), nullptr)) return refused("add_light", *problem);
   const std::uint32_t slot = new_slot(0, 0);
   push_light(light, slot);
   handle->id = make_handle(slot);
@@ -500,7 +522,7 @@ Status World::update_light(LightHandle handle, const Light& light) {
   if (!slot) return unknown_handle("light", handle.id);
   if (auto problem = check_light(light, std::string())) return refused("light " + std::to_string(handle.id), *problem);
   const std::uint32_t index = static_cast<std::uint32_t>(slot - slots_.data());
-  if (auto problem = emission_total_problem(light_emission(light), slot))
+  if (auto problem = emission_total_problem(entries_emission(light), slot))
     return refused("light " + std::to_string(handle.id), *problem);
   if (same_parts(*slot, light)) {
     for (const std::uint32_t s : {index, slot->next}) {
@@ -535,7 +557,11 @@ Status World::set_light_emission(LightHandle handle, const Rgb& color, double in
   Light& source = compound != compound_lights_.end() ? compound->second
                   : slot->list == kLit                ? light_sources_[where]
                                                       : dark_sources_[where];
-  const Rgb emission = light_emission(color, intensity, emission_scale(source));
+  Rgb emission = light_emission(color, intensity, emission_scale(source));
+  if (compound != compound_lights_.end()) {
+    const double entries = concave_entries_bound(std::get<Polygon>(source.shape));
+    for (double& e : emission) e *= entries;
+  }
   if (auto problem = emission_total_problem(emission, slot)) return refused("light " + std::to_string(handle.id), *problem);
   // The new light, built in place (its shape's storage is not copied).
   const Rgb old_color = source.color;

@@ -103,9 +103,11 @@ class World {
   // releasing the internal slots (`internal` counts them) and keeping the user's.
   void erase_chain(std::uint32_t slot, void (World::*erase_entry)(std::size_t), std::size_t& internal);
 
-  // A problem when a light emitting `emission` in all, in place of the light in `replaced`
-  // (nullptr: added), would take the lights' total emission past kMaxTotalEmission.
+  // A problem when a light emitting `emission` in all (entries_emission: its emission times
+  // the most times a ray enters it), in place of the light in `replaced` (nullptr: added),
+  // would take the lights' total emission past kMaxTotalEmission.
   std::optional<SceneProblem> emission_total_problem(const Rgb& emission, const Slot* replaced) const;
+  static Rgb entries_emission(const Light& light);
   enum : std::uint8_t { kLit = 1, kDark = 2, kOccluder = 3 };
 
   // Frees a slot for reuse under its next generation. A slot whose generation would wrap past

@@ -72,7 +72,7 @@ struct FuzzScene {
 inline Shape decode_shape(ByteReader& in, double origin_x, double origin_y, double scale) {
   auto grid_x = [&] { return origin_x + scale * in.signed_byte() / 4.0; };
   auto grid_y = [&] { return origin_y + scale * in.signed_byte() / 4.0; };
-  switch (in.byte() % 9) {
+  switch (in.byte() % 11) {
     case 0: {  // ordinary circle
       const Vec2 c{grid_x(), grid_y()};
       return Circle{c, scale * (in.byte() + 1) / 8.0};
@@ -127,6 +127,44 @@ inline Shape decode_shape(ByteReader& in, double origin_x, double origin_y, doub
     case 7: {  // far away circle
       const Vec2 c{origin_x + scale * 1e6 * in.signed_byte(), origin_y + scale * 1e6 * in.signed_byte()};
       return Circle{c, scale * (in.byte() + 1)};
+    }
+    case 9: {  // comb: a ray along its base enters every tooth (a concave light counts each entry)
+      const unsigned teeth = 2 + in.byte() % 40;
+      const double w = scale * (in.byte() % 8 + 1) / 4.0, gap = scale * (in.byte() % 8 + 1) / 4.0;
+      const double base = scale * (in.byte() % 8 + 1) / 4.0, height = scale * (in.byte() + 1) / 4.0;
+      const Vec2 o{grid_x(), grid_y()};
+      const bool transpose = in.byte() & 1;
+      const auto at = [&](double x, double y) { return transpose ? Vec2{o.x + y, o.y + x} : Vec2{o.x + x, o.y + y}; };
+      const double right = teeth * w + (teeth - 1) * gap;
+      Polygon p;
+      p.vertices = {at(0, 0), at(right, 0), at(right, base + height)};
+      for (unsigned k = teeth - 1; k >= 1; --k) {
+        const double x = k * (w + gap);
+        p.vertices.insert(p.vertices.end(), {at(x, base + height), at(x, base), at(x - gap, base), at(x - gap, base + height)});
+      }
+      p.vertices.push_back(at(0, base + height));
+      return p;
+    }
+    case 10: {  // a chain of near-straight turns (each within the 1e-9 tolerance) that add up
+      // to a dent (against the winding) or a bulge, a few pixels deep, closed far away.
+      const unsigned n = 3 + in.u16() % 2000;
+      const double turn = (in.signed_byte() + 0.5) / 128.0 * 1e-9;
+      const double depth = scale * (in.byte() + 1) / 16.0;
+      const double total = turn * (n - 1);
+      const double length = 8.0 * depth / std::fabs(total);
+      const Vec2 o{grid_x(), grid_y()};
+      Polygon p;
+      Vec2 v{o.x - 0.5 * length, o.y};
+      double heading = 0.5 * total;
+      for (unsigned k = 0; k < n; ++k) {
+        p.vertices.push_back(v);
+        v = {v.x + length / (n - 1) * std::cos(heading), v.y + length / (n - 1) * std::sin(heading)};
+        heading -= turn;
+      }
+      p.vertices.push_back({p.vertices.back().x, o.y + 0.25 * length});
+      p.vertices.push_back({p.vertices.front().x, o.y + 0.25 * length});
+      if (in.byte() & 1) std::reverse(p.vertices.begin(), p.vertices.end());
+      return p;
     }
     default: {  // thin sliver triangle
       const Vec2 a{grid_x(), grid_y()};
