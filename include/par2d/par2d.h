@@ -17,6 +17,17 @@
 #define PAR2D_C_API __attribute__((visibility("default")))
 #endif
 
+/* The ABI these declarations describe: the shared library's SONAME is
+ * libpar2d.so.PAR2D_ABI_MAJOR.PAR2D_ABI_MINOR, the library version's major.minor
+ * (par2d_version_numbers at run time). Within one ABI no struct below changes its size or
+ * layout, no function its signature and no constant its value. A release that must change one
+ * (a struct that gains a field) moves to a new ABI, so a program built against an older one
+ * does not start with it rather than hand it structs of the wrong size. Start each struct you
+ * fill from its *_default function where it has one, else zero-initialize it: a field added in
+ * a later ABI then holds its default when the program is rebuilt. */
+#define PAR2D_ABI_MAJOR 0
+#define PAR2D_ABI_MINOR 2
+
 #ifdef __cplusplus
 extern "C" {
 #endif
