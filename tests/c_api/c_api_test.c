@@ -1076,6 +1076,8 @@ int main(void) {
   par2d_version_numbers(&major, &minor, &patch);
   snprintf(expected, sizeof expected, "%d.%d.%d", major, minor, patch);
   CHECK(strcmp(par2d_version(), expected) == 0);
+  /* The library loaded has the ABI this program was compiled against (its SONAME's). */
+  CHECK(major == PAR2D_ABI_MAJOR && minor == PAR2D_ABI_MINOR);
 
   par2d_options options;
   par2d_options_default(&options);
