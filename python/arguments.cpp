@@ -181,6 +181,31 @@ int to_int(const py::handle& obj, const char* place) {
   return static_cast<int>(*value);
 }
 
+// A count or a byte size: an integer-like object from 0 to SIZE_MAX.
+std::size_t to_size(const py::handle& arg, const char* place) {
+  const py::object obj = unwrapped(arg);
+  if (PyBool_Check(obj.ptr()) || !PyIndex_Check(obj.ptr()))
+    bad_argument(place, "must be a non-negative integer, not " + type_name(arg));
+  PyObject* index = PyNumber_Index(obj.ptr());
+  if (index == nullptr) {
+    PyErr_Clear();
+    bad_argument(place, "must be a non-negative integer, not " + type_name(arg));
+  }
+  const py::object value = py::reinterpret_steal<py::object>(index);
+  const int negative = PyObject_RichCompareBool(value.ptr(), py::int_(0).ptr(), Py_LT);
+  if (negative != 0) {
+    PyErr_Clear();
+    bad_argument(place, "must be >= 0, got " + describe(value));
+  }
+  const unsigned long long bytes = PyLong_AsUnsignedLongLong(value.ptr());
+  if ((bytes == static_cast<unsigned long long>(-1) && PyErr_Occurred()) ||
+      bytes > std::numeric_limits<std::size_t>::max()) {
+    PyErr_Clear();
+    bad_argument(place, describe(value) + " is out of range");
+  }
+  return static_cast<std::size_t>(bytes);
+}
+
 double to_double(const py::handle& obj, const char* place) {
   const std::optional<double> value = as_number(obj);
   if (!value) bad_argument(place, "must be a number, not " + type_name(obj));

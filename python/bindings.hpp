@@ -56,6 +56,7 @@ std::optional<long long> as_integer(const py::handle& obj);
 std::optional<double> as_number(const py::handle& obj);
 
 int to_int(const py::handle& obj, const char* place);
+std::size_t to_size(const py::handle& obj, const char* place);
 double to_double(const py::handle& obj, const char* place);
 bool to_bool(const py::handle& obj, const char* place);
 std::string to_text(const py::handle& obj, const char* place);

@@ -175,17 +175,27 @@ class PyRenderer {
     return d;
   }
 
-  void set_incremental(bool on) {
-    WorldLock lock(mutex_);
-    check(renderer_.set_incremental(on));
+  void set_incremental(const py::object& on_arg) {
+    const bool on = to_bool(on_arg, "incremental");
+    par2d::Status status;
+    {
+      WorldLock lock(mutex_);
+      status = renderer_.set_incremental(on);
+    }
+    check(status);
   }
   bool incremental() const {
     WorldLock lock(mutex_);
     return renderer_.incremental();
   }
-  void set_light_layer_budget(std::size_t bytes) {
-    WorldLock lock(mutex_);
-    check(renderer_.set_light_layer_budget(bytes));
+  void set_light_layer_budget(const py::object& bytes_arg) {
+    const std::size_t bytes = to_size(bytes_arg, "light_layer_budget");
+    par2d::Status status;
+    {
+      WorldLock lock(mutex_);
+      status = renderer_.set_light_layer_budget(bytes);
+    }
+    check(status);
   }
   std::size_t light_layer_budget() const {
     WorldLock lock(mutex_);

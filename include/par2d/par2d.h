@@ -17,6 +17,17 @@
 #define PAR2D_C_API __attribute__((visibility("default")))
 #endif
 
+/* The ABI these declarations describe: the shared library's SONAME is
+ * libpar2d.so.PAR2D_ABI_MAJOR.PAR2D_ABI_MINOR, the library version's major.minor
+ * (par2d_version_numbers at run time). Within one ABI no struct below changes its size or
+ * layout, no function its signature and no constant its value. A release that must change one
+ * (a struct that gains a field) moves to a new ABI, so a program built against an older one
+ * does not start with it rather than hand it structs of the wrong size. Start each struct you
+ * fill from its *_default function where it has one, else zero-initialize it: a field added in
+ * a later ABI then holds its default when the program is rebuilt. */
+#define PAR2D_ABI_MAJOR 0
+#define PAR2D_ABI_MINOR 2
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -49,10 +60,12 @@ typedef enum par2d_shape_kind {
   PAR2D_SHAPE_SEGMENT = 2  /* a line segment */
 } par2d_shape_kind;
 
-/* The largest counts the C API accepts (a polygon's vertex_count; the directional lights of one
+/* The largest counts the C API accepts (a polygon's vertices, outline and holes together; its
+ * holes, each of which needs 3 vertices; the directional lights of one
  * par2d_set_directional_lights call). Larger ones are refused with PAR2D_INVALID_ARGUMENT
- * before anything is read or allocated. */
+ * before the arrays they size are read or anything is allocated. */
 #define PAR2D_MAX_POLYGON_VERTICES 1048576
+#define PAR2D_MAX_POLYGON_HOLES (PAR2D_MAX_POLYGON_VERTICES / 3)
 #define PAR2D_MAX_DIRECTIONAL_LIGHTS 65536
 
 /* A shape in world coordinates (x right, y down). Only the fields of `kind` are read. A
@@ -64,7 +77,8 @@ typedef struct par2d_shape {
   double circle[3];       /* circle: center x, center y, radius (> 0) */
   double segment[4];      /* segment: ax, ay, bx, by (distinct points) */
   /* polygon: hole k's (x, y) pairs follow the outline's and the earlier holes' in `vertices`,
-   * hole_vertex_counts[k] of them; hole_count 0 (and the pointer NULL) for none. */
+   * hole_vertex_counts[k] of them; hole_count (at most PAR2D_MAX_POLYGON_HOLES) 0 for none,
+   * as in a zero-initialized struct. */
   const size_t* hole_vertex_counts;
   size_t hole_count;
 } par2d_shape;

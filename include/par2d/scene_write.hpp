@@ -6,6 +6,8 @@
 #include "par2d/scene.hpp"
 #include "par2d/status.hpp"
 
+// The public API is what the shared library exports (built with hidden visibility).
+#pragma GCC visibility push(default)
 namespace par2d {
 
 // The scene as JSON in the format of docs/contract.md (section 3), one light or occluder per
@@ -23,3 +25,4 @@ std::string scene_to_json(const Scene& scene);
 Status save_scene_file(const std::string& path, const Scene& scene);
 
 }  // namespace par2d
+#pragma GCC visibility pop

@@ -99,16 +99,21 @@ inline par2d_status convert_shape(const char* function, const par2d_shape* in, p
       if (in->vertex_count > PAR2D_MAX_POLYGON_VERTICES)
         return fail(function, "shape vertex_count " + std::to_string(in->vertex_count) + " is more than " +
                                   std::to_string(PAR2D_MAX_POLYGON_VERTICES));
-      if (in->vertices == nullptr && in->vertex_count > 0) return fail(function, "shape vertices are null");
+      // Every count is bounded before the array it sizes is read: a hole_count past the limit
+      // (a garbage field in a struct that was not zeroed) would walk off hole_vertex_counts.
+      if (in->hole_count > PAR2D_MAX_POLYGON_HOLES)
+        return fail(function, "shape hole_count " + std::to_string(in->hole_count) + " is more than " +
+                                  std::to_string(PAR2D_MAX_POLYGON_HOLES));
       if (in->hole_count > 0 && in->hole_vertex_counts == nullptr)
         return fail(function, "shape hole_vertex_counts are null");
       std::size_t total = in->vertex_count;
       for (std::size_t k = 0; k < in->hole_count; ++k) {
-        total += in->hole_vertex_counts[k];
-        if (in->hole_vertex_counts[k] > PAR2D_MAX_POLYGON_VERTICES || total > PAR2D_MAX_POLYGON_VERTICES)
+        if (in->hole_vertex_counts[k] > PAR2D_MAX_POLYGON_VERTICES - total)  // total <= the limit: no wrap
           return fail(function, "shape vertex_count and hole_vertex_counts add up to more than " +
                                     std::to_string(PAR2D_MAX_POLYGON_VERTICES));
+        total += in->hole_vertex_counts[k];
       }
+      if (in->vertices == nullptr && total > 0) return fail(function, "shape vertices are null");
       if (!std::holds_alternative<par2d::Polygon>(out)) out = par2d::Polygon{};
       auto& polygon = std::get<par2d::Polygon>(out);
       auto& v = polygon.vertices;

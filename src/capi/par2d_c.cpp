@@ -18,6 +18,10 @@
 
 using namespace par2d::capi;
 
+// The SONAME is the version's major.minor (src/CMakeLists.txt); par2d.h names that ABI.
+static_assert(PAR2D_ABI_MAJOR == PAR2D_VERSION_MAJOR && PAR2D_ABI_MINOR == PAR2D_VERSION_MINOR,
+              "par2d.h's PAR2D_ABI_* and version.hpp's major.minor differ");
+
 extern "C" {
 
 const char* par2d_version(void) { return par2d::kVersion; }

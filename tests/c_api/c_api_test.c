@@ -697,6 +697,176 @@ static par2d_shape polygon_shape(const double* xy, size_t count) {
   return shape;
 }
 
+/* Every count and pointer of a par2d_shape is checked before the arrays it sizes are read: a
+ * hole_count past PAR2D_MAX_POLYGON_HOLES (as in a struct that was never zeroed), hole counts
+ * that overflow the total, null vertices behind holes. Each is refused, nothing crashes. */
+static void check_shape_counts(void) {
+  par2d_renderer* r = NULL;
+  CHECK(par2d_renderer_create(NULL, &r) == PAR2D_OK);
+  if (r == NULL) return;
+  CHECK(par2d_set_frame(r, 16, 16, NULL) == PAR2D_OK);
+  const double white[3] = {1.0, 1.0, 1.0};
+  const double square[8] = {2, 2, 14, 2, 14, 14, 2, 14};
+  const size_t zeros[4] = {0, 0, 0, 0};
+  par2d_shape shape = polygon_shape(square, 4);
+  par2d_occluder occluder = 0;
+  par2d_light light = 0;
+  CHECK(par2d_add_occluder(r, &shape, &occluder) == PAR2D_OK);
+  par2d_shape dot = circle_shape(8, 8, 1);
+  CHECK(par2d_add_light(r, &dot, white, 1.0, &light) == PAR2D_OK);
+  par2d_transform identity;
+  par2d_transform_identity(&identity);
+
+  shape.hole_vertex_counts = zeros;
+  shape.hole_count = (size_t)1 << 40;
+  CHECK_ERROR(par2d_add_occluder(r, &shape, &occluder), PAR2D_INVALID_ARGUMENT,
+              "par2d_add_occluder: shape hole_count 1099511627776 is more than 349525");
+  CHECK_ERROR(par2d_update_occluder(r, occluder, &shape), PAR2D_INVALID_ARGUMENT,
+              "par2d_update_occluder: shape hole_count 1099511627776 is more than 349525");
+  CHECK_ERROR(par2d_update_light(r, light, &shape, white, 1.0), PAR2D_INVALID_ARGUMENT,
+              "par2d_update_light: shape hole_count 1099511627776 is more than 349525");
+  CHECK_ERROR(par2d_add_occluder_transformed(r, &shape, &identity, &occluder), PAR2D_INVALID_ARGUMENT,
+              "par2d_add_occluder_transformed: shape hole_count 1099511627776 is more than 349525");
+  shape.hole_count = (size_t)-1;
+  CHECK_ERROR(par2d_add_light(r, &shape, white, 1.0, &light), PAR2D_INVALID_ARGUMENT,
+              "par2d_add_light: shape hole_count 18446744073709551615 is more than 349525");
+  /* Four real zero counts: the shape itself is judged (a hole needs 3 vertices). */
+  shape.hole_count = 4;
+  CHECK(par2d_update_occluder(r, occluder, &shape) == PAR2D_INVALID_SCENE);
+  CHECK(strstr(par2d_last_error(), "holes[0]: needs at least 3 vertices, got 0") != NULL);
+  {
+    /* The limit itself, with that many counts behind the pointer, goes on to the shape's rules;
+     * one more is refused as a count. */
+    size_t* many = calloc(PAR2D_MAX_POLYGON_HOLES + 1, sizeof(size_t));
+    CHECK(many != NULL);
+    if (many != NULL) {
+      shape.hole_vertex_counts = many;
+      shape.hole_count = PAR2D_MAX_POLYGON_HOLES;
+      CHECK(par2d_update_occluder(r, occluder, &shape) == PAR2D_INVALID_SCENE);
+      shape.hole_count = PAR2D_MAX_POLYGON_HOLES + 1;
+      CHECK_ERROR(par2d_update_occluder(r, occluder, &shape), PAR2D_INVALID_ARGUMENT,
+                  "par2d_update_occluder: shape hole_count 349526 is more than 349525");
+      free(many);
+    }
+  }
+  /* Counts that wrap around size_t, or add up past the vertex limit. */
+  const size_t wrapping[2] = {(size_t)-1, 5};
+  shape.hole_vertex_counts = wrapping;
+  shape.hole_count = 2;
+  CHECK_ERROR(par2d_update_occluder(r, occluder, &shape), PAR2D_INVALID_ARGUMENT,
+              "par2d_update_occluder: shape vertex_count and hole_vertex_counts add up to more than 1048576");
+  const size_t past[2] = {PAR2D_MAX_POLYGON_VERTICES - 8, 5};
+  shape.hole_vertex_counts = past;
+  CHECK_ERROR(par2d_update_occluder(r, occluder, &shape), PAR2D_INVALID_ARGUMENT,
+              "par2d_update_occluder: shape vertex_count and hole_vertex_counts add up to more than 1048576");
+  /* Null vertices with an empty outline but holes to read. */
+  const size_t three[1] = {3};
+  shape.vertices = NULL;
+  shape.vertex_count = 0;
+  shape.hole_vertex_counts = three;
+  shape.hole_count = 1;
+  CHECK_ERROR(par2d_update_occluder(r, occluder, &shape), PAR2D_INVALID_ARGUMENT,
+              "par2d_update_occluder: shape vertices are null");
+  /* A struct that was never zeroed (every byte 0xA5) with only the outline's fields set: the
+   * garbage hole_count is refused; a circle reads only its own fields. */
+  memset(&shape, 0xA5, sizeof shape);
+  shape.kind = PAR2D_SHAPE_POLYGON;
+  shape.vertices = square;
+  shape.vertex_count = 4;
+  CHECK_ERROR_PREFIX(par2d_update_occluder(r, occluder, &shape), PAR2D_INVALID_ARGUMENT,
+                     "par2d_update_occluder: shape hole_count ");
+  shape.kind = PAR2D_SHAPE_CIRCLE;
+  shape.circle[0] = shape.circle[1] = 8.0;
+  shape.circle[2] = 2.0;
+  CHECK(par2d_update_light(r, light, &shape, white, 1.0) == PAR2D_OK);
+  /* Nothing refused changed the world: the occluder is still the square. */
+  par2d_shape got;
+  memset(&got, 0, sizeof got);
+  CHECK(par2d_get_occluder(r, occluder, &got) == PAR2D_OK);
+  CHECK(got.kind == PAR2D_SHAPE_POLYGON && got.vertex_count == 4 && got.hole_count == 0 &&
+        memcmp(got.vertices, square, sizeof square) == 0);
+  par2d_renderer_destroy(r);
+}
+
+/* Holes through the C API with rings of 3 and 5 vertices (so that no ring's count can stand in
+ * for another's): what the library holds (the snapshot) is what was given, what is read back
+ * is what was given, and the read-back shapes given back to par2d_update_* render the same
+ * frame byte for byte. */
+static void check_hole_rings(void) {
+  par2d_options options;
+  par2d_options_default(&options);
+  options.threads = 2;
+  par2d_renderer* r = NULL;
+  CHECK(par2d_renderer_create(&options, &r) == PAR2D_OK);
+  if (r == NULL) return;
+  CHECK(par2d_set_frame(r, W, H, NULL) == PAR2D_OK);
+  /* An occluder: a pentagon outline, a triangular hole, a pentagonal hole with the light in it. */
+  const double wall[26] = {8, 8, 40, 8, 48, 24, 40, 40, 8, 40,              /* outline: 5 */
+                           12, 12, 20, 12, 12, 20,                          /* hole 0: 3 */
+                           24, 16, 34, 16, 38, 26, 34, 34, 24, 34};         /* hole 1: 5 */
+  const size_t wall_holes[2] = {3, 5};
+  /* A light: a triangle outline with a pentagonal hole, out in the open. */
+  const double lamp[16] = {50, 2, 62, 2, 56, 14,                            /* outline: 3 */
+                           54, 4, 57, 4, 58, 5, 56, 8, 55, 7};              /* hole 0: 5 */
+  const size_t lamp_holes[1] = {5};
+  const double warm[3] = {1.0, 0.8, 0.6};
+  par2d_shape shape = polygon_shape(wall, 5);
+  shape.hole_vertex_counts = wall_holes;
+  shape.hole_count = 2;
+  par2d_occluder occluder = 0;
+  CHECK(par2d_add_occluder(r, &shape, &occluder) == PAR2D_OK);
+  par2d_shape lamp_shape = polygon_shape(lamp, 3);
+  lamp_shape.hole_vertex_counts = lamp_holes;
+  lamp_shape.hole_count = 1;
+  par2d_light lamp_light = 0, inner = 0;
+  CHECK(par2d_add_light(r, &lamp_shape, warm, 2.0, &lamp_light) == PAR2D_OK);
+  par2d_shape dot = circle_shape(30, 25, 1.5);
+  CHECK(par2d_add_light(r, &dot, warm, 2.0, &inner) == PAR2D_OK);
+
+  /* C to C++: the world holds these rings (the snapshot writes them). */
+  size_t length = 0;
+  CHECK(par2d_snapshot_json(r, NULL, 0, &length) == PAR2D_OK);
+  char* json = malloc(length + 1);
+  CHECK(json != NULL && par2d_snapshot_json(r, json, length + 1, &length) == PAR2D_OK);
+  if (json != NULL) {
+    CHECK(strstr(json, "\"polygon\": [[8, 8], [40, 8], [48, 24], [40, 40], [8, 40]], \"holes\": "
+                       "[[[12, 12], [20, 12], [12, 20]], [[24, 16], [34, 16], [38, 26], [34, 34], [24, 34]]]") != NULL);
+    CHECK(strstr(json, "\"polygon\": [[50, 2], [62, 2], [56, 14]], \"holes\": "
+                       "[[[54, 4], [57, 4], [58, 5], [56, 8], [55, 7]]]") != NULL);
+    free(json);
+  }
+
+  /* C++ to C: the read-back shapes are the given ones, count for count, vertex for vertex. */
+  float* before = malloc(sizeof(float) * W * H * 3);
+  float* after = malloc(sizeof(float) * W * H * 3);
+  CHECK(par2d_render(r, before, PAR2D_RGB_F32, (ptrdiff_t)(sizeof(float) * W * 3), 1.0, NULL) == PAR2D_OK);
+  CHECK(before[(25 * W + 26) * 3] > 0.0f);  /* in the pentagonal hole, by the light */
+  CHECK(before[(14 * W + 14) * 3] == 0.0f); /* in the triangular hole: walled off */
+  par2d_shape got;
+  memset(&got, 0, sizeof got);
+  CHECK(par2d_get_occluder(r, occluder, &got) == PAR2D_OK);
+  CHECK(got.kind == PAR2D_SHAPE_POLYGON && got.vertex_count == 5 && got.hole_count == 2);
+  if (got.hole_count == 2 && got.vertex_count == 5) {
+    CHECK(got.hole_vertex_counts[0] == 3 && got.hole_vertex_counts[1] == 5);
+    CHECK(memcmp(got.vertices, wall, sizeof wall) == 0);
+  }
+  CHECK(par2d_update_occluder(r, occluder, &got) == PAR2D_OK);
+  double color[3] = {0, 0, 0}, intensity = 0.0;
+  memset(&got, 0, sizeof got);
+  CHECK(par2d_get_light(r, lamp_light, &got, color, &intensity) == PAR2D_OK);
+  CHECK(got.kind == PAR2D_SHAPE_POLYGON && got.vertex_count == 3 && got.hole_count == 1);
+  if (got.hole_count == 1 && got.vertex_count == 3) {
+    CHECK(got.hole_vertex_counts[0] == 5);
+    CHECK(memcmp(got.vertices, lamp, sizeof lamp) == 0);
+  }
+  CHECK(par2d_update_light(r, lamp_light, &got, color, intensity) == PAR2D_OK);
+  CHECK(par2d_render(r, after, PAR2D_RGB_F32, (ptrdiff_t)(sizeof(float) * W * 3), 1.0, NULL) == PAR2D_OK);
+  CHECK(memcmp(before, after, sizeof(float) * W * H * 3) == 0);
+  free(before);
+  free(after);
+  par2d_renderer_destroy(r);
+}
+
 /* Cookies: refusals name the call and the place; a constant cookie of weight 1/4 gives a
  * quarter of the light; reading one back; a cone as well is refused; count 0 removes it. */
 static void check_cookies(void) {
@@ -906,6 +1076,8 @@ int main(void) {
   par2d_version_numbers(&major, &minor, &patch);
   snprintf(expected, sizeof expected, "%d.%d.%d", major, minor, patch);
   CHECK(strcmp(par2d_version(), expected) == 0);
+  /* The library loaded has the ABI this program was compiled against (its SONAME's). */
+  CHECK(major == PAR2D_ABI_MAJOR && minor == PAR2D_ABI_MINOR);
 
   par2d_options options;
   par2d_options_default(&options);
@@ -919,6 +1091,8 @@ int main(void) {
   check_cookies();
   check_transforms();
   check_bounce();
+  check_shape_counts();
+  check_hole_rings();
 
   /* A circle light of radius 2 at (10, 10) with emission 3 (white), and a box occluder. */
   par2d_shape light_shape;

@@ -200,6 +200,14 @@ def bad_calls():
         ("image", lambda: par2d.write_png("x.png", "pixels")),
         ("image", lambda: par2d.write_png("x.png", np.zeros((2, 2), dtype=np.float32))),
         ("exposure", lambda: par2d.write_png("x.png", np.zeros((2, 2, 3), dtype=np.float32), exposure="1")),
+        ("light_layer_budget", lambda: setattr(r, "light_layer_budget", -1)),
+        ("light_layer_budget", lambda: setattr(r, "light_layer_budget", 1.5)),
+        ("light_layer_budget", lambda: setattr(r, "light_layer_budget", "10")),
+        ("light_layer_budget", lambda: setattr(r, "light_layer_budget", None)),
+        ("light_layer_budget", lambda: setattr(r, "light_layer_budget", 2**64)),
+        ("incremental", lambda: setattr(r, "incremental", "yes")),
+        ("incremental", lambda: setattr(r, "incremental", None)),
+        ("incremental", lambda: setattr(r, "incremental", 2)),
     ]
 
 
@@ -217,3 +225,90 @@ def test_paths_may_be_pathlike(tmp_path):
     assert par2d.Scene.load(pathlib.PurePath(str(path))).to_json() == scene.to_json()
     par2d.write_png(tmp_path / "s.png", par2d.render(scene))
     assert (tmp_path / "s.png").stat().st_size > 0
+
+
+# --- every property setter and every argument, as a class --------------------------------------
+
+def setters():
+    """(class, property name) for each property of the module's classes that can be set."""
+    found = []
+    for cls in (par2d.Renderer, par2d.Scene):
+        for name, value in vars(cls).items():
+            if isinstance(value, property) and value.fset is not None:
+                found.append((cls, name))
+    return found
+
+
+def test_the_settable_properties_are_found():
+    assert {(c.__name__, n) for c, n in setters()} >= {("Renderer", "incremental"), ("Renderer", "light_layer_budget")}
+
+
+@pytest.mark.parametrize("cls, name", setters(), ids=lambda v: getattr(v, "__name__", v))
+@pytest.mark.parametrize("value", ["10", None, 1.5, -1, [1], object()], ids=repr)
+def test_every_setter_refuses_a_wrong_type_naming_itself_and_keeps_its_value(cls, name, value):
+    target = par2d.Renderer(small(), threads=1) if cls is par2d.Renderer else par2d.Scene.from_dict(small())
+    before = getattr(target, name)
+    raises_at(name, lambda: setattr(target, name, value))
+    assert getattr(target, name) == before
+
+
+def test_setters_take_integer_likes_and_bools():
+    r = par2d.Renderer(small(), threads=1)
+    r.light_layer_budget = np.uint32(1 << 20)
+    assert r.light_layer_budget == 1 << 20
+    r.light_layer_budget = IntLike(4096)
+    assert r.light_layer_budget == 4096
+    r.incremental = np.bool_(True)
+    assert r.incremental is True
+    r.incremental = 0
+    assert r.incremental is False
+
+
+def bound_callables():
+    """(name, pybind11 signature line) of every function, method and property setter."""
+    out = []
+
+    def add(name, fn, setter=False):
+        doc = getattr(fn, "__doc__", None) or ""
+        for line in doc.splitlines():
+            # Overloads are listed as "1. name(...)"; a setter's signature has no name, its
+            # first parameter (arg0) is the object.
+            line = line.split(". ", 1)[1] if line[:1].isdigit() and ". " in line else line
+            if setter and line.startswith("(arg0: "):
+                out.append((name, line.replace("(arg0: ", "(self: ", 1)))
+            elif line.startswith(name.rsplit(".", 1)[-1] + "("):
+                out.append((name, line))
+
+    for name, value in vars(par2d).items():
+        if callable(value) and not isinstance(value, type):
+            add(name, value)
+    for cls in (par2d.Renderer, par2d.Scene):
+        for name, value in vars(cls).items():
+            if isinstance(value, property):
+                if value.fset is not None:
+                    add(f"{cls.__name__}.{name}", value.fset, setter=True)
+            elif isinstance(value, staticmethod):
+                add(f"{cls.__name__}.{name}", value.__func__)
+            elif callable(value):
+                add(f"{cls.__name__}.{name}", value)
+    return out
+
+
+def test_every_argument_is_converted_by_the_module_not_by_pybind11():
+    """pybind11 refuses a typed parameter itself, with a multi-line TypeError naming no place:
+    so every parameter but self is a plain object, converted with an error naming it."""
+    found = bound_callables()
+    names = {n for n, _ in found}
+    assert {"render", "write_png", "Renderer.__init__", "Renderer.set_options", "Renderer.incremental",
+            "Renderer.light_layer_budget", "Scene.from_dict"} <= names, sorted(names)
+    typed = []
+    for name, line in found:
+        params = line[line.index("(") + 1:line.rindex(")")].split(") -> ")[0]
+        for param in params.split(", "):
+            if ":" not in param:
+                continue  # `*` (keyword-only marker)
+            pname, annotation = param.split(":", 1)
+            annotation = annotation.split("=", 1)[0].strip()
+            if pname.strip() != "self" and annotation != "object":
+                typed.append(f"{name}: {param}")
+    assert not typed, typed

@@ -351,7 +351,7 @@ def test_light_layer_cache_recombines_a_flicker_within_its_bound():
          "occluders": [{"polygon": [[50, 10], [54, 10], [54, 60], [50, 60]]}]}
     r = par2d.Renderer(d, threads=2)
     assert r.light_layer_budget == 0
-    with pytest.raises((TypeError, OverflowError)):
+    with pytest.raises(par2d.Error, match="^light_layer_budget: must be >= 0, got -1$"):
         r.light_layer_budget = -1
     r.incremental = True
     r.light_layer_budget = 8 << 20
