@@ -428,7 +428,7 @@ PAR2D_C_API par2d_status par2d_dirty_rects(const par2d_renderer* renderer, par2d
 /* ---- Long frames (docs/api.md, "Long renders"): bound, watch and stop them ---- */
 
 /* A frame's work estimated from counts before it runs, in units of one shape or bounce piece
- * looked at for one sample (or ray), at most some tens of nanoseconds of one core each.
+ * looked at for one sample (or ray), 10 to 100 nanoseconds of one core each.
  * samples = pixels computed x spp (an incremental frame: its changed blocks' pixels); lights
  * counts the directional lights too. The SIMD path's direct light is not counted (its culling
  * keeps it near what pixels need); the bounce is counted before culling. */
@@ -440,8 +440,8 @@ typedef struct par2d_work_estimate {
   double total;   /* bounce + scalar + raycast: what the work limit bounds */
 } par2d_work_estimate;
 
-/* The work limit every renderer starts with: 1e11 units (about an hour of one core at the
- * costliest unit). */
+/* The work limit every renderer starts with: 1e11 units (a quarter of an hour to two and a half
+ * hours of one core). */
 #define PAR2D_DEFAULT_WORK_LIMIT 1e11
 
 /* The estimated work of a frame of region = {x0, y0, x1, y1} (NULL: the whole frame) with the

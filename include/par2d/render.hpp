@@ -50,7 +50,7 @@ enum class Threading {
 };
 
 // The estimated work (WorkEstimate::total) past which a frame is refused by default: 1e11 units,
-// about an hour of one core at the costliest unit (docs/api.md, "Long renders").
+// a quarter of an hour to two and a half hours of one core (docs/api.md, "Long renders").
 inline constexpr double kDefaultWorkLimit = 1e11;
 
 struct RenderOptions {
@@ -180,8 +180,8 @@ struct FrameStats {
 };
 
 // What a frame will cost, estimated from counts before it runs (docs/api.md, "Long renders"), in
-// units of one shape or bounce piece looked at for one sample (or ray): at most some tens of
-// nanoseconds of one core each. `samples` is the pixels the frame computes (an incremental
+// units of one shape or bounce piece looked at for one sample (or ray): 10 to 100 nanoseconds
+// of one core each. `samples` is the pixels the frame computes (an incremental
 // frame's changed blocks only) times spp; `lights` counts the directional lights too. The SIMD
 // path's direct light is not counted: its culling keeps it near what the pixels need
 // (FrameStats), however many shapes the scene has. The bounce is counted before culling (which
