@@ -24,6 +24,8 @@ const char* code_identifier(par2d::StatusCode code) {
     case par2d::StatusCode::io_error: return "io_error";
     case par2d::StatusCode::out_of_memory: return "out_of_memory";
     case par2d::StatusCode::unsupported: return "unsupported";
+    case par2d::StatusCode::work_limit: return "work_limit";
+    case par2d::StatusCode::cancelled: return "cancelled";
   }
   return "unknown";
 }

@@ -30,7 +30,7 @@ using FloatArray = py::array_t<float, py::array::c_style>;
 // par2d.Error and its subclass per status code, created in PYBIND11_MODULE (par2d_module.cpp);
 // every failed par2d call raises the subclass of its code, which is also the built-in exception
 // a Python user expects (an invalid argument is a ValueError, an I/O failure an OSError).
-inline constexpr std::size_t kStatusCodes = 6;  // StatusCode's values, ok included
+inline constexpr std::size_t kStatusCodes = 8;  // StatusCode's values, ok included
 extern PyObject* g_error_type;
 extern std::array<PyObject*, kStatusCodes> g_error_types;  // by StatusCode value; ok: nullptr
 PyObject* error_type(par2d::StatusCode code);  // the subclass (par2d.Error when none)
@@ -75,6 +75,41 @@ par2d::RenderOptions make_options(const py::object& backend, const py::object& t
                                   int rays, const py::object& isa, const py::object& culling);
 // "included", "excluded" or "only" (RenderOptions::bounce).
 par2d::BounceTerm to_bounce_term(const py::object& obj);
+
+// ---- Long renders (progress.cpp) ------------------------------------------------------------
+
+// A render's progress function for Python (docs/python.md, "Long renders"): calls `callback`
+// (None: none) with (tiles_done, tiles) on the rendering thread, the GIL taken for the call, and
+// looks for Ctrl-C there (PyErr_CheckSignals: KeyboardInterrupt), at least every 50 ms without a
+// callback. The callback returning False, raising, or a signal cancels the frame; finish()
+// then raises that exception (par2d.CancelledError for False), or the render's status.
+// Made, finished and destroyed with the GIL held.
+class PyProgress {
+ public:
+  explicit PyProgress(py::object callback);
+  ~PyProgress();
+  PyProgress(const PyProgress&) = delete;
+  PyProgress& operator=(const PyProgress&) = delete;
+  bool has_callback() const { return !callback_.is_none(); }
+  // The function to hand par2d (it refers to this object).
+  par2d::ProgressFunction function();
+  void finish(const par2d::Status& status);
+
+ private:
+  bool call(const par2d::Progress& progress);
+  py::object callback_;
+  PyObject *type_ = nullptr, *value_ = nullptr, *traceback_ = nullptr;  // the exception that stopped it
+  double last_check_ = 0.0;  // seconds, steady clock
+};
+
+// The `progress` argument: None or a callable, else par2d.Error naming it.
+py::object to_progress(const py::object& obj);
+
+// A work estimate as a dict (samples, bounce, scalar, raycast, total).
+py::dict estimate_dict(const par2d::WorkEstimate& estimate);
+
+// The `work_limit` argument: a finite number >= 0 (0: none).
+double to_work_limit(const py::object& obj);
 
 // ---- Scenes (scene.cpp) -----------------------------------------------------------------------
 

@@ -26,7 +26,7 @@ namespace {
 // Renders into `out`, an (H, W, 3) float32 array whose pixels and channels are packed (rows
 // may be padded), with the GIL released so other Python threads run meanwhile.
 void render_into(const par2d::Scene& scene, const par2d::RenderOptions& options, const py::object& out_arg,
-                 py::array& out) {
+                 py::array& out, PyProgress& progress) {
   const bool fits = py::isinstance<py::array>(out_arg);
   if (fits) out = py::reinterpret_borrow<py::array>(out_arg);
   if (!fits || !py::isinstance<py::array_t<float>>(out) || out.ndim() != 3 || out.shape(2) != 3 ||
@@ -38,12 +38,14 @@ void render_into(const par2d::Scene& scene, const par2d::RenderOptions& options,
               std::to_string(scene.width) + ", 3) with packed pixels (rows may be padded)");
   par2d::ImageView view{static_cast<float*>(out.mutable_data()), scene.width, scene.height,
                         static_cast<std::ptrdiff_t>(out.strides(0) / static_cast<py::ssize_t>(sizeof(float)))};
+  par2d::RenderControl control;
+  control.progress = progress.function();  // the callback, and Ctrl-C
   par2d::Status status;
   {
     py::gil_scoped_release release;
-    status = par2d::render(scene, options, view);
+    status = par2d::render(scene, options, view, control);
   }
-  check(status);
+  progress.finish(status);
 }
 
 // par2d.Error and one subclass per status code that also derives from the built-in exception
@@ -68,14 +70,21 @@ void define_errors(py::module_& m) {
        "An allocation that failed: a par2d.Error and a MemoryError; code 'out_of_memory'."},
       {par2d::StatusCode::unsupported, "UnsupportedError", PyExc_NotImplementedError,
        "Something this build or CPU lacks: a par2d.Error and a NotImplementedError; code 'unsupported'."},
+      {par2d::StatusCode::work_limit, "WorkLimitError", PyExc_RuntimeError,
+       "A frame whose estimated work is past work_limit, refused before any pixel is computed: a par2d.Error\n"
+       "and a RuntimeError; code 'work_limit'."},
+      {par2d::StatusCode::cancelled, "CancelledError", PyExc_RuntimeError,
+       "A frame its progress callback cancelled (by returning False), its output untouched: a par2d.Error and a\n"
+       "RuntimeError; code 'cancelled'."},
   };
   // The module keeps the classes alive; the pointers below are borrowed for its lifetime.
   py::object base = py::reinterpret_steal<py::object>(PyErr_NewExceptionWithDoc(
       "par2d.Error",
       "A failed par2d call. str(e) is par2d's one-line message (`FILE: PLACE: what is wrong`); e.code names the\n"
-      "kind: invalid_scene, invalid_argument, io_error, out_of_memory, unsupported. Each kind has its subclass\n"
-      "(InvalidArgumentError, InvalidSceneError, FileError, OutOfMemoryError, UnsupportedError), which is also\n"
-      "the built-in exception of that kind (ValueError, ValueError, OSError, MemoryError, NotImplementedError).",
+      "kind: invalid_scene, invalid_argument, io_error, out_of_memory, unsupported, work_limit, cancelled. Each\n"
+      "kind has its subclass (InvalidArgumentError, InvalidSceneError, FileError, OutOfMemoryError,\n"
+      "UnsupportedError, WorkLimitError, CancelledError), which is also the built-in exception of that kind\n"
+      "(ValueError, ValueError, OSError, MemoryError, NotImplementedError, RuntimeError, RuntimeError).",
       PyExc_Exception, nullptr));
   if (!base) throw py::error_already_set();
   m.attr("Error") = base;
@@ -149,31 +158,56 @@ void define_module(py::module_& m) {
       "render",
       [](const py::object& scene_or_dict, const py::object& backend, const py::object& threads, const py::object& spp,
          const py::object& rays, const py::object& isa, const py::object& culling, const py::object& out,
-         const py::object& shaded, const py::object& bounce) {
+         const py::object& shaded, const py::object& bounce, const py::object& work_limit,
+         const py::object& progress_arg) {
         par2d::RenderOptions options = make_options(backend, threads, spp, to_int(rays, "rays"), isa, culling);
         options.shaded = to_bool(shaded, "shaded");
         options.bounce = to_bounce_term(bounce);
+        options.work_limit = to_work_limit(work_limit);
+        PyProgress progress(to_progress(progress_arg));
         std::optional<PyScene> holder;
         const PyScene& scene = as_scene(scene_or_dict, holder);
         py::array image;
         if (out.is_none()) {
           image = FloatArray({scene.scene().height, scene.scene().width, 3});
-          render_into(scene.scene(), options, image, image);
+          render_into(scene.scene(), options, image, image, progress);
         } else {
-          render_into(scene.scene(), options, out, image);
+          render_into(scene.scene(), options, out, image, progress);
         }
         return image;
       },
       py::arg("scene"), py::kw_only(), py::arg("backend") = "auto", py::arg("threads") = 0, py::arg("spp") = 1,
       py::arg("rays") = 1024, py::arg("isa") = py::none(), py::arg("culling") = true, py::arg("out") = py::none(),
-      py::arg("shaded") = true, py::arg("bounce") = "included",
+      py::arg("shaded") = true, py::arg("bounce") = "included", py::arg("work_limit") = par2d::kDefaultWorkLimit,
+      py::arg("progress") = py::none(),
       "Linear irradiance of `scene` (a Scene or a dict) as a float32 array of shape (height, width, 3),\n"
       "row 0 at the top. backend: auto|simd|scalar|raycast; threads: 0 = all; spp: samples per pixel;\n"
       "rays: directions per sample for raycast; isa: cap the SIMD level (scalar|sse4|avx2|avx512);\n"
       "out: an existing array to fill instead of a new one; shaded=False: the plain irradiance of a scene\n"
       "with a normal source (no normal-map shading); bounce: with reflecting occluders, included (direct\n"
-      "plus one bounce), excluded (the direct light alone) or only (the bounce term alone). The GIL is\n"
-      "released while rendering.");
+      "plus one bounce), excluded (the direct light alone) or only (the bounce term alone). work_limit: the\n"
+      "most estimated work a frame may have (estimate_work; default 1e11, 0: none), past which\n"
+      "par2d.WorkLimitError is raised before rendering. progress: called as progress(tiles_done, tiles) on\n"
+      "this thread as tiles finish; returning False cancels (par2d.CancelledError), and so does Ctrl-C\n"
+      "(KeyboardInterrupt), `out` then untouched. The GIL is released while rendering.");
+
+  m.def(
+      "estimate_work",
+      [](const py::object& scene_or_dict, const py::object& backend, const py::object& spp, const py::object& rays,
+         const py::object& isa, const py::object& bounce) {
+        par2d::RenderOptions options =
+            make_options(backend, py::int_(0), spp, to_int(rays, "rays"), isa, py::bool_(true));
+        options.bounce = to_bounce_term(bounce);
+        std::optional<PyScene> holder;
+        const PyScene& scene = as_scene(scene_or_dict, holder);
+        par2d::WorkEstimate estimate;
+        check(par2d::estimate_work(scene.scene(), options, estimate));
+        return estimate_dict(estimate);
+      },
+      py::arg("scene"), py::kw_only(), py::arg("backend") = "auto", py::arg("spp") = 1, py::arg("rays") = 1024,
+      py::arg("isa") = py::none(), py::arg("bounce") = "included",
+      "The estimated work of render(scene, ...) with these options, as a dict: samples, bounce, scalar,\n"
+      "raycast and total (docs/python.md, \"Long renders\"), total being what work_limit bounds.");
 
   bind_renderer(m);
 

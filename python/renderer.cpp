@@ -153,11 +153,50 @@ class PyRenderer {
   }
 
   // Float RGB frame (or region) into `out` or a new (h, w, 3) float32 array.
-  py::array render(const py::object& out, const py::object& region) {
-    return render_format(par2d::PixelFormat::rgb_f32, 1.0, out, region);
+  py::array render(const py::object& out, const py::object& region, const py::object& progress) {
+    return render_format(par2d::PixelFormat::rgb_f32, 1.0, out, region, progress);
   }
-  py::array render_rgba8(const py::object& exposure, const py::object& out, const py::object& region) {
-    return render_format(par2d::PixelFormat::rgba8_srgb, to_double(exposure, "exposure"), out, region);
+  py::array render_rgba8(const py::object& exposure, const py::object& out, const py::object& region,
+                         const py::object& progress) {
+    return render_format(par2d::PixelFormat::rgba8_srgb, to_double(exposure, "exposure"), out, region, progress);
+  }
+
+  // Long renders (docs/python.md): the work estimate of the whole frame or a region, and the limit.
+  py::dict estimate_work(const py::object& region_arg) {
+    const std::optional<std::array<long long, 4>> region = to_region(region_arg);
+    par2d::WorkEstimate estimate;
+    par2d::Status status;
+    {
+      WorldLock lock(mutex_);
+      if (region) {
+        const auto& r = *region;
+        const bool fits = r[0] >= 0 && r[1] >= 0 && r[2] <= renderer_.width() && r[3] <= renderer_.height();
+        status = fits ? renderer_.estimate_work(par2d::PixelRect{static_cast<int>(r[0]), static_cast<int>(r[1]),
+                                                                 static_cast<int>(r[2]), static_cast<int>(r[3])},
+                                                estimate)
+                      : par2d::Status(par2d::StatusCode::invalid_argument,
+                                      "region: (" + std::to_string(r[0]) + ", " + std::to_string(r[1]) + ", " +
+                                          std::to_string(r[2]) + ", " + std::to_string(r[3]) +
+                                          ") is not inside the " + std::to_string(renderer_.width()) + "x" +
+                                          std::to_string(renderer_.height()) + " frame");
+      } else {
+        status = renderer_.estimate_work(estimate);
+      }
+    }
+    check(status);
+    return estimate_dict(estimate);
+  }
+  double work_limit() const {
+    WorldLock lock(mutex_);
+    return renderer_.options().work_limit;
+  }
+  void set_work_limit(const py::object& limit_arg) {
+    const double limit = to_work_limit(limit_arg);
+    locked_check([&] {
+      par2d::RenderOptions options = renderer_.options();
+      options.work_limit = limit;
+      return renderer_.set_options(options);
+    });
   }
 
   py::dict stats() const {
@@ -396,8 +435,9 @@ class PyRenderer {
   }
 
   py::array render_format(par2d::PixelFormat format, double exposure, const py::object& out_arg,
-                          const py::object& region_arg) {
+                          const py::object& region_arg, const py::object& progress_arg) {
     const std::optional<std::array<long long, 4>> region = to_region(region_arg);
+    PyProgress progress(to_progress(progress_arg));
     const bool out_given = !out_arg.is_none();
     const bool bytes = format == par2d::PixelFormat::rgba8_srgb;
     const py::ssize_t channels = bytes ? 4 : 3, item = bytes ? 1 : static_cast<py::ssize_t>(sizeof(float));
@@ -454,11 +494,19 @@ class PyRenderer {
         buffer.exposure = exposure;
         // A new array holds no earlier frame (even at an earlier array's address).
         if (!out_given) renderer_.force_full_frame();
-        py::gil_scoped_release release;
-        status = region ? renderer_.render(buffer, rect) : renderer_.render(buffer);
+        // Ctrl-C is looked for during frames that are computed aside anyway (estimated work);
+        // a callback makes every frame one (docs/python.md, "Long renders").
+        par2d::WorkEstimate estimate;
+        if (progress.has_callback() || (renderer_.estimate_work(rect, estimate).ok() && estimate.total > 0.0))
+          renderer_.set_progress(progress.function());
+        {
+          py::gil_scoped_release release;
+          status = region ? renderer_.render(buffer, rect) : renderer_.render(buffer);
+        }
+        renderer_.set_progress(nullptr);
       }
     }
-    check(status);
+    progress.finish(status);
     return image;
   }
 
@@ -518,13 +566,22 @@ void bind_renderer(py::module_& m) {
            py::arg("transform") = py::none(), "Replaces the occluder (dict), placed by transform when given.")
       .def("remove_occluder", &PyRenderer::remove_occluder, py::arg("handle"))
       .def("render", &PyRenderer::render, py::kw_only(), py::arg("out") = py::none(), py::arg("region") = py::none(),
+           py::arg("progress") = py::none(),
            "Linear irradiance as float32 (height, width, 3), or of region (x0, y0, x1, y1) only: then shape\n"
            "(y1 - y0, x1 - x0, 3), bit-identical to those pixels of the whole frame. out: an existing array\n"
-           "to fill. The GIL is released while rendering.")
+           "to fill. progress: called as progress(tiles_done, tiles) on this thread as tiles finish; returning\n"
+           "False cancels (par2d.CancelledError), as does Ctrl-C (KeyboardInterrupt), `out` then untouched.\n"
+           "A frame past work_limit raises par2d.WorkLimitError. The GIL is released while rendering.")
       .def("render_rgba8", &PyRenderer::render_rgba8, py::arg("exposure") = 1.0, py::kw_only(),
-           py::arg("out") = py::none(), py::arg("region") = py::none(),
+           py::arg("out") = py::none(), py::arg("region") = py::none(), py::arg("progress") = py::none(),
            "The frame as uint8 (height, width, 4): round(255 * srgb(clamp(exposure * E, 0, 1))), alpha 255 -\n"
-           "the bytes write_png stores, written by the tiles directly.")
+           "the bytes write_png stores, written by the tiles directly. progress: as for render.")
+      .def("estimate_work", &PyRenderer::estimate_work, py::arg("region") = py::none(),
+           "The estimated work of the whole frame (or region (x0, y0, x1, y1)) with the options and world of\n"
+           "now, as a dict: samples, bounce, scalar, raycast, total (docs/python.md, \"Long renders\").")
+      .def_property("work_limit", &PyRenderer::work_limit, &PyRenderer::set_work_limit,
+                    "float: the most estimated work (estimate_work()['total']) a frame may have, past which render\n"
+                    "raises par2d.WorkLimitError before computing a pixel; 0: none. Default 1e11.")
       .def("set_ambient", &PyRenderer::set_ambient, py::arg("rgb"), "Ambient (r, g, b), each >= 0, added to every pixel.")
       .def("set_bounce", &PyRenderer::set_bounce, py::arg("piece"),
            "One bounce's piece length in world units (> 0; docs/contract.md section 7).")

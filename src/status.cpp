@@ -11,6 +11,8 @@ const char* status_code_name(StatusCode code) noexcept {
     case StatusCode::io_error: return "i/o error";
     case StatusCode::out_of_memory: return "out of memory";
     case StatusCode::unsupported: return "unsupported";
+    case StatusCode::work_limit: return "work limit";
+    case StatusCode::cancelled: return "cancelled";
   }
   return "unknown";
 }

@@ -125,6 +125,7 @@ struct CommonArgs {
   int rays = 1024;
   std::string bounce = "included";  // RenderOptions::bounce
   bool allow_any_path = false;  // normal_map paths outside the scene's folder
+  double work_limit = par2d::kDefaultWorkLimit;  // RenderOptions::work_limit
 };
 
 // Loads the scene under the path policy the command line chose.
@@ -142,6 +143,7 @@ struct RenderArgs {
   std::string plain_png_path;
   std::string plain_pfm_path;
   double exposure = 1.0;
+  std::string progress = "auto";  // the progress bar: auto (a terminal, past a second), always, never
 };
 
 struct BenchArgs {
@@ -208,6 +210,10 @@ void add_common_options(CLI::App& cmd, CommonArgs& args) {
                  "With reflecting occluders (one bounce): included (default) outputs direct light plus "
                  "bounce; excluded the direct light alone; only the bounce term alone")
       ->check(kBounceTermName);
+  cmd.add_option("--work-limit", args.work_limit,
+                 "Refuse a frame whose estimated work (bounce pieces, scalar-reference and ray-caster samples "
+                 "times the shapes they look at; docs/cli.md) is past this many units; 0 = no limit. Default: 1e11")
+      ->check(kNonNegative);
   cmd.add_flag("--allow-any-path", args.allow_any_path,
                "Let the scene's normal_map name any file (absolute, or outside the scene's folder); by "
                "default it must stay inside the scene file's folder. For trusted scenes only");
@@ -221,7 +227,71 @@ par2d::RenderOptions make_options(const CommonArgs& args) {
   options.rays = args.rays;
   options.bounce = *par2d::parse_bounce_term(args.bounce.c_str());  // validated by kBounceTermName
   if (!args.isa.empty()) options.isa = par2d::parse_isa(args.isa);
+  options.work_limit = args.work_limit;
   return options;
+}
+
+// A refused or failed render as one line; a frame past the work limit names the option that
+// raises it.
+int render_failed(const CommonArgs& args, const par2d::Status& s) {
+  if (s.code() != par2d::StatusCode::work_limit) return fail(s.message());
+  std::string what = s.message();
+  for (const char* who : {"render: ", "render_raycast: "})
+    if (what.rfind(who, 0) == 0) what.erase(0, std::string(who).size());
+  return fail("render: " + args.scene_path + ": " + what + "; --work-limit raises the limit (0: none)");
+}
+
+// The progress bar on standard error: `always`, or `auto` on a terminal once a render has run
+// for a second; redrawn at most ten times a second, ended by a newline once drawn.
+class ProgressBar {
+ public:
+  ProgressBar(const std::string& mode, const char* label)
+      : label_(label), always_(mode == "always"), start_(Clock::now()) {}
+  ~ProgressBar() {
+    if (drawn_) std::fputc('\n', stderr);
+  }
+  ProgressBar(const ProgressBar&) = delete;
+  ProgressBar& operator=(const ProgressBar&) = delete;
+
+  // Whether a bar may be drawn at all in this mode (`auto` needs a terminal).
+  static bool wanted(const std::string& mode) { return mode == "always" || (mode == "auto" && ::isatty(STDERR_FILENO)); }
+
+  bool operator()(const par2d::Progress& p) {
+    const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
+    if (!always_ && elapsed < 1.0) return true;
+    const bool last = p.tiles_done == p.tiles;
+    if (drawn_ && !last && elapsed - drawn_at_ < 0.1) return true;
+    drawn_ = true;
+    drawn_at_ = elapsed;
+    constexpr int kWidth = 30;
+    const double fraction = p.tiles == 0 ? 1.0 : static_cast<double>(p.tiles_done) / static_cast<double>(p.tiles);
+    const int filled = static_cast<int>(fraction * kWidth);
+    std::fprintf(stderr, "\rpar2d: %s [%s%s] %3d%% %llu/%llu tiles, %.1f s", label_,
+                 std::string(static_cast<std::size_t>(filled), '#').c_str(),
+                 std::string(static_cast<std::size_t>(kWidth - filled), ' ').c_str(),
+                 static_cast<int>(fraction * 100.0), static_cast<unsigned long long>(p.tiles_done),
+                 static_cast<unsigned long long>(p.tiles), elapsed);
+    std::fflush(stderr);
+    return true;
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  const char* label_;
+  bool always_;
+  Clock::time_point start_;
+  bool drawn_ = false;
+  double drawn_at_ = 0.0;
+};
+
+// par2d::render with the progress bar `mode` asks for.
+par2d::Status render_with_progress(const par2d::Scene& scene, const par2d::RenderOptions& options,
+                                   const par2d::ImageView& image, const std::string& mode, const char* label) {
+  if (!ProgressBar::wanted(mode)) return par2d::render(scene, options, image);
+  ProgressBar bar(mode, label);
+  par2d::RenderControl control;
+  control.progress = [&bar](const par2d::Progress& p) { return bar(p); };
+  return par2d::render(scene, options, image, control);
 }
 
 // What the library resolves the thread count to (capped at the hardware), so that what is
@@ -296,8 +366,8 @@ int run_render(const CommonArgs& common, const RenderArgs& args) {
 
   // The whole image exists before any file is touched: a failed render writes nothing.
   par2d::RenderOptions options = make_options(common);
-  if (par2d::Status s = par2d::render(scene, options, image); !s)
-    return fail(s.message());
+  if (par2d::Status s = render_with_progress(scene, options, image, args.progress, "rendering"); !s)
+    return render_failed(common, s);
 
   // The plain irradiance differs only where a normal source shades the scene; then it is a
   // second render, finished (like the first) before any file is touched.
@@ -308,7 +378,8 @@ int run_render(const CommonArgs& common, const RenderArgs& args) {
   if (wants_plain && shaded) {
     if (!allocate_image(scene.width, scene.height, plain_storage, plain, error)) return fail(error);
     options.shaded = false;
-    if (par2d::Status s = par2d::render(scene, options, plain); !s) return fail(s.message());
+    if (par2d::Status s = render_with_progress(scene, options, plain, args.progress, "rendering the plain image"); !s)
+      return render_failed(common, s);
   }
 
   // All or nothing: every file is complete before any replaces what was there.
@@ -445,7 +516,7 @@ int run_bench(const CommonArgs& common, const BenchArgs& args) {
   par2d::FrameStats stats;
   const par2d::Status warm_up = args.stats ? par2d::render(scene, options, image, stats)
                                            : par2d::render(scene, options, image);
-  if (!warm_up) return fail(warm_up.message());
+  if (!warm_up) return render_failed(common, warm_up);
 
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
@@ -517,6 +588,10 @@ int run_cli(int argc, char** argv) {
   render->add_option("--exposure", render_args.exposure,
                      "PNG shows clamp(exposure * E, 0, 1), sRGB-encoded. Default: 1")
       ->check(kNonNegative);
+  render->add_option("--progress", render_args.progress,
+                     "Progress bar on standard error: auto (default) on a terminal for renders past a second; "
+                     "always; never")
+      ->check(CLI::IsMember({"auto", "always", "never"}));
 
   CommonArgs bench_common;
   BenchArgs bench_args;

@@ -38,7 +38,9 @@ typedef enum par2d_status {
   PAR2D_INVALID_SCENE = 2,    /* a shape, color or frame breaks the scene rules */
   PAR2D_IO_ERROR = 3,         /* a file could not be read */
   PAR2D_OUT_OF_MEMORY = 4,
-  PAR2D_UNSUPPORTED = 5
+  PAR2D_UNSUPPORTED = 5,
+  PAR2D_WORK_LIMIT = 6, /* the frame's estimated work is past the work limit (par2d_set_work_limit); nothing written */
+  PAR2D_CANCELLED = 7   /* the frame was cancelled (par2d_cancel, or the progress function); nothing written */
 } par2d_status;
 
 typedef enum par2d_backend {
@@ -436,6 +438,50 @@ typedef struct par2d_rect {
  * how many there are. */
 PAR2D_C_API par2d_status par2d_dirty_rects(const par2d_renderer* renderer, par2d_rect* out, size_t capacity,
                                            size_t* count);
+
+/* ---- Long frames (docs/api.md, "Long renders"): bound, watch and stop them ---- */
+
+/* A frame's work estimated from counts before it runs, in units of one shape or bounce piece
+ * looked at for one sample (or ray), 10 to 100 nanoseconds of one core each.
+ * samples = pixels computed x spp (an incremental frame: its changed blocks' pixels); lights
+ * counts the directional lights too. The SIMD path's direct light is not counted (its culling
+ * keeps it near what pixels need); the bounce is counted before culling. */
+typedef struct par2d_work_estimate {
+  double samples;
+  double bounce;  /* one bounce: pieces x (samples + lights x (occluders + 1)) */
+  double scalar;  /* the scalar reference's direct light: samples x lights x (occluders + 1) */
+  double raycast; /* always 0 here (the ray caster is not a renderer backend) */
+  double total;   /* bounce + scalar + raycast: what the work limit bounds */
+} par2d_work_estimate;
+
+/* The work limit every renderer starts with: 1e11 units (a quarter of an hour to two and a half
+ * hours of one core). */
+#define PAR2D_DEFAULT_WORK_LIMIT 1e11
+
+/* The estimated work of a frame of region = {x0, y0, x1, y1} (NULL: the whole frame) with the
+ * renderer's options and world of now, as par2d_render checks it. */
+PAR2D_C_API par2d_status par2d_estimate_work(par2d_renderer* renderer, const int* region, par2d_work_estimate* out);
+/* The most estimated work (par2d_work_estimate.total) a frame may have: a frame past it is
+ * refused with PAR2D_WORK_LIMIT before any pixel is computed. Finite and >= 0; 0: no limit.
+ * Default PAR2D_DEFAULT_WORK_LIMIT. Kept by par2d_set_options and par2d_set_advanced_options. */
+PAR2D_C_API par2d_status par2d_set_work_limit(par2d_renderer* renderer, double limit);
+PAR2D_C_API par2d_status par2d_get_work_limit(const par2d_renderer* renderer, double* limit);
+
+/* Called during each par2d_render from the thread that called it (never from two threads at
+ * once), after tiles of 16x16 pixels finish: tiles_done rises with each call, and a frame that
+ * completes ends with a call where tiles_done == tiles. Return non-zero to go on, 0 to cancel
+ * the frame. */
+typedef int (*par2d_progress_fn)(void* user, uint64_t tiles_done, uint64_t tiles);
+/* Sets the progress function (NULL: none, the default); `user` is passed back to it. */
+PAR2D_C_API par2d_status par2d_set_progress(par2d_renderer* renderer, par2d_progress_fn fn, void* user);
+/* Cancels the par2d_render running now on the renderer, or else the next one: it returns
+ * PAR2D_CANCELLED with the pixels untouched, and the request is used up (also by a frame that
+ * completes before it sees it). Safe from any thread at any time. A frame stops before its
+ * next tile when it is computed in the renderer's own buffer and copied out once complete:
+ * when a progress function is set or its estimated work is above 0 (a bounce, the scalar
+ * reference); other frames (the SIMD path's direct light alone) see the request only before
+ * they start. NULL is ignored. */
+PAR2D_C_API void par2d_cancel(par2d_renderer* renderer);
 
 #ifdef __cplusplus
 }

@@ -1,8 +1,10 @@
 // Rendering entry point: irradiance of a scene into a caller-provided float RGB image.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 
 #include "par2d/isa.hpp"
@@ -47,6 +49,10 @@ enum class Threading {
   caller_arena,
 };
 
+// The estimated work (WorkEstimate::total) past which a frame is refused by default: 1e11 units,
+// a quarter of an hour to two and a half hours of one core (docs/api.md, "Long renders").
+inline constexpr double kDefaultWorkLimit = 1e11;
+
 struct RenderOptions {
   // Which path computes the image. Default: automatic.
   Backend backend = Backend::automatic;
@@ -77,6 +83,10 @@ struct RenderOptions {
   // With reflecting occluders: the direct light and the bounce together, or one of them (see
   // BounceTerm; the ambient term belongs to the direct light). Default: included.
   BounceTerm bounce = BounceTerm::included;
+  // The most estimated work (WorkEstimate::total) a frame may have: a frame past it is refused
+  // with StatusCode::work_limit before any pixel is computed. Finite and >= 0; 0: no limit.
+  // Default: kDefaultWorkLimit (1e11).
+  double work_limit = kDefaultWorkLimit;
 };
 
 // The worker count a render with these options uses from the calling thread: `threads`
@@ -168,6 +178,47 @@ struct FrameStats {
   std::uint64_t bounce_source_walks = 0;         // (sample, source) walks over a source's pieces
   std::uint64_t bounce_depth_tests = 0;          // occluders depth-tested against a source at a sample
 };
+
+// What a frame will cost, estimated from counts before it runs (docs/api.md, "Long renders"), in
+// units of one shape or bounce piece looked at for one sample (or ray): 10 to 100 nanoseconds
+// of one core each. `samples` is the pixels the frame computes (an incremental
+// frame's changed blocks only) times spp; `lights` counts the directional lights too. The SIMD
+// path's direct light is not counted: its culling keeps it near what the pixels need
+// (FrameStats), however many shapes the scene has. The bounce is counted before culling (which
+// only lowers it).
+struct WorkEstimate {
+  double samples = 0.0;
+  double bounce = 0.0;   // one bounce (SIMD or scalar path): pieces x (samples + lights x (occluders + 1))
+  double scalar = 0.0;   // the scalar reference's direct light: samples x lights x (occluders + 1)
+  double raycast = 0.0;  // Backend::raycast: rays x (samples + pieces) x (lights + occluders)
+  double total = 0.0;    // bounce + scalar + raycast: what RenderOptions::work_limit bounds
+};
+
+// The estimated work of render(scene, options, ...) for the whole frame (the scene is validated).
+Status estimate_work(const Scene& scene, const RenderOptions& options, WorkEstimate& estimate);
+
+// How far a frame has got, in the 16x16-pixel tiles it computes (64x64 blocks for
+// Backend::raycast, counted as their tiles).
+struct Progress {
+  std::uint64_t tiles_done = 0;
+  std::uint64_t tiles = 0;  // the frame's total
+};
+
+// Called during a frame from the thread that called render (never from two threads at once),
+// after tiles finish: tiles_done rises with each call, and a frame that completes ends with a
+// call where tiles_done == tiles. Returning false cancels the frame. It must not throw.
+using ProgressFunction = std::function<bool(const Progress&)>;
+
+// Watching and stopping one render() call (docs/api.md, "Long renders"). A cancelled call
+// returns StatusCode::cancelled with the image untouched; with either member set the frame is
+// computed into a buffer of the library's and copied into the image only once it is complete.
+struct RenderControl {
+  ProgressFunction progress;                  // empty: none
+  const std::atomic<bool>* cancel = nullptr;  // set (from any thread) to cancel before the next tile
+};
+
+// render() with progress and cancellation.
+Status render(const Scene& scene, const RenderOptions& options, const ImageView& image, const RenderControl& control);
 
 // render() that also reports the frame's work in `stats` (overwritten), including the sampled
 // needs (slower than render() by about one scalar pixel per 16x16 tile).

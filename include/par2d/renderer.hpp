@@ -162,6 +162,23 @@ class Renderer {
   // The whole frame as float RGB into an ImageView of the frame's size.
   Status render(const ImageView& image);
 
+  // Long frames (docs/api.md, "Long renders"). The estimated work of a whole frame (or of
+  // `region`) with the options and world of now, as render checks it against
+  // options().work_limit (an incremental frame is checked with only the blocks it computes).
+  Status estimate_work(WorkEstimate& estimate);
+  Status estimate_work(const PixelRect& region, WorkEstimate& estimate);
+  // Called during each frame from the thread that called render, after tiles finish (see
+  // ProgressFunction; returning false cancels the frame). Empty (the default): none.
+  void set_progress(ProgressFunction progress);
+  // Cancels the frame rendering now, or else the next one: it returns StatusCode::cancelled
+  // with the buffer untouched, and the request is used up. May be called from any thread at
+  // any time (the one exception to "one thread at a time"). A frame stops midway (before its
+  // next tile) when it renders into the renderer's own buffer and is copied into the host's
+  // once complete: when a progress function is set or the frame has estimated work (a bounce,
+  // the scalar reference). Other frames (the SIMD path's direct light alone, written straight
+  // into the host's buffer) see the request only before they start.
+  void cancel() noexcept;
+
   // Frames that cost what changed (docs/api.md, "Incremental frames"). Off by default: every
   // whole-frame render computes every pixel. On: a whole-frame render computes only the
   // 64x64 blocks whose inputs changed since the last whole frame and leaves the buffer's

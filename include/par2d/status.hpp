@@ -15,6 +15,8 @@ enum class StatusCode {
   io_error,          // a file could not be read or written
   out_of_memory,     // an allocation the request needs could not be made
   unsupported,       // the request names something this build or CPU lacks
+  work_limit,        // the frame's estimated work is past RenderOptions::work_limit (nothing written)
+  cancelled,         // the frame was cancelled (progress function or Renderer::cancel; nothing written)
 };
 
 // A status value: `ok()` or a code with a message meant for a human, on one line.

@@ -56,6 +56,8 @@ inline par2d_status to_c(const char* function, const par2d::Status& s) {
     case par2d::StatusCode::io_error: return PAR2D_IO_ERROR;
     case par2d::StatusCode::out_of_memory: return PAR2D_OUT_OF_MEMORY;
     case par2d::StatusCode::unsupported: return PAR2D_UNSUPPORTED;
+    case par2d::StatusCode::work_limit: return PAR2D_WORK_LIMIT;
+    case par2d::StatusCode::cancelled: return PAR2D_CANCELLED;
   }
   return PAR2D_INVALID_ARGUMENT;
 }

@@ -3,9 +3,11 @@
 #include "render/frame_driver.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <iterator>
 #include <memory>
+#include <thread>
 #include <vector>
 
 #include "render/bounce_tiles.hpp"
@@ -194,9 +196,10 @@ FrameEngine::~FrameEngine() = default;
 FrameEngine::FrameEngine(FrameEngine&&) noexcept = default;
 FrameEngine& FrameEngine::operator=(FrameEngine&&) noexcept = default;
 
-void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReach>* reach,
+bool FrameEngine::render(const PreparedScene& scene, const std::vector<LightReach>* reach,
                          const FrameSettings& settings, const Scheduler& scheduler, const FrameTarget& target,
-                         FrameStats* stats, const std::vector<std::uint8_t>* dirty, LightLayerCache* layers) {
+                         FrameStats* stats, const std::vector<std::uint8_t>* dirty, LightLayerCache* layers,
+                         const FrameControl* control) {
   const KernelSet* kernels = kernels_for(settings.isa);
   const TileRect& region = target.region;
   // Blocks of the whole frame that meet the region.
@@ -215,9 +218,41 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
     blocks = static_cast<int>(block_list_.size());
     if (blocks == 0) {
       if (stats) *stats = FrameStats{};
-      return;
+      if (control && control->progress && *control->progress) (*control->progress)(Progress{0, 0});
+      return true;
     }
   }
+  // Progress and cancellation: the tiles that meet the region in the blocks computed.
+  const ProgressFunction* progress = control && control->progress && *control->progress ? control->progress : nullptr;
+  const std::atomic<bool>* cancel = control ? control->cancel : nullptr;
+  std::atomic<bool> stop{false};
+  std::atomic<std::uint64_t> tiles_done{0};
+  std::uint64_t tiles_total = 0;
+  const std::thread::id caller = std::this_thread::get_id();
+  const auto stopped = [&] {
+    return stop.load(std::memory_order_relaxed) || (cancel && cancel->load(std::memory_order_relaxed));
+  };
+  if (control) {
+    for (int k = 0; k < blocks; ++k) {
+      const int b = dirty ? block_list_[static_cast<std::size_t>(k)] : k;
+      const int x0 = std::max((bx0 + b % columns) * kBlockSize, region.x0);
+      const int y0 = std::max((by0 + b / columns) * kBlockSize, region.y0);
+      const int x1 = std::min((bx0 + b % columns + 1) * kBlockSize, region.x1);
+      const int y1 = std::min((by0 + b / columns + 1) * kBlockSize, region.y1);
+      tiles_total += static_cast<std::uint64_t>((x1 - 1) / kTileSize - x0 / kTileSize + 1) *
+                     static_cast<std::uint64_t>((y1 - 1) / kTileSize - y0 / kTileSize + 1);
+    }
+    if (stopped()) return false;
+  }
+  // After a tile: counted, and reported from the calling thread (its own counts rise, so the
+  // reports do too).
+  std::uint64_t reported = 0;  // the calling thread's last report
+  const auto tile_finished = [&] {
+    const std::uint64_t done = tiles_done.fetch_add(1, std::memory_order_relaxed) + 1;
+    if (!progress || std::this_thread::get_id() != caller) return;
+    reported = done;
+    if (!(*progress)(Progress{done, tiles_total})) stop.store(true, std::memory_order_relaxed);
+  };
   const bool cull = settings.culling && reach != nullptr;
   // RenderOptions::bounce: the bounce term where the scene has one and the options want it;
   // the direct light (kernel or reference, with the ambient) unless only the bounce is asked.
@@ -234,6 +269,7 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
   }
 
   auto render_block = [&](int b, ThreadState& state) {
+    if (control && stopped()) return;
     if (dirty) b = block_list_[static_cast<std::size_t>(b)];
     const int x0 = (bx0 + b % columns) * kBlockSize, y0 = (by0 + b / columns) * kBlockSize;
     const TileRect block{x0, y0, std::min(x0 + kBlockSize, scene.width), std::min(y0 + kBlockSize, scene.height)};
@@ -246,9 +282,11 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
         const TileRect part{std::max(tile.x0, region.x0), std::max(tile.y0, region.y0), std::min(tile.x1, region.x1),
                             std::min(tile.y1, region.y1)};
         if (part.x0 >= part.x1 || part.y0 >= part.y1) return;
+        if (control && stopped()) return;
         ++counts.tiles;
         counts.pixels += static_cast<std::uint64_t>(part.x1 - part.x0) * static_cast<std::uint64_t>(part.y1 - part.y0);
         fn(tile, part, (tile.y0 - y0) / kTileSize * kBlockTiles + (tile.x0 - x0) / kTileSize);
+        if (control) tile_finished();
       });
     };
     if (layers && layers->recombine_only(frame_block)) {  // every light from its layer: no culling, no kernel
@@ -340,7 +378,12 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
     state.counts += state.setup.counts();
   });
   if (layers) layers->finish_frame();
-  if (!stats) return;
+  if (control) {
+    const std::uint64_t done = tiles_done.load();
+    if (done < tiles_total) return false;
+    if (progress && reported < done) (*progress)(Progress{done, tiles_total});
+  }
+  if (!stats) return true;
   FrameCounters sum;
   for (int lane = 0; lane < lanes; ++lane) sum += states_[static_cast<std::size_t>(lane)].counts;
   if (bouncing) {
@@ -348,6 +391,7 @@ void FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
     for (const BounceSource& source : bounce_->sources) sum.bounce_lit_sources += source.lit ? 1u : 0u;
   }
   *stats = to_frame_stats(sum);
+  return true;
 }
 
 }  // namespace par2d::detail

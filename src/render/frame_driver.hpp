@@ -2,6 +2,7 @@
 // buffer, tile by tile, with the kernels of kernel_table.hpp or the scalar reference.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -29,6 +30,15 @@ struct FrameSettings {
   BounceTerm bounce = BounceTerm::included;  // RenderOptions::bounce (docs/contract.md section 7)
 };
 
+// Watching and stopping a frame (docs/api.md, "Long renders"): tiles are counted as they
+// finish, `progress` is called on the thread that called render (which takes part in the
+// frame's loop) after each of its tiles and once at the end, and once `cancel` is set or
+// `progress` returns false, tiles not yet begun are skipped.
+struct FrameControl {
+  const ProgressFunction* progress = nullptr;  // null or empty: none
+  const std::atomic<bool>* cancel = nullptr;
+};
+
 // Renders frames of prepared scenes into host buffers, tile by tile, keeping every
 // per-thread buffer from frame to frame: after the first frame at a size (and worker
 // count) a frame allocates nothing.
@@ -47,9 +57,12 @@ class FrameEngine {
   // flagged blocks are computed and stored, the rest of the target is not touched.
   // `layers`, when given (a whole frame with culling and a SIMD ISA): tiles are computed
   // through the light-layer cache (render/layered_tiles.hpp), as its plan allows.
-  void render(const PreparedScene& scene, const std::vector<LightReach>* reach, const FrameSettings& settings,
+  // `control`, when given: progress and cancellation. Returns false when a cancelled frame
+  // skipped tiles (the target then holds part of the frame and `stats` is left as it was).
+  bool render(const PreparedScene& scene, const std::vector<LightReach>* reach, const FrameSettings& settings,
               const Scheduler& scheduler, const FrameTarget& target, FrameStats* stats = nullptr,
-              const std::vector<std::uint8_t>* dirty = nullptr, LightLayerCache* layers = nullptr);
+              const std::vector<std::uint8_t>* dirty = nullptr, LightLayerCache* layers = nullptr,
+              const FrameControl* control = nullptr);
 
  private:
   struct ThreadState;

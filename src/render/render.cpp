@@ -3,7 +3,10 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstring>
+#include <memory>
 #include <cstdint>
 #include <numeric>
 #include <string>
@@ -14,6 +17,7 @@
 #include "render/render_arguments.hpp"
 #include "render/scalar_tiles.hpp"
 #include "render/tiling.hpp"
+#include "render/work_estimate.hpp"
 #include "scene/scene_validate.hpp"
 #include "status_guard.hpp"
 
@@ -112,6 +116,8 @@ Status check_options(const RenderOptions& options, const char* who) {
   if (options.bounce != BounceTerm::included && options.bounce != BounceTerm::excluded &&
       options.bounce != BounceTerm::only)
     return bad("unknown bounce term " + std::to_string(static_cast<int>(options.bounce)));
+  if (!(std::isfinite(options.work_limit) && options.work_limit >= 0.0))
+    return bad("work_limit must be finite and >= 0 (0 = no limit)");
   return {};
 }
 
@@ -153,15 +159,92 @@ Status check_frame_buffer(const FrameBuffer& buffer, const PixelRect& region, in
 namespace {
 
 // One frame of `scene` by a Renderer made for it: the same path as a host's Renderer.
-Status render_once(const Scene& scene, const RenderOptions& options, const FrameBuffer& buffer, FrameStats* stats) {
+Status render_once(const Scene& scene, const RenderOptions& options, const FrameBuffer& buffer, FrameStats* stats,
+                   const RenderControl* control = nullptr) {
   return detail::guarded("render", [&]() -> Status {
     Renderer renderer;
     RenderOptions once = options;
     once.sample_needs = options.sample_needs || stats != nullptr;
     if (Status s = renderer.set_options(once); !s.ok()) return s;
     if (Status s = renderer.set_scene(scene); !s.ok()) return s;
+    if (control && (control->progress || control->cancel)) {
+      if (control->cancel && control->cancel->load()) return Status(StatusCode::cancelled, "render: cancelled");
+      // The host's flag is read after each of the calling thread's tiles; any progress
+      // function makes the frame a watched one (computed aside, copied out when complete).
+      renderer.set_progress([control](const Progress& p) {
+        if (control->cancel && control->cancel->load()) return false;
+        return !control->progress || control->progress(p);
+      });
+    }
     if (Status s = renderer.render(buffer); !s.ok()) return s;
     if (stats) *stats = renderer.frame_stats();
+    return {};
+  });
+}
+
+// The ray caster's estimated work on a validated scene.
+WorkEstimate raycast_estimate(const Scene& scene, const RenderOptions& options) noexcept {
+  detail::WorkCounts counts;
+  counts.pixels = static_cast<double>(scene.width) * scene.height;
+  counts.spp = options.spp;
+  counts.lights = static_cast<double>(scene.lights.size() + scene.directional_lights.size());
+  counts.occluders = static_cast<double>(scene.occluders.size());
+  counts.pieces = options.bounce == BounceTerm::excluded ? 0.0 : detail::bounce_pieces(scene);
+  counts.raycast = true;
+  counts.rays = options.rays;
+  return detail::estimate_work(counts);
+}
+
+// The ray caster over `image`'s blocks; with `control`, into an image of its own copied out
+// once complete, reporting each block's tiles from the calling thread.
+Status raycast_frame(const Scene& scene, const RenderOptions& options, const ImageView& image,
+                     const RenderControl* control) {
+  if (Status s = detail::check_image_view(image, scene.width, scene.height, "render_raycast", "scene"); !s.ok()) return s;
+  RenderOptions checked = options;
+  checked.backend = Backend::raycast;  // the rays' range is checked
+  if (Status s = detail::check_options(checked, "render_raycast"); !s.ok()) return s;
+  return detail::guarded("render_raycast", [&]() -> Status {
+    if (Status s = validate_scene(scene); !s.ok()) return s;
+    if (Status s = detail::check_work(raycast_estimate(scene, options), options.work_limit, "render_raycast"); !s.ok())
+      return s;
+    const bool watched = control && (control->progress || control->cancel);
+    if (watched && control->cancel && control->cancel->load())
+      return Status(StatusCode::cancelled, "render_raycast: cancelled");
+    detail::RaycastRenderer caster(scene);
+    caster.set_bounce_term(options.bounce);
+    ImageView target = image;
+    std::unique_ptr<float[]> aside;
+    if (watched) {
+      aside.reset(new float[static_cast<std::size_t>(scene.width) * static_cast<std::size_t>(scene.height) * 3]);
+      target = ImageView{aside.get(), scene.width, scene.height, static_cast<std::ptrdiff_t>(scene.width) * 3};
+    }
+    const auto tiles_of = [](const detail::TileRect& b) {
+      return static_cast<std::uint64_t>((b.x1 - b.x0 + detail::kTileSize - 1) / detail::kTileSize) *
+             static_cast<std::uint64_t>((b.y1 - b.y0 + detail::kTileSize - 1) / detail::kTileSize);
+    };
+    const std::uint64_t tiles = static_cast<std::uint64_t>((scene.width + detail::kTileSize - 1) / detail::kTileSize) *
+                                static_cast<std::uint64_t>((scene.height + detail::kTileSize - 1) / detail::kTileSize);
+    std::atomic<std::uint64_t> done{0};
+    std::atomic<bool> stop{false};
+    std::uint64_t reported = 0;
+    const std::thread::id caller = std::this_thread::get_id();
+    detail::for_each_block(scene.width, scene.height, worker_threads(options.threads),
+                           [&](const detail::TileRect& block, int) {
+                             if (watched && (stop.load() || (control->cancel && control->cancel->load()))) return;
+                             detail::render_rect_raycast(scene, caster, options.spp, options.rays, block, target,
+                                                         options.shaded);
+                             if (!watched) return;
+                             const std::uint64_t now = done.fetch_add(tiles_of(block)) + tiles_of(block);
+                             if (!control->progress || std::this_thread::get_id() != caller) return;
+                             reported = now;
+                             if (!control->progress(Progress{now, tiles})) stop.store(true);
+                           });
+    if (!watched) return {};
+    if (done.load() < tiles) return Status(StatusCode::cancelled, "render_raycast: cancelled");
+    if (control->progress && reported < tiles) control->progress(Progress{tiles, tiles});
+    for (int y = 0; y < scene.height; ++y)
+      std::memcpy(image.data + y * image.row_stride, target.data + y * target.row_stride,
+                  static_cast<std::size_t>(scene.width) * 3 * sizeof(float));
     return {};
   });
 }
@@ -169,32 +252,40 @@ Status render_once(const Scene& scene, const RenderOptions& options, const Frame
 Status render_frame(const Scene& scene, const RenderOptions& options, const ImageView& image, FrameStats* stats) {
   if (Status s = detail::check_image_view(image, scene.width, scene.height, "render", "scene"); !s.ok()) return s;
   if (Status s = detail::check_options(options, "render"); !s.ok()) return s;
-  if (options.backend == Backend::raycast) return render_raycast(scene, options, image);
+  if (options.backend == Backend::raycast) return raycast_frame(scene, options, image, nullptr);
   return render_once(scene, options, detail::frame_buffer_of(image), stats);
 }
 
 }  // namespace
 
 Status render_raycast(const Scene& scene, const RenderOptions& options, const ImageView& image) {
-  if (Status s = detail::check_image_view(image, scene.width, scene.height, "render_raycast", "scene"); !s.ok()) return s;
-  RenderOptions checked = options;
-  checked.backend = Backend::raycast;  // the rays' range is checked
-  if (Status s = detail::check_options(checked, "render_raycast"); !s.ok()) return s;
-  return detail::guarded("render_raycast", [&]() -> Status {
-    if (Status s = validate_scene(scene); !s.ok()) return s;
-    detail::RaycastRenderer caster(scene);
-    caster.set_bounce_term(options.bounce);
-    detail::for_each_block(scene.width, scene.height, worker_threads(options.threads),
-                           [&](const detail::TileRect& block, int) {
-                             detail::render_rect_raycast(scene, caster, options.spp, options.rays, block, image,
-                                                         options.shaded);
-                           });
-    return {};
-  });
+  return raycast_frame(scene, options, image, nullptr);
 }
 
 Status render(const Scene& scene, const RenderOptions& options, const ImageView& image) {
   return render_frame(scene, options, image, nullptr);
+}
+
+Status render(const Scene& scene, const RenderOptions& options, const ImageView& image, const RenderControl& control) {
+  if (Status s = detail::check_image_view(image, scene.width, scene.height, "render", "scene"); !s.ok()) return s;
+  if (Status s = detail::check_options(options, "render"); !s.ok()) return s;
+  if (options.backend == Backend::raycast) return raycast_frame(scene, options, image, &control);
+  return render_once(scene, options, detail::frame_buffer_of(image), nullptr, &control);
+}
+
+Status estimate_work(const Scene& scene, const RenderOptions& options, WorkEstimate& estimate) {
+  if (Status s = detail::check_options(options, "estimate_work"); !s.ok()) return s;
+  return detail::guarded("estimate_work", [&]() -> Status {
+    if (Status s = validate_scene(scene); !s.ok()) return s;
+    if (options.backend == Backend::raycast) {
+      estimate = raycast_estimate(scene, options);
+      return {};
+    }
+    Renderer renderer;
+    if (Status s = renderer.set_options(options); !s.ok()) return s;
+    if (Status s = renderer.set_scene(scene); !s.ok()) return s;
+    return renderer.estimate_work(estimate);
+  });
 }
 
 Status render(const Scene& scene, const RenderOptions& options, const ImageView& image, FrameStats& stats) {

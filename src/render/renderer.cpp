@@ -1,7 +1,10 @@
 // par2d::Renderer: options and threading, the persistent world, and frames into host buffers.
 #include "par2d/renderer.hpp"
 
+#include <atomic>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <new>
 #include <optional>
 #include <string>
@@ -13,6 +16,7 @@
 #include "render/frame_output.hpp"
 #include "render/light_layers.hpp"
 #include "render/render_arguments.hpp"
+#include "render/work_estimate.hpp"
 #include "status_guard.hpp"
 #include "world/world.hpp"
 
@@ -43,6 +47,32 @@ struct Renderer::Impl {
   // Shapes placed by a Transform before they go to the world (kept: their storage is reused).
   Light placed_light;
   Occluder placed_occluder;
+  // Long frames (docs/api.md, "Long renders"): the host's progress function, its cancel
+  // request, and the buffer a watched frame is computed into before it is copied out whole
+  // (kept and grown, 64-byte aligned at `scratch_data`).
+  ProgressFunction progress;
+  std::atomic<bool> cancel{false};
+  std::unique_ptr<unsigned char[]> scratch;
+  std::size_t scratch_bytes = 0;
+  unsigned char* scratch_data = nullptr;
+
+  // The estimated work of `pixels` pixels with the options and world of now.
+  WorkEstimate estimate(const detail::PreparedScene& scene, double pixels, Isa frame_isa) const {
+    return detail::estimate_work(
+        detail::work_counts(scene, pixels, options.spp, frame_isa == Isa::scalar, options.bounce));
+  }
+  // At least `bytes` of scratch, 64-byte aligned.
+  unsigned char* scratch_of(std::size_t bytes) {
+    if (bytes > scratch_bytes) {
+      scratch.reset();
+      scratch_bytes = 0;
+      scratch.reset(new unsigned char[bytes + 64]);
+      scratch_bytes = bytes;
+      const auto address = reinterpret_cast<std::uintptr_t>(scratch.get());
+      scratch_data = scratch.get() + (64 - address % 64) % 64;
+    }
+    return scratch_data;
+  }
 };
 
 namespace {
@@ -232,6 +262,12 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
   Impl& impl = *impl_;
   if (!impl.world.has_frame()) return bad("render: no frame size (call set_frame or set_scene first)");
   if (Status s = detail::check_frame_buffer(buffer, region, width(), height(), "render"); !s.ok()) return s;
+  // A cancel request is used up by the frame it reaches, whether or not the frame stops for it.
+  struct RequestUsedUp {
+    std::atomic<bool>& cancel;
+    ~RequestUsedUp() { cancel.store(false); }
+  } used_up{impl.cancel};
+  if (impl.cancel.load()) return Status(StatusCode::cancelled, "render: cancelled");
   return guarded("render", [&]() -> Status {
     if (!impl.scheduler.configured()) impl.scheduler.configure(resolved_threads(impl.options), impl.options.threading);
     if (!impl.isa) impl.isa = resolved_isa(impl.options);
@@ -271,16 +307,80 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
     } else {
       impl.dirty_rects.assign(1, region);
     }
+    // The work bound, on the pixels this frame computes (an incremental frame's changed blocks).
+    double pixels = static_cast<double>(region.x1 - region.x0) * static_cast<double>(region.y1 - region.y0);
+    if (dirty) {
+      pixels = 0.0;
+      for (const PixelRect& r : impl.dirty_rects)
+        pixels += static_cast<double>(r.x1 - r.x0) * static_cast<double>(r.y1 - r.y0);
+    }
+    const WorkEstimate estimate = impl.estimate(scene, pixels, isa);
+    if (Status s = detail::check_work(estimate, impl.options.work_limit, "render"); !s.ok()) {
+      impl.tracker.force_full();  // the plan counted on this frame
+      return s;
+    }
+    // A watched frame (a progress function, or work worth stopping midway) is computed into
+    // the scratch and copied out only once complete, so a cancelled one leaves the buffer as
+    // it was; the others are written in place and see a cancel request only before they start.
+    const bool watched = static_cast<bool>(impl.progress) || estimate.total > 0.0;
+    const int pixel_bytes = bytes_per_pixel(buffer.format);
+    const std::ptrdiff_t scratch_stride = static_cast<std::ptrdiff_t>(region.x1 - region.x0) * pixel_bytes;
+    if (watched) {
+      target.data = impl.scratch_of(static_cast<std::size_t>(scratch_stride) * static_cast<std::size_t>(region.y1 - region.y0));
+      target.row_stride = scratch_stride;
+    }
+    const detail::FrameControl control{&impl.progress, &impl.cancel};
+    bool complete = false;
     try {
-      impl.engine.render(scene, reach, settings, impl.scheduler, target, &impl.frame_stats, dirty, layers);
+      complete = impl.engine.render(scene, reach, settings, impl.scheduler, target, &impl.frame_stats, dirty, layers,
+                                    watched ? &control : nullptr);
     } catch (...) {
       impl.tracker.force_full();  // the buffer may hold part of a frame (the plan drops the layers)
       throw;
+    }
+    if (!complete) {
+      impl.tracker.force_full();  // the blocks planned were not computed
+      return Status(StatusCode::cancelled, "render: cancelled");
+    }
+    if (watched) {
+      auto* out = static_cast<unsigned char*>(buffer.data);
+      for (const PixelRect& r : impl.dirty_rects) {  // in the frame, within the region
+        const std::size_t row_bytes = static_cast<std::size_t>(r.x1 - r.x0) * static_cast<std::size_t>(pixel_bytes);
+        for (int y = r.y0; y < r.y1; ++y) {
+          const std::ptrdiff_t x = static_cast<std::ptrdiff_t>(r.x0 - region.x0) * pixel_bytes;
+          std::memcpy(out + (y - region.y0) * buffer.row_stride + x, target.data + (y - region.y0) * scratch_stride + x,
+                      row_bytes);
+        }
+      }
     }
     ++impl.world.stats().frames;
     return {};
   });
 }
+
+Status Renderer::estimate_work(WorkEstimate& estimate) {
+  return estimate_work(PixelRect{0, 0, width(), height()}, estimate);
+}
+
+Status Renderer::estimate_work(const PixelRect& region, WorkEstimate& estimate) {
+  Impl& impl = *impl_;
+  if (!impl.world.has_frame()) return bad("estimate_work: no frame size (call set_frame or set_scene first)");
+  if (!(0 <= region.x0 && region.x0 < region.x1 && region.x1 <= width() && 0 <= region.y0 && region.y0 < region.y1 &&
+        region.y1 <= height()))
+    return bad("estimate_work: region [" + std::to_string(region.x0) + ", " + std::to_string(region.y0) + ", " +
+               std::to_string(region.x1) + ", " + std::to_string(region.y1) + ") is empty or outside the " +
+               std::to_string(width()) + "x" + std::to_string(height()) + " frame");
+  return guarded("estimate_work", [&]() -> Status {
+    const detail::PreparedScene& scene = impl.world.commit();
+    const Isa isa = impl.isa ? *impl.isa : resolved_isa(impl.options);
+    estimate = impl.estimate(scene, static_cast<double>(region.x1 - region.x0) * (region.y1 - region.y0), isa);
+    return {};
+  });
+}
+
+void Renderer::set_progress(ProgressFunction progress) { impl_->progress = std::move(progress); }
+
+void Renderer::cancel() noexcept { impl_->cancel.store(true); }
 
 Status Renderer::set_incremental(bool on) {
   impl_->incremental = on;

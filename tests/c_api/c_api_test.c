@@ -1,9 +1,11 @@
 /* The C API from a C program: world building, updates, every pixel format, regions, errors,
  * file policies (normal-map sizes, scene paths), the version at run time, and everything the C++
- * Renderer reaches (handles of a loaded scene, options, getters, snapshot, stats), against
- * closed forms. Exits non-zero on the first failure. */
+ * Renderer reaches (handles of a loaded scene, options, getters, snapshot, stats), long frames
+ * (work estimate and limit, progress, cancellation), against closed forms. Exits non-zero on the first failure. */
 #define _POSIX_C_SOURCE 200809L /* mkdtemp, mkdir */
 #include <math.h>
+#include <pthread.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -217,6 +219,132 @@ static void check_scene_path_policy(par2d_renderer* r, const char* dir) {
 
 /* Every error message names the C function that failed, and absurd counts are refused by
  * name before anything is allocated or read (not a C++ library's length_error or bad_alloc). */
+/* ---- Long frames: the work estimate and limit, progress and cancellation. ---- */
+
+struct progress_log {
+  int calls, rising, same_thread;
+  uint64_t last_done, last_total, cancel_at;
+  pthread_t caller;
+  par2d_renderer* cancel_from_thread; /* non-NULL: the first call has another thread cancel it */
+};
+
+static void* cancel_renderer(void* renderer) {
+  par2d_cancel((par2d_renderer*)renderer);
+  return NULL;
+}
+
+static int on_progress(void* user, uint64_t done, uint64_t total) {
+  struct progress_log* log = (struct progress_log*)user;
+  if (log->calls > 0 && done <= log->last_done) log->rising = 0;
+  if (!pthread_equal(pthread_self(), log->caller)) log->same_thread = 0;
+  if (log->calls++ == 0 && log->cancel_from_thread != NULL) {
+    pthread_t other;
+    CHECK(pthread_create(&other, NULL, cancel_renderer, log->cancel_from_thread) == 0);
+    CHECK(pthread_join(other, NULL) == 0);
+  }
+  log->last_done = done;
+  log->last_total = total;
+  return log->cancel_at == 0 || done < log->cancel_at;
+}
+
+static void reset_log(struct progress_log* log, uint64_t cancel_at, par2d_renderer* cancel_from_thread) {
+  memset(log, 0, sizeof *log);
+  log->rising = log->same_thread = 1;
+  log->cancel_at = cancel_at;
+  log->caller = pthread_self();
+  log->cancel_from_thread = cancel_from_thread;
+}
+
+static int all_sentinel(const float* pixels, size_t n) {
+  for (size_t i = 0; i < n; ++i)
+    if (pixels[i] != -7.25f) return 0;
+  return 1;
+}
+
+static void fill_sentinel(float* pixels, size_t n) {
+  for (size_t i = 0; i < n; ++i) pixels[i] = -7.25f;
+}
+
+static void check_long_frames(void) {
+  par2d_options o;
+  par2d_options_default(&o);
+  o.backend = PAR2D_BACKEND_SCALAR; /* the reference: estimated work, so frames stop midway */
+  o.threads = 1;                    /* the first report comes before the frame's last tile */
+  par2d_renderer* r = NULL;
+  CHECK(par2d_renderer_create(&o, &r) == PAR2D_OK);
+  CHECK(par2d_set_frame(r, W, H, NULL) == PAR2D_OK);
+  par2d_shape disc;
+  memset(&disc, 0, sizeof disc);
+  disc.kind = PAR2D_SHAPE_CIRCLE;
+  disc.circle[0] = 10.0;
+  disc.circle[1] = 10.0;
+  disc.circle[2] = 3.0;
+  const double white[3] = {1.0, 1.0, 1.0};
+  par2d_light light = 0;
+  par2d_occluder occluder = 0;
+  CHECK(par2d_add_light(r, &disc, white, 1.0, &light) == PAR2D_OK);
+  disc.circle[0] = 30.0;
+  disc.circle[1] = 25.0;
+  CHECK(par2d_add_occluder(r, &disc, &occluder) == PAR2D_OK);
+
+  /* The estimate by counts: the scalar reference looks at every light and occluder per sample. */
+  par2d_work_estimate e;
+  CHECK(par2d_estimate_work(r, NULL, &e) == PAR2D_OK);
+  CHECK(e.samples == W * H && e.scalar == W * H * 1.0 * (1.0 + 1.0) && e.bounce == 0.0 && e.total == e.scalar);
+  const int corner[4] = {0, 0, 16, 16};
+  CHECK(par2d_estimate_work(r, corner, &e) == PAR2D_OK && e.samples == 256.0);
+  CHECK_ERROR(par2d_estimate_work(r, NULL, NULL), PAR2D_INVALID_ARGUMENT, "par2d_estimate_work: out is null");
+
+  /* The limit: refused before any pixel is written; 0 is no limit; kept by par2d_set_options. */
+  const size_t n = (size_t)W * H * 3;
+  float* pixels = (float*)malloc(n * sizeof(float));
+  CHECK(pixels != NULL);
+  const ptrdiff_t stride = (ptrdiff_t)(sizeof(float) * W * 3);
+  double limit = 0.0;
+  CHECK(par2d_get_work_limit(r, &limit) == PAR2D_OK && limit == PAR2D_DEFAULT_WORK_LIMIT);
+  CHECK(par2d_set_work_limit(r, W * H * 2.0 - 1.0) == PAR2D_OK);
+  CHECK(par2d_set_options(r, &o) == PAR2D_OK);
+  CHECK(par2d_get_work_limit(r, &limit) == PAR2D_OK && limit == W * H * 2.0 - 1.0);
+  fill_sentinel(pixels, n);
+  CHECK_ERROR_PREFIX(par2d_render(r, pixels, PAR2D_RGB_F32, stride, 1.0, NULL), PAR2D_WORK_LIMIT,
+                     "par2d_render: estimated work 6.14e+03 is past the work limit 6.14e+03");
+  CHECK(all_sentinel(pixels, n));
+  CHECK(par2d_set_work_limit(r, -1.0) == PAR2D_INVALID_ARGUMENT);
+  CHECK(par2d_set_work_limit(r, 0.0) == PAR2D_OK);
+  CHECK(par2d_render(r, pixels, PAR2D_RGB_F32, stride, 1.0, NULL) == PAR2D_OK);
+  CHECK(!all_sentinel(pixels, n));
+
+  /* Progress: from this thread, rising, ending at the frame's 4 x 3 tiles. */
+  struct progress_log log;
+  reset_log(&log, 0, NULL);
+  CHECK(par2d_set_progress(r, on_progress, &log) == PAR2D_OK);
+  CHECK(par2d_render(r, pixels, PAR2D_RGB_F32, stride, 1.0, NULL) == PAR2D_OK);
+  CHECK(log.calls > 0 && log.rising && log.same_thread && log.last_done == 12 && log.last_total == 12);
+
+  /* Cancelled by the progress function after 2 tiles: the pixels untouched. */
+  reset_log(&log, 2, NULL);
+  fill_sentinel(pixels, n);
+  CHECK_ERROR(par2d_render(r, pixels, PAR2D_RGB_F32, stride, 1.0, NULL), PAR2D_CANCELLED, "par2d_render: cancelled");
+  CHECK(all_sentinel(pixels, n) && log.last_done == 2 && log.rising && log.same_thread);
+
+  /* Cancelled by another thread while the frame runs. */
+  reset_log(&log, 0, r);
+  CHECK(par2d_render(r, pixels, PAR2D_RGB_F32, stride, 1.0, NULL) == PAR2D_CANCELLED);
+  CHECK(all_sentinel(pixels, n) && log.calls >= 1 && log.last_done < 12);
+
+  /* Cancelled before the frame, without a progress function; the request is then used up. */
+  CHECK(par2d_set_progress(r, NULL, NULL) == PAR2D_OK);
+  par2d_cancel(r);
+  CHECK(par2d_render(r, pixels, PAR2D_RGB_F32, stride, 1.0, NULL) == PAR2D_CANCELLED);
+  CHECK(all_sentinel(pixels, n));
+  CHECK(par2d_render(r, pixels, PAR2D_RGB_F32, stride, 1.0, NULL) == PAR2D_OK);
+  CHECK(!all_sentinel(pixels, n));
+  par2d_cancel(NULL);
+  CHECK_ERROR(par2d_set_progress(NULL, on_progress, &log), PAR2D_INVALID_ARGUMENT, "par2d_set_progress: renderer is null");
+  free(pixels);
+  par2d_renderer_destroy(r);
+}
+
 static void check_errors_name_the_call(par2d_renderer* r) {
   const double white[3] = {1.0, 1.0, 1.0};
   par2d_shape circle;
@@ -1308,6 +1436,7 @@ int main(void) {
   }
 
   check_errors_name_the_call(r);
+  check_long_frames();
 
   {
     char dir[] = "/tmp/par2d_c_api_XXXXXX";
