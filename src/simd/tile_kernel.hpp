@@ -145,6 +145,23 @@ inline xsimd::batch<float, A> edge_distance2(const TileWork& work, const KernelS
   return best;
 }
 
+// The inside test of a polygon with a sharp vertex (KernelShape::sharp), given the lanes'
+// largest offset outside its edge lines and the lanes those lines call inside: where a lane
+// is not clearly inside (by more than kOnBoundary), it is inside only where an edge segment,
+// not just its line, passes within kOnBoundary. The directions to a sliver seen end-on are
+// all close together, which the running min and max of vertex_tangents order.
+template <class A>
+PAR2D_KERNEL_NOINLINE xsimd::batch_bool<float, A> sharp_polygon_inside(const TileWork& work, const KernelShape& s,
+                                                                       const xsimd::batch<float, A>& px,
+                                                                       const xsimd::batch<float, A>& py,
+                                                                       const xsimd::batch<float, A>& outside_by,
+                                                                       const xsimd::batch_bool<float, A>& inside) noexcept {
+  using B = xsimd::batch<float, A>;
+  const auto unclear = inside & (outside_by > B(-kOnBoundary));
+  if (!xsimd::any(unclear)) return inside;
+  return (inside & ~unclear) | (unclear & (edge_distance2<A>(work, s, s.count, px, py) <= B(kOnBoundary * kOnBoundary)));
+}
+
 // Tangent directions (lo clockwise, hi counter-clockwise) of a polygon or segment from
 // (px, py), and whether the point is inside. Outside a convex polygon all vertices lie in an
 // open half-plane of directions, where the pseudo-cross sign is a total order: running min
@@ -209,14 +226,11 @@ PAR2D_KERNEL_INLINE void vertex_tangents(const TileWork& work, const KernelShape
   // Within kOnBoundary of an edge's line counts as inside: nearer, the directions to that
   // edge's ends are too close to opposite for the running min and max to order them.
   inside = outside_by <= B(kOnBoundary);
-  // The edge lines only bound the polygon from outside: near a thin polygon's tip, a point
-  // well away from it can lie within kOnBoundary of two edge lines that cross there (a
-  // sliver pointing at it). Lanes not clearly inside (by more than kOnBoundary) are inside
-  // only where an edge segment, not just its line, passes within kOnBoundary; the directions
-  // to a sliver seen end-on are all close together, which the running min and max order.
-  const auto unclear = inside & (outside_by > B(-kOnBoundary));
-  if (xsimd::any(unclear))
-    inside = (inside & ~unclear) | (unclear & (edge_distance2<A>(work, s, s.count, px, py) <= B(kOnBoundary * kOnBoundary)));
+  // The edge lines only bound the polygon from outside: beyond a sharp vertex (a sliver's
+  // tip pointing at the point), a point well away from the polygon can lie within kOnBoundary
+  // of the two edge lines that cross there (sharp_polygon_inside). Blunt polygons need no
+  // more (KernelShape::sharp); the rare sharp one takes a call out of line.
+  if (__builtin_expect(s.sharp, false)) inside = sharp_polygon_inside<A>(work, s, px, py, outside_by, inside);
 }
 
 // Tangent directions (lo clockwise, hi counter-clockwise) of a whole, unclipped shape from

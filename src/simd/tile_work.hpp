@@ -41,6 +41,9 @@ struct KernelShape {
   // Segment lights: a sample on the segment (within kOnBoundary, simd/tile_kernel.hpp) is in it,
   // as a polygon edge's is; an occluder segment has no interior for the kernel.
   bool closed = false;
+  // Polygons: a vertex so sharp that the inside test must look at the edges, not only at
+  // their lines (render/kernel_shapes.cpp, vertex_tangents in simd/tile_kernel.hpp).
+  bool sharp = false;
   // Occluders whose arcs the kernel takes and lights with pairs, in plain (not game-model)
   // tiles (assign_arc_window in render/kernel_shapes.cpp): every direction from a tile sample to a
   // point whose angle the kernel takes (a polygon's or segment's vertices, a circle's
