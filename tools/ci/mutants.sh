@@ -39,10 +39,10 @@ MUTANTS=(
   "reach cache's erase leaves the staleness behind|src/culling/reach_cache.cpp|s/^    stale_\[p\] = stale_\[m\];\n//m"
   "moved light's old footprint not recomputed|src/render/change_tracker.cpp|s/^        mark_light\(scene, old_\[l\], nullptr, l\);\n//m"
   "moved light's layers kept|src/render/light_layers.cpp|s/for \(std::size_t b = 0; b < blocks_\.size\(\); \+\+b\) drop\(b, light\);/(void)light;/"
-  "boxes of different properties merged|src/world/occluder_merge.cpp|s/ \|\| properties\(a\) != properties\(b\)\) return false;/) return false;/"
+  "translucent boxes merged|src/world/occluder_merge.cpp|s/^    if \(o\.transmittance\[c\] != 0\.0 && o\.transmittance\[c\] != 1\.0\) return false;\n//m"
   "validation fills holes|src/scene/scene_validate.cpp|s/^  if \(!polygon\.holes\.empty\(\)\) return true;\n//m"
   "concave partition merges across reflex angles|src/geometry/polygon_partition.cpp|s/return o > 0 \|\| \(o == 0 && !same_direction\(pa, px, py\)\);/return o < 0 || (o == 0 \&\& !same_direction(pa, px, py));/"
-  "a bounce source proves itself hidden|src/render/bounce_tiles.cpp|s/if \(k != source\.occluder && proves_shadow\(scene, k, mask\)\)/if (proves_shadow(scene, k, mask))/"
+  "bounce radiance without its pi|src/scalar/bounce_reference.cpp|s/= kPi \* albedo\[c\] \* s\[c\];/= albedo[c] * s[c];/"
   "C API swaps a shadow colour's green and blue|src/capi/par2d_c.cpp|s/\{terms->shadow_color\[0\], terms->shadow_color\[1\], terms->shadow_color\[2\]\}/{terms->shadow_color[0], terms->shadow_color[2], terms->shadow_color[1]}/"
 )
 
