@@ -105,14 +105,22 @@ TEST_CASE("render_raycast is the baseline render() calls for Backend::raycast; a
 }
 
 TEST_CASE("the reach cache follows the World's events: after random changes every light's reach equals a fresh proof") {
-  // Lights and walls in a 512x384 frame; random adds, moves, reshapes, emission changes and
-  // removals between commits. After each commit, every light's cached reach must equal the
+  // Lights and walls in a 512x384 frame, some walls much longer than the frame; random adds,
+  // moves, reshapes, emission changes and removals between commits. After each commit, every light's cached reach must equal the
   // reach proven from scratch on the same prepared scene (a missed event leaves a stale one).
   std::mt19937 rng(2024);
   std::uniform_real_distribution<double> x(0.0, 512.0), y(0.0, 384.0), size(2.0, 24.0);
+  // One wall in eight is much longer than the frame (either way): its box sticks out of the
+  // box a proof looked in, which it may still cross.
   auto wall = [&] {
     const double x0 = x(rng), y0 = y(rng);
     Occluder o;
+    if (rng() % 8 == 0) {
+      const double half = 2000.0 + 20.0 * size(rng);
+      o.shape = rng() % 2 ? Polygon{{{x0 - half, y0}, {x0 + half, y0}, {x0 + half, y0 + 3.0}, {x0 - half, y0 + 3.0}}}
+                          : Polygon{{{x0, y0 - half}, {x0 + 3.0, y0 - half}, {x0 + 3.0, y0 + half}, {x0, y0 + half}}};
+      return o;
+    }
     o.shape = Polygon{{{x0, y0}, {x0 + size(rng), y0}, {x0 + size(rng), y0 + size(rng)}, {x0, y0 + 3.0}}};
     return o;
   };

@@ -1,16 +1,21 @@
-// Light reach where it bites: closed rings and rooms just inside and just outside each radius of the reach ladder.
+// Light reach where it bites: closed rings and rooms just inside and just outside each radius of the reach ladder,
+// lights that walls do not act on, proofs made stale by walls longer than the view, and the reach cache's erase.
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "par2d/par2d.hpp"
 #include "culling/light_reach.hpp"
+#include "culling/reach_cache.hpp"
+#include "parallel/scheduler.hpp"
 #include "world/world.hpp"
 #include "support/random_scenes.hpp"
+#include "support/render_checks.hpp"
 #include "support/test_tiers.hpp"
 
 namespace {
@@ -256,4 +261,182 @@ TEST_CASE("light reach of a room with a doorway: open only toward the doorway, a
   const double worst = culled_vs_unculled(scene, over);
   INFO("culled vs unculled worst ", worst, ", pixels over 1e-4: ", over);
   CHECK(worst <= 1e-4);
+}
+
+// Reach only counts occluders acting on the light (docs/contract.md section 6): a light whose
+// mask misses the walls, and the part of a light with shadow strength 0.5 that no occluder
+// shadows, shine through a closed room that hides a plain light from everything beyond it.
+// The room is small and off to the left of a 256 x 128 view, so that whole 64-pixel blocks lie
+// beyond the walls' reach (the open scenes of the shadow tests never shrink a reach). A reach
+// that counted the walls there would skip those lights in the blocks on the right.
+TEST_CASE("light reach in a closed room: a light whose mask misses the walls and a half-strength shadow shine through") {
+  const Vec2 center{40, 64};
+  auto rect = [&](double x0, double y0, double x1, double y1) {
+    return Occluder{Polygon{{{center.x + x0, center.y + y0}, {center.x + x1, center.y + y0},
+                             {center.x + x1, center.y + y1}, {center.x + x0, center.y + y1}}}};
+  };
+  const double a = 16, b = 17;
+  const std::vector<Occluder> walls = {rect(-b, -b, b, -a), rect(-b, a, b, b), rect(-b, -a, -a, a), rect(a, -a, b, a)};
+  Scene base;
+  base.width = 256;
+  base.height = 128;
+  base.view = {0, 0, 256, 128};
+  base.occluders = walls;
+  base.lights.push_back(Light{Circle{center, kLightRadius}, {1.0, 0.8, 0.6}, 2.0});
+
+  // The plain light: every sector's reach is finite, short of the blocks on the right.
+  {
+    const auto prepared = detail::prepare_scene(base);
+    REQUIRE(prepared.lights.size() == 1);
+    detail::LightReachScratch scratch;
+    const detail::LightReach reach = detail::compute_light_reach(prepared, 0, scratch);
+    CHECK(reach.farthest * 256.0 / prepared.view.x1 < 128.0 - center.x);
+    const test::RenderedImage plain = test::render_or_fail(base, test::options_for(Backend::scalar));
+    CHECK(plain.at(200, 64, 0) == 0.0f);
+  }
+
+  Scene masked = base;
+  masked.lights[0].mask = 1u;
+  for (Occluder& o : masked.occluders) o.mask = 2u;
+  Scene half = base;
+  half.lights[0].shadow = Shadow{0.5, {0.0, 0.0, 0.0}};
+  // A mask shared with one wall only: the other three let the light through.
+  Scene one_wall = masked;
+  one_wall.occluders[2].mask = 3u;  // the left wall
+  const std::pair<const char*, const Scene*> cases[] = {
+      {"mask missing the walls", &masked}, {"shadow strength 0.5", &half}, {"mask meeting one wall", &one_wall}};
+  for (const auto& named : cases) {
+    const Scene& scene = *named.second;
+    INFO(named.first);
+    const test::RenderedImage ref = test::render_or_fail(scene, test::options_for(Backend::scalar));
+    // Far right of the room the light is seen: whole through masked walls, half through the
+    // half shadow (the one wall that acts is the left one).
+    CHECK(ref.at(200, 64, 0) > 0.0f);
+    CHECK(ref.at(200, 10, 0) > 0.0f);
+    const double pixel = 1.0;
+    test::check_simd_against_scalar(
+        scene, ref, named.first, [&](Vec2 p) { return test::near_boundary(scene, p, 0.05 * pixel); },
+        scene.width * scene.height / 2);
+  }
+}
+
+// A light's reach proof goes stale when an occluder changes anywhere its proofs looked: where
+// the changed box meets the box they looked in, not only where it lies inside it. Walls much
+// longer than the view stick out of that box at both ends; moved away, the pixels behind them
+// must light up (each frame bit for bit a one-shot render), on every ISA with culling.
+TEST_CASE("a wall much longer than the view, moved away, makes the reach of the light it hid stale") {
+  for (const Isa isa : test::simd_isas_here()) {
+    INFO("isa ", isa_name(isa));
+    for (const bool vertical : {true, false}) {
+      INFO((vertical ? "vertical wall" : "horizontal wall"));
+      Scene scene;
+      scene.width = 128;
+      scene.height = 128;
+      scene.view = {0, 0, 128, 128};
+      scene.lights.push_back(Light{Circle{{20.0, 20.0}, 3.0}, {1.0, 0.8, 0.6}, 2.0});
+      // 20,000 units long, 4 thick, 10 units from the light; a few pillars so that the index
+      // holds more than the wall.
+      auto long_wall = [&](double offset) {
+        return vertical ? Occluder{Polygon{{{30 + offset, -1e4}, {34 + offset, -1e4}, {34 + offset, 1e4}, {30 + offset, 1e4}}}}
+                        : Occluder{Polygon{{{-1e4, 30 + offset}, {1e4, 30 + offset}, {1e4, 34 + offset}, {-1e4, 34 + offset}}}};
+      };
+      scene.occluders.push_back(long_wall(0.0));
+      for (int k = 0; k < 4; ++k) {
+        const double p = 50.0 + 18.0 * k;
+        scene.occluders.push_back(Occluder{Polygon{{{p, 5}, {p + 2, 5}, {p + 2, 7}, {p, 7}}}});
+      }
+      Renderer r;
+      REQUIRE(r.set_options(test::options_for(Backend::simd, isa, true)).ok());
+      std::vector<OccluderHandle> occluders;
+      REQUIRE(r.set_scene(scene, nullptr, &occluders).ok());
+      // Behind the wall (the far corner of the view) is dark while it stands; `between` lies in
+      // the same 64-pixel block, between the light and the wall once it has moved 50 units.
+      const std::size_t behind = (110u * 128u + 110u) * 3u;
+      const std::size_t between = vertical ? (110u * 128u + 70u) * 3u : (70u * 128u + 110u) * 3u;
+      const std::vector<float> walled = test::frame_rgb(r);
+      CHECK(walled[behind] == 0.0f);
+      CHECK(test::same_bits(walled, test::one_shot(r.snapshot(), r.options())));
+      // Moved 50 units on: still longer than the view, now past the pixel `between`.
+      REQUIRE(r.update_occluder(occluders[0], long_wall(50.0)).ok());
+      const std::vector<float> nearer = test::frame_rgb(r);
+      CHECK(nearer[between] > 0.0f);
+      CHECK(nearer[behind] == 0.0f);
+      CHECK(test::same_bits(nearer, test::one_shot(r.snapshot(), r.options())));
+      // Moved out of the view: everything behind it lights up.
+      REQUIRE(r.update_occluder(occluders[0], long_wall(400.0)).ok());
+      const std::vector<float> open = test::frame_rgb(r);
+      CHECK(open[behind] > 0.0f);
+      CHECK(test::same_bits(open, test::one_shot(r.snapshot(), r.options())));
+    }
+  }
+}
+
+namespace {
+
+// Every light's cached reach against the reach proven from scratch on the same prepared scene.
+void check_cache_fresh(const detail::ReachCache& cache, const detail::PreparedScene& prepared, const char* step) {
+  INFO(step);
+  REQUIRE(cache.reach().size() == prepared.lights.size());
+  detail::LightReachScratch scratch;
+  for (std::size_t p = 0; p < prepared.lights.size(); ++p) {
+    INFO("light ", p);
+    const detail::LightReach fresh = detail::compute_light_reach(prepared, p, scratch);
+    const detail::LightReach& kept = cache.reach()[p];
+    CHECK(kept.center.x == fresh.center.x);
+    CHECK(kept.center.y == fresh.center.y);
+    CHECK(kept.radius == fresh.radius);
+    CHECK(kept.reach == fresh.reach);
+  }
+}
+
+}  // namespace
+
+// Erasing a light gives its number to the last light (world_changes.hpp): the cache must move
+// that light's reach, the box its proofs looked in and whether it is stale along with it. Each
+// step below fails if one of the three stays behind: the erased light's reach kept under the
+// number (step 2), the erased light's box deciding whether a wall the moved light's proof
+// rests on matters (step 3), the erased light's staleness kept when the moved light changed
+// in the same commit (step 4).
+TEST_CASE("the reach cache moves the last light's reach, proof box and staleness into an erased light's number") {
+  Scene scene = lit_enclosure(room(16.0));  // A: walled in, its proofs near (64, 64)
+  scene.width = 256;
+  scene.view = {0, 0, 256, 128};
+  scene.lights.push_back(Light{Circle{{128, 20}, 2.0}});   // B: in the open
+  scene.lights.push_back(Light{Circle{{190, 64}, 2.0}});   // C: a wall on its right
+  const Occluder wall{Polygon{{{200, 20}, {204, 20}, {204, 108}, {200, 108}}}};
+  scene.occluders.push_back(wall);
+
+  detail::ReachCache cache;
+  detail::World world;
+  world.observe(&cache);
+  std::vector<LightHandle> lights;
+  std::vector<OccluderHandle> occluders;
+  REQUIRE(world.set_scene(scene, &lights, &occluders).ok());
+  detail::Scheduler scheduler;
+  scheduler.configure(1, Threading::own_pool);
+  auto commit = [&](const char* step) {
+    const detail::PreparedScene& prepared = world.commit();
+    cache.update(prepared, scheduler);
+    check_cache_fresh(cache, prepared, step);
+    return prepared.lights.size();
+  };
+  REQUIRE(commit("set_scene") == 3);
+  // C's reach is finite toward the wall, and A's proofs looked nowhere near the wall.
+  REQUIRE(std::isfinite(cache.reach()[2].reach[detail::LightReach::kSectors / 2]));
+
+  // 2: A erased; C takes number 0.
+  REQUIRE(world.remove_light(lights[0]).ok());
+  REQUIRE(commit("A erased") == 2);
+  // 3: the wall C's reach rests on moves away: C's reach opens toward +x.
+  REQUIRE(world.update_occluder(occluders[4], Occluder{Polygon{{{600, 20}, {604, 20}, {604, 108}, {600, 108}}}}).ok());
+  commit("the wall moved away");
+  CHECK(std::isinf(cache.reach()[0].reach[detail::LightReach::kSectors / 2]));
+  // 4: a light D added (number 2, proven), then moved in the commit that erases C: D takes
+  // number 0 and must be proven again where it is now.
+  LightHandle d;
+  REQUIRE(world.add_light(Light{Circle{{60, 100}, 2.0}}, &d).ok());
+  REQUIRE(commit("D added") == 3);
+  REQUIRE(world.update_light(d, Light{Circle{{230, 40}, 2.0}}).ok());
+  REQUIRE(world.remove_light(lights[2]).ok());
+  REQUIRE(commit("D moved, C erased") == 2);
 }

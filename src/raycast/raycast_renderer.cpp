@@ -13,7 +13,6 @@
 #include "geometry/bounce_pieces.hpp"
 #include "geometry/vec2.hpp"
 #include "raycast/ray_exact.hpp"
-#include "scene/scene_validate.hpp"
 
 namespace par2d::detail {
 namespace {
@@ -54,6 +53,38 @@ using ray_exact::power_of;
 using ray_exact::ray_segment;
 using ray_exact::side_of;
 
+// Whether a ring of vertices bounds a convex region: with repeated vertices dropped, every
+// turn on one side or straight on (signs exact), no edge doubling back on the one before, and
+// the edges' directions turning once around (a star wound twice turns the same way at every
+// vertex). A region's even-odd tests agree with the convex ones on convex rings, so a ring
+// this leaves out only costs speed.
+bool convex_ring(const std::vector<Vec2>& ring) {
+  std::vector<Vec2> v;
+  v.reserve(ring.size());
+  for (const Vec2& p : ring)
+    if (v.empty() || p.x != v.back().x || p.y != v.back().y) v.push_back(p);
+  while (v.size() > 1 && v.back().x == v.front().x && v.back().y == v.front().y) v.pop_back();
+  const std::size_t n = v.size();
+  if (n < 3) return false;
+  int turn_side = 0;
+  double turning = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 a = v[i], b = v[(i + 1) % n], c = v[(i + 2) % n];
+    const double side = side_of(a, b, c);
+    const Vec2 e = b - a, f = c - b;
+    if (side == 0.0) {
+      if (dot(e, f) < 0.0) return false;  // a fold
+      continue;
+    }
+    const int s = side > 0.0 ? 1 : -1;
+    if (turn_side != 0 && s != turn_side) return false;
+    turn_side = s;
+    turning += std::atan2(cross(e, f), dot(e, f));
+  }
+  // Once around is 2 pi; twice 4 pi (rounding moves either by far less than pi).
+  return turn_side != 0 && std::fabs(turning) < 1.5 * kTwoPi;
+}
+
 }  // namespace
 
 RaycastRenderer::RayShape RaycastRenderer::make_shape(const Shape& shape) {
@@ -74,7 +105,10 @@ RaycastRenderer::RayShape RaycastRenderer::make_shape(const Shape& shape) {
     bound_radius = 0.5 * std::hypot(segment->b.x - segment->a.x, segment->b.y - segment->a.y);
   } else {
     const auto& poly = std::get<Polygon>(shape);
-    s.kind = needs_partition(shape) ? Kind::region : Kind::polygon;
+    // Decided here from the rings as given, not by the product's validation or partition code
+    // (a bug there that fills holes or takes a concave outline for convex must show here): a
+    // ring convex by its own exact turns and no holes is a polygon, anything else a region.
+    s.kind = poly.holes.empty() && convex_ring(poly.vertices) ? Kind::polygon : Kind::region;
     s.first = static_cast<std::uint32_t>(vertices_.size());
     s.count = static_cast<std::uint32_t>(poly.vertices.size());
     // A concave outline is met as it is: the ray caster does not partition (an independent check).

@@ -51,7 +51,8 @@ class RaycastRenderer {
   std::optional<Vec3> normal_at(int i, int j) const;
 
  private:
-  // region: a concave polygon (its outline as given, an even-odd region).
+  // region: a polygon with holes or a concave outline (its rings as given, an even-odd region),
+  // told apart from a convex polygon by the ray caster itself (make_shape).
   enum class Kind : std::uint8_t { polygon, circle, segment, region };
 
   // One shape, flattened so the per-ray loop touches contiguous data. The bounding
