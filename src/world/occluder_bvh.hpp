@@ -81,8 +81,8 @@ class BoxPairHull {
   BoxPairHull() noexcept = default;  // holds nothing until assigned a pair's hull
   BoxPairHull(const Aabb& a, const Aabb& b) noexcept { assign(a, b); }
   // Made the hull of a and b in place. The tile setup reuses one object per tile and light
-  // rather than copying a fresh hull into it: the copy read the 8-byte fields just stored
-  // back as 16-byte loads, which stores cannot forward (perf's samples piled up at that load).
+  // rather than copying a fresh hull into it: the copy reads the 8-byte fields just stored
+  // back as 16-byte loads, which stores cannot forward.
   void assign(const Aabb& a, const Aabb& b) noexcept;
   // Exact separating-axis test (the union box's axes and the cut edges' normals);
   // touching counts as intersecting.
