@@ -596,6 +596,40 @@ inline void sort_keys(float* keys, std::size_t slots) noexcept {
 // The parts of a packet's light that both packet kernels share (packet_irradiance and
 // packet_irradiance_model): a term or a fix of the occlusion arithmetic goes here once.
 
+// A packet's scratch (sized by kernel_packet_scratch_floats): the occluders' arc starts and
+// widths, W floats per tile occluder at its tile index (when the packet computes them), then
+// a light's interval ends lo and hi (sort slots of the most intervals a light has, each),
+// then a general pair's events; `rest` is past the events.
+struct PacketScratch {
+  float* occ_start = nullptr;
+  float* occ_width = nullptr;
+  float* lo = nullptr;
+  float* hi = nullptr;
+  float* events = nullptr;
+  float* rest = nullptr;
+};
+// The intervals' part from `at` on (occ_start and occ_width left null).
+template <class A>
+PAR2D_KERNEL_INLINE PacketScratch interval_scratch(const TileWork& work, float* at) noexcept {
+  constexpr std::size_t W = xsimd::batch<float, A>::size;
+  const std::size_t slots = sort_slots<A>(work.max_intervals_per_light);
+  PacketScratch out;
+  out.lo = at;
+  out.hi = at + slots * W;
+  out.events = out.hi + slots * W;
+  out.rest = out.events + sort_slots<A>(work.max_points_per_pair) * W;
+  return out;
+}
+template <class A>
+PAR2D_KERNEL_INLINE PacketScratch packet_scratch(const TileWork& work, float* scratch) noexcept {
+  constexpr std::size_t W = xsimd::batch<float, A>::size;
+  const std::size_t occluder_count = work.occluders.size();
+  PacketScratch out = interval_scratch<A>(work, scratch + 2 * occluder_count * W);
+  out.occ_start = scratch;
+  out.occ_width = scratch + occluder_count * W;
+  return out;
+}
+
 // The occluder's arc start measured from the light's, into [0, 2*pi).
 template <class A>
 PAR2D_KERNEL_INLINE xsimd::batch<float, A> arc_offset(const xsimd::batch<float, A>& occ_start,
@@ -803,25 +837,25 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
                                            const TileArcs<A>& tile_arcs = {}) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
-  const std::size_t occluder_count = work.occluders.size();
+  const PacketScratch room = kTileArcs ? interval_scratch<A>(work, scratch) : packet_scratch<A>(work, scratch);
   const float* occ_start_all;
   const float* occ_width;
   // Between occluders' arcs: a constant, so that a pair's arc address is a shift and an add.
   constexpr std::size_t occ_stride = kTileArcs ? detail::kTilePixels : W;
-  float* lo;
+  float* const lo = room.lo;
+  float* const hi = room.hi;
+  float* const events = room.events;
   auto in_occluder = B(0.0f) > B(0.0f);
-  std::size_t arcs = occluder_count;
+  std::size_t arcs = work.occluders.size();
   if constexpr (kTileArcs) {
     occ_start_all = tile_arcs.start;
     occ_width = tile_arcs.width;
     in_occluder = B::load_aligned(tile_arcs.inside) != B(0.0f);
-    lo = scratch;
   } else {
-    float* start_out = scratch;
-    float* width_out = start_out + occluder_count * W;
+    float* start_out = room.occ_start;
+    float* width_out = room.occ_width;
     occ_start_all = start_out;
     occ_width = width_out;
-    lo = width_out + occluder_count * W;
     // Arcs are stored at the occluder's tile index; a cell computes only those its pairs read
     // (and those whose inside test it needs, see cell_lists.cpp).
     if constexpr (kCells) arcs = cell->occluder_count;
@@ -830,9 +864,6 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
         work, arcs, [&](std::size_t i) { return kCells ? std::size_t{cell_occluders[i]} : i; }, px, py, start_out,
         width_out, [&](std::size_t, const xsimd::batch_bool<float, A>& inside) { in_occluder = in_occluder | inside; });
   }
-  const std::size_t slots = sort_slots<A>(work.max_intervals_per_light);
-  float* hi = lo + slots * W;
-  float* events = hi + slots * W;
   for (int c = 0; c < 3; ++c) e[c] = B(0.0f);
   // Every lane inside an occluder: 0 whatever the lights (the select at the end).
   if (arcs != 0 && xsimd::all(in_occluder)) return;
@@ -1176,17 +1207,17 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
                                                  xsimd::batch<float, A> (&e)[3]) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
-  const std::size_t occluder_count = work.occluders.size();
-  float* occ_start_all = scratch;
-  float* occ_width = occ_start_all + occluder_count * W;
-  float* lo = occ_width + occluder_count * W;
-  const std::size_t slots = sort_slots<A>(work.max_intervals_per_light);
-  float* hi = lo + slots * W;
-  float* events = hi + slots * W;
-  float* occ_inside = events + sort_slots<A>(work.max_points_per_pair) * W;
+  const PacketScratch room = packet_scratch<A>(work, scratch);
+  float* const occ_start_all = room.occ_start;
+  float* const occ_width = room.occ_width;
+  float* const lo = room.lo;
+  float* const hi = room.hi;
+  float* const events = room.events;
+  // Past the shared part: inside flags per occluder, the pieces' keys, the intervals' owners.
+  float* occ_inside = room.rest;
   std::size_t key_slots = 1;
   while (key_slots < 2 * static_cast<std::size_t>(work.max_intervals_per_light) + 2) key_slots *= 2;
-  float* keys = occ_inside + occluder_count * W;
+  float* keys = occ_inside + work.occluders.size() * W;
   float* owner = keys + 2 * key_slots * W;  // one float per interval (tile-constant)
   // The work's arrays through local pointers: a vector store may alias anything (the
   // intrinsics' types do), so `work.pairs[i]` would reload the vector's start after each.
