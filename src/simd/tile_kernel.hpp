@@ -621,7 +621,7 @@ PAR2D_KERNEL_INLINE PacketScratch interval_scratch(const TileWork& work, float* 
   return out;
 }
 template <class A>
-PAR2D_KERNEL_INLINE PacketScratch packet_scratch(const TileWork& work, float* scratch) noexcept {
+PAR2D_KERNEL_INLINE PacketScratch packet_scratch_layout(const TileWork& work, float* scratch) noexcept {
   constexpr std::size_t W = xsimd::batch<float, A>::size;
   const std::size_t occluder_count = work.occluders.size();
   PacketScratch out = interval_scratch<A>(work, scratch + 2 * occluder_count * W);
@@ -837,7 +837,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
                                            const TileArcs<A>& tile_arcs = {}) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
-  const PacketScratch room = kTileArcs ? interval_scratch<A>(work, scratch) : packet_scratch<A>(work, scratch);
+  const PacketScratch room = kTileArcs ? interval_scratch<A>(work, scratch) : packet_scratch_layout<A>(work, scratch);
   const float* occ_start_all;
   const float* occ_width;
   // Between occluders' arcs: a constant, so that a pair's arc address is a shift and an add.
@@ -1207,7 +1207,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
                                                  xsimd::batch<float, A> (&e)[3]) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
-  const PacketScratch room = packet_scratch<A>(work, scratch);
+  const PacketScratch room = packet_scratch_layout<A>(work, scratch);
   float* const occ_start_all = room.occ_start;
   float* const occ_width = room.occ_width;
   float* const lo = room.lo;
