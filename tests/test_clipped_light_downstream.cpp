@@ -1,4 +1,4 @@
-// Lights poking into walls (issue 39): the pairs, proofs and separating lines use the part of
+// Lights poking into walls: the pairs, proofs and separating lines use the part of
 // the light outside the wall it sits in (culling/visible_light.hpp, render/pair_setup.cpp).
 // Levels as 2D games build them, against the scalar reference on every ISA, culling on and off.
 #include <doctest/doctest.h>

@@ -933,7 +933,7 @@ TEST_CASE("bench --width/--height on a normal-mapped scene is refused naming the
 }
 
 // `bench --stats` puts the kernel's pairs per sample against the pairs each pixel needs
-// (issue 39's measure of wasted kernel work): the ratio of the two numbers it prints.
+// (a measure of wasted kernel work): the ratio of the two numbers it prints.
 TEST_CASE("bench --stats puts the pairs per sample against the exact pairs per pixel") {
   TempDir dir("par2d_model_io");
   std::ofstream(dir / "s.json") << R"({"width": 96, "height": 64, "lights": [{"circle": {"center": [20, 30], "radius": 4}}],

@@ -68,7 +68,7 @@ struct RenderOptions {
   // the best it has). Empty: the
   // PAR2D_ISA environment variable if set, else the best the CPU has. Default: empty.
   std::optional<Isa> isa;
-  // Per-tile culling of lights and occluders that cannot matter (issue: scale).
+  // Per-tile culling of lights and occluders that cannot matter (what makes large scenes cheap).
   // Only switch off to measure what culling saves; the image is the same. Default: true.
   bool culling = true;
   // See Threading. Default: own_pool.

@@ -68,7 +68,7 @@ bool LightReach::hides(const Aabb& box) const noexcept {
   // The box's directions from the center: an arc narrower than pi (the center is outside),
   // from the corner every other corner lies counter-clockwise of (or along) to the corner
   // every other lies clockwise of. Two atan2 for those two corners, where measuring all four
-  // against the box's middle direction took five (these were most of this function's cost).
+  // against the box's middle direction takes five (most of this function's cost).
   const Vec2 v[4] = {Vec2{box.min_x, box.min_y} - center, Vec2{box.max_x, box.min_y} - center,
                      Vec2{box.max_x, box.max_y} - center, Vec2{box.min_x, box.max_y} - center};
   int clockwise_end = -1, counter_clockwise_end = -1;

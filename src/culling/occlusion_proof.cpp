@@ -174,8 +174,8 @@ bool segments_blocked(const Vec2* viewer, int viewer_count, Vec2 axis, const Con
   // Most proofs that fail do so because the light is plainly visible: one segment, from the
   // viewer points' mean or from one of them to the light's interior point, that passes
   // every occluder settles it for a fraction of the proof's cost. (Further segments to the
-  // light's sides, where these are blocked, cost the benchmark's level 3.7 % of its frame
-  // for 0.5 % on the rubble level: its proofs that get here mostly succeed.)
+  // light's sides, where these are blocked, cost more than they save: the proofs that get
+  // here mostly succeed.)
   Vec2 viewer_mean{0.0, 0.0};
   for (int i = 0; i < viewer_count; ++i) viewer_mean = viewer_mean + viewer[i];
   viewer_mean = (1.0 / viewer_count) * viewer_mean;

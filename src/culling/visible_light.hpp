@@ -1,5 +1,5 @@
 // The part of a light outside the occluder it sits in: what reach, proofs and pair separators
-// use for a light poking into a wall (issue 39), since the cap inside the wall reaches no one.
+// use for a light poking into a wall, since the cap inside the wall reaches no one.
 #pragma once
 
 #include <cstdint>
@@ -33,8 +33,8 @@ struct VisibleLights {
     Line line;                   // its clip line (the light's kept part on side <= 0)
     ConvexShape shape;           // visible_part when clip >= 0
     // What `shape` was made from (the light's vertices and radius, the clip line): kept from
-    // block to block and frame to frame while they stay (making it cost a frame of the
-    // benchmark's free-form level 0.7 M instructions when made per block).
+    // block to block and frame to frame while they stay, so it is made again only when
+    // one of them changes, not per block.
     std::vector<Vec2> made_from;
     double made_radius = -1.0;
     Line made_line{};

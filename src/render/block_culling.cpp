@@ -11,26 +11,18 @@
 namespace par2d::detail {
 namespace {
 
-// Adaptive tile proofs. A failed proof costs about what a success saves the kernel (~30-40 k
-// instructions against a light's pairs over 256 samples), so proofs pay only where they
-// mostly succeed. Where occluders are much smaller than the gaps between them (the rubble
-// level: 1.5-4 px occluders, 3-5 px lights), ~87 % of tile proofs fail, and a light whose
-// proofs failed on one tile of a block mostly fails on the rest. So a light stops trying tile
-// proofs in a block once all it tried there failed, while the block's tile proofs (all
-// lights) succeed less than 1 in kBlockProofSuccessRatio times: on the benchmark's level
-// (4-12 px occluders) ~58 % succeed and the rule skips ~0.3 % of them. A skipped proof only
-// hands the kernel a light that may be hidden: the same image. Measured with callgrind,
-// AVX2, 1 thread (par2d render, 960x540, 64 lights, 1024 occluders): rubble 8615 M -> 7089 M
-// instructions; the rule without the block's gate also skipped ~25 % of the benchmark
-// level's proofs, which then succeeded 47 % of the time. Counting the block's own proofs in
-// the gate saved 1 % more on rubble but cost the dungeon 0.5 % and skipped 7 % of a smaller
-// default level's proofs.
-// Since then the kernel got cheaper (cell lists, arc windows) and a proof's break-even rose:
-// the gate now asks 1 in 2, and past the block's first kTileProofWarmup tries a light's
-// first try in the block passes the gate too (it used to be free: with 60-150 lights per
-// tile on rubble, first tries alone were most of the proofs). Callgrind, same cuts: rubble
-// 6,327.6 M -> 5,997.1 M, the default level 2,973.6 M -> 2,970.7 M (1 in 2 alone: 6,216.1 M
-// and 2,969.2 M; no tile proofs at all: 5,870.6 M and 2,989.2 M).
+// Adaptive tile proofs. A failed proof costs about what a success saves the kernel (a
+// light's pairs over the tile's samples), so proofs pay only where they mostly succeed. Where
+// occluders are much smaller than the gaps between them (1-4 px rubble around small lights)
+// most tile proofs fail, and a light whose proofs failed on one tile of a block mostly fails
+// on the rest. So a light stops trying tile proofs in a block once all it tried there
+// failed, while the block's tile proofs (all lights) succeed less than 1 in
+// kBlockProofSuccessRatio times; past the block's first kTileProofWarmup tries, a light's
+// first try in the block must pass that gate too (with many lights per tile, first tries
+// alone would be most of the proofs). The block's own proofs are not counted in the gate:
+// that helps rubble a little but skips useful proofs on levels of larger occluders. A
+// skipped proof only hands the kernel a light that may be hidden: the same image.
+// Measured in docs/performance.md ("Adaptive tile proofs", "Tile proofs' gate, again").
 constexpr int kBlockProofSuccessRatio = 2;
 constexpr std::uint32_t kTileProofWarmup = 16;
 
@@ -42,18 +34,15 @@ bool tile_proof_worth_trying(const BlockCullingScratch::TileProofRecord& light,
   return block_pays;
 }
 
-// Adaptive block proofs. A block tries a proof per light (in scene order): on rubble ~39 k
-// instructions each, and 1.4 % succeed (a light is hidden from a whole 64 px block only
-// inside a closed pocket of small occluders). A success spares up to 16 tiles the light's
-// setup and tile proofs (~40 k instructions each), so block proofs pay down to about 1 success
-// in 16 tries. Once a block has tried kBlockProofWarmup proofs and fewer than 1 in
-// kBlockProofPayRatio succeeded, it tries no more: its tiles meet those lights with their own
-// adaptive tile proofs. A skipped proof only hands the tiles a light that may be hidden: the
-// same image. Decided per block from its own tries, so the same whatever the threads.
-// 960x540, 64 lights, 1024 occluders: rubble skips 60 % of its block proofs (56 of 124
-// successes lost), the benchmark's level (4-12 px) none, the dungeon none (57 % succeed),
-// paper none (4 lights per block). A warm-up of 8 skipped 81 % on rubble but also 143 of the
-// benchmark level's proofs, which then succeeded 31 % of the time: +0.4 % instructions there.
+// Adaptive block proofs. A block tries a proof per light (in scene order); one costs about
+// as much as a tile proof and few succeed (a light is hidden from a whole 64 px block only
+// inside a closed pocket of small occluders), but a success spares up to 16 tiles the
+// light's setup and tile proofs, so block proofs pay down to about 1 success in 16 tries.
+// Once a block has tried kBlockProofWarmup proofs and fewer than 1 in kBlockProofPayRatio
+// succeeded, it tries no more: its tiles meet those lights with their own adaptive tile
+// proofs. A skipped proof only hands the tiles a light that may be hidden: the same image.
+// Decided per block from its own tries, so the same whatever the threads. The warm-up is
+// long enough that levels whose proofs pay skip none (docs/performance.md).
 constexpr std::uint32_t kBlockProofWarmup = 24;
 constexpr std::uint32_t kBlockProofPayRatio = 16;
 
@@ -76,7 +65,7 @@ double diamond_angle(double x, double y) noexcept {
 // it, stopping on the light once the prefix spans the arc: intervals that arrive in
 // angular order close a cover made of several occluders early.
 // Fewer candidates leave the lights of the block's tiles a pair or two, where the order
-// cannot pay for the sort (ordering every block's cost the dungeon 0.9 % more instructions).
+// cannot pay for the sort.
 constexpr std::size_t kOrderMinCandidates = 16;
 
 void order_by_angle(const PreparedScene& scene, Vec2 light_center, Vec2 block_center, std::vector<std::uint32_t>& ids,

@@ -90,10 +90,8 @@ void cull_block(const PreparedScene& scene, const std::array<Vec2, 4>& corners, 
 
 // Occlusion proofs: the most strips one may use per block and light, and per tile and light.
 // A tile tries one only for a light with at least kTileProofMinPairs occluders in front:
-// with fewer, the kernel's merge costs less than a failed proof. Measured with
-// bench/par2d_bench on the scaling targets and the dungeon: block budgets 16/32/64 and tile
-// budgets 8/16 moved frame times by under 10%; tile proofs saved ~15% on the 256-light
-// scene and cost nothing measurable on the others.
+// with fewer, the kernel's merge costs less than a failed proof. Frame times depend little
+// on the budgets (docs/performance.md).
 inline constexpr int kBlockStripBudget = 64;
 inline constexpr int kTileStripBudget = 16;
 inline constexpr std::size_t kTileProofMinPairs = 8;

@@ -80,7 +80,7 @@ unsigned cells_outside_cone(const ShadowCone& cone, const CellGrid& grid) noexce
 
 // The tile's own lists as one cell over the whole tile: the model kernel always reads cells
 // (one copy of it per ISA and shading, where a second one for tiles without cells would add
-// minutes to every build; choosing at run time cost 0.8 % per normal-mapped frame).
+// minutes to every build; choosing at run time costs more per normal-mapped frame).
 void whole_tile_cell(TileWork& work) {
   const std::size_t light_count = work.lights.size();
   work.cell_width = work.cell_height = kTileSize;

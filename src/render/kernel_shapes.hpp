@@ -190,7 +190,7 @@ inline void fill_sample_grid(const PreparedScene& scene, int spp, const TileFram
   // A sample's offset from the origin: (c + s) pixel sizes, the same in every tile. Made
   // again only when the sampling, the pixel size or the frame's scale changes (NaN never
   // compares equal, so it would be remade): computing two positions per sample and their
-  // difference here, per tile, was a fifth of build_tile_work's time (perf, AVX-512, paper).
+  // difference here, per tile, would be a large part of build_tile_work's time.
   const double pixel_w = (scene.view.x1 - scene.view.x0) / scene.width;
   const double pixel_h = (scene.view.y1 - scene.view.y0) / scene.height;
   TileWork::SampleGrid& samples = work.sample_grid;

@@ -96,8 +96,7 @@ int tile_light_bridges(const ConvexShape& light, const std::array<Vec2, 4>& corn
 bool outside_hull_side(const ConvexShape& s, const HullSide& side) noexcept {
   double farthest = s.radius > 0.0 ? s.radius * std::sqrt(dot(side.normal, side.normal)) : 0.0;
   // The centroid is a point of the shape, so a centroid inside the half-plane (most pairs)
-  // decides without the vertex loop, which would find a vertex at least as far in (the
-  // dungeon: 1.3 M fewer instructions a frame).
+  // decides without the vertex loop, which would find a vertex at least as far in.
   if (farthest + dot(side.normal, s.centroid - side.point) >= -3.0 * side.slack) return false;
   double vertex = -std::numeric_limits<double>::infinity();
   for (const Vec2 v : s.vertices) vertex = std::max(vertex, dot(side.normal, v - side.point));
@@ -447,8 +446,8 @@ void build_pairs(const PreparedScene& scene, std::size_t l, const std::vector<st
   // Pairs whose occluder lies outside the hull of the tile and the light block nothing
   // here: dropped (the light goes unblocked when none is left, and an occluder no pair
   // keeps gets no arc). Not once the tile has enough pairs for per-cell lists, whose
-  // shadow cones already keep such pairs from every cell: on rubble (hundreds of pairs a
-  // tile) the test there cost 3 % more instructions than it saved.
+  // shadow cones already keep such pairs from every cell (there the test costs more than it
+  // saves).
   if (!shadowed && culling && work.pairs.size() > first_pair && !tile_gets_cells(culling, work.pairs.size())) {
     if (!light_directions) light_directions = scratch.light_grid.run(l, PairSetupScratch::kGridPoints, block.serial);
     // Rounding in the tangent directions and the dot products is ~1e-16 of these lengths.

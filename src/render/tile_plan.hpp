@@ -7,11 +7,10 @@
 namespace par2d::detail {
 
 // Tiles with fewer pairs keep their lists: cells cost setup per pair and cell, and save
-// kernel work only where many pairs' shadows miss parts of the tile (small occluders). With
-// cells on every tile, examples/paper.json's pairs fell from 2.4 per tile to 2.2 per sample
-// and its frames cost 10 % more instructions (callgrind, AVX2, 1 thread, with an earlier
-// form of the kernel loop); from 16 pairs, paper and the dungeon stay within 0.6 % and
-// rubble's tiles (hundreds of pairs each) all get cells.
+// kernel work only where many pairs' shadows miss parts of the tile (small occluders). On
+// tiles with a few pairs cells drop few of them and their setup costs more than it saves;
+// from 16 pairs, tiles of rubble (hundreds of pairs each) all get cells while scenes of
+// larger occluders keep their tile lists (docs/performance.md).
 inline constexpr std::size_t kCellMinPairs = 16;
 
 // Whether a tile with `pairs` pairs gets cells: only culled tiles (their lists are refined

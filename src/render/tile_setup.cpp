@@ -109,9 +109,8 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
 
   // Per light below, plain values with flags rather than std::optional, and the tangent
   // points made once: GCC 12's std::optional zero-fills its whole storage when
-  // default-constructed, and so does a Vec2 array. That was two 144-byte `rep stos` per tile
-  // and light, slow to start on lengths this short: about a tenth of this function's time
-  // with AVX-512 on paper (perf).
+  // default-constructed, and so does a Vec2 array: two 144-byte `rep stos` per tile and
+  // light, slow to start on lengths this short.
   // The occluders holding the whole tile, among the block's that may.
   std::vector<std::uint32_t>& enclosing = scratch.enclosers_query;
   enclosing.clear();

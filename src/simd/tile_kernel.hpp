@@ -71,8 +71,7 @@ PAR2D_KERNEL_INLINE void arc_from_tangents(const xsimd::batch<float, A>& lox, co
   using B = xsimd::batch<float, A>;
   // With the start, the width is the second absolute angle's difference from it, not the
   // angle between the tangents (fast_atan2_upper of their cross and dot products): that
-  // measured 0.5 M fewer instructions a frame on the dungeon but about 1 % more time with
-  // AVX-512.
+  // takes fewer instructions but more time with AVX-512.
   if constexpr (kWithStart) {
     arc.start = fast_atan2(loy, lox);
     B width = fast_atan2(hiy, hix) - arc.start;
@@ -608,6 +607,168 @@ inline void sort_keys(float* keys, std::size_t slots) noexcept {
   }
 }
 
+// The parts of a packet's light that both packet kernels share (packet_irradiance and
+// packet_irradiance_model): a term or a fix of the occlusion arithmetic goes here once.
+
+// A packet's scratch (sized by kernel_packet_scratch_floats): the occluders' arc starts and
+// widths, W floats per tile occluder at its tile index (when the packet computes them), then
+// a light's interval ends lo and hi (sort slots of the most intervals a light has, each),
+// then a general pair's events; `rest` is past the events.
+struct PacketScratch {
+  float* occ_start = nullptr;
+  float* occ_width = nullptr;
+  float* lo = nullptr;
+  float* hi = nullptr;
+  float* events = nullptr;
+  float* rest = nullptr;
+};
+// The intervals' part from `at` on (occ_start and occ_width left null).
+template <class A>
+PAR2D_KERNEL_INLINE PacketScratch interval_scratch(const TileWork& work, float* at) noexcept {
+  constexpr std::size_t W = xsimd::batch<float, A>::size;
+  const std::size_t slots = sort_slots<A>(work.max_intervals_per_light);
+  PacketScratch out;
+  out.lo = at;
+  out.hi = at + slots * W;
+  out.events = out.hi + slots * W;
+  out.rest = out.events + sort_slots<A>(work.max_points_per_pair) * W;
+  return out;
+}
+template <class A>
+PAR2D_KERNEL_INLINE PacketScratch packet_scratch_layout(const TileWork& work, float* scratch) noexcept {
+  constexpr std::size_t W = xsimd::batch<float, A>::size;
+  const std::size_t occluder_count = work.occluders.size();
+  PacketScratch out = interval_scratch<A>(work, scratch + 2 * occluder_count * W);
+  out.occ_start = scratch;
+  out.occ_width = scratch + occluder_count * W;
+  return out;
+}
+
+// The occluder's arc start measured from the light's, into [0, 2*pi).
+template <class A>
+PAR2D_KERNEL_INLINE xsimd::batch<float, A> arc_offset(const xsimd::batch<float, A>& occ_start,
+                                                      const xsimd::batch<float, A>& light_start) noexcept {
+  using B = xsimd::batch<float, A>;
+  B o = occ_start - light_start;
+  o -= B(kTwoPiF) * xsimd::floor(o * B(kInvTwoPiF));
+  return o;
+}
+
+// A light's width seen from the lanes: the whole turn inside it.
+template <class A>
+PAR2D_KERNEL_INLINE xsimd::batch<float, A> seen_width(const Arc<A>& arc) noexcept {
+  using B = xsimd::batch<float, A>;
+  return xsimd::select(arc.inside, B(kTwoPiF), arc.width);
+}
+
+// The visible width of a light with nothing in front of it anywhere in the tile or cell.
+template <class A>
+PAR2D_KERNEL_INLINE xsimd::batch<float, A> unblocked_width(const TileWork& work, const KernelShape& light,
+                                                           const xsimd::batch<float, A>& px,
+                                                           const xsimd::batch<float, A>& py) noexcept {
+  return seen_width<A>(shape_arc<A, false>(work, light, px, py));
+}
+
+// Each occluder's arc in `count` occluders, the i-th at tile index index(i), stored at that
+// index (W floats each) in start_out and width_out; inside(k, lanes) hears which lanes lie
+// inside occluder k.
+template <class A, class Index, class Inside>
+PAR2D_KERNEL_INLINE void packet_occluder_arcs(const TileWork& work, std::size_t count, const Index& index,
+                                              const xsimd::batch<float, A>& px, const xsimd::batch<float, A>& py,
+                                              float* start_out, float* width_out, Inside&& inside) noexcept {
+  constexpr std::size_t W = xsimd::batch<float, A>::size;
+  const KernelShape* occluders = work.occluders.data();
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::size_t k = index(i);
+    const Arc<A> arc = shape_arc<A>(work, occluders[k], px, py);
+    inside(k, arc.inside);
+    arc.start.store_aligned(start_out + k * W);
+    arc.width.store_aligned(width_out + k * W);
+  }
+}
+
+// Disjoint convex shapes: the occluder is in front along every shared direction exactly when
+// the pixel is on its side of the pair's separating line (everywhere for a `front` pair).
+// Lanes in `excluded` are blocked by nothing.
+template <class A>
+PAR2D_KERNEL_INLINE xsimd::batch_bool<float, A> separated_blocks(const KernelPair& pair,
+                                                                 const xsimd::batch<float, A>& px,
+                                                                 const xsimd::batch<float, A>& py,
+                                                                 const xsimd::batch_bool<float, A>& excluded) noexcept {
+  using B = xsimd::batch<float, A>;
+  return pair.front ? ~excluded : (xsimd::fma(B(pair.nx), px, B(pair.ny) * py) >= B(pair.c)) & ~excluded;
+}
+
+// An interval [o, end] of the light's arc [0, width] (o in [0, 2*pi)) where `blocks`, empty
+// (width, width) elsewhere: its part before 2*pi, clipped to the arc.
+template <class A>
+struct BlockedInterval {
+  xsimd::batch<float, A> lo, hi;
+};
+template <class A>
+PAR2D_KERNEL_INLINE BlockedInterval<A> first_turn_interval(const xsimd::batch_bool<float, A>& blocks,
+                                                           const xsimd::batch<float, A>& o,
+                                                           const xsimd::batch<float, A>& end,
+                                                           const xsimd::batch<float, A>& width) noexcept {
+  return {xsimd::select(blocks, xsimd::min(o, width), width), xsimd::select(blocks, xsimd::min(end, width), width)};
+}
+// Its part that wraps past the light's start, [0, end - 2*pi] clipped to the arc.
+template <class A>
+PAR2D_KERNEL_INLINE BlockedInterval<A> wrapped_interval(const xsimd::batch_bool<float, A>& blocks,
+                                                        const xsimd::batch<float, A>& end,
+                                                        const xsimd::batch<float, A>& width) noexcept {
+  using B = xsimd::batch<float, A>;
+  return {xsimd::select(blocks, B(0.0f), width),
+          xsimd::select(blocks, xsimd::max(xsimd::min(end - B(kTwoPiF), width), B(0.0f)), width)};
+}
+// The wrapped parts of opaque intervals all start at 0: their union is [0, reach0], a
+// running max of their ends.
+template <class A>
+PAR2D_KERNEL_INLINE xsimd::batch<float, A> wrapped_reach(const xsimd::batch<float, A>& reach0,
+                                                         const xsimd::batch_bool<float, A>& blocks,
+                                                         const xsimd::batch<float, A>& end,
+                                                         const xsimd::batch<float, A>& width) noexcept {
+  using B = xsimd::batch<float, A>;
+  return xsimd::select(blocks, xsimd::max(reach0, xsimd::min(end - B(kTwoPiF), width)), reach0);
+}
+
+// What the n intervals in the lo/hi slots and [0, reach] leave of the arc [0, width] (at
+// least 0): in registers up to 8 intervals, else sorted in place (slots past n are padded).
+template <class A>
+PAR2D_KERNEL_INLINE xsimd::batch<float, A> uncovered_width(float* lo, float* hi, std::size_t n,
+                                                           const xsimd::batch<float, A>& width,
+                                                           const xsimd::batch<float, A>& reach) noexcept {
+  using B = xsimd::batch<float, A>;
+  constexpr std::size_t W = B::size;
+  if (n == 0) return xsimd::max(width - reach, B(0.0f));
+  if (n == 1) return xsimd::max(width - union_measure_in_registers<A, 1>(lo, hi, 1, width, reach), B(0.0f));
+  if (n == 2) return xsimd::max(width - union_measure_in_registers<A, 2>(lo, hi, 2, width, reach), B(0.0f));
+  if (n <= 4) return xsimd::max(width - union_measure_in_registers<A, 4>(lo, hi, n, width, reach), B(0.0f));
+  if (n <= 8) return xsimd::max(width - union_measure_in_registers<A, 8>(lo, hi, n, width, reach), B(0.0f));
+  const std::size_t used = sort_slots<A>(n);
+  for (std::size_t p = n; p < used; ++p) {  // empty padding sorts last
+    width.store_aligned(lo + p * W);
+    width.store_aligned(hi + p * W);
+  }
+  sort_by_lo<A>(lo, hi, used);
+  return xsimd::max(width - sorted_union_measure<A>(lo, hi, n, reach), B(0.0f));
+}
+
+// e += the light's emission (times `scale`) times `weight`.
+template <class A>
+PAR2D_KERNEL_INLINE void add_emission(xsimd::batch<float, A> (&e)[3], const KernelLight& light,
+                                      const xsimd::batch<float, A>& weight) noexcept {
+  using B = xsimd::batch<float, A>;
+  for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]), weight, e[c]);
+}
+template <class A>
+PAR2D_KERNEL_INLINE void add_emission(xsimd::batch<float, A> (&e)[3], const KernelLight& light,
+                                      const xsimd::batch<float, A>& scale,
+                                      const xsimd::batch<float, A>& weight) noexcept {
+  using B = xsimd::batch<float, A>;
+  for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]) * scale, weight, e[c]);
+}
+
 // Blocked intervals of a general pair (shapes that overlap or touch), written to
 // lo/hi slots [0, pair.point_count]: the occluder's arc clipped to the light's, cut at the
 // directions of the pair's boundary meeting points. For a pixel outside both shapes the
@@ -626,8 +787,7 @@ inline void general_pair_intervals(const TileWork& work, const KernelLight& ligh
   // The occluder's arc in the light's frame: [o, o + occ_width], o in [0, 2*pi). Both arcs
   // are narrower than pi outside the shapes, so they share at most one interval: the
   // part before 2*pi, or else the part that wraps past the light's start.
-  B o = occ_start - arc.start;
-  o -= B(kTwoPiF) * xsimd::floor(o * B(kInvTwoPiF));
+  const B o = arc_offset<A>(occ_start, arc.start);
   const B end = o + occ_width;
   const auto first_turn = o < width;
   const B from = xsimd::select(first_turn, o, B(0.0f));
@@ -691,40 +851,33 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
                                            const TileArcs<A>& tile_arcs = {}) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
-  const std::size_t occluder_count = work.occluders.size();
+  const PacketScratch room = kTileArcs ? interval_scratch<A>(work, scratch) : packet_scratch_layout<A>(work, scratch);
   const float* occ_start_all;
   const float* occ_width;
   // Between occluders' arcs: a constant, so that a pair's arc address is a shift and an add.
   constexpr std::size_t occ_stride = kTileArcs ? detail::kTilePixels : W;
-  float* lo;
+  float* const lo = room.lo;
+  float* const hi = room.hi;
+  float* const events = room.events;
   auto in_occluder = B(0.0f) > B(0.0f);
-  std::size_t arcs = occluder_count;
+  std::size_t arcs = work.occluders.size();
   if constexpr (kTileArcs) {
     occ_start_all = tile_arcs.start;
     occ_width = tile_arcs.width;
     in_occluder = B::load_aligned(tile_arcs.inside) != B(0.0f);
-    lo = scratch;
   } else {
-    float* start_out = scratch;
-    float* width_out = start_out + occluder_count * W;
+    float* start_out = room.occ_start;
+    float* width_out = room.occ_width;
     occ_start_all = start_out;
     occ_width = width_out;
-    lo = width_out + occluder_count * W;
     // Arcs are stored at the occluder's tile index; a cell computes only those its pairs read
     // (and those whose inside test it needs, see cell_lists.cpp).
     if constexpr (kCells) arcs = cell->occluder_count;
     const std::uint32_t* cell_occluders = kCells ? work.cell_occluders.data() + cell->first_occluder : nullptr;
-    for (std::size_t i = 0; i < arcs; ++i) {
-      const std::size_t k = kCells ? cell_occluders[i] : i;
-      const Arc<A> arc = shape_arc<A>(work, work.occluders[k], px, py);
-      in_occluder = in_occluder | arc.inside;
-      arc.start.store_aligned(start_out + k * W);
-      arc.width.store_aligned(width_out + k * W);
-    }
+    packet_occluder_arcs<A>(
+        work, arcs, [&](std::size_t i) { return kCells ? std::size_t{cell_occluders[i]} : i; }, px, py, start_out,
+        width_out, [&](std::size_t, const xsimd::batch_bool<float, A>& inside) { in_occluder = in_occluder | inside; });
   }
-  const std::size_t slots = sort_slots<A>(work.max_intervals_per_light);
-  float* hi = lo + slots * W;
-  float* events = hi + slots * W;
   for (int c = 0; c < 3; ++c) e[c] = B(0.0f);
   // Every lane inside an occluder: 0 whatever the lights (the select at the end).
   if (arcs != 0 && xsimd::all(in_occluder)) return;
@@ -734,13 +887,11 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
   auto add_light = [&](const KernelLight& light, const KernelPair* pairs,
                        std::size_t pair_count) PAR2D_KERNEL_LAMBDA_INLINE {
     if ((kCells || !kTileArcs) && pair_count == 0) {  // nothing in front of this light anywhere in the tile (or cell)
-      const Arc<A> arc = shape_arc<A, false>(work, light.shape, px, py);
-      const B visible = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
-      for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]), visible, e[c]);
+      add_emission<A>(e, light, unblocked_width<A>(work, light.shape, px, py));
       return;
     }
     const Arc<A> arc = shape_arc<A>(work, light.shape, px, py);
-    const B width = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
+    const B width = seen_width<A>(arc);
     B reach0(0.0f);
     std::size_t n = 0;  // intervals written
     for (std::size_t p = 0; p < pair_count; ++p) {
@@ -753,23 +904,17 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
         n += pair.point_count + 1;
         continue;
       }
-      // Disjoint convex shapes: the occluder is in front along every shared direction
-      // exactly when the pixel is on its side of a separating line. Inside the light
-      // nothing is in front (t_L = 0). Lanes inside an occluder get 0 at the end, so what
-      // their intervals say does not matter.
-      const auto blocks = pair.front ? ~(arc.inside | in_occluder)
-                                     : (xsimd::fma(B(pair.nx), px, B(pair.ny) * py) >= B(pair.c)) &
-                                           ~(arc.inside | in_occluder);
-      B o = occ_start - arc.start;
-      o -= B(kTwoPiF) * xsimd::floor(o * B(kInvTwoPiF));  // into [0, 2*pi)
+      // Inside the light nothing is in front (t_L = 0). Lanes inside an occluder get 0 at
+      // the end, so what their intervals say does not matter.
+      const auto blocks = separated_blocks<A>(pair, px, py, arc.inside | in_occluder);
+      const B o = arc_offset<A>(occ_start, arc.start);
       const B end = o + occ_w;
-      // The part that wraps past the light's start begins at 0: a running max suffices.
-      reach0 = xsimd::select(blocks, xsimd::max(reach0, xsimd::min(end - B(kTwoPiF), width)), reach0);
+      reach0 = wrapped_reach<A>(reach0, blocks, end, width);
       // With cells (tiles with many pairs): an interval starting inside the blocked prefix
       // [0, reach0] extends it, so several occluders that together span the light's arc end
       // its work too when they arrive in order of their starts (their candidates are
       // ordered by angle per block, see order_by_angle in render/block_culling.cpp). Elsewhere
-      // lights have a pair or two and this cost more than it saved (the dungeon, callgrind).
+      // lights have a pair or two and this costs more than it saves.
       if constexpr (kCells)
         reach0 = xsimd::select(blocks & (o <= reach0), xsimd::max(reach0, xsimd::min(end, width)), reach0);
       // A blocked prefix spanning the light's arc in every lane (one occluder that starts
@@ -781,36 +926,14 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
       // adds nothing to the union (it sorts after every interval it could overlap): not
       // kept, so the sort and sweep run over the intervals this packet really sees.
       // Stored in any case and counted only when kept: whether a pair is kept varies from
-      // packet to packet without pattern, and the branch it took was mispredicted often
-      // enough to cost a fifth of the kernel's time on rubble (perf, docs/performance.md).
-      const B lo_p = xsimd::select(blocks, xsimd::min(o, width), width);
-      const B hi_p = xsimd::select(blocks, xsimd::min(end, width), width);
-      lo_p.store_aligned(lo + n * W);
-      hi_p.store_aligned(hi + n * W);
-      n += xsimd::any(hi_p > lo_p) ? 1 : 0;
+      // packet to packet without pattern, and a branch on it is mispredicted often enough
+      // to cost a fifth of the kernel's time where pairs are many (docs/performance.md).
+      const BlockedInterval<A> interval = first_turn_interval<A>(blocks, o, end, width);
+      interval.lo.store_aligned(lo + n * W);
+      interval.hi.store_aligned(hi + n * W);
+      n += xsimd::any(interval.hi > interval.lo) ? 1 : 0;
     }
-    B visible = width;
-    const B reach = xsimd::max(reach0, B(0.0f));
-    if (n == 0) {
-      visible = xsimd::max(width - reach, B(0.0f));
-    } else if (n == 1) {
-      visible = xsimd::max(width - union_measure_in_registers<A, 1>(lo, hi, 1, width, reach), B(0.0f));
-    } else if (n == 2) {
-      visible = xsimd::max(width - union_measure_in_registers<A, 2>(lo, hi, 2, width, reach), B(0.0f));
-    } else if (n <= 4) {
-      visible = xsimd::max(width - union_measure_in_registers<A, 4>(lo, hi, n, width, reach), B(0.0f));
-    } else if (n <= 8) {
-      visible = xsimd::max(width - union_measure_in_registers<A, 8>(lo, hi, n, width, reach), B(0.0f));
-    } else {
-      const std::size_t used = sort_slots<A>(n);
-      for (std::size_t p = n; p < used; ++p) {  // empty padding sorts last
-        width.store_aligned(lo + p * W);
-        width.store_aligned(hi + p * W);
-      }
-      sort_by_lo<A>(lo, hi, used);
-      visible = xsimd::max(width - sorted_union_measure<A>(lo, hi, n, reach), B(0.0f));
-    }
-    for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]), visible, e[c]);
+    add_emission<A>(e, light, uncovered_width<A>(lo, hi, n, width, xsimd::max(reach0, B(0.0f))));
   };
   if constexpr (kCells) {
     const detail::KernelCellLight* cell_lights = work.cell_lights.data() + cell->first_light;
@@ -1080,8 +1203,7 @@ PAR2D_KERNEL_INLINE void shaded_unblocked_light(const TileWork& work, const Kern
     lobe = cos_el * (sin_hi - sin_lo);
   }
   const B visible = xsimd::select(inside, B(kTwoPiF) * c_term, xsimd::fma(c_term, width, lobe));
-  const B weighted = xsimd::max(visible, B(0.0f)) * window;
-  for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]), weighted, e[c]);
+  add_emission<A>(e, light, xsimd::max(visible, B(0.0f)) * window);
 }
 
 // Irradiance of one packet under the game lighting model (reference: the scalar renderer's
@@ -1099,21 +1221,20 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
                                                  xsimd::batch<float, A> (&e)[3]) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
-  const std::size_t occluder_count = work.occluders.size();
-  float* occ_start_all = scratch;
-  float* occ_width = occ_start_all + occluder_count * W;
-  float* lo = occ_width + occluder_count * W;
-  const std::size_t slots = sort_slots<A>(work.max_intervals_per_light);
-  float* hi = lo + slots * W;
-  float* events = hi + slots * W;
-  float* occ_inside = events + sort_slots<A>(work.max_points_per_pair) * W;
+  const PacketScratch room = packet_scratch_layout<A>(work, scratch);
+  float* const occ_start_all = room.occ_start;
+  float* const occ_width = room.occ_width;
+  float* const lo = room.lo;
+  float* const hi = room.hi;
+  float* const events = room.events;
+  // Past the shared part: inside flags per occluder, the pieces' keys, the intervals' owners.
+  float* occ_inside = room.rest;
   std::size_t key_slots = 1;
   while (key_slots < 2 * static_cast<std::size_t>(work.max_intervals_per_light) + 2) key_slots *= 2;
-  float* keys = occ_inside + occluder_count * W;
+  float* keys = occ_inside + work.occluders.size() * W;
   float* owner = keys + 2 * key_slots * W;  // one float per interval (tile-constant)
   // The work's arrays through local pointers: a vector store may alias anything (the
   // intrinsics' types do), so `work.pairs[i]` would reload the vector's start after each.
-  const KernelShape* occluders = work.occluders.data();
   const KernelLight* lights = work.lights.data();
   const KernelLightTerms* light_terms = work.light_terms.data();
   const KernelPair* pairs = work.cell_pairs.data();
@@ -1122,13 +1243,11 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
   const std::uint32_t* cell_occluders = work.cell_occluders.data() + cell->first_occluder;
 
   // Arcs are stored at the occluder's tile index; a cell computes only those its pairs read.
-  for (std::size_t i = 0; i < cell->occluder_count; ++i) {
-    const std::size_t k = cell_occluders[i];
-    const Arc<A> arc = shape_arc<A>(work, occluders[k], px, py);
-    arc.start.store_aligned(occ_start_all + k * W);
-    arc.width.store_aligned(occ_width + k * W);
-    xsimd::select(arc.inside, B(1.0f), B(0.0f)).store_aligned(occ_inside + k * W);
-  }
+  packet_occluder_arcs<A>(
+      work, cell->occluder_count, [&](std::size_t i) { return std::size_t{cell_occluders[i]}; }, px, py,
+      occ_start_all, occ_width, [&](std::size_t k, const xsimd::batch_bool<float, A>& inside) {
+        xsimd::select(inside, B(1.0f), B(0.0f)).store_aligned(occ_inside + k * W);
+      });
   for (int c = 0; c < 3; ++c) e[c] = B(work.ambient[c]);
   B beta, normal_xy, normal_z, nx_raw, ny_raw;
   if constexpr (kShaded) {
@@ -1161,9 +1280,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
     }
     if (!kShaded && !terms.weighted() && pair_count == 0 && !terms.directional) {
       // Nothing in front anywhere in the tile and a flat profile: the width alone.
-      const Arc<A> arc = shape_arc<A, false>(work, light.shape, px, py);
-      const B visible = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
-      for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]) * window, visible, e[c]);
+      add_emission<A>(e, light, window, unblocked_width<A>(work, light.shape, px, py));
       continue;
     }
     if constexpr (kShaded) {
@@ -1184,7 +1301,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
       arc.inside = none;
     } else {
       arc = shape_arc<A>(work, light.shape, px, py);
-      width = xsimd::select(arc.inside, B(kTwoPiF), arc.width);
+      width = seen_width<A>(arc);
     }
     // Translucent pieces need each wrapped part as an interval of its own; opaque ones all
     // start at 0 and merge into [0, reach0].
@@ -1221,11 +1338,8 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
         n += pair.point_count + 1;
         continue;
       }
-      auto blocks = terms.directional ? ~none
-                    : pair.front     ? ~arc.inside
-                                     : (xsimd::fma(B(pair.nx), px, B(pair.ny) * py) >= B(pair.c)) & ~arc.inside;
-      B o = occ_start - arc.start;
-      o -= B(kTwoPiF) * xsimd::floor(o * B(kInvTwoPiF));  // into [0, 2*pi)
+      auto blocks = terms.directional ? ~none : separated_blocks<A>(pair, px, py, arc.inside);
+      const B o = arc_offset<A>(occ_start, arc.start);
       const B end = o + occ_w;
       if (occ_terms.opaque && !occ_terms.lit_interior) {
         // As in the plain kernel: inside it the light is 0 (set after the sum), so whatever
@@ -1236,11 +1350,12 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
         // Stored in any case and counted only when kept (see packet_irradiance): a branch on
         // it is mispredicted about as often as not. Not kept, reach0 stays too.
         const bool kept = xsimd::any(blocks & ((o < width) | (end > B(kTwoPiF))));
-        xsimd::select(blocks, xsimd::min(o, width), width).store_aligned(lo + n * W);
-        xsimd::select(blocks, xsimd::min(end, width), width).store_aligned(hi + n * W);
+        const BlockedInterval<A> interval = first_turn_interval<A>(blocks, o, end, width);
+        interval.lo.store_aligned(lo + n * W);
+        interval.hi.store_aligned(hi + n * W);
         if (!split_wraps) {  // owners matter only to the translucent pieces
           n += kept ? 1 : 0;
-          reach0 = xsimd::select(blocks, xsimd::max(reach0, xsimd::min(end - B(kTwoPiF), width)), reach0);
+          reach0 = wrapped_reach<A>(reach0, blocks, end, width);
           // As in the plain kernel: one opaque arc holding the light's in every lane (or the
           // lane inside a dark occluder) leaves no gap, so the light adds exactly 0 under any
           // profile and window, and the rest of its pairs and its profile are skipped.
@@ -1253,9 +1368,9 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
         if (!kept) continue;
         owner[n] = static_cast<float>(pair.occluder);
         ++n;
-        xsimd::select(blocks, B(0.0f), width).store_aligned(lo + n * W);
-        xsimd::select(blocks, xsimd::max(xsimd::min(end - B(kTwoPiF), width), B(0.0f)), width)
-            .store_aligned(hi + n * W);
+        const BlockedInterval<A> wrapped = wrapped_interval<A>(blocks, end, width);
+        wrapped.lo.store_aligned(lo + n * W);
+        wrapped.hi.store_aligned(hi + n * W);
         owner[n] = static_cast<float>(pair.occluder);
         ++n;
         continue;
@@ -1265,18 +1380,19 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
       const auto whole = occ_terms.lit_interior ? none : in_occ;
       blocks = blocks & ~in_occ;
       if (!xsimd::any(whole | (blocks & ((o < width) | (end > B(kTwoPiF)))))) continue;
-      xsimd::select(whole, B(0.0f), xsimd::select(blocks, xsimd::min(o, width), width)).store_aligned(lo + n * W);
-      xsimd::select(whole, width, xsimd::select(blocks, xsimd::min(end, width), width)).store_aligned(hi + n * W);
+      const BlockedInterval<A> interval = first_turn_interval<A>(blocks, o, end, width);
+      xsimd::select(whole, B(0.0f), interval.lo).store_aligned(lo + n * W);
+      xsimd::select(whole, width, interval.hi).store_aligned(hi + n * W);
       owner[n] = static_cast<float>(pair.occluder);
       ++n;
       // The part that wraps past the arc's start.
       if (!split_wraps) {
-        reach0 = xsimd::select(blocks, xsimd::max(reach0, xsimd::min(end - B(kTwoPiF), width)), reach0);
+        reach0 = wrapped_reach<A>(reach0, blocks, end, width);
         continue;
       }
-      xsimd::select(blocks, B(0.0f), width).store_aligned(lo + n * W);
-      xsimd::select(blocks, xsimd::max(xsimd::min(end - B(kTwoPiF), width), B(0.0f)), width)
-          .store_aligned(hi + n * W);
+      const BlockedInterval<A> wrapped = wrapped_interval<A>(blocks, end, width);
+      wrapped.lo.store_aligned(lo + n * W);
+      wrapped.hi.store_aligned(hi + n * W);
       owner[n] = static_cast<float>(pair.occluder);
       ++n;
     }
@@ -1333,29 +1449,15 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
         visible = profile.cumulative(width) - profile.cumulative(B(0.0f));
       }
       // Differences of the antiderivative over an arc narrower than float's angle steps (a tiny
-      // light far away, ~1e-6 rad) can round below 0 (FINDINGS.md #15); the integrand is not.
+      // light far away, ~1e-6 rad) can round below 0; the integrand is not.
       visible = xsimd::max(visible, B(0.0f));
     } else if (n == 0) {
-      visible = width;
-    } else if (n == 1) {
-      visible = xsimd::max(width - union_measure_in_registers<A, 1>(lo, hi, 1, width, reach), B(0.0f));
-    } else if (n == 2) {
-      visible = xsimd::max(width - union_measure_in_registers<A, 2>(lo, hi, 2, width, reach), B(0.0f));
-    } else if (n <= 4) {
-      visible = xsimd::max(width - union_measure_in_registers<A, 4>(lo, hi, n, width, reach), B(0.0f));
-    } else if (n <= 8) {
-      visible = xsimd::max(width - union_measure_in_registers<A, 8>(lo, hi, n, width, reach), B(0.0f));
+      visible = width;  // reach0 grows only with a kept interval
     } else {
-      const std::size_t used = sort_slots<A>(n);
-      for (std::size_t p = n; p < used; ++p) {
-        width.store_aligned(lo + p * W);
-        width.store_aligned(hi + p * W);
-      }
-      sort_by_lo<A>(lo, hi, used);
-      visible = xsimd::max(width - sorted_union_measure<A>(lo, hi, n, reach), B(0.0f));
+      visible = uncovered_width<A>(lo, hi, n, width, reach);
     }
     visible = xsimd::select(dark_inside, B(0.0f), visible);
-    for (int c = 0; c < 3; ++c) e[c] = xsimd::fma(B(light.emission[c]) * window, visible, e[c]);
+    add_emission<A>(e, light, window, visible);
   }
 }
 
@@ -1491,7 +1593,8 @@ inline constexpr std::size_t kCellHeight = detail::kCellPixels / kCellWidth<W>;
 
 // The arcs of one cell's occluders over the cell's pixels, occluder-major like
 // tile_occluder_arcs: each occluder's kind and flags are branched on once per cell instead of
-// once per packet (on rubble that dispatch was about 29 of the 104 instructions of an arc).
+// once per packet (where occluders are small, that dispatch is over a quarter of an arc's
+// instructions).
 // The cell's arcs go to scratch[k * kTilePixels + cell_offset + i] for its pixel i in
 // row-major order within the cell (start, then width), its inside flags to
 // inside[cell_offset + i]: each cell's pixels lie together, kCellPixels from cell_offset.
@@ -1547,8 +1650,7 @@ PAR2D_KERNEL_NOINLINE void tile_unblocked_lights(const TileWork& work, TileResul
     const B emission[3] = {B(light.emission[0]), B(light.emission[1]), B(light.emission[2])};
     if (light.shape.clipped && light.shape.kind == ShapeKind::circle) {
       // A round light overlapping a wall (torches): the clipped arc inlined with the kind
-      // known, instead of a call per packet (the torch level, torches 1 px into the walls:
-      // this pass 12.7 M -> 11.1 M instructions a frame).
+      // known, instead of a call per packet.
       KernelShape known = light.shape;
       known.kind = ShapeKind::circle;
       for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
@@ -1597,7 +1699,7 @@ PAR2D_KERNEL_INLINE xsimd::batch<float, A> visible_past_one_occluder(
   const B z(0.0f);
   // An occluder narrower than float resolves from this lane (a 1e-4 circle 3500 units away:
   // 3e-8 rad) can come out with its ends equal or swapped, and next to one of the light's ends
-  // the cases below would then read it as covering the light (FINDINGS.md #16). Its true arc is
+  // the cases below would then read it as covering the light. Its true arc is
   // within rounding of nothing: it blocks nothing there. (Ends nearly opposite, cross(o, q)
   // near 0 with a negative dot, are an arc near pi wide: those still block.)
   const auto collapsed = ((ox * qy - oy * qx) <= z) & (xsimd::fma(ox, qx, oy * qy) > z);
@@ -1657,10 +1759,9 @@ PAR2D_KERNEL_INLINE void single_pair_sweep(const TileWork& work, const KernelLig
   }
 }
 
-// A round single-pair light (most torches and lamps: 95 % of the dungeon's single-pair
-// lights) with the occluder's kind known. Out of line: inlined into tile_single_pair_lights,
-// its five loops changed the registers GCC gave that function's other loops (paper, whose
-// lights are polygons, then took 0.9 M more instructions a frame).
+// A round single-pair light (most torches and lamps) with the occluder's kind known. Out of
+// line: inlined into tile_single_pair_lights, its five loops change the registers GCC gives
+// that function's other loops, which then cost more on scenes of polygon lights.
 template <class A>
 PAR2D_KERNEL_NOINLINE void round_light_single_pair(const TileWork& work, const KernelLight& light,
                                                    const KernelPair& pair, TileResult& sum, float* inside) noexcept {

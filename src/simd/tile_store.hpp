@@ -7,10 +7,9 @@
 // element f = k * W + j: channel f % C of pixel f / C of the register's W pixels. Each
 // output is the three channel registers permuted with one constant index (pixel f / C in
 // every lane) and blended with constant masks (which lanes take which channel): three
-// permutes and two blends (a third blend puts RGBA's constant alpha). Measured with AVX2
-// on paper at 1920x1080 (callgrind): 3.5 instructions a pixel with the row loop, against
-// 8.0 for the 4-pixel SSE2 transpose every x86-64 has. The stored floats are the kernel's
-// own: the bytes equal the per-channel copy's.
+// permutes and two blends (a third blend puts RGBA's constant alpha): fewer than half the
+// instructions of the 4-pixel SSE2 transpose every x86-64 has (docs/performance.md). The
+// stored floats are the kernel's own: the bytes equal the per-channel copy's.
 #pragma once
 
 #include <algorithm>
@@ -30,7 +29,7 @@
 #endif
 
 // The row helpers are inlined into each store whatever the compiler's size estimate says:
-// called, a whole row costs more than the stores themselves (measured with callgrind).
+// called, a whole row costs more than the stores themselves.
 // Sanitizer builds leave it to the compiler (PAR2D_KERNEL_INLINE_HINTS, simd/tile_kernel.hpp).
 #if defined(__GNUC__) && !defined(PAR2D_KERNEL_INLINE_HINTS)
 #define PAR2D_STORE_INLINE inline __attribute__((always_inline))

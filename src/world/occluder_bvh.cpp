@@ -48,7 +48,8 @@ inline Vec2 centroid(const Aabb& b) noexcept {
 // unknown (a segment, or no area). With a known orientation only the edge's outer side is
 // kept (the hull lies behind its edge's line, and two disjoint convex polygons always have an
 // edge of one with the other wholly on its outer side), in O(1): the hull's full extent along
-// each of n edges cost n^2 per box, 3.9e9 instructions for one 6218-gon light's reach.
+// each of n edges would cost n^2 per box, billions of operations for one light of
+// thousands of vertices.
 inline bool edge_axis(const Vec2* hull, int count, int i, int orientation, ConvexQuery::Axis& axis) noexcept {
   const Vec2 a = hull[i];
   const Vec2 b = hull[(i + 1) % count];

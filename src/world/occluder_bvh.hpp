@@ -81,8 +81,8 @@ class BoxPairHull {
   BoxPairHull() noexcept = default;  // holds nothing until assigned a pair's hull
   BoxPairHull(const Aabb& a, const Aabb& b) noexcept { assign(a, b); }
   // Made the hull of a and b in place. The tile setup reuses one object per tile and light
-  // rather than copying a fresh hull into it: the copy read the 8-byte fields just stored
-  // back as 16-byte loads, which stores cannot forward (perf's samples piled up at that load).
+  // rather than copying a fresh hull into it: the copy reads the 8-byte fields just stored
+  // back as 16-byte loads, which stores cannot forward.
   void assign(const Aabb& a, const Aabb& b) noexcept;
   // Exact separating-axis test (the union box's axes and the cut edges' normals);
   // touching counts as intersecting.
@@ -113,8 +113,8 @@ inline void BoxPairHull::assign(const Aabb& a, const Aabb& b) noexcept {
       const Vec2 edge = pb - pa;
       if ((edge.x == 0.0 && edge.y == 0.0) || !std::isfinite(edge.x) || !std::isfinite(edge.y)) continue;
       // The edge's normal unnormalized: the test compares two products with the same normal,
-      // so its length does not matter, and no square root or division rounds it (they were a
-      // third of the hull's cost, built per tile and light).
+      // so its length does not matter, and no square root or division rounds it (they would
+      // be a third of the hull's cost, built per tile and light).
       Vec2 n{-edge.y, edge.x};
       if (dot(n, corner - pa) < 0.0) n = Vec2{-n.x, -n.y};  // outward: toward the cut corner
       cuts_[cut_count_++] = {n.x, n.y, std::max(dot(n, pa), dot(n, pb))};
@@ -199,7 +199,7 @@ class OccluderBvh {
   };
 
   // A box with its occluder index; the build partitions these in place so every pass reads
-  // memory sequentially (indirect access through an index array was 3x slower at 4096 boxes).
+  // memory sequentially (indirect access through an index array is several times slower).
   struct BuildRef {
     Aabb box;
     uint32_t index;

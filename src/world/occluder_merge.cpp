@@ -78,9 +78,8 @@ bool joinable(const Occluder& a, const Occluder& b) {
 }
 
 std::vector<BoxRun> tilemap_box_runs(std::size_t n, const std::function<const Occluder&(std::size_t)>& occluder) {
-  // Each box and its properties read once: the sorts below compare these (a comparison
-  // through the accessor and a tuple of properties cost a regroup of 10,000 boxes ~16 M
-  // instructions).
+  // Each box and its properties read once: the sorts below compare these, not the
+  // accessor's results through a tuple of properties per comparison.
   struct Key {
     Box box;
     std::tuple<double, double, double, std::uint32_t, int> properties;

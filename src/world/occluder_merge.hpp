@@ -1,6 +1,6 @@
-// Occluder merging for tilemaps (issue 39, item 2): runs of equal axis-aligned wall boxes that
-// share whole edges, each replaced by the one box that is their union. A pure function; the
-// World keeps the groups behind its handles (world/world_merge.cpp).
+// Occluder merging for tilemaps: runs of equal axis-aligned wall boxes that share whole
+// edges, each replaced by the one box that is their union. A pure function; the World keeps
+// the groups behind its handles (world/world_merge.cpp).
 #pragma once
 
 #include <cstddef>

@@ -26,8 +26,8 @@ bool separates(const Line& line, const ConvexShape& positive, const ConvexShape&
 // the centroids' axis, where the discs lie well apart: any line that separates the pair
 // orders it (the tile setup and the kernel need no more: a ray from the occluder's side
 // leaves the occluder before it crosses the line, and meets the light only after), and this
-// one costs a few dozen operations where the closest points' bisector (separating_line) cost
-// about 2,270 a pair on rubble, 2.8 % of a frame's instructions there. Shapes nearer than
+// one costs a few dozen operations where the closest points' bisector (separating_line)
+// costs thousands (docs/performance.md). Shapes nearer than
 // twice their radii (walls, lights beside them) keep the bisector, which leaves more room on
 // both sides of the line.
 std::optional<Line> disc_separator(const ConvexShape& positive, const ConvexShape& negative) noexcept {

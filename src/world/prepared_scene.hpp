@@ -78,8 +78,7 @@ struct LightClip {
 };
 
 // What the renderers need of a light and an occluder that overlap or touch, found once when
-// either shape changes (the tile setup used to find the containment and the clip again in
-// every tile that sees the pair).
+// either shape changes, not again in every tile that sees the pair.
 struct LightOverlap {
   // Where the two boundaries meet: the only directions at which the nearer of the two
   // shapes can change.

@@ -1,7 +1,8 @@
-// What a World says when it changes, for the render-time caches kept beside it (culling's
-// light reach; later, per-block change tracking). The World holds no cache of its own: it
-// tells one observer what changed, in the terms its PreparedScene uses, and the observer
-// decides what that invalidates.
+// What a World says when it changes, for the render-time caches kept beside it (the
+// Renderer's per-block change tracking, render/change_tracker.hpp, which passes each event on
+// to culling's light reach cache). The World holds no cache of its own: it tells one observer
+// what changed, in the terms its PreparedScene uses, and the observer decides what that
+// invalidates.
 #pragma once
 
 #include <cstddef>
