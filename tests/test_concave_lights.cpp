@@ -115,6 +115,34 @@ TEST_CASE("a concave light matches the ray caster: shared boundaries counted onc
       scene.width * scene.height / 2);
 }
 
+TEST_CASE("comb lights along either axis match the ray caster, and every SIMD level within section 5 of scalar") {
+  // A comb's teeth side by side along x or along y (its pieces and their shared boundaries,
+  // found by sweeps along the axis where its edges overlap least), behind a box.
+  for (const bool sideways : {false, true}) {
+    CAPTURE(sideways);
+    const int teeth = 40;
+    std::vector<Vec2> v{{-32.0, -20.0}};
+    for (int k = 0; k < teeth; ++k) {
+      const double x = -32.0 + 1.5 * k;
+      v.insert(v.end(), {{x, 10.0}, {x + 0.75, 10.0}, {x + 0.75, -18.0}, {x + 1.5, -18.0}});
+    }
+    v.push_back({-32.0 + 1.5 * teeth, -20.0});
+    if (sideways)
+      for (Vec2& p : v) p = {p.y, 0.75 * p.x};
+    Scene scene = lit_by(concave_light(Polygon{v}, {1.0, 0.7, 0.4}, 1.0), {box(20, 12, 24, 16)});
+    REQUIRE(validate_scene(scene).ok());
+    const RenderedImage image = render_or_fail(scene, options_for(Backend::scalar));
+    const double skip = 1e-6 * 80.0 / scene.width;
+    const RaycastAgreement agreement = agreement_with_raycaster(scene, image, 2048, skip, true);
+    INFO("worst: " << agreement.where);
+    CHECK(agreement.worst <= 1.0);
+    CHECK(agreement.compared > scene.width * scene.height / 4);
+    check_simd_against_scalar(
+        scene, image, "comb light", [&](Vec2 p) { return near_boundary(scene, p, 0.05 * 80.0 / scene.width); },
+        scene.width * scene.height / 4);
+  }
+}
+
 TEST_CASE("a Renderer keeps a concave light under one handle: moved, recoloured, made convex and concave again" *
           per_isa()) {
   Renderer renderer;

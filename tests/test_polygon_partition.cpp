@@ -1,7 +1,8 @@
 // partition_convex (src/geometry/polygon_partition.hpp): closed forms, the partition's
 // properties on random star polygons with holes and on tile-map rooms with pillars (convex
 // pieces, exact total area, every interior point covered once, no exterior point covered, the
-// Hertel-Mehlhorn piece bound), refusals that name the ring, and a 4096-vertex polygon.
+// Hertel-Mehlhorn piece bound), refusals that name the ring, a 4096-vertex polygon, and combs
+// of up to 65,534 vertices, whose work the partition counts.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -551,6 +552,78 @@ TEST_CASE("partition_convex: a 4096-vertex star polygon") {
   CHECK(polygon.holes.size() >= 10);
   const Pieces holed = partition_ok(polygon);
   check_partition(polygon, holed, random_samples(rng, polygon.outer, 2000));
+}
+
+// A comb of `teeth` teeth 1 wide and 10 tall, 1 apart, on a base 1 high (4 teeth + 2
+// vertices): its teeth side by side along x, or along y when `sideways`.
+std::vector<Vec2> comb(int teeth, bool sideways) {
+  std::vector<Vec2> v{{0.0, 0.0}};
+  for (int k = 0; k < teeth; ++k) {
+    const double x = 2.0 * k;
+    v.insert(v.end(), {{x, 10.0}, {x + 1.0, 10.0}, {x + 1.0, 1.0}, {x + 2.0, 1.0}});
+  }
+  v.push_back({2.0 * teeth, 0.0});
+  if (sideways)
+    for (Vec2& p : v) std::swap(p.x, p.y);
+  return v;
+}
+
+TEST_CASE("partition_convex: combs with their teeth along either axis, exact, their validation and shared boundaries linear in their teeth") {
+  // Eight times the teeth: the pairs of edges the validation compares and the pairs of piece
+  // edges shared_boundaries compares grow about eightfold (64-fold when every tooth's edges
+  // are compared with every other tooth's, as they were along y, and for shared boundaries
+  // along x too). The ear tests' scans still grow quadratically (the base's fan).
+  for (const bool sideways : {false, true}) {
+    CAPTURE(sideways);
+    std::size_t edge_pairs[2] = {}, ear_scans[2] = {}, boundary_pairs[2] = {};
+    const int teeth[2] = {500, 4000};
+    for (int size = 0; size < 2; ++size) {
+      const PolygonRings polygon{comb(teeth[size], sideways), {}};
+      Pieces pieces;
+      std::string error;
+      detail::PartitionWork work;
+      REQUIRE_MESSAGE(partition_convex(polygon, pieces, error, &work), error);
+      std::vector<Polygon> as_polygons;
+      for (const auto& piece : pieces) as_polygons.push_back(Polygon{piece});
+      std::vector<Segment> shared;
+      detail::shared_boundaries(as_polygons, shared, &boundary_pairs[size]);
+      edge_pairs[size] = work.edge_pairs;
+      ear_scans[size] = work.ear_scans;
+      // One piece per tooth and the base under them all, T-junctions with the base at each tooth.
+      CHECK(pieces.size() == static_cast<std::size_t>(teeth[size]) + 1);
+      CHECK(shared.size() == static_cast<std::size_t>(teeth[size]));
+      if (size == 0) {
+        std::mt19937_64 rng(static_cast<std::uint64_t>(teeth[size]) + sideways);
+        check_partition(polygon, pieces, random_samples(rng, polygon.outer, 4000));
+      }
+    }
+    MESSAGE("edge pairs " << edge_pairs[0] << " -> " << edge_pairs[1] << ", ear scans " << ear_scans[0] << " -> "
+                          << ear_scans[1] << ", boundary pairs " << boundary_pairs[0] << " -> " << boundary_pairs[1]);
+    CHECK(edge_pairs[1] <= 12 * edge_pairs[0]);
+    CHECK(boundary_pairs[1] <= 12 * boundary_pairs[0]);
+  }
+}
+
+TEST_CASE("partition_convex: a 65,534-vertex comb, the most a partition takes, along either axis") {
+  for (const bool sideways : {false, true}) {
+    CAPTURE(sideways);
+    const PolygonRings polygon{comb(16383, sideways), {}};
+    REQUIRE(polygon.outer.size() == 65534);
+    Pieces pieces;
+    std::string error;
+    detail::PartitionWork work;
+    REQUIRE_MESSAGE(partition_convex(polygon, pieces, error, &work), error);
+    CHECK(pieces.size() == 16384);
+    // Linear: a few pairs a vertex (every pair of teeth would be 5e8).
+    CHECK(work.edge_pairs <= 8 * polygon.outer.size());
+    std::vector<Polygon> as_polygons;
+    for (const auto& piece : pieces) as_polygons.push_back(Polygon{piece});
+    std::vector<Segment> shared;
+    std::size_t pairs = 0;
+    detail::shared_boundaries(as_polygons, shared, &pairs);
+    CHECK(shared.size() == 16383);
+    CHECK(pairs <= 8 * polygon.outer.size());
+  }
 }
 
 }  // namespace par2d::test

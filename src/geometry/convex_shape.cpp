@@ -127,18 +127,26 @@ void make_convex_shape(const Shape& shape, ConvexShape& s) {
     for (size_t i = 0; i < v.size(); ++i)
       area2 += cross(scaled(v[i]) - anchor, scaled(v[(i + 1) % v.size()]) - anchor);
     if (area2 < 0.0) std::reverse(v.begin(), v.end());
-    // Drop straight turns until none is left (each removal can straighten a neighbour).
+    // Drop straight turns until none is left (each removal can straighten a neighbour). A
+    // pass walks the ring once, compacting in place: a vertex's turn is taken from the last
+    // vertex kept (the ring's last one while none is kept yet) to the next one not yet seen
+    // (the first kept, for the last vertex), and the pass stops with 3 vertices left, so it
+    // keeps exactly what erasing each straight vertex at once would keep, in linear time.
     for (bool removed = true; removed && v.size() > 3;) {
       removed = false;
-      for (size_t i = 0; i < v.size() && v.size() > 3; ++i) {
-        const Vec2 prev = scaled(v[(i + v.size() - 1) % v.size()]), next = scaled(v[(i + 1) % v.size()]);
+      const std::size_t n = v.size();
+      std::size_t kept = 0, i = 0;
+      for (; i < n && kept + (n - i) > 3; ++i) {
+        const Vec2 prev = scaled(kept > 0 ? v[kept - 1] : v[n - 1]), next = scaled(i + 1 < n ? v[i + 1] : v[0]);
         const Vec2 e1 = scaled(v[i]) - prev, e2 = next - scaled(v[i]);
         if (std::abs(cross(e1, e2)) <= kStraightTurn * length(e1) * length(e2)) {
-          v.erase(v.begin() + static_cast<std::ptrdiff_t>(i));
           removed = true;
-          --i;
+        } else {
+          v[kept++] = v[i];
         }
       }
+      for (; i < n; ++i) v[kept++] = v[i];
+      v.resize(kept);
     }
     const std::size_t n = s.vertices.size();
     for (std::size_t i = 0; i < n; ++i) {

@@ -278,10 +278,27 @@ struct EdgeBox {
   int ring, k;
 };
 
+}  // namespace
+
+std::size_t sweep_pairs(std::vector<std::pair<double, double>>& spans) {
+  std::sort(spans.begin(), spans.end());
+  std::vector<double> lows(spans.size());
+  for (std::size_t i = 0; i < spans.size(); ++i) lows[i] = spans[i].first;
+  std::size_t pairs = 0;
+  for (std::size_t i = 0; i < spans.size(); ++i) {
+    const auto later = lows.begin() + static_cast<std::ptrdiff_t>(i + 1);
+    pairs += static_cast<std::size_t>(std::upper_bound(later, lows.end(), spans[i].second) - later);
+  }
+  return pairs;
+}
+
+namespace {
+
 // No two edges of all rings meet, except adjacent edges of one ring at their shared vertex.
-// Edges sorted by their smallest x; each is compared with those whose x-range starts before
-// its own ends.
-bool check_edges(const std::vector<Ring>& rings, std::string& error) {
+// Edges sorted by their smallest x (or y); each is compared with those whose x-range (y-range)
+// starts before its own ends, along y where that makes far fewer pairs: a comb's teeth side by
+// side along y would make every pair of them a pair in x.
+bool check_edges(const std::vector<Ring>& rings, std::string& error, std::size_t& pairs) {
   std::vector<EdgeBox> edges;
   for (int r = 0; r < static_cast<int>(rings.size()); ++r) {
     const auto& pts = rings[r].points;
@@ -292,11 +309,20 @@ bool check_edges(const std::vector<Ring>& rings, std::string& error) {
     }
   }
   std::sort(edges.begin(), edges.end(), [](const EdgeBox& a, const EdgeBox& b) { return a.min_x < b.min_x; });
+  std::vector<std::pair<double, double>> x_spans(edges.size()), y_spans(edges.size());
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    x_spans[i] = {edges[i].min_x, edges[i].max_x};
+    y_spans[i] = {edges[i].min_y, edges[i].max_y};
+  }
+  const bool along_y = sweep_along_y(edges.size(), sweep_pairs(x_spans), sweep_pairs(y_spans));
+  if (along_y)
+    std::sort(edges.begin(), edges.end(), [](const EdgeBox& a, const EdgeBox& b) { return a.min_y < b.min_y; });
   for (std::size_t i = 0; i < edges.size(); ++i) {
     const EdgeBox& e = edges[i];
-    for (std::size_t j = i + 1; j < edges.size() && edges[j].min_x <= e.max_x; ++j) {
+    for (std::size_t j = i + 1; j < edges.size() && (along_y ? edges[j].min_y <= e.max_y : edges[j].min_x <= e.max_x); ++j) {
       const EdgeBox& f = edges[j];
-      if (f.max_y < e.min_y || f.min_y > e.max_y) continue;
+      ++pairs;
+      if (f.max_y < e.min_y || f.min_y > e.max_y || f.max_x < e.min_x || f.min_x > e.max_x) continue;
       if (e.ring == f.ring) {
         const int n = static_cast<int>(rings[e.ring].points.size());
         if ((e.k + 1) % n == f.k || (f.k + 1) % n == e.k) continue;  // adjacent: share one vertex only
@@ -454,7 +480,8 @@ int find_bridge(const Mesh& mesh, const std::vector<int>& ring_nodes, Vec2 m) {
 
 class EarClipper {
  public:
-  EarClipper(Mesh& mesh, const std::vector<int>& ring_nodes) : mesh_(mesh), nodes_(ring_nodes) {
+  EarClipper(Mesh& mesh, const std::vector<int>& ring_nodes, std::size_t& scanned)
+      : mesh_(mesh), nodes_(ring_nodes), scanned_(scanned) {
     const std::size_t total = mesh.vertex.size();
     alive_.assign(total, 0);
     reflex_.assign(total, 0);
@@ -462,11 +489,14 @@ class EarClipper {
       alive_[n] = 1;
       if (!convex(n)) {
         reflex_[n] = 1;
-        reflex_list_.push_back(n);
+        reflex_by_x_.push_back(n);
       }
     }
-    // By x, so that an ear test scans only the nodes within its triangle's x-range.
-    std::sort(reflex_list_.begin(), reflex_list_.end(), [&](int a, int b) { return mesh_.at(a).x < mesh_.at(b).x; });
+    // By x and by y, so that an ear test scans only the nodes within its triangle's x-range or
+    // its y-range, whichever holds fewer (a comb's teeth lie side by side along one axis).
+    std::sort(reflex_by_x_.begin(), reflex_by_x_.end(), [&](int a, int b) { return mesh_.at(a).x < mesh_.at(b).x; });
+    reflex_by_y_ = reflex_by_x_;
+    std::sort(reflex_by_y_.begin(), reflex_by_y_.end(), [&](int a, int b) { return mesh_.at(a).y < mesh_.at(b).y; });
   }
 
   // Appends the triangles (vertex ids, counter-clockwise). False when clipping stalls on a ring
@@ -503,7 +533,7 @@ class EarClipper {
           ++stale_;
         }
       if (reflex_[v]) ++stale_;  // cannot be: an ear tip is convex
-      if (stale_ * 2 > reflex_list_.size()) compact();
+      if (stale_ * 2 > reflex_by_x_.size()) compact();
       work.push_back(mesh_.next[w]);
       work.push_back(mesh_.prev[u]);
       work.push_back(w);
@@ -522,14 +552,16 @@ class EarClipper {
   }
 
   void compact() {
-    std::size_t kept = 0;
-    for (const int n : reflex_list_)
-      if (alive_[n] && reflex_[n]) reflex_list_[kept++] = n;
-    reflex_list_.resize(kept);
+    for (std::vector<int>* list : {&reflex_by_x_, &reflex_by_y_}) {
+      std::size_t kept = 0;
+      for (const int n : *list)
+        if (alive_[n] && reflex_[n]) (*list)[kept++] = n;
+      list->resize(kept);
+    }
     stale_ = 0;
   }
 
-  bool is_ear(int v) const noexcept {
+  bool is_ear(int v) noexcept {
     const int u = mesh_.prev[v], w = mesh_.next[v];
     const Vec2 a = mesh_.at(u), b = mesh_.at(v), c = mesh_.at(w);
     if (orientation(a, b, c) <= 0) return false;
@@ -537,13 +569,20 @@ class EarClipper {
     if (!in_wedge(c, mesh_.at(mesh_.next[w]), b, a)) return false;  // corner at w: from w->u to w->v
     const double min_x = std::min({a.x, b.x, c.x}), max_x = std::max({a.x, b.x, c.x});
     const double min_y = std::min({a.y, b.y, c.y}), max_y = std::max({a.y, b.y, c.y});
-    const auto first = std::lower_bound(reflex_list_.begin(), reflex_list_.end(), min_x,
-                                        [&](int r, double x) { return mesh_.at(r).x < x; });
-    for (auto it = first; it != reflex_list_.end(); ++it) {
+    const auto by_x_first = std::lower_bound(reflex_by_x_.begin(), reflex_by_x_.end(), min_x,
+                                             [&](int r, double x) { return mesh_.at(r).x < x; });
+    const auto by_x_last = std::upper_bound(by_x_first, reflex_by_x_.end(), max_x,
+                                            [&](double x, int r) { return x < mesh_.at(r).x; });
+    const auto by_y_first = std::lower_bound(reflex_by_y_.begin(), reflex_by_y_.end(), min_y,
+                                             [&](int r, double y) { return mesh_.at(r).y < y; });
+    const auto by_y_last = std::upper_bound(by_y_first, reflex_by_y_.end(), max_y,
+                                            [&](double y, int r) { return y < mesh_.at(r).y; });
+    const bool by_x = by_x_last - by_x_first <= by_y_last - by_y_first;
+    for (auto it = by_x ? by_x_first : by_y_first, end = by_x ? by_x_last : by_y_last; it != end; ++it) {
+      ++scanned_;
       const int r = *it;
       const Vec2 p = mesh_.at(r);
-      if (p.x > max_x) break;
-      if (!alive_[r] || !reflex_[r] || p.y < min_y || p.y > max_y) continue;
+      if (!alive_[r] || !reflex_[r] || p.x < min_x || p.x > max_x || p.y < min_y || p.y > max_y) continue;
       if (same_point(p, a) || same_point(p, b) || same_point(p, c)) continue;
       if (orientation(a, b, p) >= 0 && orientation(b, c, p) >= 0 && orientation(c, a, p) >= 0) return false;
     }
@@ -552,8 +591,9 @@ class EarClipper {
 
   Mesh& mesh_;
   const std::vector<int>& nodes_;
+  std::size_t& scanned_;
   std::vector<char> alive_, reflex_;
-  std::vector<int> reflex_list_;
+  std::vector<int> reflex_by_x_, reflex_by_y_;  // the reflex nodes by x and by y
   std::size_t stale_ = 0;
 };
 
@@ -576,21 +616,28 @@ int find_root(std::vector<int>& parent, int x) {
 void merge_pieces(const std::vector<Vec2>& points, const std::vector<std::array<int, 3>>& triangles,
                   std::vector<std::vector<int>>& pieces) {
   const int t_count = static_cast<int>(triangles.size());
-  pieces.assign(triangles.size(), {});
-  std::vector<int> parent(triangles.size());
+  // Each piece is a ring of corners: corner 3t + k is vertex triangles[t][k] of triangle t and
+  // starts the piece's edge to the next corner. A merge across a diagonal unlinks the two
+  // corners that start its half-edges, so every edge left keeps its corner and a merge costs
+  // O(1) (copying the pieces made merging into a long piece cost its length each time).
+  const auto corners = static_cast<std::size_t>(3 * t_count);
+  std::vector<int> next(corners), prev(corners), first(triangles.size()), parent(triangles.size());
+  const auto vertex_of = [&triangles](int c) { return triangles[static_cast<std::size_t>(c / 3)][static_cast<std::size_t>(c % 3)]; };
   struct HalfEdge {
     std::uint64_t key;
-    int triangle, from;
+    int triangle, from, corner;
   };
   std::vector<HalfEdge> half_edges;
   half_edges.reserve(triangles.size() * 3);
   for (int t = 0; t < t_count; ++t) {
-    pieces[t].assign(triangles[t].begin(), triangles[t].end());
     parent[t] = t;
+    first[t] = 3 * t;
     for (int k = 0; k < 3; ++k) {
       const int a = triangles[t][k], b = triangles[t][(k + 1) % 3];
+      next[3 * t + k] = 3 * t + (k + 1) % 3;
+      prev[3 * t + k] = 3 * t + (k + 2) % 3;
       const auto lo = static_cast<std::uint64_t>(std::min(a, b)), hi = static_cast<std::uint64_t>(std::max(a, b));
-      half_edges.push_back({(lo << 32) | hi, t, a});
+      half_edges.push_back({(lo << 32) | hi, t, a, 3 * t + k});
     }
   }
   std::sort(half_edges.begin(), half_edges.end(), [](const HalfEdge& x, const HalfEdge& y) {
@@ -609,40 +656,41 @@ void merge_pieces(const std::vector<Vec2>& points, const std::vector<std::array<
       const int b = half_edges[i + 1].from;
       const int p = find_root(parent, half_edges[i].triangle), q = find_root(parent, half_edges[i + 1].triangle);
       if (p != q) {
-        std::vector<int>& pp = pieces[p];
-        std::vector<int>& qq = pieces[q];
-        const std::size_t np = pp.size(), nq = qq.size();
-        std::size_t ia = np, jb = nq;  // pp[ia] = a, pp[ia + 1] = b; qq[jb] = b, qq[jb + 1] = a
-        for (std::size_t k = 0; k < np; ++k)
-          if (pp[k] == a && pp[(k + 1) % np] == b) ia = k;
-        for (std::size_t k = 0; k < nq; ++k)
-          if (qq[k] == b && qq[(k + 1) % nq] == a) jb = k;
-        if (ia < np && jb < nq) {
-          const int x = pp[(ia + np - 1) % np], s = pp[(ia + 2) % np];
-          const int y = qq[(jb + 2) % nq], z = qq[(jb + nq - 1) % nq];
-          if (angle_ok(x, a, y) && angle_ok(z, b, s)) {
-            std::vector<int> merged;
-            merged.reserve(np + nq - 2);
-            for (std::size_t k = 0; k < np; ++k) merged.push_back(pp[(ia + 1 + k) % np]);  // b ... a
-            for (std::size_t k = 0; k + 2 < nq; ++k) merged.push_back(qq[(jb + 2 + k) % nq]);  // y ... z
-            pp = std::move(merged);
-            qq.clear();
-            qq.shrink_to_fit();
-            parent[q] = p;
-          }
+        // Piece p runs x, a, b, s and piece q runs z, b, a, y; merged: x, a, y ... z, b, s.
+        const int ab = half_edges[i].corner, ba = half_edges[i + 1].corner;
+        const int qa = next[ba], pb = next[ab];  // a starting a -> y, b starting b -> s
+        const int xc = prev[ab], zc = prev[ba];
+        const int x = vertex_of(xc), s = vertex_of(next[pb]), y = vertex_of(next[qa]), z = vertex_of(zc);
+        if (angle_ok(x, a, y) && angle_ok(z, b, s)) {
+          next[xc] = qa;
+          prev[qa] = xc;
+          next[zc] = pb;
+          prev[pb] = zc;
+          first[p] = pb;  // the merged piece starts at b
+          parent[q] = p;
         }
       }
     }
     i = j;
   }
-  for (int t = 0; t < t_count; ++t)
-    if (parent[t] != t) pieces[t].clear();
+  pieces.assign(triangles.size(), {});
+  for (int t = 0; t < t_count; ++t) {
+    if (parent[t] != t) continue;
+    int c = first[t];
+    do {
+      pieces[t].push_back(vertex_of(c));
+      c = next[c];
+    } while (c != first[t]);
+  }
 }
 
 }  // namespace
 
-bool partition_convex(const PolygonRings& polygon, std::vector<std::vector<Vec2>>& pieces, std::string& error) {
+bool partition_convex(const PolygonRings& polygon, std::vector<std::vector<Vec2>>& pieces, std::string& error,
+                      PartitionWork* work) {
   pieces.clear();
+  PartitionWork scratch;
+  PartitionWork& counted = work != nullptr ? *work : scratch;
   const std::size_t hole_count = polygon.holes.size();
   std::vector<Ring> rings(hole_count + 1);
   rings[0].name = "outer";
@@ -665,7 +713,7 @@ bool partition_convex(const PolygonRings& polygon, std::vector<std::vector<Vec2>
   }
   for (std::size_t r = 0; r <= hole_count; ++r)
     if (!clean_ring(r == 0 ? polygon.outer : polygon.holes[r - 1], rings[r], error)) return false;
-  if (!check_edges(rings, error)) return false;
+  if (!check_edges(rings, error, counted.edge_pairs)) return false;
   // Boundaries are now pairwise disjoint, so one vertex tells where a whole ring lies.
   for (std::size_t h = 1; h <= hole_count; ++h)
     if (!inside_ring(rings[0].points, rings[h].points[0])) {
@@ -736,7 +784,7 @@ bool partition_convex(const PolygonRings& polygon, std::vector<std::vector<Vec2>
 
   std::vector<std::array<int, 3>> triangles;
   triangles.reserve(ring_nodes.size());
-  if (!EarClipper(mesh, ring_nodes).run(triangles)) {
+  if (!EarClipper(mesh, ring_nodes, counted.ear_scans).run(triangles)) {
     error = "internal error: ear clipping stalled";
     return false;
   }

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "par2d/scene.hpp"
@@ -23,9 +24,17 @@ struct PolygonRings {
 };
 
 // The most vertices partition_convex accepts over all rings together. The work is O(n^2) in the
-// worst case (O(n log n) plus O(n * reflex vertices) for typical input), so a bound keeps a
-// hostile input from costing minutes; 65536 covers any hand-made or tile-derived outline.
+// worst case (an outline whose edges' boxes overlap pairwise along both axes, as a comb
+// slanted at 45 degrees), so a bound keeps a hostile input from costing minutes; 65536 covers
+// any hand-made or tile-derived outline.
 inline constexpr std::size_t kMaxPartitionVertices = 65536;
+
+// What a partition looked at, for tests of how its work grows: the pairs of edges its
+// validation sweep compared, and the reflex vertices its ear tests scanned.
+struct PartitionWork {
+  std::size_t edge_pairs = 0;
+  std::size_t ear_scans = 0;
+};
 
 // Decomposes `polygon` into convex pieces.
 //
@@ -53,10 +62,16 @@ inline constexpr std::size_t kMaxPartitionVertices = 65536;
 // vertices", "outer: zero area (all vertices on one line)", "outer: vertex 3 is not finite".
 // `error` is left as it was on success.
 //
-// Cost: O(n^2) worst case with small constants (validation sweeps edges sorted by x, ear
-// clipping tests each candidate ear against the reflex vertices in its x-range only, each
-// hole's bridge scans the ring once); a 4096-vertex polygon takes milliseconds. No input makes it crash, loop or produce non-finite output.
-bool partition_convex(const PolygonRings& polygon, std::vector<std::vector<Vec2>>& pieces, std::string& error);
+// Cost: O(n log n) plus the pairs of edges whose x-ranges overlap (or y-ranges, where that
+// makes far fewer: an outline whose edges lie side by side along either axis, as a comb's, is
+// validated in O(n log n)), plus, per ear test, the reflex and straight vertices within its
+// triangle's x-range or y-range (the shorter); each hole's bridge scans the ring once, and
+// merging the triangles costs O(1) a diagonal. The ear tests stay quadratic where the
+// triangulation must fan out from one vertex over a long run of vertices (a comb's base under
+// its teeth: 65,534 vertices take about 2 s). `work`, when given, receives the counts of pairs
+// and scans. No input makes it crash, loop or produce non-finite output.
+bool partition_convex(const PolygonRings& polygon, std::vector<std::vector<Vec2>>& pieces, std::string& error,
+                      PartitionWork* work = nullptr);
 
 // The same for a scene Polygon (its outline and holes), its pieces as Polygons. The second form only
 // checks that a partition exists (validation), reusing per-thread buffers.
@@ -67,9 +82,21 @@ bool partition_polygon(const Polygon& polygon, std::string& error);
 // straight path passes from one piece into another without leaving the polygon. Appends each
 // shared stretch once, as a segment of positive length between two piece vertices (`out` is
 // not cleared). Exact: collinearity by `orientation`, order along the line by coordinates.
-// O(e log e + s) for e piece edges and s pairs of edges that overlap in x (or y, for
-// vertical ones).
-void shared_boundaries(const std::vector<Polygon>& pieces, std::vector<Segment>& out);
+// O(e log e + s) for e piece edges and s pairs of edges that overlap along their axis and lie
+// on one vertical or horizontal line, or, for slanted edges, overlap in x; `pairs`, when
+// given, receives s.
+void shared_boundaries(const std::vector<Polygon>& pieces, std::vector<Segment>& out, std::size_t* pairs = nullptr);
+
+// How many pairs of the closed intervals `spans` (low, high) overlap as a sweep sees them: for
+// each interval, those starting no earlier and no later than its high end. Sorts `spans`;
+// O(n log n).
+std::size_t sweep_pairs(std::vector<std::pair<double, double>>& spans);
+// Whether a sweep over `count` items should run along y: only where the sweep along x would
+// compare over 16 pairs an item and the one along y four times fewer, so that outlines of
+// ordinary shape keep the x sweep (and the order in which it finds things).
+inline bool sweep_along_y(std::size_t count, std::size_t x_pairs, std::size_t y_pairs) noexcept {
+  return x_pairs > 16 * count && y_pairs < x_pairs / 4;
+}
 
 // The exact sign of cross(b - a, c - a) (twice the signed area of a, b, c): +1 when c lies
 // strictly left of the line a -> b in a y-up frame, -1 strictly right, 0 exactly on it. Exact

@@ -12,6 +12,7 @@
 
 #include "geometry/bounce_pieces.hpp"
 #include "geometry/vec2.hpp"
+#include "lighting/degrees.hpp"
 #include "raycast/ray_exact.hpp"
 
 namespace par2d::detail {
@@ -185,11 +186,13 @@ double scene_scale(const Scene& scene) {
 
 // The cookie's weight for light emitted in world direction `psi` (degrees), straight from
 // the knots: the offset past the first knot in [0, 360), the segment holding it by a walk,
-// linear between its knots (the last runs on to the first plus 360).
+// linear between its knots (the last runs on to the first plus 360). The rotation and the
+// first direction are reduced exactly before anything is added to them: psi minus a rotation
+// of 1e20 would round psi away.
 double cookie_weight(const Cookie& cookie, double psi) {
   const std::vector<CookieKnot>& k = cookie.knots;
   const double first = k[0].direction;
-  double offset = std::fmod(std::fmod(psi - cookie.rotation, 360.0) - std::fmod(first, 360.0), 360.0);
+  double offset = std::fmod(std::fmod(psi - reduce_degrees(cookie.rotation), 360.0) - reduce_degrees(first), 360.0);
   if (offset < 0.0) offset += 360.0;
   for (std::size_t i = 0; i < k.size(); ++i) {
     const double a = k[i].direction - first;
@@ -221,7 +224,8 @@ RaycastRenderer::RaycastRenderer(const Scene& validated_scene) : scale_(scene_sc
     lights_.push_back(make_shape(scaled_shape(l.shape, scale_)));
     emission_.push_back(emission_of(l));
   }
-  // The game lighting model, read straight from the scene (degrees to radians here).
+  // The game lighting model, read straight from the scene (degrees to radians here, directions
+  // reduced exactly in degrees first).
   constexpr double kRadians = kTwoPi / 360.0;
   const Scene& scene = validated_scene;
   for (const auto& l : scene.lights) {
@@ -230,7 +234,7 @@ RaycastRenderer::RaycastRenderer(const Scene& validated_scene) : scale_(scene_sc
     m.falloff = l.falloff;
     if (l.cone) {
       m.cone = true;
-      m.cone_direction = l.cone->direction * kRadians;
+      m.cone_direction = reduce_degrees(l.cone->direction) * kRadians;
       m.cone_half = l.cone->half_angle * kRadians;
       m.cone_fade = l.cone->fade * kRadians;
     }
@@ -247,7 +251,9 @@ RaycastRenderer::RaycastRenderer(const Scene& validated_scene) : scale_(scene_sc
     occluder_terms_.push_back(m);
   }
   for (const auto& d : scene.directional_lights) {
-    suns_.push_back({d.angle0 * kRadians, d.angle1 * kRadians,
+    // The sky keeps its width (a1 - a0, exact for huge angles a turn apart) from the reduced start.
+    const double start = reduce_degrees(d.angle0);
+    suns_.push_back({start * kRadians, (start + (d.angle1 - d.angle0)) * kRadians,
                      {d.intensity * d.color[0], d.intensity * d.color[1], d.intensity * d.color[2]}, d.mask,
                      d.elevation * kRadians});
     model_ = true;

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "lighting/angular_profile.hpp"
+#include "lighting/degrees.hpp"
 
 namespace par2d::detail {
 namespace {
@@ -183,7 +184,7 @@ LightTerms light_terms(const Light& light, double scale) noexcept {
   if (light.cone) {
     t.has_cone = true;
     // Emitted along phi, the light arrives along phi + pi.
-    t.cone_center = wrap_angle(light.cone->direction * kRadiansPerDegree + kPi);
+    t.cone_center = wrap_angle(reduce_degrees(light.cone->direction) * kRadiansPerDegree + kPi);
     t.cone_half = light.cone->half_angle * kRadiansPerDegree;
     t.cone_fade = light.cone->fade * kRadiansPerDegree;
   }
@@ -191,11 +192,11 @@ LightTerms light_terms(const Light& light, double scale) noexcept {
     static_assert(kMaxCookieSegments == kMaxCookieKnots, "one segment per knot");
     const std::vector<CookieKnot>& knots = light.cookie->knots;
     const int count = static_cast<int>(std::min<std::size_t>(knots.size(), kMaxCookieSegments));
-    // Emitted along psi, the light arrives along psi + pi; each term wrapped on its own so a
-    // huge rotation or first direction cannot overflow, the knots placed by their (small)
-    // offsets from the first.
-    const double first = wrap_angle(wrap_angle(knots[0].direction * kRadiansPerDegree) +
-                                    wrap_angle(light.cookie->rotation * kRadiansPerDegree) + kPi);
+    // Emitted along psi, the light arrives along psi + pi; the rotation and the first direction
+    // each reduced exactly in degrees, the knots placed by their (small, exact) offsets from
+    // the first.
+    const double first = wrap_angle(wrap_angle(reduce_degrees(knots[0].direction) * kRadiansPerDegree) +
+                                    wrap_angle(reduce_degrees(light.cookie->rotation) * kRadiansPerDegree) + kPi);
     t.cookie.count = count;
     t.cookie.first = first;
     double area = 0.0;
@@ -249,7 +250,7 @@ void prepare_model_terms(const Scene& scene, PreparedScene& out, std::shared_ptr
     PreparedDirectional p;
     for (std::size_t c = 0; c < 3; ++c) p.emission[c] = d.intensity * d.color[c];
     if (!(std::max({p.emission[0], p.emission[1], p.emission[2]}) > 0.0)) continue;
-    p.start = wrap_angle(d.angle0 * kRadiansPerDegree);
+    p.start = wrap_angle(reduce_degrees(d.angle0) * kRadiansPerDegree);
     p.width = (d.angle1 - d.angle0) * kRadiansPerDegree;
     p.mask = d.mask;
     p.sin_elevation = std::sin(d.elevation * kRadiansPerDegree);

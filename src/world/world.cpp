@@ -22,6 +22,24 @@ using namespace world_support;
 
 World::World() { scene_.separators.reset(0, 0); }
 
+class World::ModelFlagBatch {
+ public:
+  explicit ModelFlagBatch(World& world) noexcept : world_(world), outer_(!world.model_flag_deferred_) {
+    world_.model_flag_deferred_ = true;
+  }
+  ~ModelFlagBatch() {
+    if (!outer_) return;
+    world_.model_flag_deferred_ = false;
+    update_model_flag(world_.scene_);
+  }
+  ModelFlagBatch(const ModelFlagBatch&) = delete;
+  ModelFlagBatch& operator=(const ModelFlagBatch&) = delete;
+
+ private:
+  World& world_;
+  bool outer_;
+};
+
 void World::observe(WorldObserver* observer) noexcept {
   observer_ = observer;
   if (observer_) observer_->lights_reset(scene_.lights.size());
@@ -204,7 +222,10 @@ Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, st
   for (const Occluder& o : scene.occluders) next.bounce_pieces_ += next.bounce_pieces_of(o);
   next.reprepare_all(std::move(converted));
   for (const auto& [slot, i] : later_occluders) next.push_occluder(scene.occluders[i], slot);
-  for (const auto& [slot, i] : later_lights) next.push_light(scene.lights[i], slot);
+  {
+    const ModelFlagBatch batch(next);
+    for (const auto& [slot, i] : later_lights) next.push_light(scene.lights[i], slot);
+  }
   next.observer_ = observer_;
   *this = std::move(next);
   if (observer_) observer_->lights_reset(scene_.lights.size());
@@ -270,7 +291,7 @@ void World::prepare_lit(std::size_t p, const Light& light) {
   scale_shape(prepared.shape, factor_);
   set_part_emission(p);
   prepared.terms = part_terms(light, part_of(p), factor_);
-  update_model_flag(scene_);
+  if (!model_flag_deferred_) update_model_flag(scene_);
   reserve_overlaps(scene_, &prepared.shape, nullptr);
   find_light_overlaps(scene_, prepared, query_, scene_.spare_overlaps);
   scene_.separators.forget_light(p);
@@ -301,6 +322,7 @@ void World::push_light(const Light& light, std::uint32_t slot) {
   // piece entered there) takes the second count back. So every direction counts once for
   // each time it enters the light from outside (docs/contract.md section 3).
   compound_lights_[slot] = light;
+  const ModelFlagBatch batch(*this);
   std::string error;
   partition_polygon(std::get<Polygon>(light.shape), pieces_, error);  // check_light found it partitions
   shared_.clear();
@@ -346,6 +368,7 @@ void World::erase_chain(std::uint32_t slot, void (World::*erase_entry)(std::size
 
 void World::erase_light(std::uint32_t slot) {
   if (slots_[slot].list == kDark) return erase_dark(static_cast<std::size_t>(slots_[slot].where));
+  const ModelFlagBatch batch(*this);
   erase_chain(slot, &World::erase_lit, internal_lights_);
   compound_lights_.erase(slot);
 }
@@ -384,7 +407,7 @@ void World::erase_lit(std::size_t p) {
   // Its overlaps go back to the pool (reserve_overlaps).
   for (LightOverlap& o : scene_.lights.back().overlaps) scene_.spare_overlaps.push_back(std::move(o));
   scene_.lights.pop_back();
-  update_model_flag(scene_);
+  if (!model_flag_deferred_) update_model_flag(scene_);
   if (observer_) observer_->light_erased(p);
   scene_.separators.forget_light(m);
   scene_.separators.resize(m, scene_.occluders.size());

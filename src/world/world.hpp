@@ -119,6 +119,10 @@ class World {
   std::uint32_t new_slot(std::uint8_t list, std::int32_t where);
 
   void prepare_lit(std::size_t p, const Light& light);
+  // update_model_flag reads every light and occluder: while a user light's entries are pushed
+  // or erased together (a concave light's pieces), it runs once at the end instead of per entry.
+  class ModelFlagBatch;
+  bool model_flag_deferred_ = false;
   // A user's light into the lists: dark, or lit as its one or two parts (a new internal slot
   // for the second); erase_light takes them all out again, keeping the user's slot.
   void push_light(const Light& light, std::uint32_t slot);
