@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <string>
 #include <vector>
@@ -257,6 +258,40 @@ TEST_CASE("world merging: overlapping and contained boxes of a row merge alike w
       REQUIRE(world.add_occluder(row[order[0]], &world_handles[0]).ok());
       check_frame("added again");
     } while (std::next_permutation(order.begin(), order.end()));
+  }
+}
+
+TEST_CASE("world merging: the runs of a list of boxes follow from the boxes, not from their order") {
+  // Rows of boxes on a half-tile grid, one or two tiles long: they overlap, contain one another,
+  // share starts and ends, and some are given twice.
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<Occluder> boxes;
+  for (int i = 0; i < 60; ++i) {
+    const double x = 8.0 * std::floor(unit(rng) * 12.0), y = 16.0 * std::floor(unit(rng) * 3.0);
+    boxes.push_back(box(x, y, x + (unit(rng) < 0.4 ? 32.0 : 16.0), y + 16.0));
+    if (unit(rng) < 0.1) boxes.push_back(boxes.back());
+  }
+  // The merged list as sorted texts of each group's boxes and union: the same for every order.
+  auto groups = [](const std::vector<Occluder>& list) {
+    std::vector<std::string> out;
+    for (const detail::MergedOccluder& m : detail::merge_tilemap_boxes(list)) {
+      std::vector<std::string> members;
+      for (const std::size_t k : m.sources) members.push_back(text(list[k]));
+      std::sort(members.begin(), members.end());
+      std::string group = text(m.occluder);
+      for (const std::string& member : members) group += member;
+      out.push_back(group);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  const std::vector<std::string> expected = groups(boxes);
+  CHECK(expected.size() < boxes.size());  // some runs formed
+  for (int shuffle = 0; shuffle < 20; ++shuffle) {
+    CAPTURE(shuffle);
+    std::shuffle(boxes.begin(), boxes.end(), rng);
+    CHECK(groups(boxes) == expected);
   }
 }
 
