@@ -151,7 +151,7 @@ TEST_CASE("a Renderer keeps a concave occluder under one handle through every ch
 
   const auto check_frame = [&](const char* what) {
     CAPTURE(what);
-    CHECK(renderer_snapshot_difference(renderer) <= 1e-6);
+    CHECK(renderer_equals_snapshot(renderer));
   };
   check_frame("added");
   Occluder back;

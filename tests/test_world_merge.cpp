@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <string>
 #include <vector>
@@ -87,7 +88,12 @@ TEST_CASE("world merging: 300 random edits of a tilemap keep the groups canonica
           par2d::test::per_isa()) {
   for (const unsigned seed : {3901u, 6u, 7u}) {
     CAPTURE(seed);
-    const Scene level = tilemap(16.0);
+    Scene level = tilemap(16.0);
+    // A ranged light with a steep falloff: its pixels weigh the boxes' edges unevenly.
+    Light ranged{Circle{{100.0, 70.0}, 3.0}, {1.0, 0.8, 0.6}, 2.0};
+    ranged.range = 90.0;
+    ranged.falloff = 16.0;
+    level.lights.push_back(ranged);
     Renderer r;
     RenderOptions options;
     options.threads = 2;
@@ -119,11 +125,15 @@ TEST_CASE("world merging: 300 random edits of a tilemap keep the groups canonica
       CAPTURE(what);
       CAPTURE(what);
       if (what < 0.15 || handles.empty()) {
-        // A box on the tile grid (it may complete or extend a run) or, at times, off it.
+        // A box on the tile grid (it may complete or extend a run) or, at times, off it; one or
+        // two tiles long, or half a tile along: boxes of a row overlap, contain one another and
+        // start where others do.
         const double tile = 16.0;
         const double x = tile * std::floor(unit(rng) * 16.0), y = tile * std::floor(unit(rng) * 10.0);
-        const double off = unit(rng) < 0.2 ? 3.0 : 0.0;
-        Occluder o = box(x + off, y, x + off + tile, y + tile);
+        const double pick = unit(rng);
+        const double off = pick < 0.15 ? 3.0 : pick < 0.3 ? 0.5 * tile : 0.0;
+        const double length = unit(rng) < 0.3 ? 2.0 * tile : tile;
+        Occluder o = box(x + off, y, x + off + length, y + tile);
         OccluderHandle h, wh;
         OccluderHandle ih;
         REQUIRE(r.add_occluder(o, &h).ok());
@@ -193,6 +203,95 @@ TEST_CASE("world merging: 300 random edits of a tilemap keep the groups canonica
     // Merging is exercised through most of the sequence (edits remove and scatter boxes, so
     // at times no run is left).
     CHECK(grouped_edits >= 250);
+  }
+}
+
+// Boxes of one row that start where another starts ([112, 128] inside [112, 144]) could
+// continue the same run; which one does must follow from the boxes, not from their order:
+// the World regroups in its snapshot order, which forming a group changes, and a load of the
+// snapshot then merged the other box (other entries: 8 pixels off by 1e-5 relative). Every
+// order of adding them, a twin of one, and removing and adding one again must give the
+// merging of the snapshot and its one-shot render, bit for bit.
+TEST_CASE("world merging: overlapping and contained boxes of a row merge alike whatever the order of edits" *
+          par2d::test::per_isa()) {
+  const std::vector<Occluder> row = {box(112, 64, 144, 80), box(112, 64, 128, 80), box(96, 64, 112, 80),
+                                     box(112, 64, 128, 80)};
+  Light ranged{Circle{{120.0, 100.0}, 4.0}, {1.0, 0.9, 0.8}, 1.5};
+  ranged.range = 80.0;
+  ranged.falloff = 16.0;
+  for (const std::size_t boxes : {std::size_t{3}, std::size_t{4}}) {  // without and with the twin
+    std::vector<std::size_t> order(boxes);
+    for (std::size_t i = 0; i < boxes; ++i) order[i] = i;
+    do {
+      CAPTURE(boxes);
+      CAPTURE(order[0]);
+      CAPTURE(order[1]);
+      CAPTURE(order[2]);
+      Renderer r;
+      RenderOptions options;
+      options.threads = 2;
+      REQUIRE(r.set_options(options).ok());
+      REQUIRE(r.set_frame(256, 160).ok());
+      LightHandle light;
+      REQUIRE(r.add_light(ranged, &light).ok());
+      detail::World world;  // the same edits, to look at its entries
+      REQUIRE(world.set_frame(256, 160, View{0, 0, 256, 160}).ok());
+      std::vector<OccluderHandle> handles, world_handles;
+      for (const std::size_t i : order) {
+        OccluderHandle h, wh;
+        REQUIRE(r.add_occluder(row[i], &h).ok());
+        REQUIRE(world.add_occluder(row[i], &wh).ok());
+        handles.push_back(h);
+        world_handles.push_back(wh);
+      }
+      auto check_frame = [&](const std::string& step) {
+        INFO(step);
+        const Scene snapshot = world.snapshot();
+        CHECK(world.prepared().occluders.size() == detail::merge_tilemap_boxes(snapshot.occluders).size());
+        CHECK(same_bits(frame_rgb(r), one_shot(r.snapshot(), r.options())));
+      };
+      check_frame("added");
+      REQUIRE(r.remove_occluder(handles[0]).ok());
+      REQUIRE(world.remove_occluder(world_handles[0]).ok());
+      check_frame("the first added removed");
+      REQUIRE(r.add_occluder(row[order[0]], &handles[0]).ok());
+      REQUIRE(world.add_occluder(row[order[0]], &world_handles[0]).ok());
+      check_frame("added again");
+    } while (std::next_permutation(order.begin(), order.end()));
+  }
+}
+
+TEST_CASE("world merging: the runs of a list of boxes follow from the boxes, not from their order") {
+  // Rows of boxes on a half-tile grid, one or two tiles long: they overlap, contain one another,
+  // share starts and ends, and some are given twice.
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<Occluder> boxes;
+  for (int i = 0; i < 60; ++i) {
+    const double x = 8.0 * std::floor(unit(rng) * 12.0), y = 16.0 * std::floor(unit(rng) * 3.0);
+    boxes.push_back(box(x, y, x + (unit(rng) < 0.4 ? 32.0 : 16.0), y + 16.0));
+    if (unit(rng) < 0.1) boxes.push_back(boxes.back());
+  }
+  // The merged list as sorted texts of each group's boxes and union: the same for every order.
+  auto groups = [](const std::vector<Occluder>& list) {
+    std::vector<std::string> out;
+    for (const detail::MergedOccluder& m : detail::merge_tilemap_boxes(list)) {
+      std::vector<std::string> members;
+      for (const std::size_t k : m.sources) members.push_back(text(list[k]));
+      std::sort(members.begin(), members.end());
+      std::string group = text(m.occluder);
+      for (const std::string& member : members) group += member;
+      out.push_back(group);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  const std::vector<std::string> expected = groups(boxes);
+  CHECK(expected.size() < boxes.size());  // some runs formed
+  for (int shuffle = 0; shuffle < 20; ++shuffle) {
+    CAPTURE(shuffle);
+    std::shuffle(boxes.begin(), boxes.end(), rng);
+    CHECK(groups(boxes) == expected);
   }
 }
 

@@ -30,15 +30,10 @@ void ReachCache::light_erased(std::size_t p) noexcept {
     --reset_count_;
     return;
   }
-  const std::size_t m = reach_.size() - 1;
-  if (p != m) {
-    reach_[p] = reach_[m];
-    depends_[p] = depends_[m];
-    stale_[p] = stale_[m];
-  }
-  reach_.pop_back();
-  depends_.pop_back();
-  stale_.pop_back();
+  const auto at = static_cast<std::ptrdiff_t>(p);
+  reach_.erase(reach_.begin() + at);
+  depends_.erase(depends_.begin() + at);
+  stale_.erase(stale_.begin() + at);
 }
 
 void ReachCache::region_changed(const Aabb& box) noexcept {

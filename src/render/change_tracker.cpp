@@ -72,12 +72,14 @@ void ChangeTracker::light_emission_changed(std::size_t p) noexcept {
 void ChangeTracker::light_erased(std::size_t p) noexcept {
   if (next_) next_->light_erased(p);
   any_ = true;
+  // The lights above keep their order (a tile sums its lights in number order), so their
+  // pixels and layers stay: only their numbers move down.
+  if (layers_) layers_->erase_light(p);
   if (full_ || p >= changed_.size()) {
     full_ = true;
     return;
   }
-  // The erased light's pixels, and the renumbered light's (a tile sums its lights in number
-  // order): its old footprint moves with it and it is marked changed.
+  // The erased light's pixels.
   if (!empty_box(old_[p].influence)) {
     if (erased_.size() == erased_.capacity()) {
       full_ = true;  // no allocation here
@@ -85,13 +87,9 @@ void ChangeTracker::light_erased(std::size_t p) noexcept {
     }
     erased_.push_back(old_[p]);
   }
-  const std::size_t m = changed_.size() - 1;
-  if (p != m) {
-    old_[p] = old_[m];
-    changed_[p] = kChanged;
-  }
-  old_.pop_back();
-  changed_.pop_back();
+  const auto at = static_cast<std::ptrdiff_t>(p);
+  old_.erase(old_.begin() + at);
+  changed_.erase(changed_.begin() + at);
 }
 
 void ChangeTracker::region(const Aabb& box) noexcept {

@@ -50,6 +50,14 @@ void LightLayerCache::drop_lights_from(std::size_t count) noexcept {
   recount();
 }
 
+void LightLayerCache::erase_light(std::size_t light) noexcept {
+  for (std::size_t b = 0; b < blocks_.size(); ++b) {
+    drop(b, light);
+    for (LightLayer& y : blocks_[b])
+      if (y.light > light) --y.light;
+  }
+}
+
 void LightLayerCache::drop_block(std::size_t block) noexcept {
   if (block >= blocks_.size()) return;
   for (const LightLayer& y : blocks_[block]) bytes_ -= y.bytes();

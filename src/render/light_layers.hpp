@@ -70,6 +70,8 @@ class LightLayerCache {
   void set_block_count(std::size_t blocks);         // a frame of another size: every layer
   void drop_light(std::size_t light) noexcept;      // light `light`'s layers, in every block
   void drop_lights_from(std::size_t count) noexcept;  // layers of lights numbered `count` or more
+  // Light `light` was erased: its layers dropped, those of the lights above renumbered one lower.
+  void erase_light(std::size_t light) noexcept;
   void drop_block(std::size_t block) noexcept;      // every layer of the block
   void drop(std::size_t block, std::size_t light) noexcept;
   bool has(std::size_t block, std::size_t light) const noexcept;

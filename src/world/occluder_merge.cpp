@@ -104,7 +104,14 @@ std::vector<BoxRun> tilemap_box_runs(std::size_t n, const std::function<const Oc
     order.clear();
     for (std::size_t i = 0; i < n; ++i)
       if (is_box[i] && !taken[i]) order.push_back(i);
-    // (line, properties, start), then the index: the order a stable sort by the key gives.
+    // (line, properties, start, end): boxes in one line differ in start or end, but for exact
+    // duplicates (left out below), so the chains follow from the boxes alone, never from the
+    // order they are given in. The World regroups in its snapshot order, which forming a
+    // group changes, and a load of the snapshot must find the same runs (world_merge.cpp).
+    const auto same = [&](std::size_t a, std::size_t b) {
+      const Box &p = keys[a].box, &q = keys[b].box;
+      return p.x0 == q.x0 && p.y0 == q.y0 && p.x1 == q.x1 && p.y1 == q.y1 && keys[a].properties == keys[b].properties;
+    };
     std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
       const Box &p = keys[a].box, &q = keys[b].box;
       const double pl0 = pass == 0 ? p.y0 : p.x0, ql0 = pass == 0 ? q.y0 : q.x0;
@@ -114,6 +121,8 @@ std::vector<BoxRun> tilemap_box_runs(std::size_t n, const std::function<const Oc
       if (keys[a].properties != keys[b].properties) return keys[a].properties < keys[b].properties;
       const double ps = pass == 0 ? p.x0 : p.y0, qs = pass == 0 ? q.x0 : q.y0;
       if (ps != qs) return ps < qs;
+      const double pe = pass == 0 ? p.x1 : p.y1, qe = pass == 0 ? q.x1 : q.y1;
+      if (pe != qe) return pe < qe;
       return a < b;
     });
     // Within each line (and properties), boxes join end to end: a box continues the chain
@@ -161,6 +170,9 @@ std::vector<BoxRun> tilemap_box_runs(std::size_t n, const std::function<const Oc
         const bool same_line = pass == 0 ? (prev.y0 == b.y0 && prev.y1 == b.y1) : (prev.x0 == b.x0 && prev.x1 == b.x1);
         if (!same_line || keys[order[s - 1]].properties != keys[i].properties) flush();
       }
+      // A box given twice (and its twins) joins nothing: which twin would join is a matter of
+      // order alone.
+      if ((s > 0 && same(order[s - 1], i)) || (s + 1 < order.size() && same(i, order[s + 1]))) continue;
       const double start = pass == 0 ? boxes[i].x0 : boxes[i].y0;
       // Chains ending before this start can grow no more (starts only increase): closed.
       std::size_t kept = 0, joined = chains.size();

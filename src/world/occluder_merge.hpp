@@ -27,6 +27,8 @@ struct MergedOccluder {
 // (same y0 and y1, each box's x1 the next one's x0) or, for the boxes no row took, a column
 // joins end to end. Coordinates are compared exactly, so the union is exactly the merged box
 // and every renderer sees the same occluded set: merging changes no image beyond rounding.
+// The groups depend on the boxes alone, not on their order in the list (a box given twice,
+// same box and properties, joins nothing), so that any order of the same boxes merges alike.
 std::vector<MergedOccluder> merge_tilemap_boxes(const std::vector<Occluder>& occluders);
 
 // The same as runs only: each group of two or more boxes (sources ascending, runs in the order

@@ -50,6 +50,7 @@ void PairSeparators::drop() noexcept {
   state_.reset();
   lines_.reset();
   rows_ = stride_ = 0;
+  row_.clear();
 }
 
 void PairSeparators::reset(std::size_t lights, std::size_t occluders) {
@@ -60,6 +61,8 @@ void PairSeparators::reset(std::size_t lights, std::size_t occluders) {
   stride_ = occluders;
   state_ = std::make_unique<std::atomic<std::uint8_t>[]>(lights * occluders);
   lines_ = std::make_unique<Line[]>(lights * occluders);
+  row_.resize(rows_);
+  for (std::size_t l = 0; l < rows_; ++l) row_[l] = static_cast<std::uint32_t>(l);
 }
 
 void PairSeparators::resize(std::size_t lights, std::size_t occluders) {
@@ -70,16 +73,19 @@ void PairSeparators::resize(std::size_t lights, std::size_t occluders) {
     if (too_many(rows, stride)) rows = lights, stride = occluders;
     auto state = std::make_unique<std::atomic<std::uint8_t>[]>(rows * stride);  // value-initialized: kUnknown
     auto lines = std::make_unique<Line[]>(rows * stride);
-    for (std::size_t l = 0; state_ && l < std::min(lights_, rows_); ++l) {
+    // Rows keep their places (rows not in use were forgotten when given up).
+    for (std::size_t r = 0; state_ && r < rows_; ++r) {
       for (std::size_t k = 0; k < std::min(occluders_, stride_); ++k) {
-        const std::uint8_t seen = state_[l * stride_ + k].load(std::memory_order_relaxed);
+        const std::uint8_t seen = state_[r * stride_ + k].load(std::memory_order_relaxed);
         // A slot some thread was computing is simply forgotten.
         if (seen == kSeparated || seen == kTouching) {
-          state[l * stride + k].store(seen, std::memory_order_relaxed);
-          lines[l * stride + k] = lines_[l * stride_ + k];
+          state[r * stride + k].store(seen, std::memory_order_relaxed);
+          lines[r * stride + k] = lines_[r * stride_ + k];
         }
       }
     }
+    if (!state_) row_.clear();  // nothing kept: every row anew
+    for (std::size_t r = row_.size(); r < rows; ++r) row_.push_back(static_cast<std::uint32_t>(r));
     state_ = std::move(state);
     lines_ = std::move(lines);
     rows_ = rows;
@@ -92,7 +98,8 @@ void PairSeparators::resize(std::size_t lights, std::size_t occluders) {
 
 void PairSeparators::forget_light(std::size_t light) noexcept {
   if (!state_ || light >= rows_) return;
-  for (std::size_t k = 0; k < stride_; ++k) state_[light * stride_ + k].store(kUnknown, std::memory_order_relaxed);
+  const std::size_t row = row_[light];
+  for (std::size_t k = 0; k < stride_; ++k) state_[row * stride_ + k].store(kUnknown, std::memory_order_relaxed);
 }
 
 void PairSeparators::forget_occluder(std::size_t occluder) noexcept {
@@ -107,9 +114,13 @@ void PairSeparators::copy_pair(std::size_t from, std::size_t to) noexcept {
   if (known) lines_[to] = lines_[from];
 }
 
-void PairSeparators::move_light(std::size_t from, std::size_t to) noexcept {
-  if (!state_ || from >= rows_ || to >= rows_) return;
-  for (std::size_t k = 0; k < stride_; ++k) copy_pair(from * stride_ + k, to * stride_ + k);
+void PairSeparators::erase_light(std::size_t light) noexcept {
+  if (!state_ || light >= rows_) return;
+  forget_light(light);
+  // The lights above take the numbers one lower with their rows; the freed row, forgotten,
+  // goes past them (rows_ >= the light count), for the next light added.
+  std::rotate(row_.begin() + static_cast<std::ptrdiff_t>(light), row_.begin() + static_cast<std::ptrdiff_t>(light) + 1,
+              row_.end());
 }
 
 void PairSeparators::move_occluder(std::size_t from, std::size_t to) noexcept {
@@ -128,7 +139,7 @@ std::optional<Line> PairSeparators::get(std::size_t light, std::size_t occluder,
     return line;
   };
   if (!state_) return compute();  // too many pairs to keep: found anew each time
-  const std::size_t index = light * stride_ + occluder;
+  const std::size_t index = row_[light] * stride_ + occluder;
   std::atomic<std::uint8_t>& state = state_[index];
   const std::uint8_t seen = state.load(std::memory_order_acquire);
   if (seen == kSeparated) return lines_[index];

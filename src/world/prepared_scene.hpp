@@ -115,11 +115,13 @@ class PairSeparators {
   void reset(std::size_t lights, std::size_t occluders);
   // Persistent worlds (single-threaded, between frames): room for `lights` x `occluders`
   // keeping what is known (grows capacity geometrically, so steady state never allocates);
-  // forget a light's row or an occluder's column; move one (swap-removal).
+  // forget a light's row or an occluder's column; erase a light (the lights above it take
+  // the numbers one lower, keeping what is known of them: World::erase_lit); move an occluder
+  // (swap-removal).
   void resize(std::size_t lights, std::size_t occluders);
   void forget_light(std::size_t light) noexcept;
   void forget_occluder(std::size_t occluder) noexcept;
-  void move_light(std::size_t from, std::size_t to) noexcept;
+  void erase_light(std::size_t light) noexcept;
   void move_occluder(std::size_t from, std::size_t to) noexcept;
   // The line for (light, occluder), or empty when the shapes touch or overlap.
   std::optional<Line> get(std::size_t light, std::size_t occluder, const ConvexShape& light_shape,
@@ -134,6 +136,9 @@ class PairSeparators {
   std::size_t rows_ = 0, stride_ = 0;  // capacity: lights x occluders
   std::unique_ptr<std::atomic<std::uint8_t>[]> state_;
   std::unique_ptr<Line[]> lines_;
+  // Light l's pairs are in row row_[l] (a permutation of the rows_ rows), so that erasing a
+  // light renumbers the lights above it without moving their rows.
+  std::vector<std::uint32_t> row_;
 };
 
 // Coordinates are the scene's times a power of two chosen by scene_scale (exact, and

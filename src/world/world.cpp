@@ -180,29 +180,15 @@ Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, st
   };
   std::vector<LightHandle> light_handles;
   std::vector<OccluderHandle> occluder_handles;
-  // Plain lights and occluders go straight into the lists (prepared together below); a light
-  // its shadow splits and a concave occluder (several entries each) are added once the rest is
-  // prepared, their internal slots after every handle's, so handles do not depend on them.
-  std::vector<std::pair<std::uint32_t, std::size_t>> later_lights, later_occluders;  // user slot, index
+  // Lights and plain occluders go into the lists (prepared together below); a concave occluder
+  // (several entries) is added once the rest is prepared. Internal slots (a light's further
+  // entries, a concave occluder's pieces) are taken after every handle's, so handles do not
+  // depend on them.
+  std::vector<std::pair<std::uint32_t, std::size_t>> lights_in, later_occluders;  // user slot, index
   std::vector<std::pair<std::uint32_t, std::size_t>> plain_occluders;
   for (std::size_t i = 0; i < scene.lights.size(); ++i) {
-    const Light& light = scene.lights[i];
     const std::uint32_t slot = take_slot();
-    Slot& s = next.slots_[slot];
-    if (!emits(light)) {
-      s.list = kDark;
-      s.where = static_cast<std::int32_t>(next.dark_sources_.size());
-      next.dark_sources_.push_back(light);
-      next.dark_slots_.push_back(slot);
-    } else if (const LightParts parts = light_parts(light); parts.split || needs_partition(light.shape)) {
-      later_lights.emplace_back(slot, i);
-    } else {
-      s.list = kLit;
-      s.part = parts.first;
-      s.where = static_cast<std::int32_t>(next.light_sources_.size());
-      next.light_sources_.push_back(light);
-      next.light_slots_.push_back(slot);
-    }
+    lights_in.emplace_back(slot, i);
     light_handles.push_back({next.make_handle(slot)});
   }
   for (std::size_t i = 0; i < scene.occluders.size(); ++i) {
@@ -214,6 +200,13 @@ Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, st
   next.push_loaded_occluders(scene, plain_occluders);
   for (std::size_t i = next.slots_.size(); i-- > cursor;)
     if (next.slots_[i].generation != 0) next.free_slots_.push_back(static_cast<std::uint32_t>(i));
+  // Each light's entries together, in the scene's order: as push_light appends a light's and
+  // erase_lit keeps the others' order, so that a World and a fresh load of its snapshot hold
+  // the same entries in the same order (and sum every pixel's lights alike).
+  {
+    const ModelFlagBatch batch(next);
+    for (const auto& [slot, i] : lights_in) next.push_light(scene.lights[i], slot, false);
+  }
   next.globals_.ambient = scene.ambient;
   next.globals_.directional_lights = scene.directional_lights;
   next.globals_.normal = scene.normal;
@@ -222,10 +215,6 @@ Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, st
   for (const Occluder& o : scene.occluders) next.bounce_pieces_ += next.bounce_pieces_of(o);
   next.reprepare_all(std::move(converted));
   for (const auto& [slot, i] : later_occluders) next.push_occluder(scene.occluders[i], slot);
-  {
-    const ModelFlagBatch batch(next);
-    for (const auto& [slot, i] : later_lights) next.push_light(scene.lights[i], slot);
-  }
   next.observer_ = observer_;
   *this = std::move(next);
   if (observer_) observer_->lights_reset(scene_.lights.size());
@@ -310,10 +299,10 @@ void World::set_part_emission(std::size_t p) noexcept {
   prepared.e_max_share = slot.internal ? 0.0 : std::max({whole[0], whole[1], whole[2]});
 }
 
-void World::push_light(const Light& light, std::uint32_t slot) {
+void World::push_light(const Light& light, std::uint32_t slot, bool prepare) {
   if (!emits(light)) return push_dark(light, slot);
   if (!needs_partition(light.shape)) {
-    push_light_element(light, slot, slot, true, false);
+    push_light_element(light, slot, slot, true, false, prepare);
     return;
   }
   // A concave light: its convex pieces emit like lights, which count a direction once per
@@ -332,24 +321,24 @@ void World::push_light(const Light& light, std::uint32_t slot) {
   bool first = true;
   for (Polygon& piece : pieces_) {
     element.shape = std::move(piece);
-    last = push_light_element(element, slot, last, first, false);
+    last = push_light_element(element, slot, last, first, false, prepare);
     first = false;
   }
   for (const Segment& boundary : shared_) {
     element.shape = boundary;
-    last = push_light_element(element, slot, last, false, true);
+    last = push_light_element(element, slot, last, false, true, prepare);
   }
 }
 
 std::uint32_t World::push_light_element(const Light& element, std::uint32_t owner, std::uint32_t last, bool first,
-                                        bool negative) {
+                                        bool negative, bool prepare) {
   const LightParts parts = light_parts(element);
   const LightPart kinds[2] = {parts.first, LightPart::unshadowed};
   const int part_count = parts.split ? 2 : 1;
   for (int part = 0; part < part_count; ++part) {
     if (!(first && part == 0)) last = chain_slot(kLit, last, owner);
     slots_[last].negative = negative;
-    push_lit(element, last, kinds[part]);
+    push_lit(element, last, kinds[part], prepare);
   }
   return last;
 }
@@ -373,16 +362,17 @@ void World::erase_light(std::uint32_t slot) {
   compound_lights_.erase(slot);
 }
 
-void World::push_lit(const Light& light, std::uint32_t slot, LightPart part) {
+void World::push_lit(const Light& light, std::uint32_t slot, LightPart part, bool prepare) {
   const std::size_t p = light_sources_.size();
   light_sources_.push_back(light);
   light_slots_.push_back(slot);
   slots_[slot].part = part;
+  slots_[slot].list = kLit;
+  slots_[slot].where = static_cast<std::int32_t>(p);
+  if (!prepare) return;
   scene_.lights.emplace_back();
   if (observer_) observer_->light_added();
   scene_.separators.resize(p + 1, scene_.occluders.size());
-  slots_[slot].list = kLit;
-  slots_[slot].where = static_cast<std::int32_t>(p);
   prepare_lit(p, light);
 }
 
@@ -394,22 +384,20 @@ void World::push_dark(const Light& light, std::uint32_t slot) {
 }
 
 void World::erase_lit(std::size_t p) {
+  // The entries above take the numbers one lower, in the same order: each user light's entries
+  // stay together and in the order set_scene lays them out, so a one-shot render of the
+  // snapshot sums every pixel's lights in this world's order (see snapshot).
   const std::size_t m = light_sources_.size() - 1;
-  if (p != m) {
-    std::swap(light_sources_[p], light_sources_[m]);
-    light_slots_[p] = light_slots_[m];
-    std::swap(scene_.lights[p], scene_.lights[m]);
-    scene_.separators.move_light(m, p);
-    slots_[light_slots_[p]].where = static_cast<std::int32_t>(p);
-  }
-  light_sources_.pop_back();
-  light_slots_.pop_back();
+  const auto at = static_cast<std::ptrdiff_t>(p);
   // Its overlaps go back to the pool (reserve_overlaps).
-  for (LightOverlap& o : scene_.lights.back().overlaps) scene_.spare_overlaps.push_back(std::move(o));
-  scene_.lights.pop_back();
+  for (LightOverlap& o : scene_.lights[p].overlaps) scene_.spare_overlaps.push_back(std::move(o));
+  light_sources_.erase(light_sources_.begin() + at);
+  light_slots_.erase(light_slots_.begin() + at);
+  scene_.lights.erase(scene_.lights.begin() + at);
+  for (std::size_t i = p; i < m; ++i) slots_[light_slots_[i]].where = static_cast<std::int32_t>(i);
   if (!model_flag_deferred_) update_model_flag(scene_);
   if (observer_) observer_->light_erased(p);
-  scene_.separators.forget_light(m);
+  scene_.separators.erase_light(p);
   scene_.separators.resize(m, scene_.occluders.size());
 }
 

@@ -124,14 +124,15 @@ class World {
   class ModelFlagBatch;
   bool model_flag_deferred_ = false;
   // A user's light into the lists: dark, or lit as its one or two parts (a new internal slot
-  // for the second); erase_light takes them all out again, keeping the user's slot.
-  void push_light(const Light& light, std::uint32_t slot);
+  // for the second), appended together; erase_light takes them all out again, keeping the
+  // user's slot. `prepare` false: the entries are only laid out (set_scene prepares them all).
+  void push_light(const Light& light, std::uint32_t slot, bool prepare = true);
   void erase_light(std::uint32_t slot);
   // One convex element of a user's light (the light itself, or a piece or shared boundary of
   // a concave one) as its parts, chained after `last` (`first`: into the user's slot `owner`);
   // returns the last slot used.
   std::uint32_t push_light_element(const Light& element, std::uint32_t owner, std::uint32_t last, bool first,
-                                   bool negative);
+                                   bool negative, bool prepare);
   // The same for occluders: one entry, or one per convex piece of a concave one.
   void push_occluder(const Occluder& occluder, std::uint32_t slot);
   void erase_occluder(std::uint32_t slot);
@@ -145,8 +146,9 @@ class World {
   bool same_parts(const Slot& slot, const Light& light) const noexcept;
   // Lit entry p's emission and e_max share from its source and part.
   void set_part_emission(std::size_t p) noexcept;
-  void push_lit(const Light& light, std::uint32_t slot, LightPart part);
+  void push_lit(const Light& light, std::uint32_t slot, LightPart part, bool prepare);
   void push_dark(const Light& light, std::uint32_t slot);
+  // Erases lit entry p; the entries above take the numbers one lower, in the same order.
   void erase_lit(std::size_t p);
   void erase_dark(std::size_t q);
   void occluder_changed(std::size_t k, const Aabb* old_box);

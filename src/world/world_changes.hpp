@@ -11,8 +11,9 @@
 
 namespace par2d::detail {
 
-// Lights are numbered as in PreparedScene::lights (emitting lights only). A light keeps its
-// number until it is erased; then the last light takes the erased one's number.
+// Lights are numbered as in PreparedScene::lights (emitting lights only), the order a tile sums
+// them in. Erasing a light renumbers the lights above it one lower, keeping their order (so a
+// pixel none of them changed sums alike).
 class WorldObserver {
  public:
   // Every light is new (the whole world was prepared again: a new scene, a new coordinate
@@ -23,7 +24,7 @@ class WorldObserver {
   // Light `p`'s shape or lighting-model terms changed (an emission change alone is not reported:
   // nothing geometric depends on it).
   virtual void light_changed(std::size_t p) noexcept = 0;
-  // Light `p` was erased; the last light, if it was not `p`, now has number `p`.
+  // Light `p` was erased; the lights numbered above it now have the numbers one lower.
   virtual void light_erased(std::size_t p) noexcept = 0;
   // Occluders inside `box` (prepared coordinates) appeared, moved or disappeared.
   virtual void region_changed(const Aabb& box) noexcept = 0;

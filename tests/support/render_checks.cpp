@@ -175,18 +175,12 @@ RaycastAgreement agreement_with_raycaster(const Scene& scene, const RenderedImag
   return out;
 }
 
-double renderer_snapshot_difference(Renderer& renderer) {
-  const int width = renderer.width(), height = renderer.height();
-  std::vector<float> frame(static_cast<std::size_t>(width) * height * 3);
-  REQUIRE(renderer.render(ImageView{frame.data(), width, height, static_cast<std::ptrdiff_t>(width) * 3}).ok());
+bool renderer_equals_snapshot(Renderer& renderer) {
+  const std::vector<float> frame = frame_rgb(renderer);
   const Scene snapshot = renderer.snapshot();
   CHECK(snapshot.lights.size() == renderer.light_count());
   CHECK(snapshot.occluders.size() == renderer.occluder_count());
-  const RenderedImage once = render_or_fail(snapshot, renderer.options());
-  double worst = 0.0;
-  for (std::size_t i = 0; i < frame.size(); ++i) worst = std::max(worst, std::fabs(double(frame[i]) - once.pixels[i]));
-  const double e_max = max_emission_sum(snapshot);
-  return e_max > 0.0 ? worst / e_max : worst;
+  return same_bits(frame, one_shot(snapshot, renderer.options()));
 }
 
 std::vector<float> frame_rgb(Renderer& r) {

@@ -32,11 +32,10 @@ void check_simd_against_scalar(const Scene& scene, const RenderedImage& ref, con
                                const std::function<bool(Vec2)>& exempt, int min_checked,
                                const std::function<void(const RenderedImage&)>& visit = nullptr);
 
-// A frame of `renderer` (float RGB, its whole size) against a one-shot render of its
-// snapshot with its options: the worst channel difference over the snapshot's e_max (0 when
-// it has no light). The two may order a user shape's entries differently, so sums may round
-// differently; section 5's 1e-6 e_max is what a caller checks.
-double renderer_snapshot_difference(Renderer& renderer);
+// Whether a frame of `renderer` (float RGB, its whole size) equals a one-shot render of its
+// snapshot with its options bit for bit (docs/contract.md section 5), the snapshot holding as
+// many lights and occluders as the renderer counts.
+bool renderer_equals_snapshot(Renderer& renderer);
 
 // A Renderer's whole frame as float RGB (fails the test case on an error), a one-shot render
 // of a scene likewise, and whether two such images are equal bit for bit.
