@@ -14,8 +14,6 @@
 namespace par2d::detail {
 namespace {
 
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
-
 bool same_point(Vec2 p, Vec2 q) noexcept { return p.x == q.x && p.y == q.y; }
 bool lex_less(Vec2 p, Vec2 q) noexcept { return p.x < q.x || (p.x == q.x && p.y < q.y); }
 
