@@ -90,7 +90,9 @@ TEST_CASE("random slivers aimed at a pixel from 0.06 to 0.6 px, as lights and as
     as_occluder.occluders.push_back({shape});
     const double occluder_exact =
         circle_closed_form(r, d) - sliver_angle(tip, length, half_width) / (2.0 * kPiValue);
-    for (const auto& [scene, exact] : {std::pair{as_light, light_exact}, std::pair{as_occluder, occluder_exact}}) {
+    for (const std::pair<Scene, double>& pair : {std::pair{as_light, light_exact}, std::pair{as_occluder, occluder_exact}}) {
+      const Scene& scene = pair.first;
+      const double exact = pair.second;
       const RenderedImage ref = render_or_fail(scene, options_for(Backend::scalar));
       REQUIRE_MESSAGE(std::fabs(ref.at(0, 0, 0) - exact) <= 1e-6, "case ", k, " scalar ", ref.at(0, 0, 0), " exact ", exact);
       for (Isa isa : isas) {
