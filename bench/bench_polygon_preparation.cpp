@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "comb_outline.hpp"
 #include "par2d/renderer.hpp"
 #include "par2d/scene.hpp"
 #include "world/world.hpp"
@@ -15,19 +16,7 @@ namespace {
 
 using namespace par2d;
 
-// A comb of `teeth` unit-wide teeth 10 units tall (4 teeth + 2 vertices), its teeth pointing
-// along y, or along x when `sideways`.
-Polygon comb(int teeth, bool sideways) {
-  std::vector<Vec2> v{{0.0, 0.0}};
-  for (int k = 0; k < teeth; ++k) {
-    const double x = 2.0 * k;
-    v.insert(v.end(), {{x, 10.0}, {x + 1.0, 10.0}, {x + 1.0, 1.0}, {x + 2.0, 1.0}});
-  }
-  v.push_back({2.0 * teeth, 0.0});
-  if (sideways)
-    for (Vec2& p : v) std::swap(p.x, p.y);
-  return Polygon{std::move(v)};
-}
+Polygon comb(int teeth, bool sideways) { return Polygon{par2d::bench::comb_outline(teeth, sideways)}; }
 
 Scene light_scene(Polygon shape, double extent) {
   Scene s;

@@ -15,6 +15,7 @@
 #include "par2d/scene.hpp"
 #include "par2d/scene_write.hpp"
 #include "support/random_scenes.hpp"
+#include "comb_outline.hpp"
 #include "support/render_checks.hpp"
 #include "support/test_tiers.hpp"
 
@@ -243,19 +244,7 @@ TEST_CASE("random concave and ringed lights on a whole-unit grid: every SIMD lev
 namespace par2d::test {
 namespace {
 
-// A comb of `teeth` teeth 1 wide and 10 tall on a base 1 high, 2 apart, counter-clockwise:
-// a ray along the base's length enters every tooth.
-Polygon comb(int teeth) {
-  Polygon p;
-  const double right = 2.0 * teeth - 1.0;
-  p.vertices = {{0, 0}, {right, 0}, {right, 10}};
-  for (int k = teeth - 1; k >= 1; --k) {
-    const double x = 2.0 * k;
-    p.vertices.insert(p.vertices.end(), {{x, 10}, {x, 1}, {x - 1, 1}, {x - 1, 10}});
-  }
-  p.vertices.push_back({0, 10});
-  return p;
-}
+Polygon comb(int teeth) { return Polygon{bench::comb_outline(teeth, false)}; }
 
 }  // namespace
 

@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "comb_outline.hpp"
 #include "geometry/polygon_partition.hpp"
 
 namespace par2d::test {
@@ -554,19 +555,7 @@ TEST_CASE("partition_convex: a 4096-vertex star polygon") {
   check_partition(polygon, holed, random_samples(rng, polygon.outer, 2000));
 }
 
-// A comb of `teeth` teeth 1 wide and 10 tall, 1 apart, on a base 1 high (4 teeth + 2
-// vertices): its teeth side by side along x, or along y when `sideways`.
-std::vector<Vec2> comb(int teeth, bool sideways) {
-  std::vector<Vec2> v{{0.0, 0.0}};
-  for (int k = 0; k < teeth; ++k) {
-    const double x = 2.0 * k;
-    v.insert(v.end(), {{x, 10.0}, {x + 1.0, 10.0}, {x + 1.0, 1.0}, {x + 2.0, 1.0}});
-  }
-  v.push_back({2.0 * teeth, 0.0});
-  if (sideways)
-    for (Vec2& p : v) std::swap(p.x, p.y);
-  return v;
-}
+std::vector<Vec2> comb(int teeth, bool sideways) { return bench::comb_outline(teeth, sideways); }
 
 TEST_CASE("partition_convex: combs with their teeth along either axis, exact, their validation and shared boundaries linear in their teeth") {
   // Eight times the teeth: the pairs of edges the validation compares and the pairs of piece
