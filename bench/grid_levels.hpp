@@ -1,4 +1,4 @@
-// Level generators for issue 39's grid: wall levels as 2D games build them (tilemaps of wall
+// Level generators for the wall-level grid: wall levels as 2D games build them (tilemaps of wall
 // boxes or free-form walls, torches on wall faces at a chosen overlap) and crops of the
 // many-light rubble fields. Deterministic per seed; used by par2d_make_grid and the grid script.
 #pragma once

@@ -139,7 +139,7 @@ int run_cli(const std::vector<std::string>& args, std::string& err) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
-// The reliability issue's 202-byte scene: one light, one white circle wall of radius 10 cut
+// A 202-byte scene: one light, one white circle wall of radius 10 cut
 // into pieces of 6.29e-5 (998,917 pieces, under the 1,048,576 cap), at 1024x1024: about 13
 // hours on one core.
 const char* const kHugeBounceJson =
@@ -175,7 +175,7 @@ TEST_CASE("a bounce frame past work_limit is refused before any pixel is written
   CHECK(!untouched(pixels));
 }
 
-TEST_CASE("the issue's one-circle bounce scene at 1024x1024 (1e12 units) is refused by the default limit at once") {
+TEST_CASE("a 202-byte one-circle bounce scene at 1024x1024 (1e12 units) is refused by the default limit at once") {
   Scene scene;
   REQUIRE(parse_scene(kHugeBounceJson, "huge.json", scene).ok());
   const double pieces = std::ceil(2.0 * kPi * 10.0 / 6.29e-5);

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 39's three target ratios over the level grid, in callgrind instructions (1 thread).
+# The three target ratios of the wall-level grid over the level grid, in callgrind instructions (1 thread).
 #
 # Usage: tools/grid_bench.sh BUILD_DIR [OUT_DIR]     (ISA=avx2 by default; PARTS="walls merge field")
 #

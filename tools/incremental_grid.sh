@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 40's flicker frame (c) on levels built differently from the torch hall, in callgrind
+# The flicker frame (a light-layer recombination) on levels built differently from the torch hall, in callgrind
 # instructions per frame (1 thread): a full frame, and (c) without and with the light-layer
 # cache (64 MiB), each level written by par2d_make_grid. Of a level's N lights the first N/32
 # move and the next N/8 flicker (the hall's 2 and 8 of 64); occluder 0 slides.

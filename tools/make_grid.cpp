@@ -1,4 +1,4 @@
-// Writes one level of issue 39's benchmark grid (bench/grid_levels.hpp) as scene JSON to stdout.
+// Writes one level of the wall-level benchmark grid (bench/grid_levels.hpp) as scene JSON to stdout.
 //
 // Usage: par2d_make_grid walls --tile 32 --style tilemap --torch-radius 5 --overlap 1 > lit.json
 //        par2d_make_grid walls --tile 32 --style tilemap --torch-radius 5 --overlap -2 > off.json
@@ -16,7 +16,7 @@
 #include "par2d/scene_write.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"Writes a level of issue 39's benchmark grid as scene JSON to stdout."};
+  CLI::App app{"Writes a level of the wall-level benchmark grid as scene JSON to stdout."};
   app.require_subcommand(1);
   int width = 640, height = 360;
   std::uint32_t seed = 0;
