@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The three target ratios of the wall-level grid over the level grid, in callgrind instructions (1 thread).
+# The grid's three target ratios (torch in a wall against off it, merged against unmerged walls, dense
+# fields against small levels) over its levels, in callgrind instructions (1 thread).
 #
 # Usage: tools/grid_bench.sh BUILD_DIR [OUT_DIR]     (ISA=avx2 by default; PARTS="walls merge field")
 #
