@@ -29,9 +29,9 @@ struct FrameControl {
   const std::atomic<bool>* cancel = nullptr;
 };
 
-// Renders frames of prepared scenes into host buffers, tile by tile, keeping every
-// per-thread buffer from frame to frame: after the first frame at a size (and worker
-// count) a frame allocates nothing.
+// Runs frame plans of prepared scenes into host buffers, tile by tile, keeping every
+// per-lane buffer from frame to frame: after the first frame at a size (and worker count) a
+// frame allocates nothing. It decides nothing about what a frame computes: the plan does.
 class FrameEngine {
  public:
   FrameEngine();

@@ -2,6 +2,7 @@
 #include "render/frame_plan.hpp"
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -42,6 +43,7 @@ void plan_frame(const PreparedScene& scene, const FrameSettings& settings, const
   const int by0 = region.y0 / kBlockSize, by1 = (region.y1 - 1) / kBlockSize + 1;
   const int frame_columns = (scene.width + kBlockSize - 1) / kBlockSize;
   plan.blocks.clear();
+  plan.blocks.reserve(static_cast<std::size_t>(bx1 - bx0) * static_cast<std::size_t>(by1 - by0));
   plan.tiles = 0;
   for (int by = by0; by < by1; ++by) {
     for (int bx = bx0; bx < bx1; ++bx) {
