@@ -43,8 +43,8 @@ RENDER_FLOORS = {
     # 1: per-block and per-tile setup, and the tiles the scalar reference and the bounce compute.
     "kernel_shapes": 1, "model_terms": 1, "block_culling": 1, "pair_setup": 1, "tile_setup": 1,
     "cell_lists": 1, "bounce_tiles": 1, "scalar_tiles": 1,
-    # 2: a frame: the light-layer cache and its tiles, the change tracker, the frame driver.
-    "light_layers": 2, "layered_tiles": 2, "change_tracker": 2, "frame_driver": 2,
+    # 2: a frame: the light-layer cache and its tiles, the change tracker, the frame plan and its driver.
+    "light_layers": 2, "layered_tiles": 2, "change_tracker": 2, "frame_plan": 2, "frame_driver": 2,
     # 3: the front door: argument checks, work estimates, render(), Renderer.
     "render_arguments": 3, "work_estimate": 3, "render": 3, "renderer": 3,
 }

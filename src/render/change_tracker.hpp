@@ -9,7 +9,7 @@
 #include "culling/light_reach.hpp"
 #include "par2d/isa.hpp"
 #include "par2d/types.hpp"
-#include "render/frame_driver.hpp"
+#include "render/frame_plan.hpp"
 #include "render/light_layers.hpp"
 #include "world/prepared_scene.hpp"
 #include "world/world_changes.hpp"

@@ -1,5 +1,5 @@
-// The frame driver: blocks dealt to lanes, lanes to threads, each tile set up, computed by
-// the ISA's kernel (or the scalar reference) and stored into the host's format.
+// The frame driver: a frame plan's blocks dealt to lanes, lanes to threads, each block's tiles
+// computed by its strategy, the bounce term added and stored into the host's format.
 #include "render/frame_driver.hpp"
 
 #include <algorithm>
@@ -84,7 +84,7 @@ void sample_needs(const PreparedScene& scene, const TileRect& part, const TileSe
 }  // namespace
 
 // Everything one lane of blocks reuses from tile to tile and frame to frame.
-struct FrameEngine::ThreadState final : TileKernelRunner {
+struct FrameLane final : TileKernelRunner {
   TileWork work;
   TileSetupScratch setup;
   CellListScratch cells;
@@ -191,207 +191,268 @@ struct FrameEngine::ThreadState final : TileKernelRunner {
   }
 };
 
+namespace {
+
+// Progress and cancellation of one frame (FrameControl). Unwatched (no control), the engine
+// asks nothing of it per tile.
+class FrameProgress {
+ public:
+  FrameProgress(const FrameControl* control, std::uint64_t tiles) noexcept
+      : watched_(control != nullptr), tiles_(tiles), caller_(std::this_thread::get_id()) {
+    if (!control) return;
+    cancel_ = control->cancel;
+    if (control->progress && *control->progress) progress_ = control->progress;
+  }
+  bool watched() const noexcept { return watched_; }
+  // Whether tiles not yet begun are to be skipped.
+  bool stopped() const noexcept {
+    return stop_.load(std::memory_order_relaxed) || (cancel_ && cancel_->load(std::memory_order_relaxed));
+  }
+  // After a tile: counted, and reported from the calling thread (its own counts rise, so the
+  // reports do too).
+  void tile_finished() {
+    const std::uint64_t done = tiles_done_.fetch_add(1, std::memory_order_relaxed) + 1;
+    if (!progress_ || std::this_thread::get_id() != caller_) return;
+    reported_ = done;
+    if (!(*progress_)(Progress{done, tiles_})) stop_.store(true, std::memory_order_relaxed);
+  }
+  // A frame with no block to compute: one report of nothing.
+  void report_empty() const {
+    if (progress_) (*progress_)(Progress{0, 0});
+  }
+  // After the frame: false when tiles were skipped; else the last report, if the calling
+  // thread's own was not.
+  bool finish() const {
+    if (!watched_) return true;
+    const std::uint64_t done = tiles_done_.load();
+    if (done < tiles_) return false;
+    if (progress_ && reported_ < done) (*progress_)(Progress{done, tiles_});
+    return true;
+  }
+
+ private:
+  bool watched_;
+  std::uint64_t tiles_;
+  std::thread::id caller_;
+  const ProgressFunction* progress_ = nullptr;
+  const std::atomic<bool>* cancel_ = nullptr;
+  std::atomic<bool> stop_{false};
+  std::atomic<std::uint64_t> tiles_done_{0};
+  std::uint64_t reported_ = 0;  // the calling thread's last report
+};
+
+}  // namespace
+
+// What every lane reads while it runs a plan's blocks.
+struct FrameRun {
+  const FramePlan& plan;
+  const PreparedScene& scene;
+  const FrameTarget& target;
+  VectorTileStores stores;    // the plan's ISA's, for the target's format
+  const BounceFrame* bounce;  // the bounce stage's pieces (plan.bounce.run)
+  FrameProgress& progress;
+};
+
+namespace {
+
+// Calls direct(tile, part, t) for the tiles of `block` that meet the region (part: the pixels
+// inside it; t: the tile's number in the block, row by row), counting them; `direct` leaves the
+// tile's direct light in the lane's result. Then the frame's stages after it: the bounce term,
+// the store into the target, progress.
+template <class Direct>
+void for_each_tile(const FrameRun& run, const PlannedBlock& block, FrameLane& lane, Direct&& direct) {
+  const FramePlan& plan = run.plan;
+  const TileRect& region = plan.region;
+  FrameCounters& counts = lane.counts;
+  for_each_cell(block.rect, kTileSize, [&](const TileRect& tile) {
+    const TileRect part{std::max(tile.x0, region.x0), std::max(tile.y0, region.y0), std::min(tile.x1, region.x1),
+                        std::min(tile.y1, region.y1)};
+    if (part.x0 >= part.x1 || part.y0 >= part.y1) return;
+    if (run.progress.watched() && run.progress.stopped()) return;
+    ++counts.tiles;
+    counts.pixels += static_cast<std::uint64_t>(part.x1 - part.x0) * static_cast<std::uint64_t>(part.y1 - part.y0);
+    direct(tile, part, (tile.y0 - block.rect.y0) / kTileSize * kBlockTiles + (tile.x0 - block.rect.x0) / kTileSize);
+    if (plan.bounce.run)
+      add_bounce_tile(run.scene, *run.bounce, plan.spp, plan.shaded, plan.bounce.cull, tile, part, lane.bounce,
+                      lane.result, counts);
+    store_tile(lane.result, tile.x0, tile.y0, part, run.target, run.stores);
+    if (run.progress.watched()) run.progress.tile_finished();
+  });
+}
+
+// The block's culling (gather_block_candidates with the plan's reach), counted. `skip`: per
+// scene light, 1 where the light-layer cache holds it (`skipped` of them), or null.
+void cull_block(const FrameRun& run, const PlannedBlock& block, FrameLane& lane, const unsigned char* skip,
+                std::uint64_t skipped) {
+  const std::uint64_t tried = lane.setup.occlusion.proofs_tried;
+  const std::uint64_t succeeded = lane.setup.occlusion.proofs_succeeded;
+  gather_block_candidates(run.scene, block.rect, run.plan.cull_reach, lane.setup, skip);
+  count_block(run.scene, lane.setup, tried, succeeded, skipped, lane.counts);
+}
+
+// The block strategies (BlockStrategy), one function each.
+
+void kernel_block(const FrameRun& run, const PlannedBlock& block, FrameLane& lane) {
+  const FramePlan& plan = run.plan;
+  const bool cull = plan.cull_reach != nullptr;
+  cull_block(run, block, lane, nullptr, 0);
+  for_each_tile(run, block, lane, [&](const TileRect& tile, const TileRect& part, int) {
+    build_tile_work(run.scene, tile, plan.spp, cull, lane.work, lane.setup, plan.shaded);
+    build_cell_lists(run.scene, tile, plan.kernels->lanes, lane.setup, lane.work, lane.cells);
+    if (plan.sample_needs) sample_needs(run.scene, part, lane.setup, lane.scalar, lane.counts);
+    lane.run(lane.work, lane.result);
+  });
+}
+
+void layered_block(const FrameRun& run, const PlannedBlock& block, FrameLane& lane) {
+  const FramePlan& plan = run.plan;
+  const bool cull = plan.cull_reach != nullptr;
+  std::vector<LightLayer>& layers = plan.layers->block(block.index);
+  start_layered_block(run.scene.lights.size(), layers, lane.layered);
+  std::uint64_t skipped = 0;
+  for (const unsigned char s : lane.layered.skip) skipped += s;
+  cull_block(run, block, lane, lane.layered.skip.data(), skipped);
+  for_each_tile(run, block, lane, [&](const TileRect& tile, const TileRect& part, int t) {
+    build_tile_work(run.scene, tile, plan.spp, cull, lane.work, lane.setup, plan.shaded);
+    if (plan.sample_needs) sample_needs(run.scene, part, lane.setup, lane.scalar, lane.counts);
+    render_layered_tile(run.scene, tile, t, *plan.kernels, block.fill_layers, plan.layers->layer_floats(), lane.work,
+                        lane.setup, lane.cells, layers, lane.layered, lane, lane.result, lane.counts);
+  });
+  if (block.fill_layers) plan.layers->finish_block(block.index);
+}
+
+void recombine_block(const FrameRun& run, const PlannedBlock& block, FrameLane& lane) {
+  const std::vector<LightLayer>& layers = run.plan.layers->block(block.index);
+  for_each_tile(run, block, lane, [&](const TileRect&, const TileRect&, int t) {
+    recombine_tile(run.scene, layers, t, *run.plan.kernels, lane.result, lane.counts);
+  });
+}
+
+void scalar_reference_block(const FrameRun& run, const PlannedBlock& block, FrameLane& lane) {
+  for_each_tile(run, block, lane, [&](const TileRect& tile, const TileRect& part, int) {
+    ++lane.counts.scalar_tiles;
+    render_tile_scalar(run.scene, run.plan.spp, part, tile.x0, tile.y0, lane.scalar, lane.result, run.plan.shaded);
+  });
+}
+
+void no_direct_block(const FrameRun& run, const PlannedBlock& block, FrameLane& lane) {
+  for_each_tile(run, block, lane, [&](const TileRect&, const TileRect&, int) {
+    for (auto& channel : lane.result.rgb) std::fill(std::begin(channel), std::end(channel), 0.0f);
+  });
+}
+
+// The one place a block's strategy is dispatched.
+void run_block(const FrameRun& run, const PlannedBlock& block, FrameLane& lane) {
+  switch (block.strategy) {
+    case BlockStrategy::kernel: return kernel_block(run, block, lane);
+    case BlockStrategy::layered: return layered_block(run, block, lane);
+    case BlockStrategy::recombine: return recombine_block(run, block, lane);
+    case BlockStrategy::scalar_reference: return scalar_reference_block(run, block, lane);
+    case BlockStrategy::no_direct: return no_direct_block(run, block, lane);
+  }
+}
+
+}  // namespace
+
 FrameEngine::FrameEngine() = default;
 FrameEngine::~FrameEngine() = default;
 FrameEngine::FrameEngine(FrameEngine&&) noexcept = default;
 FrameEngine& FrameEngine::operator=(FrameEngine&&) noexcept = default;
 
-bool FrameEngine::render(const PreparedScene& scene, const std::vector<LightReach>* reach,
-                         const FrameSettings& settings, const Scheduler& scheduler, const FrameTarget& target,
-                         FrameStats* stats, const std::vector<std::uint8_t>* dirty, LightLayerCache* layers,
-                         const FrameControl* control) {
-  const KernelSet* kernels = kernels_for(settings.isa);
-  const TileRect& region = target.region;
-  // Blocks of the whole frame that meet the region.
-  const int bx0 = region.x0 / kBlockSize, bx1 = (region.x1 - 1) / kBlockSize + 1;
-  const int by0 = region.y0 / kBlockSize, by1 = (region.y1 - 1) / kBlockSize + 1;
-  const int columns = bx1 - bx0;
-  const int frame_columns = (scene.width + kBlockSize - 1) / kBlockSize;
-  int blocks = columns * (by1 - by0);
-  if (!kernels) layers = nullptr;  // the scalar reference computes every light itself
-  if (dirty) {  // only the flagged blocks, in the same order
-    block_list_.clear();
-    for (int b = 0; b < blocks; ++b) {
-      const int bx = bx0 + b % columns, by = by0 + b / columns;
-      if ((*dirty)[static_cast<std::size_t>(by * frame_columns + bx)]) block_list_.push_back(b);
-    }
-    blocks = static_cast<int>(block_list_.size());
-    if (blocks == 0) {
-      if (stats) *stats = FrameStats{};
-      if (control && control->progress && *control->progress) (*control->progress)(Progress{0, 0});
-      return true;
-    }
+bool FrameEngine::run(const FramePlan& plan, const PreparedScene& scene, const Scheduler& scheduler,
+                      const FrameTarget& target, FrameStats* stats, const FrameControl* control) {
+  FrameProgress progress(control, plan.tiles);
+  if (plan.blocks.empty()) {  // an incremental frame in which nothing changed
+    if (stats) *stats = FrameStats{};
+    progress.report_empty();
+    return true;
   }
-  // Progress and cancellation: the tiles that meet the region in the blocks computed.
-  const ProgressFunction* progress = control && control->progress && *control->progress ? control->progress : nullptr;
-  const std::atomic<bool>* cancel = control ? control->cancel : nullptr;
-  std::atomic<bool> stop{false};
-  std::atomic<std::uint64_t> tiles_done{0};
-  std::uint64_t tiles_total = 0;
-  const std::thread::id caller = std::this_thread::get_id();
-  const auto stopped = [&] {
-    return stop.load(std::memory_order_relaxed) || (cancel && cancel->load(std::memory_order_relaxed));
-  };
-  if (control) {
-    for (int k = 0; k < blocks; ++k) {
-      const int b = dirty ? block_list_[static_cast<std::size_t>(k)] : k;
-      const int x0 = std::max((bx0 + b % columns) * kBlockSize, region.x0);
-      const int y0 = std::max((by0 + b / columns) * kBlockSize, region.y0);
-      const int x1 = std::min((bx0 + b % columns + 1) * kBlockSize, region.x1);
-      const int y1 = std::min((by0 + b / columns + 1) * kBlockSize, region.y1);
-      tiles_total += static_cast<std::uint64_t>((x1 - 1) / kTileSize - x0 / kTileSize + 1) *
-                     static_cast<std::uint64_t>((y1 - 1) / kTileSize - y0 / kTileSize + 1);
-    }
-    if (stopped()) return false;
-  }
-  // After a tile: counted, and reported from the calling thread (its own counts rise, so the
-  // reports do too).
-  std::uint64_t reported = 0;  // the calling thread's last report
-  const auto tile_finished = [&] {
-    const std::uint64_t done = tiles_done.fetch_add(1, std::memory_order_relaxed) + 1;
-    if (!progress || std::this_thread::get_id() != caller) return;
-    reported = done;
-    if (!(*progress)(Progress{done, tiles_total})) stop.store(true, std::memory_order_relaxed);
-  };
-  const bool cull = settings.culling && reach != nullptr;
-  // RenderOptions::bounce: the bounce term where the scene has one and the options want it;
-  // the direct light (kernel or reference, with the ambient) unless only the bounce is asked.
-  const bool bouncing = scene.bounce && settings.bounce != BounceTerm::excluded;
-  const bool direct = settings.bounce != BounceTerm::only;
-  if (!direct) layers = nullptr;
-  VectorTileStores stores;
-  if (kernels) {
-    stores = kernels->stores;
-    if (pixel_format_info(target.format)->srgb8) {
-      if (srgb_.exposure != target.exposure || srgb_.below.empty()) build_srgb_buckets(target.exposure, srgb_);
-      stores.srgb = &srgb_;
-    }
-  }
+  if (progress.watched() && progress.stopped()) return false;
+  const int lanes = reserve_lanes(plan, scene, scheduler);
+  if (plan.bounce.run) run_bounce_stage(scene, scheduler, lanes);
+  const FrameRun run{plan, scene, target, stores_for(plan, target), bounce_.get(), progress};
+  run_lanes(run, scheduler, lanes);
+  if (plan.layers) plan.layers->finish_frame();
+  if (!progress.finish()) return false;
+  if (stats) *stats = to_frame_stats(sum_counters(plan, lanes));
+  return true;
+}
 
-  auto render_block = [&](int b, ThreadState& state) {
-    if (control && stopped()) return;
-    if (dirty) b = block_list_[static_cast<std::size_t>(b)];
-    const int x0 = (bx0 + b % columns) * kBlockSize, y0 = (by0 + b / columns) * kBlockSize;
-    const TileRect block{x0, y0, std::min(x0 + kBlockSize, scene.width), std::min(y0 + kBlockSize, scene.height)};
-    FrameCounters& counts = state.counts;
-    const std::size_t frame_block = static_cast<std::size_t>((bx0 + b % columns) + (by0 + b / columns) * frame_columns);
-    // Calls fn(tile, part, t) for the block's tiles that meet the region (part: the pixels
-    // inside it; t: the tile's number in the block, row by row), counting them.
-    const auto for_each_tile = [&](auto&& fn) {
-      for_each_cell(block, kTileSize, [&](const TileRect& tile) {
-        const TileRect part{std::max(tile.x0, region.x0), std::max(tile.y0, region.y0), std::min(tile.x1, region.x1),
-                            std::min(tile.y1, region.y1)};
-        if (part.x0 >= part.x1 || part.y0 >= part.y1) return;
-        if (control && stopped()) return;
-        ++counts.tiles;
-        counts.pixels += static_cast<std::uint64_t>(part.x1 - part.x0) * static_cast<std::uint64_t>(part.y1 - part.y0);
-        fn(tile, part, (tile.y0 - y0) / kTileSize * kBlockTiles + (tile.x0 - x0) / kTileSize);
-        if (control) tile_finished();
-      });
-    };
-    if (layers && layers->recombine_only(frame_block)) {  // every light from its layer: no culling, no kernel
-      for_each_tile([&](const TileRect& tile, const TileRect& part, int t) {
-        recombine_tile(scene, layers->block(frame_block), t, *kernels, state.result, counts);
-        store_tile(state.result, tile.x0, tile.y0, part, target, stores);
-      });
-      return;
+// Blocks are dealt to lanes (lane l takes blocks l, l + lanes, ...), each lane with its own
+// buffers, and lanes to threads: which buffers serve which block does not depend on the
+// scheduler, so once a frame has sized them, the same frame never needs more (per-thread
+// buffers would meet a new, larger block whenever TBB deals blocks differently). Several
+// lanes per worker keep the load balanced.
+// Buffers are reserved for the scene's counts, not grown to each frame's need: a frame then
+// allocates nothing wherever the lights move (changed counts, a light or occluder with more
+// vertices than before, or a new size may allocate).
+int FrameEngine::reserve_lanes(const FramePlan& plan, const PreparedScene& scene, const Scheduler& scheduler) {
+  const int lanes = std::min(static_cast<int>(plan.blocks.size()), kLanesPerWorker * scheduler.workers());
+  if (lanes_.size() < static_cast<std::size_t>(lanes)) lanes_.resize(static_cast<std::size_t>(lanes));
+  if (!plan.kernels) return lanes;
+  const SceneBounds bounds = scene_bounds(scene);
+  for (int l = 0; l < lanes; ++l) {
+    FrameLane& lane = lanes_[static_cast<std::size_t>(l)];
+    if (lane.setup.reserved != bounds) lane.reserve_for(bounds, plan.kernels->lanes);
+    // A tile copies each overlap's points at most once (SceneBounds::overlap_points): room
+    // for twice that when it grows past it, so that the overlaps' pool growing a little
+    // does not make every lane reallocate.
+    if (lane.work.point_x.capacity() < bounds.overlap_points) {
+      lane.work.point_x.reserve(2 * bounds.overlap_points);
+      lane.work.point_y.reserve(2 * bounds.overlap_points);
     }
-    if (layers) start_layered_block(scene.lights.size(), layers->block(frame_block), state.layered);
-    if (kernels && direct) {
-      const std::uint64_t tried = state.setup.occlusion.proofs_tried;
-      const std::uint64_t succeeded = state.setup.occlusion.proofs_succeeded;
-      gather_block_candidates(scene, block, cull ? reach : nullptr, state.setup,
-                              layers ? state.layered.skip.data() : nullptr);
-      std::uint64_t skipped = 0;
-      if (layers)
-        for (const unsigned char s : state.layered.skip) skipped += s;
-      count_block(scene, state.setup, tried, succeeded, skipped, counts);
-    }
-    for_each_tile([&](const TileRect& tile, const TileRect& part, int t) {
-      if (!direct) {
-        for (auto& channel : state.result.rgb) std::fill(std::begin(channel), std::end(channel), 0.0f);
-      } else if (!kernels) {  // Isa::scalar: the reference, tile by tile
-        ++counts.scalar_tiles;
-        render_tile_scalar(scene, settings.spp, part, tile.x0, tile.y0, state.scalar, state.result, settings.shaded);
-      } else if (layers) {
-        build_tile_work(scene, tile, settings.spp, cull, state.work, state.setup, settings.shaded);
-        if (settings.sample_needs) sample_needs(scene, part, state.setup, state.scalar, counts);
-        render_layered_tile(scene, tile, t, *kernels, layers->may_fill(frame_block), layers->layer_floats(),
-                            state.work, state.setup, state.cells, layers->block(frame_block), state.layered, state,
-                            state.result, counts);
-      } else {
-        build_tile_work(scene, tile, settings.spp, cull, state.work, state.setup, settings.shaded);
-        build_cell_lists(scene, tile, kernels->lanes, state.setup, state.work, state.cells);
-        if (settings.sample_needs) sample_needs(scene, part, state.setup, state.scalar, counts);
-        state.run(state.work, state.result);
-      }
-      if (bouncing)
-        add_bounce_tile(scene, *bounce_, settings.spp, settings.shaded, settings.culling && kernels != nullptr, tile,
-                        part, state.bounce, state.result, counts);
-      store_tile(state.result, tile.x0, tile.y0, part, target, stores);
-    });
-    if (layers && layers->may_fill(frame_block)) layers->finish_block(frame_block);
-  };
+  }
+  return lanes;
+}
 
-  // Blocks are dealt to lanes (lane l takes blocks l, l + lanes, ...), each lane with its own
-  // buffers, and lanes to threads: which buffers serve which block does not depend on the
-  // scheduler, so once a frame has sized them, the same frame never needs more (per-thread
-  // buffers would meet a new, larger block whenever TBB deals blocks differently). Several
-  // lanes per worker keep the load balanced.
-  const int lanes = std::min(blocks, kLanesPerWorker * scheduler.workers());
-  if (states_.size() < static_cast<std::size_t>(lanes)) states_.resize(static_cast<std::size_t>(lanes));
-  // Buffers are reserved for the scene's counts, not grown to each frame's need: a frame then
-  // allocates nothing wherever the lights move (changed counts, a light or occluder with more
-  // vertices than before, or a new size may allocate).
-  if (kernels) {
-    const SceneBounds bounds = scene_bounds(scene);
-    for (int lane = 0; lane < lanes; ++lane) {
-      ThreadState& state = states_[static_cast<std::size_t>(lane)];
-      if (state.setup.reserved != bounds) state.reserve_for(bounds, kernels->lanes);
-      // A tile copies each overlap's points at most once (SceneBounds::overlap_points): room
-      // for twice that when it grows past it, so that the overlaps' pool growing a little
-      // does not make every lane reallocate.
-      if (state.work.point_x.capacity() < bounds.overlap_points) {
-        state.work.point_x.reserve(2 * bounds.overlap_points);
-        state.work.point_y.reserve(2 * bounds.overlap_points);
-      }
-    }
-  }
-  // The pieces' radiances first (they depend on every light and occluder), lane by lane.
-  if (bouncing) {
-    if (!bounce_) bounce_ = std::make_unique<BounceFrame>();
-    build_bounce_sources(scene, *bounce_);
-    const std::size_t pieces = bounce_->pieces.size();
-    scheduler.for_each_index(lanes, [&](int lane, int) {
-      const std::size_t lo = pieces * static_cast<std::size_t>(lane) / static_cast<std::size_t>(lanes);
-      const std::size_t hi = pieces * static_cast<std::size_t>(lane + 1) / static_cast<std::size_t>(lanes);
-      bounce_radiances(scene, *bounce_, lo, hi, states_[static_cast<std::size_t>(lane)].scalar);
-    });
-    finish_bounce_frame(*bounce_);
-  }
+// The pieces' radiances first (they depend on every light and occluder), lane by lane.
+void FrameEngine::run_bounce_stage(const PreparedScene& scene, const Scheduler& scheduler, int lanes) {
+  if (!bounce_) bounce_ = std::make_unique<BounceFrame>();
+  build_bounce_sources(scene, *bounce_);
+  const std::size_t pieces = bounce_->pieces.size();
   scheduler.for_each_index(lanes, [&](int lane, int) {
-    ThreadState& state = states_[static_cast<std::size_t>(lane)];
-    state.kernels = kernels;
-    state.counts = FrameCounters{};
-    state.setup.clear_counts();
-    for (int b = lane; b < blocks; b += lanes) render_block(b, state);
-    state.counts += state.setup.counts();
+    const std::size_t lo = pieces * static_cast<std::size_t>(lane) / static_cast<std::size_t>(lanes);
+    const std::size_t hi = pieces * static_cast<std::size_t>(lane + 1) / static_cast<std::size_t>(lanes);
+    bounce_radiances(scene, *bounce_, lo, hi, lanes_[static_cast<std::size_t>(lane)].scalar);
   });
-  if (layers) layers->finish_frame();
-  if (control) {
-    const std::uint64_t done = tiles_done.load();
-    if (done < tiles_total) return false;
-    if (progress && reported < done) (*progress)(Progress{done, tiles_total});
+  finish_bounce_frame(*bounce_);
+}
+
+// The plan's ISA's vector stores (none for the scalar reference), with the sRGB buckets of the
+// target's exposure.
+VectorTileStores FrameEngine::stores_for(const FramePlan& plan, const FrameTarget& target) {
+  if (!plan.kernels) return {};
+  VectorTileStores stores = plan.kernels->stores;
+  if (pixel_format_info(target.format)->srgb8) {
+    if (srgb_.exposure != target.exposure || srgb_.below.empty()) build_srgb_buckets(target.exposure, srgb_);
+    stores.srgb = &srgb_;
   }
-  if (!stats) return true;
+  return stores;
+}
+
+void FrameEngine::run_lanes(const FrameRun& run, const Scheduler& scheduler, int lanes) {
+  const std::size_t blocks = run.plan.blocks.size();
+  scheduler.for_each_index(lanes, [&](int l, int) {
+    FrameLane& lane = lanes_[static_cast<std::size_t>(l)];
+    lane.kernels = run.plan.kernels;
+    lane.counts = FrameCounters{};
+    lane.setup.clear_counts();
+    for (std::size_t b = static_cast<std::size_t>(l); b < blocks; b += static_cast<std::size_t>(lanes)) {
+      if (run.progress.watched() && run.progress.stopped()) continue;
+      run_block(run, run.plan.blocks[b], lane);
+    }
+    lane.counts += lane.setup.counts();
+  });
+}
+
+FrameCounters FrameEngine::sum_counters(const FramePlan& plan, int lanes) const {
   FrameCounters sum;
-  for (int lane = 0; lane < lanes; ++lane) sum += states_[static_cast<std::size_t>(lane)].counts;
-  if (bouncing) {
+  for (int l = 0; l < lanes; ++l) sum += lanes_[static_cast<std::size_t>(l)].counts;
+  if (plan.bounce.run) {
     sum.bounce_pieces = bounce_->pieces.size();
     for (const BounceSource& source : bounce_->sources) sum.bounce_lit_sources += source.lit ? 1u : 0u;
   }
-  *stats = to_frame_stats(sum);
-  return true;
+  return sum;
 }
 
 }  // namespace par2d::detail

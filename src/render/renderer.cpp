@@ -14,6 +14,7 @@
 #include "parallel/scheduler.hpp"
 #include "render/frame_driver.hpp"
 #include "render/frame_output.hpp"
+#include "render/frame_plan.hpp"
 #include "render/light_layers.hpp"
 #include "render/render_arguments.hpp"
 #include "render/work_estimate.hpp"
@@ -42,6 +43,7 @@ struct Renderer::Impl {
   bool incremental = false;
   std::vector<PixelRect> dirty_rects;  // the last successful render's
   detail::World world;
+  detail::FramePlan plan;  // this frame's (its storage kept from frame to frame)
   detail::FrameEngine engine;
   FrameStats frame_stats;  // the last successful render's
   // Shapes placed by a Transform before they go to the world (kept: their storage is reused).
@@ -332,8 +334,8 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
     const detail::FrameControl control{&impl.progress, &impl.cancel};
     bool complete = false;
     try {
-      complete = impl.engine.render(scene, reach, settings, impl.scheduler, target, &impl.frame_stats, dirty, layers,
-                                    watched ? &control : nullptr);
+      detail::plan_frame(scene, settings, target.region, reach, dirty, layers, impl.plan);
+      complete = impl.engine.run(impl.plan, scene, impl.scheduler, target, &impl.frame_stats, watched ? &control : nullptr);
     } catch (...) {
       impl.tracker.force_full();  // the buffer may hold part of a frame (the plan drops the layers)
       throw;

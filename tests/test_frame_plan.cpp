@@ -1,0 +1,336 @@
+// Frame plans (render/frame_plan.hpp): what plan_frame decides per block and per stage, and
+// FrameEngine::run executing hand-edited plans, block by block, against whole frames rendered
+// through the public API with each backend.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+#include "culling/light_reach.hpp"
+#include "par2d/isa.hpp"
+#include "par2d/render.hpp"
+#include "parallel/scheduler.hpp"
+#include "render/frame_driver.hpp"
+#include "render/frame_plan.hpp"
+#include "render/kernel_table.hpp"
+#include "render/light_layers.hpp"
+#include "support/random_scenes.hpp"
+#include "world/world.hpp"
+
+namespace par2d::test {
+namespace {
+
+using detail::BlockStrategy;
+using detail::FramePlan;
+using detail::PlannedBlock;
+
+// A 200 x 140 frame: 4 x 3 blocks of 64 px, the last column 8 px wide and the last row 12 px
+// high. `albedo`: some occluders reflect (a bounce term).
+Scene plan_scene(std::uint32_t seed, bool albedo) {
+  RandomSceneOptions options;
+  options.width = 200;
+  options.height = 140;
+  options.min_lights = 3;
+  options.max_lights = 6;
+  options.min_occluders = 8;
+  options.max_occluders = 14;
+  options.max_size = 0.12;
+  options.ambient = true;
+  Scene scene = random_scene(seed, options);
+  if (albedo) {
+    for (std::size_t i = 0; i < scene.occluders.size(); i += 2) scene.occluders[i].albedo = {0.6, 0.5, 0.4};
+    scene.bounce.piece = 8.0;
+  }
+  return scene;
+}
+
+// Per light, the reach a Renderer culls with.
+std::vector<detail::LightReach> reach_of(const detail::PreparedScene& scene) {
+  std::vector<detail::LightReach> reach;
+  detail::LightReachScratch scratch;
+  for (std::size_t l = 0; l < scene.lights.size(); ++l) reach.push_back(detail::compute_light_reach(scene, l, scratch));
+  return reach;
+}
+
+// A whole frame of `scene` through the public API, float RGB.
+std::vector<float> whole_frame(const Scene& scene, Backend backend, Isa isa, BounceTerm bounce = BounceTerm::included) {
+  RenderOptions options;
+  options.backend = backend;
+  if (backend == Backend::simd) options.isa = isa;
+  options.threads = 2;
+  options.bounce = bounce;
+  std::vector<float> pixels(static_cast<std::size_t>(scene.width) * static_cast<std::size_t>(scene.height) * 3, -1.0f);
+  const Status s = render(scene, options, ImageView{pixels.data(), scene.width, scene.height, scene.width * 3});
+  REQUIRE_MESSAGE(s.ok(), s.message());
+  return pixels;
+}
+
+// The SIMD levels compiled here that this CPU runs.
+std::vector<Isa> kernel_isas() {
+  std::vector<Isa> isas;
+  const detail::CompiledKernels compiled = detail::compiled_kernels();
+  for (std::size_t k = 0; k < compiled.count; ++k)
+    if (isa_supported(compiled.kernels[k].isa)) isas.push_back(compiled.kernels[k].isa);
+  return isas;
+}
+
+// A float RGB frame `plan` writes its region of, rows `width` pixels apart, every value first
+// `canary`.
+struct Target {
+  std::vector<float> pixels;
+  detail::FrameTarget frame;
+  Target(const detail::TileRect& region, float canary) {
+    const int w = region.x1 - region.x0, h = region.y1 - region.y0;
+    pixels.assign(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3, canary);
+    frame.data = reinterpret_cast<unsigned char*>(pixels.data());
+    frame.format = PixelFormat::rgb_f32;
+    frame.row_stride = static_cast<std::ptrdiff_t>(w) * 3 * static_cast<std::ptrdiff_t>(sizeof(float));
+    frame.region = region;
+  }
+};
+
+// The planned block holding pixel (x, y), or null.
+const PlannedBlock* block_at(const FramePlan& plan, int x, int y) {
+  for (const PlannedBlock& b : plan.blocks)
+    if (b.rect.x0 <= x && x < b.rect.x1 && b.rect.y0 <= y && y < b.rect.y1) return &b;
+  return nullptr;
+}
+
+bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// Checks every pixel of `target` (its region of a `width`-wide frame): inside a planned block,
+// the bits of `expected(block)`'s pixel; elsewhere the canary. Returns the pixels compared
+// against a whole frame.
+template <class Expected>
+std::size_t check_pixels(const FramePlan& plan, const Target& target, int width, float canary, Expected&& expected) {
+  const detail::TileRect& r = target.frame.region;
+  std::size_t computed = 0, wrong = 0, touched = 0;
+  for (int y = r.y0; y < r.y1; ++y) {
+    for (int x = r.x0; x < r.x1; ++x) {
+      const PlannedBlock* block = block_at(plan, x, y);
+      for (int c = 0; c < 3; ++c) {
+        const float got = target.pixels[(static_cast<std::size_t>(y - r.y0) * (r.x1 - r.x0) + (x - r.x0)) * 3 + c];
+        if (!block) {
+          touched += same_bits(got, canary) ? 0u : 1u;
+        } else {
+          const std::vector<float>& frame = expected(*block);
+          wrong += same_bits(got, frame[(static_cast<std::size_t>(y) * width + x) * 3 + c]) ? 0u : 1u;
+        }
+      }
+      computed += block ? 1u : 0u;
+    }
+  }
+  CHECK_MESSAGE(wrong == 0, wrong, " values differ from the whole frame of their block's backend");
+  CHECK_MESSAGE(touched == 0, touched, " values outside the planned blocks were written");
+  return computed;
+}
+
+}  // namespace
+
+TEST_CASE("a plan mixing kernel and scalar_reference blocks gives each block its backend's whole-frame pixels, bit for bit") {
+  const std::vector<Isa> isas = kernel_isas();
+  if (isas.empty()) {
+    MESSAGE("no SIMD kernel for this architecture: every plan is the reference's, nothing to mix");
+    return;
+  }
+  detail::Scheduler scheduler;
+  scheduler.configure(2, Threading::own_pool);
+  for (const bool albedo : {false, true}) {
+    const Scene scene = plan_scene(albedo ? 31u : 17u, albedo);
+    const detail::PreparedScene prepared = detail::prepare_scene(scene);
+    const std::vector<detail::LightReach> reach = reach_of(prepared);
+    const std::vector<float> reference = whole_frame(scene, Backend::scalar, Isa::scalar);
+    for (const Isa isa : isas) {
+      CAPTURE(isa_name(isa));
+      CAPTURE(albedo);
+      const std::vector<float> kernel = whole_frame(scene, Backend::simd, isa);
+      detail::FrameSettings settings;
+      settings.isa = isa;
+      const detail::TileRect frame{0, 0, scene.width, scene.height};
+      FramePlan plan;
+      detail::plan_frame(prepared, settings, frame, &reach, nullptr, nullptr, plan);
+      REQUIRE(plan.blocks.size() == 12);
+      CHECK(plan.bounce.run == albedo);
+      // Blocks alternate in a checkerboard, so every block has neighbours of the other kind.
+      for (PlannedBlock& b : plan.blocks) {
+        REQUIRE(b.strategy == BlockStrategy::kernel);
+        if ((b.rect.x0 / detail::kBlockSize + b.rect.y0 / detail::kBlockSize) % 2 == 0)
+          b.strategy = BlockStrategy::scalar_reference;
+      }
+      Target target(frame, -7.0f);
+      detail::FrameEngine engine;
+      REQUIRE(engine.run(plan, prepared, scheduler, target.frame));
+      const std::size_t computed = check_pixels(plan, target, scene.width, -7.0f, [&](const PlannedBlock& b) -> const std::vector<float>& {
+        return b.strategy == BlockStrategy::scalar_reference ? reference : kernel;
+      });
+      CHECK(computed == static_cast<std::size_t>(scene.width) * static_cast<std::size_t>(scene.height));
+      // The two backends differ somewhere (else the test could not tell which ran where).
+      CHECK(std::memcmp(reference.data(), kernel.data(), reference.size() * sizeof(float)) != 0);
+    }
+  }
+}
+
+TEST_CASE("a plan over some blocks of a region computes them as a whole frame does and leaves every other pixel untouched") {
+  const Scene scene = plan_scene(23u, true);
+  const detail::PreparedScene prepared = detail::prepare_scene(scene);
+  const std::vector<detail::LightReach> reach = reach_of(prepared);
+  detail::Scheduler scheduler;
+  scheduler.configure(2, Threading::own_pool);
+  std::vector<Isa> isas = kernel_isas();
+  isas.push_back(Isa::scalar);
+  for (const Isa isa : isas) {
+    CAPTURE(isa_name(isa));
+    const std::vector<float> whole =
+        isa == Isa::scalar ? whole_frame(scene, Backend::scalar, isa) : whole_frame(scene, Backend::simd, isa);
+    detail::FrameSettings settings;
+    settings.isa = isa;
+    settings.culling = isa != Isa::scalar;
+    // Blocks 1, 4, 6, 9 and 11 of the frame's 4 x 3, in a region that cuts blocks on every
+    // side and leaves block 11 out.
+    std::vector<std::uint8_t> dirty(12, 0);
+    for (const int b : {1, 4, 6, 9, 11}) dirty[static_cast<std::size_t>(b)] = 1;
+    const detail::TileRect region{30, 20, 190, 135};
+    FramePlan plan;
+    detail::plan_frame(prepared, settings, region, settings.culling ? &reach : nullptr, &dirty, nullptr, plan);
+    REQUIRE(plan.blocks.size() == 4);  // block 11 is outside the region
+    Target target(region, 1e30f);
+    detail::FrameEngine engine;
+    REQUIRE(engine.run(plan, prepared, scheduler, target.frame));
+    const std::size_t computed =
+        check_pixels(plan, target, scene.width, 1e30f, [&](const PlannedBlock&) -> const std::vector<float>& { return whole; });
+    // The planned blocks within the region: (64..128) x (20..64), (30..64) x (64..128),
+    // (128..190) x (64..128) and (64..128) x (128..135).
+    CHECK(computed == 64u * 44u + 34u * 64u + 62u * 64u + 64u * 7u);
+    // Nothing planned: nothing written, the progress function told of no tile.
+    std::fill(dirty.begin(), dirty.end(), 0);
+    detail::plan_frame(prepared, settings, region, settings.culling ? &reach : nullptr, &dirty, nullptr, plan);
+    CHECK(plan.blocks.empty());
+    CHECK(plan.tiles == 0);
+    Target untouched(region, 1e30f);
+    int reports = 0;
+    const ProgressFunction progress = [&](const Progress& p) {
+      ++reports;
+      CHECK(p.tiles == 0);
+      return true;
+    };
+    const detail::FrameControl control{&progress, nullptr};
+    REQUIRE(engine.run(plan, prepared, scheduler, untouched.frame, nullptr, &control));
+    CHECK(reports == 1);
+    check_pixels(plan, untouched, scene.width, 1e30f, [&](const PlannedBlock&) -> const std::vector<float>& { return whole; });
+  }
+}
+
+TEST_CASE("plan_frame: dirty flags pick the blocks in frame order; the scalar ISA and the bounce alone take no layers") {
+  const Scene scene = plan_scene(41u, true);
+  const detail::PreparedScene prepared = detail::prepare_scene(scene);
+  const std::vector<detail::LightReach> reach = reach_of(prepared);
+  const std::vector<Isa> isas = kernel_isas();
+  const Isa simd = isas.empty() ? Isa::scalar : isas.back();
+  detail::LightLayerCache layers;
+  layers.set_budget(std::size_t{64} << 20);
+  layers.set_block_count(12);
+  const detail::TileRect frame{0, 0, scene.width, scene.height};
+  FramePlan plan;
+
+  SUBCASE("dirty flags: only the flagged blocks, row by row, each with its rectangle and number") {
+    std::vector<std::uint8_t> dirty(12, 0);
+    for (const int b : {10, 2, 3, 7}) dirty[static_cast<std::size_t>(b)] = 1;
+    detail::FrameSettings settings;
+    settings.isa = simd;
+    detail::plan_frame(prepared, settings, frame, &reach, &dirty, nullptr, plan);
+    REQUIRE(plan.blocks.size() == 4);
+    const std::uint32_t expected[] = {2, 3, 7, 10};
+    for (std::size_t k = 0; k < 4; ++k) {
+      const PlannedBlock& b = plan.blocks[k];
+      CHECK(b.index == expected[k]);
+      CHECK(b.rect.x0 == static_cast<int>(expected[k] % 4) * 64);
+      CHECK(b.rect.y0 == static_cast<int>(expected[k] / 4) * 64);
+      CHECK(b.rect.x1 == std::min(b.rect.x0 + 64, 200));
+      CHECK(b.rect.y1 == std::min(b.rect.y0 + 64, 140));
+    }
+    // Tiles of 16 px: blocks 2 and 10 are 4 x 4 and 4 x 1 tiles, blocks 3 and 7 are 1 x 4.
+    CHECK(plan.tiles == 16u + 4u + 4u + 4u);
+    CHECK(plan.cull_reach == &reach);
+  }
+  SUBCASE("the scalar ISA: every block by the reference, no layers, no culling, no kernels") {
+    detail::FrameSettings settings;
+    settings.isa = Isa::scalar;
+    settings.culling = false;
+    detail::plan_frame(prepared, settings, frame, nullptr, nullptr, &layers, plan);
+    REQUIRE(plan.blocks.size() == 12);
+    for (const PlannedBlock& b : plan.blocks) CHECK(b.strategy == BlockStrategy::scalar_reference);
+    CHECK(plan.layers == nullptr);
+    CHECK(plan.kernels == nullptr);
+    CHECK(plan.cull_reach == nullptr);
+    CHECK(plan.bounce.run);
+    CHECK_FALSE(plan.bounce.cull);
+  }
+  SUBCASE("the bounce alone: no direct light in any block, no layers; excluded: no bounce stage") {
+    detail::FrameSettings settings;
+    settings.isa = simd;
+    settings.bounce = BounceTerm::only;
+    detail::plan_frame(prepared, settings, frame, &reach, nullptr, &layers, plan);
+    REQUIRE(plan.blocks.size() == 12);
+    for (const PlannedBlock& b : plan.blocks) CHECK(b.strategy == BlockStrategy::no_direct);
+    CHECK(plan.layers == nullptr);
+    CHECK(plan.bounce.run);
+    CHECK(plan.bounce.cull == (simd != Isa::scalar));
+    settings.bounce = BounceTerm::excluded;
+    detail::plan_frame(prepared, settings, frame, &reach, nullptr, nullptr, plan);
+    CHECK_FALSE(plan.bounce.run);
+    for (const PlannedBlock& b : plan.blocks) CHECK(b.strategy == (simd == Isa::scalar ? BlockStrategy::scalar_reference : BlockStrategy::kernel));
+  }
+}
+
+TEST_CASE("plan_frame with a light-layer cache: blocks fill their layers, then recombine from them alone") {
+  const std::vector<Isa> isas = kernel_isas();
+  if (isas.empty()) {
+    MESSAGE("no SIMD kernel for this architecture: no layers (they hold what a kernel computes)");
+    return;
+  }
+  Scene scene = plan_scene(53u, false);
+  const detail::PreparedScene prepared = detail::prepare_scene(scene);
+  const std::vector<detail::LightReach> reach = reach_of(prepared);
+  detail::Scheduler scheduler;
+  scheduler.configure(2, Threading::own_pool);
+  detail::FrameSettings settings;
+  settings.isa = isas.back();
+  const detail::TileRect frame{0, 0, scene.width, scene.height};
+  // Every light takes part in every block (the cache's own plan, as the change tracker makes it).
+  std::vector<std::uint32_t> first, lights;
+  for (std::uint32_t b = 0; b <= 12; ++b) first.push_back(b * static_cast<std::uint32_t>(prepared.lights.size()));
+  for (std::uint32_t b = 0; b < 12; ++b)
+    for (std::uint32_t l = 0; l < prepared.lights.size(); ++l) lights.push_back(l);
+  detail::LightLayerCache layers;
+  layers.set_budget(std::size_t{256} << 20);
+  layers.set_block_count(12);
+  detail::FrameEngine engine;
+  const std::vector<float> kernel = whole_frame(scene, Backend::simd, settings.isa);
+  for (int frame_number = 0; frame_number < 2; ++frame_number) {
+    CAPTURE(frame_number);
+    layers.plan_frame(nullptr, first, lights, false, 3);
+    FramePlan plan;
+    detail::plan_frame(prepared, settings, frame, &reach, nullptr, &layers, plan);
+    REQUIRE(plan.blocks.size() == 12);
+    CHECK(plan.layers == &layers);
+    for (const PlannedBlock& b : plan.blocks) {
+      if (frame_number == 0) {  // no layer yet, room for all
+        CHECK(b.strategy == BlockStrategy::layered);
+        CHECK(b.fill_layers);
+      } else {  // every light of every block has its layer
+        CHECK(b.strategy == BlockStrategy::recombine);
+      }
+    }
+    Target target(frame, -7.0f);
+    REQUIRE(engine.run(plan, prepared, scheduler, target.frame));
+    // Layers differ from the kernel by one more rounding per light (docs/api.md's bound).
+    double worst = 0.0;
+    for (std::size_t i = 0; i < kernel.size(); ++i)
+      worst = std::max(worst, std::abs(static_cast<double>(target.pixels[i]) - kernel[i]));
+    CHECK(worst <= 1e-6 * emission_max_sum(scene));
+  }
+}
+
+}  // namespace par2d::test
