@@ -1164,12 +1164,14 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
     keys = occ_inside + work.occluders.size() * W;
     owner = keys + 2 * key_slots * W;
   }
-  // The work's arrays through local pointers: a vector store may alias anything (the
-  // intrinsics' types do), so `work.pairs[i]` would reload the vector's start after each.
+  // The model reads the work's arrays through local pointers: a vector store may alias
+  // anything (the intrinsics' types do), so `work.pairs[i]` would reload the vector's start
+  // after each. The plain kernel reads them through `work`: held across its loops, the
+  // pointers cost it more than the reloads (docs/performance.md).
   const KernelLight* lights = work.lights.data();
   const KernelLightTerms* light_terms = work.light_terms.data();
   const KernelOccluderTerms* occluder_terms = work.occluder_terms.data();
-  const KernelPair* pairs_all = kCells ? work.cell_pairs.data() : work.pairs.data();
+  const KernelPair* cell_pairs = work.cell_pairs.data();
 
   auto in_occluder = B(0.0f) > B(0.0f);  // plain: the lanes inside some occluder
   std::size_t arcs = work.occluders.size();
@@ -1225,7 +1227,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
   double lobe_sin = 2.0, lobe_cos = 2.0;
   // One light's share, inlined into the loops over the lights below.
   auto add_light = [&](std::size_t l, const KernelPair* pairs, std::size_t pair_count) PAR2D_KERNEL_LAMBDA_INLINE {
-    const KernelLight& light = lights[l];
+    const KernelLight& light = kModel ? lights[l] : work.lights[l];
     const KernelLightTerms& terms = kModel ? light_terms[l] : kPlainLightTerms;
     B window(1.0f);
     if (kModel && terms.ranged) {
@@ -1254,16 +1256,12 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
         }
       }
     }
-    Arc<A> arc;
-    B width;
-    if (kModel && terms.directional) {
-      arc.start = B(terms.dir_start);
-      arc.width = width = B(terms.dir_width);
-      arc.inside = none;
-    } else {
-      arc = shape_arc<A>(work, light.shape, px, py);
-      width = seen_width<A>(arc);
-    }
+    // A directional light's arc is fixed (and never holds the lane). Initialized, not assigned:
+    // an assigned arc went through memory in the plain kernel.
+    const bool directional = kModel && terms.directional;
+    const Arc<A> arc = directional ? Arc<A>{B(terms.dir_start), B(terms.dir_width), none}
+                                   : shape_arc<A>(work, light.shape, px, py);
+    const B width = directional ? arc.width : seen_width<A>(arc);
     // Translucent pieces need each wrapped part as an interval of its own; opaque ones all
     // start at 0 and merge into [0, reach0].
     const bool split_wraps = kModel && terms.translucent;
@@ -1303,7 +1301,7 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
       // Inside the light nothing is in front (t_L = 0); a directional light's occluders are in
       // front wherever they are seen. Lanes inside an occluder get 0 at the end (the plain
       // kernel's select, the model's dark_inside), so what their intervals say does not matter.
-      auto blocks = (kModel && terms.directional)
+      auto blocks = directional
                         ? ~none
                         : separated_blocks<A>(pair, px, py, kModel ? arc.inside : arc.inside | in_occluder);
       const B o = arc_offset<A>(occ_start, arc.start);
@@ -1438,15 +1436,16 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
   if constexpr (kCells) {
     const detail::KernelCellLight* cell_lights = work.cell_lights.data() + cell->first_light;
     for (std::size_t i = 0; i < cell->light_count; ++i)
-      add_light(cell_lights[i].light, pairs_all + cell_lights[i].first_pair, cell_lights[i].pair_count);
+      add_light(cell_lights[i].light, (kModel ? cell_pairs : work.cell_pairs.data()) + cell_lights[i].first_pair,
+                cell_lights[i].pair_count);
   } else if constexpr (kTileArcs) {
     for (std::size_t i = 0; i < tile_arcs.light_count; ++i) {
       const std::size_t l = tile_arcs.lights[i];
-      add_light(l, pairs_all + lights[l].first_pair, lights[l].pair_count);
+      add_light(l, work.pairs.data() + work.lights[l].first_pair, work.lights[l].pair_count);
     }
   } else {
-    const std::size_t light_count = work.lights.size();
-    for (std::size_t l = 0; l < light_count; ++l) add_light(l, pairs_all + lights[l].first_pair, lights[l].pair_count);
+    for (std::size_t l = 0; l < work.lights.size(); ++l)
+      add_light(l, work.pairs.data() + work.lights[l].first_pair, work.lights[l].pair_count);
   }
   if constexpr (!kModel)
     for (int c = 0; c < 3; ++c) e[c] = xsimd::select(in_occluder, B(0.0f), e[c]);
@@ -1460,24 +1459,26 @@ inline const detail::KernelCell* packet_cell(const TileWork& work, std::size_t f
   return &work.cells[row / height * (detail::kTileSize / width) + column / width];
 }
 
-// The model kernel over the tile's packets, each from its cell's lists.
-template <class A, bool kShaded>
-void render_tile_model(const TileWork& work, float* scratch, TileResult& out) noexcept {
+// The tile's packets one at a time, each the mean over the work's samples of
+// packet_irradiance (with cells, from the packet's cell's lists): the model kernel, and the
+// plain one where it keeps no arc planes.
+template <class A, class Terms>
+void render_packets(const TileWork& work, float* scratch, TileResult& out) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   const B inv_spp(1.0f / static_cast<float>(work.spp));
   for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
-    const detail::KernelCell* cell = packet_cell(work, first);
+    const detail::KernelCell* cell = Terms::kCells ? packet_cell(work, first) : nullptr;
     B sum[3] = {B(0.0f), B(0.0f), B(0.0f)};
     for (int s = 0; s < work.spp; ++s) {
       const B px = B::load_unaligned(work.sample_x.data() + s * detail::kTileSize + first % detail::kTileSize);
       const B py(work.sample_y[s * detail::kTileSize + first / detail::kTileSize]);
       B e[3];
-      packet_irradiance<A, ModelPacket<kShaded>>(work, cell, px, py, first, scratch, e);
+      packet_irradiance<A, Terms>(work, cell, px, py, first, scratch, e);
       for (int c = 0; c < 3; ++c) sum[c] += e[c];
     }
     for (int c = 0; c < 3; ++c) {
-      const B mean = work.spp == 1 ? sum[c] : sum[c] * inv_spp;
+      const B mean = work.spp == 1 ? sum[c] : sum[c] * inv_spp;  // the same bits: inv_spp is 1 then
       mean.store_aligned(out.rgb[c] + first);
     }
   }
@@ -1925,29 +1926,15 @@ PAR2D_KERNEL_NOINLINE void render_plain_cell_tile(const TileWork& work, float* s
 // The plain kernel over the tile's packets, each from its cell's lists with kCells.
 template <class A, bool kCells>
 PAR2D_KERNEL_INLINE void render_plain_tile(const TileWork& work, float* scratch, TileResult& out) noexcept {
-  using B = xsimd::batch<float, A>;
-  constexpr std::size_t W = B::size;
-  auto cell_of = [&](std::size_t first) { return kCells ? packet_cell(work, first) : nullptr; };
+  constexpr std::size_t W = xsimd::batch<float, A>::size;
   // One sample per pixel with arc planes (tile_work.hpp): the arcs shape-major over the tile
   // or cell by cell. Otherwise, and for cells made for another packet width (not by this
-  // library's setup), the loop below: each packet computes its own arcs.
+  // library's setup), each packet computes its own arcs.
   if (detail::uses_arc_planes(work)) {
     if constexpr (!kCells) return render_plain_tile_shape_major<A>(work, scratch, out);
     if (work.cell_width == static_cast<int>(kCellWidth<W>)) return render_plain_cell_tile<A>(work, scratch, out);
   }
-  const B inv_spp(1.0f / static_cast<float>(work.spp));
-  for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
-    const detail::KernelCell* cell = cell_of(first);
-    B sum[3] = {B(0.0f), B(0.0f), B(0.0f)};
-    for (int s = 0; s < work.spp; ++s) {
-      const B px = B::load_unaligned(work.sample_x.data() + s * detail::kTileSize + first % detail::kTileSize);
-      const B py(work.sample_y[s * detail::kTileSize + first / detail::kTileSize]);
-      B e[3];
-      packet_irradiance<A, PlainPacket<kCells, false>>(work, cell, px, py, first, scratch, e);
-      for (int c = 0; c < 3; ++c) sum[c] += e[c];
-    }
-    for (int c = 0; c < 3; ++c) (sum[c] * inv_spp).store_aligned(out.rgb[c] + first);
-  }
+  render_packets<A, PlainPacket<kCells, false>>(work, scratch, out);
 }
 
 // Fills `out` with the mean irradiance over the work's samples for all the tile's pixels.
@@ -1957,8 +1944,8 @@ void render_tile(const TileWork& work, float* scratch, TileResult& out) noexcept
   constexpr std::size_t W = B::size;
   static_assert(detail::kTileSize % W == 0, "a packet must not straddle a tile row");
   if (work.model) {
-    if (work.shaded) return render_tile_model<A, true>(work, scratch, out);
-    return render_tile_model<A, false>(work, scratch, out);
+    if (work.shaded) return render_packets<A, ModelPacket<true>>(work, scratch, out);
+    return render_packets<A, ModelPacket<false>>(work, scratch, out);
   }
   if (work.cells.empty()) return render_plain_tile<A, false>(work, scratch, out);
   return render_plain_tile<A, true>(work, scratch, out);
