@@ -1180,17 +1180,15 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
     occ_width = tile_arcs.width;
     in_occluder = B::load_aligned(tile_arcs.inside) != B(0.0f);
   } else {
-    float* start_out = room.occ_start;
-    float* width_out = room.occ_width;
-    occ_start_all = start_out;
-    occ_width = width_out;
+    occ_start_all = room.occ_start;
+    occ_width = room.occ_width;
     // Arcs are stored at the occluder's tile index; a cell computes only those its pairs read
     // (and those whose inside test it needs, see cell_lists.cpp).
     if constexpr (kCells) arcs = cell->occluder_count;
     const std::uint32_t* cell_occluders = kCells ? work.cell_occluders.data() + cell->first_occluder : nullptr;
     packet_occluder_arcs<A>(
-        work, arcs, [&](std::size_t i) { return kCells ? std::size_t{cell_occluders[i]} : i; }, px, py, start_out,
-        width_out, [&](std::size_t k, const xsimd::batch_bool<float, A>& inside) {
+        work, arcs, [&](std::size_t i) { return kCells ? std::size_t{cell_occluders[i]} : i; }, px, py,
+        room.occ_start, room.occ_width, [&](std::size_t k, const xsimd::batch_bool<float, A>& inside) {
           // The model's interiors act per light; the plain kernel needs their union only.
           if constexpr (kModel) {
             xsimd::select(inside, B(1.0f), B(0.0f)).store_aligned(occ_inside + k * W);
@@ -1278,20 +1276,14 @@ PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::K
         general_pair_intervals<A>(work, light, pair, arc, width, occ_start, occ_w, px, py, events, lo + n * W,
                                   hi + n * W);
         if constexpr (kModel) {
-          // Inside the occluder: a lit interior is absent, a dark one covers every direction once.
+          // Inside the occluder: a lit interior is absent, a dark one covers every direction
+          // once (the first piece becomes [0, width], the others empty).
           for (std::uint32_t j = 0; j <= pair.point_count; ++j) {
             float* l_slot = lo + (n + j) * W;
             float* h_slot = hi + (n + j) * W;
-            B piece_lo = B::load_aligned(l_slot), piece_hi = B::load_aligned(h_slot);
-            if (occ_terms.lit_interior || j > 0) {
-              piece_lo = xsimd::select(in_occ, width, piece_lo);
-              piece_hi = xsimd::select(in_occ, width, piece_hi);
-            } else {
-              piece_lo = xsimd::select(in_occ, B(0.0f), piece_lo);
-              piece_hi = xsimd::select(in_occ, width, piece_hi);
-            }
-            piece_lo.store_aligned(l_slot);
-            piece_hi.store_aligned(h_slot);
+            const B inside_lo = occ_terms.lit_interior || j > 0 ? width : B(0.0f);
+            xsimd::select(in_occ, inside_lo, B::load_aligned(l_slot)).store_aligned(l_slot);
+            xsimd::select(in_occ, width, B::load_aligned(h_slot)).store_aligned(h_slot);
             owner[n + j] = static_cast<float>(pair.occluder);
           }
         }
