@@ -607,8 +607,7 @@ inline void sort_keys(float* keys, std::size_t slots) noexcept {
   }
 }
 
-// The parts of a packet's light that both packet kernels share (packet_irradiance and
-// packet_irradiance_model): a term or a fix of the occlusion arithmetic goes here once.
+// Steps of a light's share in packet_irradiance (below), for plain scenes and the model alike.
 
 // A packet's scratch (sized by kernel_packet_scratch_floats): the occluders' arc starts and
 // widths, W floats per tile occluder at its tile index (when the packet computes them), then
@@ -825,132 +824,6 @@ inline void general_pair_intervals(const TileWork& work, const KernelLight& ligh
 }
 
 using detail::single_pair_light;
-
-// Irradiance (times 1/(2*pi), folded into the emissions) of one packet at (px, py), from the
-// tile's lists, or (kCells) from its cell's (`cell`, see KernelCell).
-// kTileArcs: the occluder arcs were computed beforehand, for the whole tile (TileArcs, see
-// render_plain_tile_shape_major) or with kCells for the packet's cell (render_plain_cell_tile);
-// `tile_arcs` is the packet's view of them. Else the packet computes them here, into `scratch`.
-template <class A>
-struct TileArcs {
-  const float* start = nullptr;  // occluder k's start angles at start[k * kTilePixels]
-  const float* width = nullptr;
-  const float* inside = nullptr;  // 1 where a lane is inside some occluder, else 0
-  // Without cells: the irradiance of the lights without pairs and of the single-pair lights
-  // (summed beforehand); the packet computes only the lights listed in `lights` (work.lights
-  // indices). With cells, unused: the packet computes its cell's lights.
-  const float* unblocked[3] = {nullptr, nullptr, nullptr};
-  const std::uint32_t* lights = nullptr;
-  std::size_t light_count = 0;
-};
-
-template <class A, bool kCells, bool kTileArcs = false>
-PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::KernelCell* cell,
-                                           const xsimd::batch<float, A>& px, const xsimd::batch<float, A>& py,
-                                           float* scratch, xsimd::batch<float, A> (&e)[3],
-                                           const TileArcs<A>& tile_arcs = {}) noexcept {
-  using B = xsimd::batch<float, A>;
-  constexpr std::size_t W = B::size;
-  const PacketScratch room = kTileArcs ? interval_scratch<A>(work, scratch) : packet_scratch_layout<A>(work, scratch);
-  const float* occ_start_all;
-  const float* occ_width;
-  // Between occluders' arcs: a constant, so that a pair's arc address is a shift and an add.
-  constexpr std::size_t occ_stride = kTileArcs ? detail::kTilePixels : W;
-  float* const lo = room.lo;
-  float* const hi = room.hi;
-  float* const events = room.events;
-  auto in_occluder = B(0.0f) > B(0.0f);
-  std::size_t arcs = work.occluders.size();
-  if constexpr (kTileArcs) {
-    occ_start_all = tile_arcs.start;
-    occ_width = tile_arcs.width;
-    in_occluder = B::load_aligned(tile_arcs.inside) != B(0.0f);
-  } else {
-    float* start_out = room.occ_start;
-    float* width_out = room.occ_width;
-    occ_start_all = start_out;
-    occ_width = width_out;
-    // Arcs are stored at the occluder's tile index; a cell computes only those its pairs read
-    // (and those whose inside test it needs, see cell_lists.cpp).
-    if constexpr (kCells) arcs = cell->occluder_count;
-    const std::uint32_t* cell_occluders = kCells ? work.cell_occluders.data() + cell->first_occluder : nullptr;
-    packet_occluder_arcs<A>(
-        work, arcs, [&](std::size_t i) { return kCells ? std::size_t{cell_occluders[i]} : i; }, px, py, start_out,
-        width_out, [&](std::size_t, const xsimd::batch_bool<float, A>& inside) { in_occluder = in_occluder | inside; });
-  }
-  for (int c = 0; c < 3; ++c) e[c] = B(0.0f);
-  // Every lane inside an occluder: 0 whatever the lights (the select at the end).
-  if (arcs != 0 && xsimd::all(in_occluder)) return;
-  if constexpr (kTileArcs && !kCells)
-    for (int c = 0; c < 3; ++c) e[c] = B::load_aligned(tile_arcs.unblocked[c]);
-  // One light's share, inlined into both loops below.
-  auto add_light = [&](const KernelLight& light, const KernelPair* pairs,
-                       std::size_t pair_count) PAR2D_KERNEL_LAMBDA_INLINE {
-    if ((kCells || !kTileArcs) && pair_count == 0) {  // nothing in front of this light anywhere in the tile (or cell)
-      add_emission<A>(e, light, unblocked_width<A>(work, light.shape, px, py));
-      return;
-    }
-    const Arc<A> arc = shape_arc<A>(work, light.shape, px, py);
-    const B width = seen_width<A>(arc);
-    B reach0(0.0f);
-    std::size_t n = 0;  // intervals written
-    for (std::size_t p = 0; p < pair_count; ++p) {
-      const KernelPair& pair = pairs[p];
-      const B occ_start = B::load_aligned(occ_start_all + pair.occluder * occ_stride);
-      const B occ_w = B::load_aligned(occ_width + pair.occluder * occ_stride);
-      if (pair.general) {
-        general_pair_intervals<A>(work, light, pair, arc, width, occ_start, occ_w, px, py, events, lo + n * W,
-                                  hi + n * W);
-        n += pair.point_count + 1;
-        continue;
-      }
-      // Inside the light nothing is in front (t_L = 0). Lanes inside an occluder get 0 at
-      // the end, so what their intervals say does not matter.
-      const auto blocks = separated_blocks<A>(pair, px, py, arc.inside | in_occluder);
-      const B o = arc_offset<A>(occ_start, arc.start);
-      const B end = o + occ_w;
-      reach0 = wrapped_reach<A>(reach0, blocks, end, width);
-      // With cells (tiles with many pairs): an interval starting inside the blocked prefix
-      // [0, reach0] extends it, so several occluders that together span the light's arc end
-      // its work too when they arrive in order of their starts (their candidates are
-      // ordered by angle per block, see order_by_angle in render/block_culling.cpp). Elsewhere
-      // lights have a pair or two and this costs more than it saves.
-      if constexpr (kCells)
-        reach0 = xsimd::select(blocks & (o <= reach0), xsimd::max(reach0, xsimd::min(end, width)), reach0);
-      // A blocked prefix spanning the light's arc in every lane (one occluder that starts
-      // before the light's arc and ends past it, or with cells such a chain) hides the light
-      // there: the union is the whole arc whatever the other intervals, and the light adds
-      // exactly 0, so the rest of its work is skipped.
-      if (xsimd::all((reach0 >= width) | in_occluder)) return;
-      // An interval empty in every lane (not in front, or starting past the light's arc)
-      // adds nothing to the union (it sorts after every interval it could overlap): not
-      // kept, so the sort and sweep run over the intervals this packet really sees.
-      // Stored in any case and counted only when kept: whether a pair is kept varies from
-      // packet to packet without pattern, and a branch on it is mispredicted often enough
-      // to cost a fifth of the kernel's time where pairs are many (docs/performance.md).
-      const BlockedInterval<A> interval = first_turn_interval<A>(blocks, o, end, width);
-      interval.lo.store_aligned(lo + n * W);
-      interval.hi.store_aligned(hi + n * W);
-      n += xsimd::any(interval.hi > interval.lo) ? 1 : 0;
-    }
-    add_emission<A>(e, light, uncovered_width<A>(lo, hi, n, width, xsimd::max(reach0, B(0.0f))));
-  };
-  if constexpr (kCells) {
-    const detail::KernelCellLight* cell_lights = work.cell_lights.data() + cell->first_light;
-    for (std::size_t i = 0; i < cell->light_count; ++i)
-      add_light(work.lights[cell_lights[i].light], work.cell_pairs.data() + cell_lights[i].first_pair,
-                cell_lights[i].pair_count);
-  } else if constexpr (kTileArcs) {
-    for (std::size_t i = 0; i < tile_arcs.light_count; ++i) {
-      const KernelLight& light = work.lights[tile_arcs.lights[i]];
-      add_light(light, work.pairs.data() + light.first_pair, light.pair_count);
-    }
-  } else {
-    for (const KernelLight& light : work.lights) add_light(light, work.pairs.data() + light.first_pair, light.pair_count);
-  }
-  for (int c = 0; c < 3; ++c) e[c] = xsimd::select(in_occluder, B(0.0f), e[c]);
-}
-
 
 // ---- The game lighting model (docs/contract.md section 6): scenes with PreparedScene::model.
 
@@ -1206,49 +1079,133 @@ PAR2D_KERNEL_INLINE void shaded_unblocked_light(const TileWork& work, const Kern
   add_emission<A>(e, light, xsimd::max(visible, B(0.0f)) * window);
 }
 
-// Irradiance of one packet under the game lighting model (reference: the scalar renderer's
-// model path). Per light: its arc (a directional light's fixed one), the range window, the
-// blocked intervals of the occluders acting on it (lit-interior ones dropped where the lane is
-// inside them; a dark one containing the lane covers the whole arc), then the weight of the
-// visible set: the union measure when every occluder is opaque and the profile is flat, else
-// the profile's integral over the gaps, or over every elementary piece times its transmittances.
-// The lights and pairs are those of the packet's cell (`cell`): every game-model tile has
-// cells, one over the whole tile where it keeps the tile's lists (cell_lists.cpp).
-template <class A, bool kShaded>
-PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const detail::KernelCell* cell,
-                                                 const xsimd::batch<float, A>& px, const xsimd::batch<float, A>& py,
-                                                 std::size_t pixel, float* scratch,
-                                                 xsimd::batch<float, A> (&e)[3]) noexcept {
+// ---- The packet kernel: one body for plain scenes and the game lighting model.
+
+// Which packet kernel packet_irradiance compiles. PlainPacket, for plain scenes: kCells takes
+// the lights and pairs of the packet's cell (`cell`, see KernelCell), else the tile's;
+// kTileArcs reads occluder arcs computed beforehand (TileArcs), else the packet computes
+// them. ModelPacket, for the game lighting model (docs/contract.md section 6): every
+// game-model tile has cells, one over the whole tile where it keeps the tile's lists
+// (cell_lists.cpp); kShaded weighs directions by the pixel's normal.
+template <bool kCellLists, bool kArcPlanes>
+struct PlainPacket {
+  static constexpr bool kModel = false, kCells = kCellLists, kTileArcs = kArcPlanes, kShaded = false;
+};
+template <bool kNormals>
+struct ModelPacket {
+  static constexpr bool kModel = true, kCells = true, kTileArcs = false, kShaded = kNormals;
+};
+
+// What a plain scene's lights and occluders are in the model's terms (read only under kModel).
+inline constexpr KernelLightTerms kPlainLightTerms{};
+inline constexpr KernelOccluderTerms kPlainOccluderTerms{};
+
+// The occluder arcs of a plain tile computed beforehand, for the whole tile (see
+// render_plain_tile_shape_major) or with kCells for the packet's cell (render_plain_cell_tile):
+// the packet's view of them.
+template <class A>
+struct TileArcs {
+  const float* start = nullptr;  // occluder k's start angles at start[k * kTilePixels]
+  const float* width = nullptr;
+  const float* inside = nullptr;  // 1 where a lane is inside some occluder, else 0
+  // Without cells: the irradiance of the lights without pairs and of the single-pair lights
+  // (summed beforehand); the packet computes only the lights listed in `lights` (work.lights
+  // indices). With cells, unused: the packet computes its cell's lights.
+  const float* unblocked[3] = {nullptr, nullptr, nullptr};
+  const std::uint32_t* lights = nullptr;
+  std::size_t light_count = 0;
+};
+
+// Lanes where the occluder's interval [o, end] of a light's arc [0, width] is kept: it blocks
+// there and has a first-turn part or a part that wraps past the light's start.
+template <class A>
+PAR2D_KERNEL_INLINE xsimd::batch_bool<float, A> meets_arc(const xsimd::batch_bool<float, A>& blocks,
+                                                          const xsimd::batch<float, A>& o,
+                                                          const xsimd::batch<float, A>& end,
+                                                          const xsimd::batch<float, A>& width) noexcept {
+  using B = xsimd::batch<float, A>;
+  return blocks & ((o < width) | (end > B(kTwoPiF)));
+}
+
+// Irradiance (times 1/(2*pi), folded into the emissions) of one packet at (px, py), whose
+// first pixel is tile pixel `pixel`, written to e. Per light: its arc, the blocked intervals
+// of the occluders in front of it, then what they leave of the arc, times the emission.
+// Under the model (reference: the scalar renderer's model path) a directional light has a
+// fixed arc, a range window scales the light, lit-interior occluders are dropped where the
+// lane is inside them and a dark one containing the lane covers the whole arc, and the
+// visible set weighs by the union measure when every occluder is opaque and the profile is
+// flat, else by the profile's integral over the gaps, or over every elementary piece times
+// its transmittances. `tile_arcs`: with Terms::kTileArcs, the arcs computed beforehand.
+template <class A, class Terms>
+PAR2D_KERNEL_INLINE void packet_irradiance(const TileWork& work, const detail::KernelCell* cell,
+                                           const xsimd::batch<float, A>& px, const xsimd::batch<float, A>& py,
+                                           std::size_t pixel, float* scratch, xsimd::batch<float, A> (&e)[3],
+                                           const TileArcs<A>& tile_arcs = {}) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
-  const PacketScratch room = packet_scratch_layout<A>(work, scratch);
-  float* const occ_start_all = room.occ_start;
-  float* const occ_width = room.occ_width;
+  constexpr bool kModel = Terms::kModel, kCells = Terms::kCells, kTileArcs = Terms::kTileArcs;
+  constexpr bool kShaded = Terms::kShaded;
+  const PacketScratch room = kTileArcs ? interval_scratch<A>(work, scratch) : packet_scratch_layout<A>(work, scratch);
+  const float* occ_start_all;
+  const float* occ_width;
+  // Between occluders' arcs: a constant, so that a pair's arc address is a shift and an add.
+  constexpr std::size_t occ_stride = kTileArcs ? detail::kTilePixels : W;
   float* const lo = room.lo;
   float* const hi = room.hi;
   float* const events = room.events;
-  // Past the shared part: inside flags per occluder, the pieces' keys, the intervals' owners.
-  float* occ_inside = room.rest;
-  std::size_t key_slots = 1;
-  while (key_slots < 2 * static_cast<std::size_t>(work.max_intervals_per_light) + 2) key_slots *= 2;
-  float* keys = occ_inside + work.occluders.size() * W;
-  float* owner = keys + 2 * key_slots * W;  // one float per interval (tile-constant)
-  // The work's arrays through local pointers: a vector store may alias anything (the
-  // intrinsics' types do), so `work.pairs[i]` would reload the vector's start after each.
+  // The model's, past the shared part: inside flags per occluder, the pieces' keys, the
+  // intervals' owners (one float per interval, tile-constant).
+  float* const occ_inside = room.rest;
+  float* keys = nullptr;
+  float* owner = nullptr;
+  if constexpr (kModel) {
+    std::size_t key_slots = 1;
+    while (key_slots < 2 * static_cast<std::size_t>(work.max_intervals_per_light) + 2) key_slots *= 2;
+    keys = occ_inside + work.occluders.size() * W;
+    owner = keys + 2 * key_slots * W;
+  }
+  // The model reads the work's arrays through local pointers: a vector store may alias
+  // anything (the intrinsics' types do), so `work.pairs[i]` would reload the vector's start
+  // after each. The plain kernel reads them through `work`: held across its loops, the
+  // pointers cost it more than the reloads (docs/performance.md).
   const KernelLight* lights = work.lights.data();
   const KernelLightTerms* light_terms = work.light_terms.data();
-  const KernelPair* pairs = work.cell_pairs.data();
   const KernelOccluderTerms* occluder_terms = work.occluder_terms.data();
-  const detail::KernelCellLight* cell_lights = work.cell_lights.data() + cell->first_light;
-  const std::uint32_t* cell_occluders = work.cell_occluders.data() + cell->first_occluder;
+  const KernelPair* cell_pairs = work.cell_pairs.data();
 
-  // Arcs are stored at the occluder's tile index; a cell computes only those its pairs read.
-  packet_occluder_arcs<A>(
-      work, cell->occluder_count, [&](std::size_t i) { return std::size_t{cell_occluders[i]}; }, px, py,
-      occ_start_all, occ_width, [&](std::size_t k, const xsimd::batch_bool<float, A>& inside) {
-        xsimd::select(inside, B(1.0f), B(0.0f)).store_aligned(occ_inside + k * W);
-      });
-  for (int c = 0; c < 3; ++c) e[c] = B(work.ambient[c]);
+  auto in_occluder = B(0.0f) > B(0.0f);  // plain: the lanes inside some occluder
+  std::size_t arcs = work.occluders.size();
+  if constexpr (kTileArcs) {
+    occ_start_all = tile_arcs.start;
+    occ_width = tile_arcs.width;
+    in_occluder = B::load_aligned(tile_arcs.inside) != B(0.0f);
+  } else {
+    occ_start_all = room.occ_start;
+    occ_width = room.occ_width;
+    // Arcs are stored at the occluder's tile index; a cell computes only those its pairs read
+    // (and those whose inside test it needs, see cell_lists.cpp).
+    if constexpr (kCells) arcs = cell->occluder_count;
+    const std::uint32_t* cell_occluders = kCells ? work.cell_occluders.data() + cell->first_occluder : nullptr;
+    packet_occluder_arcs<A>(
+        work, arcs, [&](std::size_t i) { return kCells ? std::size_t{cell_occluders[i]} : i; }, px, py,
+        room.occ_start, room.occ_width, [&](std::size_t k, const xsimd::batch_bool<float, A>& inside) {
+          // The model's interiors act per light; the plain kernel needs their union only.
+          if constexpr (kModel) {
+            xsimd::select(inside, B(1.0f), B(0.0f)).store_aligned(occ_inside + k * W);
+          } else {
+            in_occluder = in_occluder | inside;
+          }
+        });
+  }
+  if constexpr (kModel) {
+    for (int c = 0; c < 3; ++c) e[c] = B(work.ambient[c]);
+  } else {
+    for (int c = 0; c < 3; ++c) e[c] = B(0.0f);
+    // Every lane inside an occluder: 0 whatever the lights (the select at the end).
+    if (arcs != 0 && xsimd::all(in_occluder)) return;
+    if constexpr (kTileArcs && !kCells)
+      for (int c = 0; c < 3; ++c) e[c] = B::load_aligned(tile_arcs.unblocked[c]);
+  }
   B beta, normal_xy, normal_z, nx_raw, ny_raw;
   if constexpr (kShaded) {
     const std::size_t at = pixel / detail::kTileSize * work.normal_stride + pixel % detail::kTileSize;
@@ -1266,22 +1223,26 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
   KernelProfile<A> profile;  // set per light (constructing one per light costs as much as using it)
   B lobe_total;
   double lobe_sin = 2.0, lobe_cos = 2.0;
-  for (std::size_t i = 0; i < cell->light_count; ++i) {
-    const std::size_t l = cell_lights[i].light;
-    const KernelLight& light = lights[l];
-    const KernelLightTerms& terms = light_terms[l];
-    const std::size_t first_pair = cell_lights[i].first_pair;
-    const std::size_t pair_count = cell_lights[i].pair_count;
+  // One light's share, inlined into the loops over the lights below.
+  auto add_light = [&](std::size_t l, const KernelPair* pairs, std::size_t pair_count) PAR2D_KERNEL_LAMBDA_INLINE {
+    const KernelLight& light = kModel ? lights[l] : work.lights[l];
+    const KernelLightTerms& terms = kModel ? light_terms[l] : kPlainLightTerms;
     B window(1.0f);
-    if (terms.ranged) {
+    if (kModel && terms.ranged) {
       window = detail::range_window(shape_distance<A>(work, light.shape, px, py), B(terms.range), terms.falloff,
                                     [&](const B& base) { return xsimd::pow(base, B(terms.falloff)); });
-      if (!xsimd::any(window > B(0.0f))) continue;
+      if (!xsimd::any(window > B(0.0f))) return;
     }
-    if (!kShaded && !terms.weighted() && pair_count == 0 && !terms.directional) {
-      // Nothing in front anywhere in the tile and a flat profile: the width alone.
-      add_emission<A>(e, light, window, unblocked_width<A>(work, light.shape, px, py));
-      continue;
+    // Nothing in front of this light anywhere in the tile (or cell) and a flat profile: the
+    // width alone (the plain kernel's lights in tile_arcs have pairs).
+    if (kModel ? !kShaded && !terms.weighted() && pair_count == 0 && !terms.directional
+               : (kCells || !kTileArcs) && pair_count == 0) {
+      if constexpr (kModel) {
+        add_emission<A>(e, light, window, unblocked_width<A>(work, light.shape, px, py));
+      } else {
+        add_emission<A>(e, light, unblocked_width<A>(work, light.shape, px, py));
+      }
+      return;
     }
     if constexpr (kShaded) {
       if (!terms.weighted() && pair_count == 0 && !terms.directional && !light.shape.clipped) {
@@ -1289,176 +1250,197 @@ PAR2D_KERNEL_INLINE void packet_irradiance_model(const TileWork& work, const det
         const B cos_el(static_cast<float>(terms.cos_elevation));
         if (xsimd::all(c_term >= cos_el * normal_xy)) {
           shaded_unblocked_light<A>(work, light, px, py, nx_raw, ny_raw, c_term, cos_el, window, e);
-          continue;
+          return;
         }
       }
     }
-    Arc<A> arc;
-    B width;
-    if (terms.directional) {
-      arc.start = B(terms.dir_start);
-      arc.width = width = B(terms.dir_width);
-      arc.inside = none;
-    } else {
-      arc = shape_arc<A>(work, light.shape, px, py);
-      width = seen_width<A>(arc);
-    }
+    // A directional light's arc is fixed (and never holds the lane). Initialized, not assigned:
+    // an assigned arc went through memory in the plain kernel.
+    const bool directional = kModel && terms.directional;
+    const Arc<A> arc = directional ? Arc<A>{B(terms.dir_start), B(terms.dir_width), none}
+                                   : shape_arc<A>(work, light.shape, px, py);
+    const B width = directional ? arc.width : seen_width<A>(arc);
     // Translucent pieces need each wrapped part as an interval of its own; opaque ones all
     // start at 0 and merge into [0, reach0].
-    const bool split_wraps = terms.translucent;
+    const bool split_wraps = kModel && terms.translucent;
     B reach0(0.0f);
-    auto dark_inside = none;  // in an opaque dark occluder acting on the light: it contributes 0
-    std::size_t n = 0;
-    bool hidden = false;  // covered in every lane by one opaque arc (or a dark interior)
+    auto dark_inside = none;  // model: in an opaque dark occluder acting on the light, it contributes 0
+    std::size_t n = 0;  // intervals written
     for (std::size_t p = 0; p < pair_count; ++p) {
-      const KernelPair& pair = pairs[first_pair + p];
-      const KernelOccluderTerms& occ_terms = occluder_terms[pair.occluder];
-      const B occ_start = B::load_aligned(occ_start_all + pair.occluder * W);
-      const B occ_w = B::load_aligned(occ_width + pair.occluder * W);
-      const auto in_occ = B::load_aligned(occ_inside + pair.occluder * W) > B(0.0f);
+      const KernelPair& pair = pairs[p];
+      const KernelOccluderTerms& occ_terms = kModel ? occluder_terms[pair.occluder] : kPlainOccluderTerms;
+      const B occ_start = B::load_aligned(occ_start_all + pair.occluder * occ_stride);
+      const B occ_w = B::load_aligned(occ_width + pair.occluder * occ_stride);
+      const auto in_occ = kModel ? B::load_aligned(occ_inside + pair.occluder * W) > B(0.0f) : none;
       if (pair.general) {
         general_pair_intervals<A>(work, light, pair, arc, width, occ_start, occ_w, px, py, events, lo + n * W,
                                   hi + n * W);
-        // Inside the occluder: a lit interior is absent, a dark one covers every direction once.
-        for (std::uint32_t j = 0; j <= pair.point_count; ++j) {
-          float* l_slot = lo + (n + j) * W;
-          float* h_slot = hi + (n + j) * W;
-          B piece_lo = B::load_aligned(l_slot), piece_hi = B::load_aligned(h_slot);
-          if (occ_terms.lit_interior || j > 0) {
-            piece_lo = xsimd::select(in_occ, width, piece_lo);
-            piece_hi = xsimd::select(in_occ, width, piece_hi);
-          } else {
-            piece_lo = xsimd::select(in_occ, B(0.0f), piece_lo);
-            piece_hi = xsimd::select(in_occ, width, piece_hi);
+        if constexpr (kModel) {
+          // Inside the occluder: a lit interior is absent, a dark one covers every direction
+          // once (the first piece becomes [0, width], the others empty).
+          for (std::uint32_t j = 0; j <= pair.point_count; ++j) {
+            float* l_slot = lo + (n + j) * W;
+            float* h_slot = hi + (n + j) * W;
+            const B inside_lo = occ_terms.lit_interior || j > 0 ? width : B(0.0f);
+            xsimd::select(in_occ, inside_lo, B::load_aligned(l_slot)).store_aligned(l_slot);
+            xsimd::select(in_occ, width, B::load_aligned(h_slot)).store_aligned(h_slot);
+            owner[n + j] = static_cast<float>(pair.occluder);
           }
-          piece_lo.store_aligned(l_slot);
-          piece_hi.store_aligned(h_slot);
-          owner[n + j] = static_cast<float>(pair.occluder);
         }
         n += pair.point_count + 1;
         continue;
       }
-      auto blocks = terms.directional ? ~none : separated_blocks<A>(pair, px, py, arc.inside);
+      // Inside the light nothing is in front (t_L = 0); a directional light's occluders are in
+      // front wherever they are seen. Lanes inside an occluder get 0 at the end (the plain
+      // kernel's select, the model's dark_inside), so what their intervals say does not matter.
+      auto blocks = directional
+                        ? ~none
+                        : separated_blocks<A>(pair, px, py, kModel ? arc.inside : arc.inside | in_occluder);
       const B o = arc_offset<A>(occ_start, arc.start);
       const B end = o + occ_w;
-      if (occ_terms.opaque && !occ_terms.lit_interior) {
-        // As in the plain kernel: inside it the light is 0 (set after the sum), so whatever
-        // the interval says there does not matter.
-        dark_inside = dark_inside | in_occ;
-        // An interval empty in every lane (not in front, or seen outside the arc) changes no
-        // sum: not kept, which keeps the sweeps short where a pair matters to few pixels.
-        // Stored in any case and counted only when kept (see packet_irradiance): a branch on
-        // it is mispredicted about as often as not. Not kept, reach0 stays too.
-        const bool kept = xsimd::any(blocks & ((o < width) | (end > B(kTwoPiF))));
-        const BlockedInterval<A> interval = first_turn_interval<A>(blocks, o, end, width);
-        interval.lo.store_aligned(lo + n * W);
-        interval.hi.store_aligned(hi + n * W);
-        if (!split_wraps) {  // owners matter only to the translucent pieces
-          n += kept ? 1 : 0;
+      const bool opaque_dark = !kModel || (occ_terms.opaque && !occ_terms.lit_interior);
+      if (opaque_dark) {
+        if constexpr (kModel) dark_inside = dark_inside | in_occ;
+        if (!split_wraps) {
           reach0 = wrapped_reach<A>(reach0, blocks, end, width);
-          // As in the plain kernel: one opaque arc holding the light's in every lane (or the
-          // lane inside a dark occluder) leaves no gap, so the light adds exactly 0 under any
-          // profile and window, and the rest of its pairs and its profile are skipped.
-          if (xsimd::all((reach0 >= width) | dark_inside)) {
-            hidden = true;
-            break;
+          // With cells (plain tiles with many pairs): an interval starting inside the blocked
+          // prefix [0, reach0] extends it, so several occluders that together span the light's
+          // arc end its work too when they arrive in order of their starts (their candidates
+          // are ordered by angle per block, see order_by_angle in render/block_culling.cpp).
+          // Elsewhere lights have a pair or two and this costs more than it saves.
+          if constexpr (kCells && !kModel)
+            reach0 = xsimd::select(blocks & (o <= reach0), xsimd::max(reach0, xsimd::min(end, width)), reach0);
+          // A blocked prefix spanning the light's arc in every lane (one opaque occluder that
+          // starts before the light's arc and ends past it, or with plain cells such a chain;
+          // or the lane inside an occluder) hides the light there: the union is the whole arc
+          // whatever the other intervals, and the light adds exactly 0 under any profile and
+          // window, so the rest of its work is skipped.
+          if (xsimd::all((reach0 >= width) | (kModel ? dark_inside : in_occluder))) return;
+          // An interval empty in every lane (not in front, or seen outside the light's arc)
+          // adds nothing: not kept, so the sort and sweep run over the intervals this packet
+          // really sees. Stored in any case and counted only when kept: whether a pair is
+          // kept varies from packet to packet without pattern, and a branch on it is
+          // mispredicted often enough to cost a fifth of the kernel's time where pairs are
+          // many (docs/performance.md). The plain kernel keeps intervals with a first-turn
+          // part (the wrap is in reach0), the model also those whose only part is the wrap.
+          const BlockedInterval<A> interval = first_turn_interval<A>(blocks, o, end, width);
+          interval.lo.store_aligned(lo + n * W);
+          interval.hi.store_aligned(hi + n * W);
+          if constexpr (kModel) {
+            n += xsimd::any(meets_arc<A>(blocks, o, end, width)) ? 1 : 0;
+          } else {
+            n += xsimd::any(interval.hi > interval.lo) ? 1 : 0;
           }
           continue;
         }
-        if (!kept) continue;
+      }
+      if constexpr (kModel) {
+        // Each part with its owner. A translucent dark occluder around the lane covers every
+        // direction once; a lit one is absent there (an opaque dark one is 0 there already:
+        // dark_inside).
+        const auto whole = occ_terms.lit_interior || opaque_dark ? none : in_occ;
+        if (!opaque_dark) blocks = blocks & ~in_occ;
+        if (!xsimd::any(whole | meets_arc<A>(blocks, o, end, width))) continue;
+        const BlockedInterval<A> interval = first_turn_interval<A>(blocks, o, end, width);
+        xsimd::select(whole, B(0.0f), interval.lo).store_aligned(lo + n * W);
+        xsimd::select(whole, width, interval.hi).store_aligned(hi + n * W);
         owner[n] = static_cast<float>(pair.occluder);
         ++n;
+        // The part that wraps past the arc's start.
+        if (!split_wraps) {
+          reach0 = wrapped_reach<A>(reach0, blocks, end, width);
+          continue;
+        }
         const BlockedInterval<A> wrapped = wrapped_interval<A>(blocks, end, width);
         wrapped.lo.store_aligned(lo + n * W);
         wrapped.hi.store_aligned(hi + n * W);
         owner[n] = static_cast<float>(pair.occluder);
         ++n;
-        continue;
       }
-      // A translucent dark occluder around the lane covers every direction once; a lit one
-      // is absent there.
-      const auto whole = occ_terms.lit_interior ? none : in_occ;
-      blocks = blocks & ~in_occ;
-      if (!xsimd::any(whole | (blocks & ((o < width) | (end > B(kTwoPiF)))))) continue;
-      const BlockedInterval<A> interval = first_turn_interval<A>(blocks, o, end, width);
-      xsimd::select(whole, B(0.0f), interval.lo).store_aligned(lo + n * W);
-      xsimd::select(whole, width, interval.hi).store_aligned(hi + n * W);
-      owner[n] = static_cast<float>(pair.occluder);
-      ++n;
-      // The part that wraps past the arc's start.
-      if (!split_wraps) {
-        reach0 = wrapped_reach<A>(reach0, blocks, end, width);
-        continue;
-      }
-      const BlockedInterval<A> wrapped = wrapped_interval<A>(blocks, end, width);
-      wrapped.lo.store_aligned(lo + n * W);
-      wrapped.hi.store_aligned(hi + n * W);
-      owner[n] = static_cast<float>(pair.occluder);
-      ++n;
     }
-    if (hidden) continue;
-    profile.p.cone = terms.cone;
-    profile.p.cookie = nullptr;
-    if (terms.cookie) {
-      detail::set_profile_cookie(profile.p, arc.start, terms.cookie);
-    } else if (terms.cone) {
-      detail::set_profile_cone(profile.p, arc.start, terms.cone_center, terms.cone_half, terms.cone_fade);
-      profile.total = profile.p.half + profile.p.plateau;
-    }
-    if constexpr (kShaded) {
-      if (terms.sin_elevation != lobe_sin || terms.cos_elevation != lobe_cos) {
-        detail::set_profile_shading(lobe, B(0.0f), beta, normal_xy, normal_z, terms.sin_elevation,
-                                    terms.cos_elevation);
-        // Over a whole turn: 2 (A sin h + C h), with A sin h = sqrt(A^2 - C^2) where the lobe is partial.
-        const B a = lobe.amplitude, c = lobe.offset;
-        const B a_sin = xsimd::select(xsimd::abs(c) < a, xsimd::sqrt(xsimd::max(xsimd::fms(a, a, c * c), B(0.0f))),
-                                      B(0.0f));
-        lobe_total = B(2.0f) * xsimd::fma(c, lobe.lobe_half, a_sin);
-        lobe_sin = terms.sin_elevation;
-        lobe_cos = terms.cos_elevation;
-      }
-      profile.p.shading = true;
-      profile.p.amplitude = lobe.amplitude;
-      profile.p.offset = lobe.offset;
-      profile.p.lobe_half = lobe.lobe_half;
-      profile.p.lobe_center = detail::profile_wrap(beta - arc.start);
-      profile.total = lobe_total;
-    }
-    if (terms.translucent) {
-      B visible[3];
-      translucent_pieces<A>(work, profile, lo, hi, owner, n, width, keys, visible);
-      // Clamped as below.
-      for (int c = 0; c < 3; ++c)
-        e[c] = xsimd::fma(B(light.emission[c]) * window,
-                          xsimd::select(dark_inside, B(0.0f), xsimd::max(visible[c], B(0.0f))), e[c]);
-      continue;
-    }
-    B visible;
-    const B reach = xsimd::max(reach0, B(0.0f));
-    if (!profile.flat()) {
-      if (kShaded && !terms.weighted() && n == 1) {
-        // The commonest shaded cases inline: a call spills every live register of the kernel.
-        visible = profiled_gaps_in_registers<A, kProfileLobe, 1>(profile, lo, hi, n, width, reach);
-      } else if (kShaded && !terms.weighted() && n == 2) {
-        visible = profiled_gaps_in_registers<A, kProfileLobe, 2>(profile, lo, hi, n, width, reach);
-      } else if (n > 0) {
-        visible = profiled_gaps<A>(profile, lo, hi, n, width, reach);
-      } else if (kShaded && !terms.weighted()) {
-        visible = profile.template cumulative<kProfileLobe>(width) - profile.template cumulative<kProfileLobe>(B(0.0f));
-      } else {
-        visible = profile.cumulative(width) - profile.cumulative(B(0.0f));
-      }
-      // Differences of the antiderivative over an arc narrower than float's angle steps (a tiny
-      // light far away, ~1e-6 rad) can round below 0; the integrand is not.
-      visible = xsimd::max(visible, B(0.0f));
-    } else if (n == 0) {
-      visible = width;  // reach0 grows only with a kept interval
+    if constexpr (!kModel) {
+      add_emission<A>(e, light, uncovered_width<A>(lo, hi, n, width, xsimd::max(reach0, B(0.0f))));
     } else {
-      visible = uncovered_width<A>(lo, hi, n, width, reach);
+      profile.p.cone = terms.cone;
+      profile.p.cookie = nullptr;
+      if (terms.cookie) {
+        detail::set_profile_cookie(profile.p, arc.start, terms.cookie);
+      } else if (terms.cone) {
+        detail::set_profile_cone(profile.p, arc.start, terms.cone_center, terms.cone_half, terms.cone_fade);
+        profile.total = profile.p.half + profile.p.plateau;
+      }
+      if constexpr (kShaded) {
+        if (terms.sin_elevation != lobe_sin || terms.cos_elevation != lobe_cos) {
+          detail::set_profile_shading(lobe, B(0.0f), beta, normal_xy, normal_z, terms.sin_elevation,
+                                      terms.cos_elevation);
+          // Over a whole turn: 2 (A sin h + C h), with A sin h = sqrt(A^2 - C^2) where the lobe is partial.
+          const B a = lobe.amplitude, c = lobe.offset;
+          const B a_sin = xsimd::select(xsimd::abs(c) < a, xsimd::sqrt(xsimd::max(xsimd::fms(a, a, c * c), B(0.0f))),
+                                        B(0.0f));
+          lobe_total = B(2.0f) * xsimd::fma(c, lobe.lobe_half, a_sin);
+          lobe_sin = terms.sin_elevation;
+          lobe_cos = terms.cos_elevation;
+        }
+        profile.p.shading = true;
+        profile.p.amplitude = lobe.amplitude;
+        profile.p.offset = lobe.offset;
+        profile.p.lobe_half = lobe.lobe_half;
+        profile.p.lobe_center = detail::profile_wrap(beta - arc.start);
+        profile.total = lobe_total;
+      }
+      if (terms.translucent) {
+        B visible[3];
+        translucent_pieces<A>(work, profile, lo, hi, owner, n, width, keys, visible);
+        // Clamped as below.
+        for (int c = 0; c < 3; ++c)
+          e[c] = xsimd::fma(B(light.emission[c]) * window,
+                            xsimd::select(dark_inside, B(0.0f), xsimd::max(visible[c], B(0.0f))), e[c]);
+        return;
+      }
+      B visible;
+      const B reach = xsimd::max(reach0, B(0.0f));
+      if (!profile.flat()) {
+        if (kShaded && !terms.weighted() && n == 1) {
+          // The commonest shaded cases inline: a call spills every live register of the kernel.
+          visible = profiled_gaps_in_registers<A, kProfileLobe, 1>(profile, lo, hi, n, width, reach);
+        } else if (kShaded && !terms.weighted() && n == 2) {
+          visible = profiled_gaps_in_registers<A, kProfileLobe, 2>(profile, lo, hi, n, width, reach);
+        } else if (n > 0) {
+          visible = profiled_gaps<A>(profile, lo, hi, n, width, reach);
+        } else if (kShaded && !terms.weighted()) {
+          visible =
+              profile.template cumulative<kProfileLobe>(width) - profile.template cumulative<kProfileLobe>(B(0.0f));
+        } else {
+          visible = profile.cumulative(width) - profile.cumulative(B(0.0f));
+        }
+        // Differences of the antiderivative over an arc narrower than float's angle steps (a
+        // tiny light far away, ~1e-6 rad) can round below 0; the integrand is not.
+        visible = xsimd::max(visible, B(0.0f));
+      } else if (n == 0) {
+        visible = width;  // reach0 grows only with a kept interval
+      } else {
+        visible = uncovered_width<A>(lo, hi, n, width, reach);
+      }
+      visible = xsimd::select(dark_inside, B(0.0f), visible);
+      add_emission<A>(e, light, window, visible);
     }
-    visible = xsimd::select(dark_inside, B(0.0f), visible);
-    add_emission<A>(e, light, window, visible);
+  };
+  if constexpr (kCells) {
+    const detail::KernelCellLight* cell_lights = work.cell_lights.data() + cell->first_light;
+    for (std::size_t i = 0; i < cell->light_count; ++i)
+      add_light(cell_lights[i].light, (kModel ? cell_pairs : work.cell_pairs.data()) + cell_lights[i].first_pair,
+                cell_lights[i].pair_count);
+  } else if constexpr (kTileArcs) {
+    for (std::size_t i = 0; i < tile_arcs.light_count; ++i) {
+      const std::size_t l = tile_arcs.lights[i];
+      add_light(l, work.pairs.data() + work.lights[l].first_pair, work.lights[l].pair_count);
+    }
+  } else {
+    for (std::size_t l = 0; l < work.lights.size(); ++l)
+      add_light(l, work.pairs.data() + work.lights[l].first_pair, work.lights[l].pair_count);
   }
+  if constexpr (!kModel)
+    for (int c = 0; c < 3; ++c) e[c] = xsimd::select(in_occluder, B(0.0f), e[c]);
 }
 
 // The cell of the packet whose first pixel is tile pixel `first` (a cell is whole packets wide).
@@ -1469,24 +1451,26 @@ inline const detail::KernelCell* packet_cell(const TileWork& work, std::size_t f
   return &work.cells[row / height * (detail::kTileSize / width) + column / width];
 }
 
-// The model kernel over the tile's packets, each from its cell's lists.
-template <class A, bool kShaded>
-void render_tile_model(const TileWork& work, float* scratch, TileResult& out) noexcept {
+// The tile's packets one at a time, each the mean over the work's samples of
+// packet_irradiance (with cells, from the packet's cell's lists): the model kernel, and the
+// plain one where it keeps no arc planes.
+template <class A, class Terms>
+void render_packets(const TileWork& work, float* scratch, TileResult& out) noexcept {
   using B = xsimd::batch<float, A>;
   constexpr std::size_t W = B::size;
   const B inv_spp(1.0f / static_cast<float>(work.spp));
   for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
-    const detail::KernelCell* cell = packet_cell(work, first);
+    const detail::KernelCell* cell = Terms::kCells ? packet_cell(work, first) : nullptr;
     B sum[3] = {B(0.0f), B(0.0f), B(0.0f)};
     for (int s = 0; s < work.spp; ++s) {
       const B px = B::load_unaligned(work.sample_x.data() + s * detail::kTileSize + first % detail::kTileSize);
       const B py(work.sample_y[s * detail::kTileSize + first / detail::kTileSize]);
       B e[3];
-      packet_irradiance_model<A, kShaded>(work, cell, px, py, first, scratch, e);
+      packet_irradiance<A, Terms>(work, cell, px, py, first, scratch, e);
       for (int c = 0; c < 3; ++c) sum[c] += e[c];
     }
     for (int c = 0; c < 3; ++c) {
-      const B mean = work.spp == 1 ? sum[c] : sum[c] * inv_spp;
+      const B mean = work.spp == 1 ? sum[c] : sum[c] * inv_spp;  // the same bits: inv_spp is 1 then
       mean.store_aligned(out.rgb[c] + first);
     }
   }
@@ -1881,7 +1865,7 @@ PAR2D_KERNEL_NOINLINE void render_plain_tile_shape_major(const TileWork& work, f
     arcs.inside = inside + first;
     for (int c = 0; c < 3; ++c) arcs.unblocked[c] = out.rgb[c] + first;
     B e[3];
-    packet_irradiance<A, false, true>(work, nullptr, px, py, packet_scratch, e, arcs);
+    packet_irradiance<A, PlainPacket<false, true>>(work, nullptr, px, py, first, packet_scratch, e, arcs);
     for (int c = 0; c < 3; ++c) e[c].store_aligned(out.rgb[c] + first);
   }
 }
@@ -1923,7 +1907,8 @@ PAR2D_KERNEL_NOINLINE void render_plain_cell_tile(const TileWork& work, float* s
         arcs.width = width + at;
         arcs.inside = inside + at;
         B e[3];
-        packet_irradiance<A, true, true>(work, &cell, px, py, packet_scratch, e, arcs);
+        packet_irradiance<A, PlainPacket<true, true>>(work, &cell, px, py, row * detail::kTileSize + column,
+                                                     packet_scratch, e, arcs);
         for (int ch = 0; ch < 3; ++ch) e[ch].store_aligned(out.rgb[ch] + row * detail::kTileSize + column);
       }
     }
@@ -1933,29 +1918,15 @@ PAR2D_KERNEL_NOINLINE void render_plain_cell_tile(const TileWork& work, float* s
 // The plain kernel over the tile's packets, each from its cell's lists with kCells.
 template <class A, bool kCells>
 PAR2D_KERNEL_INLINE void render_plain_tile(const TileWork& work, float* scratch, TileResult& out) noexcept {
-  using B = xsimd::batch<float, A>;
-  constexpr std::size_t W = B::size;
-  auto cell_of = [&](std::size_t first) { return kCells ? packet_cell(work, first) : nullptr; };
+  constexpr std::size_t W = xsimd::batch<float, A>::size;
   // One sample per pixel with arc planes (tile_work.hpp): the arcs shape-major over the tile
   // or cell by cell. Otherwise, and for cells made for another packet width (not by this
-  // library's setup), the loop below: each packet computes its own arcs.
+  // library's setup), each packet computes its own arcs.
   if (detail::uses_arc_planes(work)) {
     if constexpr (!kCells) return render_plain_tile_shape_major<A>(work, scratch, out);
     if (work.cell_width == static_cast<int>(kCellWidth<W>)) return render_plain_cell_tile<A>(work, scratch, out);
   }
-  const B inv_spp(1.0f / static_cast<float>(work.spp));
-  for (std::size_t first = 0; first < detail::kTilePixels; first += W) {
-    const detail::KernelCell* cell = cell_of(first);
-    B sum[3] = {B(0.0f), B(0.0f), B(0.0f)};
-    for (int s = 0; s < work.spp; ++s) {
-      const B px = B::load_unaligned(work.sample_x.data() + s * detail::kTileSize + first % detail::kTileSize);
-      const B py(work.sample_y[s * detail::kTileSize + first / detail::kTileSize]);
-      B e[3];
-      packet_irradiance<A, kCells>(work, cell, px, py, scratch, e);
-      for (int c = 0; c < 3; ++c) sum[c] += e[c];
-    }
-    for (int c = 0; c < 3; ++c) (sum[c] * inv_spp).store_aligned(out.rgb[c] + first);
-  }
+  render_packets<A, PlainPacket<kCells, false>>(work, scratch, out);
 }
 
 // Fills `out` with the mean irradiance over the work's samples for all the tile's pixels.
@@ -1965,8 +1936,8 @@ void render_tile(const TileWork& work, float* scratch, TileResult& out) noexcept
   constexpr std::size_t W = B::size;
   static_assert(detail::kTileSize % W == 0, "a packet must not straddle a tile row");
   if (work.model) {
-    if (work.shaded) return render_tile_model<A, true>(work, scratch, out);
-    return render_tile_model<A, false>(work, scratch, out);
+    if (work.shaded) return render_packets<A, ModelPacket<true>>(work, scratch, out);
+    return render_packets<A, ModelPacket<false>>(work, scratch, out);
   }
   if (work.cells.empty()) return render_plain_tile<A, false>(work, scratch, out);
   return render_plain_tile<A, true>(work, scratch, out);
