@@ -111,11 +111,7 @@ TEST_CASE("bounce culling: reflectors hidden from whole tiles by proofs are skip
           per_isa()) {
   const Scene scene = rooms();
   const RenderedImage ref = render_or_fail(scene, options_for(Backend::scalar));
-  FrameStats stats;
-  std::vector<float> pixels(3u * scene.width * scene.height);
-  REQUIRE(render(scene, options_for(Backend::automatic),
-                 ImageView{pixels.data(), scene.width, scene.height, 3 * scene.width}, stats)
-              .ok());
+  const FrameCounts stats = frame_counts(scene, options_for(Backend::automatic));
   CHECK(stats.bounce_pieces > 0);
   CHECK(stats.bounce_lit_sources == scene.occluders.size());
   CHECK(stats.bounce_tile_sources == stats.tiles * stats.bounce_lit_sources);
@@ -135,8 +131,7 @@ TEST_CASE("bounce culling: reflectors hidden from whole tiles by proofs are skip
   check_simd_against_scalar(
       scene, ref, "bounce rooms", [&](Vec2 p) { return near_boundary(scene, p, 0.05 * pixel); }, 1000);
   RenderOptions unculled = options_for(Backend::automatic, std::nullopt, false);
-  FrameStats all;
-  REQUIRE(render(scene, unculled, ImageView{pixels.data(), scene.width, scene.height, 3 * scene.width}, all).ok());
+  const FrameCounts all = frame_counts(scene, unculled);
   CHECK(all.bounce_tile_sources_hidden == 0);
   CHECK(all.bounce_source_walks == all.pixels * all.bounce_lit_sources);
 }

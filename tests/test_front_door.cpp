@@ -1,7 +1,7 @@
-// One front door: one-shot render() is a Renderer's frame (every pixel format, the sampled
-// needs), the ray caster is the named baseline render_raycast, and the reach cache in culling
-// follows the World's change events exactly (a light's reach after any change sequence equals
-// the reach proven from scratch for the same world).
+// One front door: one-shot render() is a Renderer's frame (every pixel format), the sampled
+// needs are a Renderer option, the ray caster is the named baseline render_raycast, and the
+// reach cache in culling follows the World's change events exactly (a light's reach after any
+// change sequence equals the reach proven from scratch for the same world).
 #include <doctest/doctest.h>
 
 #include <cstdint>
@@ -51,28 +51,24 @@ TEST_CASE("one-shot render in every pixel format equals a Renderer's frame byte 
   }
 }
 
-TEST_CASE("the sampled needs come from a Renderer with sample_needs exactly as from the one-shot overload" *
+TEST_CASE("the sampled needs come from a Renderer with sample_needs only, into its FrameDiagnostics" *
           test::per_isa()) {
   const Scene scene = test::random_scene(5);
-  FrameStats once;
   std::vector<float> pixels = rgb_frame(scene);
-  REQUIRE(render(scene, RenderOptions{}, view_of(pixels, scene), once).ok());
-  // The scalar reference (PAR2D_ISA=scalar) counts only pixels and tiles.
-  CHECK((once.sampled_pixels > 0) == (resolved_isa(RenderOptions{}) != Isa::scalar));
-
   Renderer renderer;
   REQUIRE(renderer.set_scene(scene).ok());
   REQUIRE(renderer.render(view_of(pixels, scene)).ok());
-  CHECK(renderer.frame_stats().sampled_pixels == 0);  // off by default
+  const FrameDiagnostics plain = renderer.frame_diagnostics();
+  CHECK(plain.sampled_pixels == 0);  // off by default
   RenderOptions needs;
   needs.sample_needs = true;
   REQUIRE(renderer.set_options(needs).ok());
   REQUIRE(renderer.render(view_of(pixels, scene)).ok());
-  const FrameStats kept = renderer.frame_stats();
-  CHECK(kept.sampled_pixels == once.sampled_pixels);
-  CHECK(kept.sampled_visible_lights == once.sampled_visible_lights);
-  CHECK(kept.sampled_blocking_pairs == once.sampled_blocking_pairs);
-  CHECK(kept.tile_pairs == once.tile_pairs);
+  const FrameDiagnostics sampled = renderer.frame_diagnostics();
+  // The scalar reference (PAR2D_ISA=scalar) counts no needs; the SIMD path one pixel per tile.
+  CHECK((sampled.sampled_pixels == renderer.frame_stats().tiles) == (resolved_isa(needs) != Isa::scalar));
+  CHECK(sampled.tile_pairs == plain.tile_pairs);  // the sampling changes no other count
+  CHECK(sampled.blocks == plain.blocks);
 }
 
 TEST_CASE("render_raycast is the baseline render() calls for Backend::raycast; a Renderer refuses it by name") {

@@ -396,10 +396,18 @@ int run_render(const CommonArgs& common, const RenderArgs& args) {
   return 0;
 }
 
-// FrameStats as a JSON object of its counts.
-std::string stats_json(const par2d::FrameStats& s) {
+// A frame's FrameStats and FrameDiagnostics, as `par2d bench --stats` reports them.
+struct FrameReport {
+  par2d::FrameStats stats;
+  par2d::FrameDiagnostics diagnostics;
+};
+
+// The report as a JSON object of its counts.
+std::string stats_json(const FrameReport& report) {
+  const par2d::FrameStats& f = report.stats;
+  const par2d::FrameDiagnostics& s = report.diagnostics;
   const std::pair<const char*, std::uint64_t> fields[] = {
-      {"pixels", s.pixels},
+      {"pixels", f.pixels},
       {"samples", s.samples},
       {"blocks", s.blocks},
       {"block_lights", s.block_lights},
@@ -408,7 +416,7 @@ std::string stats_json(const par2d::FrameStats& s) {
       {"block_proofs_tried", s.block_proofs_tried},
       {"block_proofs_succeeded", s.block_proofs_succeeded},
       {"block_proofs_skipped", s.block_proofs_skipped},
-      {"tiles", s.tiles},
+      {"tiles", f.tiles},
       {"tile_lights", s.tile_lights},
       {"tile_pairs", s.tile_pairs},
       {"tile_general_pairs", s.tile_general_pairs},
@@ -424,8 +432,8 @@ std::string stats_json(const par2d::FrameStats& s) {
       {"sampled_pixels", s.sampled_pixels},
       {"sampled_visible_lights", s.sampled_visible_lights},
       {"sampled_blocking_pairs", s.sampled_blocking_pairs},
-      {"bounce_pieces", s.bounce_pieces},
-      {"bounce_lit_sources", s.bounce_lit_sources},
+      {"bounce_pieces", f.bounce_pieces},
+      {"bounce_lit_sources", f.bounce_lit_sources},
       {"bounce_tile_sources", s.bounce_tile_sources},
       {"bounce_tile_sources_hidden", s.bounce_tile_sources_hidden},
       {"bounce_source_walks", s.bounce_source_walks},
@@ -444,10 +452,12 @@ double ratio(std::uint64_t part, std::uint64_t whole) {
   return whole == 0 ? 0.0 : static_cast<double>(part) / static_cast<double>(whole);
 }
 
-// FrameStats as a few readable lines: where a frame's work goes, from blocks down to samples.
-void print_stats(const par2d::FrameStats& s) {
+// The report as a few readable lines: where a frame's work goes, from blocks down to samples.
+void print_stats(const FrameReport& report) {
+  const par2d::FrameStats& f = report.stats;
+  const par2d::FrameDiagnostics& s = report.diagnostics;
   std::printf("stats per frame: %llu pixels, %llu tiles (16x16), %llu blocks (64x64)\n",
-              static_cast<unsigned long long>(s.pixels), static_cast<unsigned long long>(s.tiles),
+              static_cast<unsigned long long>(f.pixels), static_cast<unsigned long long>(f.tiles),
               static_cast<unsigned long long>(s.blocks));
   std::printf(
       "  blocks x lights: %llu, %.1f %% out of reach; %.1f occluders per (block, light) from the index; "
@@ -460,12 +470,12 @@ void print_stats(const par2d::FrameStats& s) {
   std::printf(
       "  per tile: %.2f lights, %.2f pairs (%.3f overlapping or touching); proofs %llu tried, %llu hid the light, "
       "%llu skipped by the adaptive rule; umbra tests %llu, %llu hit; %.2f pairs dropped outside the tile-light hull\n",
-      ratio(s.tile_lights, s.tiles), ratio(s.tile_pairs, s.tiles), ratio(s.tile_general_pairs, s.tiles),
+      ratio(s.tile_lights, f.tiles), ratio(s.tile_pairs, f.tiles), ratio(s.tile_general_pairs, f.tiles),
       static_cast<unsigned long long>(s.tile_proofs_tried), static_cast<unsigned long long>(s.tile_proofs_succeeded),
       static_cast<unsigned long long>(s.tile_proofs_skipped), static_cast<unsigned long long>(s.umbra_tests), static_cast<unsigned long long>(s.umbra_hits),
-      ratio(s.tile_pairs_outside_hull, s.tiles));
+      ratio(s.tile_pairs_outside_hull, f.tiles));
   std::printf("  per sample (kernel): %.2f light arcs, %.2f pairs; %.2f samples per pixel (tile padding included)\n",
-              ratio(s.light_samples, s.samples), ratio(s.pair_samples, s.samples), ratio(s.samples, s.pixels));
+              ratio(s.light_samples, s.samples), ratio(s.pair_samples, s.samples), ratio(s.samples, f.pixels));
   std::printf("  per pixel (exact, at %llu sampled pixels): %.2f lights visible, %.2f occluders cutting into their arcs",
               static_cast<unsigned long long>(s.sampled_pixels), ratio(s.sampled_visible_lights, s.sampled_pixels),
               ratio(s.sampled_blocking_pairs, s.sampled_pixels));
@@ -475,13 +485,30 @@ void print_stats(const par2d::FrameStats& s) {
                 ratio(s.pair_samples, s.samples) / ratio(s.sampled_blocking_pairs, s.sampled_pixels));
   std::printf("\n");
   std::printf("  tiles computed by the scalar reference: %llu\n", static_cast<unsigned long long>(s.scalar_tiles));
-  if (s.bounce_pieces == 0) return;
+  if (f.bounce_pieces == 0) return;
   std::printf(
       "  one bounce: %llu pieces, %llu reflecting occluders lit; per tile %.2f lit reflectors, %.1f %% hidden by "
       "proofs; per pixel %.2f reflectors walked, %.2f occluders depth-tested (exact, no clustering)\n",
-      static_cast<unsigned long long>(s.bounce_pieces), static_cast<unsigned long long>(s.bounce_lit_sources),
-      ratio(s.bounce_tile_sources, s.tiles), 100.0 * ratio(s.bounce_tile_sources_hidden, s.bounce_tile_sources),
-      ratio(s.bounce_source_walks, s.pixels), ratio(s.bounce_depth_tests, s.pixels));
+      static_cast<unsigned long long>(f.bounce_pieces), static_cast<unsigned long long>(f.bounce_lit_sources),
+      ratio(s.bounce_tile_sources, f.tiles), 100.0 * ratio(s.bounce_tile_sources_hidden, s.bounce_tile_sources),
+      ratio(s.bounce_source_walks, f.pixels), ratio(s.bounce_depth_tests, f.pixels));
+}
+
+// par2d::render as one frame of a Renderer that also measures what pixels need, reporting its
+// counts (all zero for the ray caster, which counts nothing).
+par2d::Status render_with_report(const par2d::Scene& scene, const par2d::RenderOptions& options,
+                                 const par2d::ImageView& image, FrameReport& report) {
+  report = FrameReport{};
+  if (options.backend == par2d::Backend::raycast) return par2d::render(scene, options, image);
+  par2d::RenderOptions measured = options;
+  measured.sample_needs = true;
+  par2d::Renderer renderer;
+  if (par2d::Status s = renderer.set_options(measured); !s) return s;
+  if (par2d::Status s = renderer.set_scene(scene); !s) return s;
+  if (par2d::Status s = renderer.render(image); !s) return s;
+  report.stats = renderer.frame_stats();
+  report.diagnostics = renderer.frame_diagnostics();
+  return {};
 }
 
 int run_bench(const CommonArgs& common, const BenchArgs& args) {
@@ -513,8 +540,8 @@ int run_bench(const CommonArgs& common, const BenchArgs& args) {
   // One untimed frame first: it pays for thread-pool start-up and first-touch page faults.
   // With --stats its work counts are those of every frame (the scene does not change); only
   // then does it sample each tile's exact needs, which a timed frame never does.
-  par2d::FrameStats stats;
-  const par2d::Status warm_up = args.stats ? par2d::render(scene, options, image, stats)
+  FrameReport report;
+  const par2d::Status warm_up = args.stats ? render_with_report(scene, options, image, report)
                                            : par2d::render(scene, options, image);
   if (!warm_up) return render_failed(common, warm_up);
 
@@ -541,12 +568,12 @@ int run_bench(const CommonArgs& common, const BenchArgs& args) {
         ms_per_frame, std::isfinite(frames_per_s) ? frames_per_s : 0.0,
         std::isfinite(mpixel_per_s) ? mpixel_per_s : 0.0, backend, isa, threads, scene.width,
         scene.height, args.frames, options.spp, scene.lights.size(), scene.occluders.size(),
-        args.stats ? (", \"stats\": " + stats_json(stats)).c_str() : "");
+        args.stats ? (", \"stats\": " + stats_json(report)).c_str() : "");
   } else {
     std::printf("ms/frame=%.3f frames/s=%.2f Mpixel/s=%.2f backend=%s isa=%s threads=%d size=%dx%d\n",
                 ms_per_frame, frames_per_s, mpixel_per_s, backend, isa, threads, scene.width,
                 scene.height);
-    if (args.stats) print_stats(stats);
+    if (args.stats) print_stats(report);
   }
   return 0;
 }

@@ -211,8 +211,10 @@ class Renderer {
   Scene snapshot() const;
 
   RendererStats stats() const noexcept;
-  // The culling and kernel work of the last successful render call (all zero before one).
+  // What the last successful render call computed (all zero before one), and what its culling
+  // and kernel did (the sampled needs only when options().sample_needs is set).
   FrameStats frame_stats() const noexcept;
+  FrameDiagnostics frame_diagnostics() const noexcept;
 
  private:
   struct Impl;

@@ -198,7 +198,7 @@ FrameEngine& FrameEngine::operator=(FrameEngine&&) noexcept = default;
 
 bool FrameEngine::render(const PreparedScene& scene, const std::vector<LightReach>* reach,
                          const FrameSettings& settings, const Scheduler& scheduler, const FrameTarget& target,
-                         FrameStats* stats, const std::vector<std::uint8_t>* dirty, LightLayerCache* layers,
+                         FrameCounters* frame_counts, const std::vector<std::uint8_t>* dirty, LightLayerCache* layers,
                          const FrameControl* control) {
   const KernelSet* kernels = kernels_for(settings.isa);
   const TileRect& region = target.region;
@@ -217,7 +217,7 @@ bool FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
     }
     blocks = static_cast<int>(block_list_.size());
     if (blocks == 0) {
-      if (stats) *stats = FrameStats{};
+      if (frame_counts) *frame_counts = FrameCounters{};
       if (control && control->progress && *control->progress) (*control->progress)(Progress{0, 0});
       return true;
     }
@@ -383,14 +383,14 @@ bool FrameEngine::render(const PreparedScene& scene, const std::vector<LightReac
     if (done < tiles_total) return false;
     if (progress && reported < done) (*progress)(Progress{done, tiles_total});
   }
-  if (!stats) return true;
+  if (!frame_counts) return true;
   FrameCounters sum;
   for (int lane = 0; lane < lanes; ++lane) sum += states_[static_cast<std::size_t>(lane)].counts;
   if (bouncing) {
     sum.bounce_pieces = bounce_->pieces.size();
     for (const BounceSource& source : bounce_->sources) sum.bounce_lit_sources += source.lit ? 1u : 0u;
   }
-  *stats = to_frame_stats(sum);
+  *frame_counts = sum;
   return true;
 }
 

@@ -10,6 +10,7 @@
 #include "culling/light_reach.hpp"
 #include "par2d/isa.hpp"
 #include "par2d/render.hpp"
+#include "render/frame_counters.hpp"
 #include "render/frame_output.hpp"
 #include "parallel/scheduler.hpp"
 #include "world/prepared_scene.hpp"
@@ -52,15 +53,15 @@ class FrameEngine {
   // The pixels of target.region, each tile computed whole and stored straight into the
   // target's format. Tiles and blocks are those of the whole frame, so a region's pixels
   // equal the same pixels of a whole frame bit for bit. `reach` (with culling): per light.
-  // `stats`, when given, receives the frame's culling and kernel work (FrameStats).
+  // `counts`, when given, receives the frame's counts (render/frame_counters.hpp).
   // `dirty`, when given: one flag per kBlockSize block of the whole frame, row by row; only the
   // flagged blocks are computed and stored, the rest of the target is not touched.
   // `layers`, when given (a whole frame with culling and a SIMD ISA): tiles are computed
   // through the light-layer cache (render/layered_tiles.hpp), as its plan allows.
   // `control`, when given: progress and cancellation. Returns false when a cancelled frame
-  // skipped tiles (the target then holds part of the frame and `stats` is left as it was).
+  // skipped tiles (the target then holds part of the frame and `counts` is left as it was).
   bool render(const PreparedScene& scene, const std::vector<LightReach>* reach, const FrameSettings& settings,
-              const Scheduler& scheduler, const FrameTarget& target, FrameStats* stats = nullptr,
+              const Scheduler& scheduler, const FrameTarget& target, FrameCounters* counts = nullptr,
               const std::vector<std::uint8_t>* dirty = nullptr, LightLayerCache* layers = nullptr,
               const FrameControl* control = nullptr);
 

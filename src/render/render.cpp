@@ -159,13 +159,11 @@ Status check_frame_buffer(const FrameBuffer& buffer, const PixelRect& region, in
 namespace {
 
 // One frame of `scene` by a Renderer made for it: the same path as a host's Renderer.
-Status render_once(const Scene& scene, const RenderOptions& options, const FrameBuffer& buffer, FrameStats* stats,
+Status render_once(const Scene& scene, const RenderOptions& options, const FrameBuffer& buffer,
                    const RenderControl* control = nullptr) {
   return detail::guarded("render", [&]() -> Status {
     Renderer renderer;
-    RenderOptions once = options;
-    once.sample_needs = options.sample_needs || stats != nullptr;
-    if (Status s = renderer.set_options(once); !s.ok()) return s;
+    if (Status s = renderer.set_options(options); !s.ok()) return s;
     if (Status s = renderer.set_scene(scene); !s.ok()) return s;
     if (control && (control->progress || control->cancel)) {
       if (control->cancel && control->cancel->load()) return Status(StatusCode::cancelled, "render: cancelled");
@@ -176,9 +174,7 @@ Status render_once(const Scene& scene, const RenderOptions& options, const Frame
         return !control->progress || control->progress(p);
       });
     }
-    if (Status s = renderer.render(buffer); !s.ok()) return s;
-    if (stats) *stats = renderer.frame_stats();
-    return {};
+    return renderer.render(buffer);
   });
 }
 
@@ -249,11 +245,11 @@ Status raycast_frame(const Scene& scene, const RenderOptions& options, const Ima
   });
 }
 
-Status render_frame(const Scene& scene, const RenderOptions& options, const ImageView& image, FrameStats* stats) {
+Status render_frame(const Scene& scene, const RenderOptions& options, const ImageView& image) {
   if (Status s = detail::check_image_view(image, scene.width, scene.height, "render", "scene"); !s.ok()) return s;
   if (Status s = detail::check_options(options, "render"); !s.ok()) return s;
   if (options.backend == Backend::raycast) return raycast_frame(scene, options, image, nullptr);
-  return render_once(scene, options, detail::frame_buffer_of(image), stats);
+  return render_once(scene, options, detail::frame_buffer_of(image));
 }
 
 }  // namespace
@@ -263,14 +259,14 @@ Status render_raycast(const Scene& scene, const RenderOptions& options, const Im
 }
 
 Status render(const Scene& scene, const RenderOptions& options, const ImageView& image) {
-  return render_frame(scene, options, image, nullptr);
+  return render_frame(scene, options, image);
 }
 
 Status render(const Scene& scene, const RenderOptions& options, const ImageView& image, const RenderControl& control) {
   if (Status s = detail::check_image_view(image, scene.width, scene.height, "render", "scene"); !s.ok()) return s;
   if (Status s = detail::check_options(options, "render"); !s.ok()) return s;
   if (options.backend == Backend::raycast) return raycast_frame(scene, options, image, &control);
-  return render_once(scene, options, detail::frame_buffer_of(image), nullptr, &control);
+  return render_once(scene, options, detail::frame_buffer_of(image), &control);
 }
 
 Status estimate_work(const Scene& scene, const RenderOptions& options, WorkEstimate& estimate) {
@@ -288,16 +284,11 @@ Status estimate_work(const Scene& scene, const RenderOptions& options, WorkEstim
   });
 }
 
-Status render(const Scene& scene, const RenderOptions& options, const ImageView& image, FrameStats& stats) {
-  stats = FrameStats{};
-  return render_frame(scene, options, image, &stats);
-}
-
 Status render(const Scene& scene, const RenderOptions& options, const FrameBuffer& buffer) {
   if (Status s = detail::check_options(options, "render"); !s.ok()) return s;
   if (options.backend == Backend::raycast)
     return Status(StatusCode::unsupported, "render: the raycast baseline writes float RGB (call render_raycast)");
-  return render_once(scene, options, buffer, nullptr);
+  return render_once(scene, options, buffer);
 }
 
 }  // namespace par2d

@@ -12,6 +12,7 @@
 #include "culling/reach_cache.hpp"
 #include "render/change_tracker.hpp"
 #include "parallel/scheduler.hpp"
+#include "render/frame_counters.hpp"
 #include "render/frame_driver.hpp"
 #include "render/frame_output.hpp"
 #include "render/light_layers.hpp"
@@ -43,7 +44,7 @@ struct Renderer::Impl {
   std::vector<PixelRect> dirty_rects;  // the last successful render's
   detail::World world;
   detail::FrameEngine engine;
-  FrameStats frame_stats;  // the last successful render's
+  detail::FrameCounters frame_counts;  // the last successful render's (FrameStats, FrameDiagnostics)
   // Shapes placed by a Transform before they go to the world (kept: their storage is reused).
   Light placed_light;
   Occluder placed_occluder;
@@ -332,7 +333,7 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
     const detail::FrameControl control{&impl.progress, &impl.cancel};
     bool complete = false;
     try {
-      complete = impl.engine.render(scene, reach, settings, impl.scheduler, target, &impl.frame_stats, dirty, layers,
+      complete = impl.engine.render(scene, reach, settings, impl.scheduler, target, &impl.frame_counts, dirty, layers,
                                     watched ? &control : nullptr);
     } catch (...) {
       impl.tracker.force_full();  // the buffer may hold part of a frame (the plan drops the layers)
@@ -405,6 +406,18 @@ Scene Renderer::snapshot() const { return impl_->world.snapshot(); }
 
 RendererStats Renderer::stats() const noexcept { return impl_->world.stats(); }
 
-FrameStats Renderer::frame_stats() const noexcept { return impl_->frame_stats; }
+FrameStats Renderer::frame_stats() const noexcept {
+  FrameStats stats;
+  FrameDiagnostics diagnostics;
+  detail::to_frame_report(impl_->frame_counts, stats, diagnostics);
+  return stats;
+}
+
+FrameDiagnostics Renderer::frame_diagnostics() const noexcept {
+  FrameStats stats;
+  FrameDiagnostics diagnostics;
+  detail::to_frame_report(impl_->frame_counts, stats, diagnostics);
+  return diagnostics;
+}
 
 }  // namespace par2d
