@@ -156,7 +156,7 @@ struct BenchArgs {
 
 const CLI::Validator kBackendName(
     [](std::string& value) -> std::string {
-      if (par2d::parse_backend(value.c_str())) return {};
+      if (value == "raycast" || par2d::parse_backend(value.c_str())) return {};
       return "unknown backend '" + value + "' (expected auto, simd, scalar or raycast)";
     },
     "auto|simd|scalar|raycast", "backend name");
@@ -219,16 +219,33 @@ void add_common_options(CLI::App& cmd, CommonArgs& args) {
                "default it must stay inside the scene file's folder. For trusted scenes only");
 }
 
-par2d::RenderOptions make_options(const CommonArgs& args) {
+// What the rendering options ask for: a renderer's options, or with --backend raycast the
+// ray-casting baseline (par2d::render_raycast, which is no renderer backend) with them.
+struct RenderChoice {
   par2d::RenderOptions options;
-  options.backend = *par2d::parse_backend(args.backend.c_str());  // validated by kBackendName
+  bool raycast = false;
+
+  par2d::Status render(const par2d::Scene& scene, const par2d::ImageView& image,
+                       const par2d::RenderControl& control = {}) const {
+    return raycast ? par2d::render_raycast(scene, options, image, control) : par2d::render(scene, options, image, control);
+  }
+  const char* backend_name() const { return raycast ? "raycast" : par2d::backend_name(options.backend); }
+  // The ISA the choice runs at (the ray caster is scalar code).
+  par2d::Isa isa() const { return raycast ? par2d::Isa::scalar : par2d::resolved_isa(options); }
+};
+
+RenderChoice make_choice(const CommonArgs& args) {
+  RenderChoice choice;
+  par2d::RenderOptions& options = choice.options;
+  choice.raycast = args.backend == "raycast";
+  if (!choice.raycast) options.backend = *par2d::parse_backend(args.backend.c_str());  // validated by kBackendName
   options.threads = args.threads;
   options.spp = args.spp;
   options.rays = args.rays;
   options.bounce = *par2d::parse_bounce_term(args.bounce.c_str());  // validated by kBounceTermName
   if (!args.isa.empty()) options.isa = par2d::parse_isa(args.isa);
   options.work_limit = args.work_limit;
-  return options;
+  return choice;
 }
 
 // A refused or failed render as one line; a frame past the work limit names the option that
@@ -284,14 +301,14 @@ class ProgressBar {
   double drawn_at_ = 0.0;
 };
 
-// par2d::render with the progress bar `mode` asks for.
-par2d::Status render_with_progress(const par2d::Scene& scene, const par2d::RenderOptions& options,
+// The choice's render with the progress bar `mode` asks for.
+par2d::Status render_with_progress(const par2d::Scene& scene, const RenderChoice& choice,
                                    const par2d::ImageView& image, const std::string& mode, const char* label) {
-  if (!ProgressBar::wanted(mode)) return par2d::render(scene, options, image);
+  if (!ProgressBar::wanted(mode)) return choice.render(scene, image);
   ProgressBar bar(mode, label);
   par2d::RenderControl control;
   control.progress = [&bar](const par2d::Progress& p) { return bar(p); };
-  return par2d::render(scene, options, image, control);
+  return choice.render(scene, image, control);
 }
 
 // What the library resolves the thread count to (capped at the hardware), so that what is
@@ -365,8 +382,8 @@ int run_render(const CommonArgs& common, const RenderArgs& args) {
   if (!allocate_image(scene.width, scene.height, storage, image, error)) return fail(error);
 
   // The whole image exists before any file is touched: a failed render writes nothing.
-  par2d::RenderOptions options = make_options(common);
-  if (par2d::Status s = render_with_progress(scene, options, image, args.progress, "rendering"); !s)
+  RenderChoice choice = make_choice(common);
+  if (par2d::Status s = render_with_progress(scene, choice, image, args.progress, "rendering"); !s)
     return render_failed(common, s);
 
   // The plain irradiance differs only where a normal source shades the scene; then it is a
@@ -377,8 +394,8 @@ int run_render(const CommonArgs& common, const RenderArgs& args) {
   par2d::ImageView plain = image;
   if (wants_plain && shaded) {
     if (!allocate_image(scene.width, scene.height, plain_storage, plain, error)) return fail(error);
-    options.shaded = false;
-    if (par2d::Status s = render_with_progress(scene, options, plain, args.progress, "rendering the plain image"); !s)
+    choice.options.shaded = false;
+    if (par2d::Status s = render_with_progress(scene, choice, plain, args.progress, "rendering the plain image"); !s)
       return render_failed(common, s);
   }
 
@@ -494,13 +511,13 @@ void print_stats(const FrameReport& report) {
       ratio(s.bounce_source_walks, f.pixels), ratio(s.bounce_depth_tests, f.pixels));
 }
 
-// par2d::render as one frame of a Renderer that also measures what pixels need, reporting its
-// counts (all zero for the ray caster, which counts nothing).
-par2d::Status render_with_report(const par2d::Scene& scene, const par2d::RenderOptions& options,
-                                 const par2d::ImageView& image, FrameReport& report) {
+// The choice's render as one frame of a Renderer that also measures what pixels need,
+// reporting its counts (all zero for the ray caster, which counts nothing).
+par2d::Status render_with_report(const par2d::Scene& scene, const RenderChoice& choice, const par2d::ImageView& image,
+                                 FrameReport& report) {
   report = FrameReport{};
-  if (options.backend == par2d::Backend::raycast) return par2d::render(scene, options, image);
-  par2d::RenderOptions measured = options;
+  if (choice.raycast) return choice.render(scene, image);
+  par2d::RenderOptions measured = choice.options;
   measured.sample_needs = true;
   par2d::Renderer renderer;
   if (par2d::Status s = renderer.set_options(measured); !s) return s;
@@ -536,19 +553,19 @@ int run_bench(const CommonArgs& common, const BenchArgs& args) {
   std::string error;
   if (!allocate_image(scene.width, scene.height, storage, image, error)) return fail(error);
 
-  const par2d::RenderOptions options = make_options(common);
+  const RenderChoice choice = make_choice(common);
   // One untimed frame first: it pays for thread-pool start-up and first-touch page faults.
   // With --stats its work counts are those of every frame (the scene does not change); only
   // then does it sample each tile's exact needs, which a timed frame never does.
   FrameReport report;
-  const par2d::Status warm_up = args.stats ? render_with_report(scene, options, image, report)
-                                           : par2d::render(scene, options, image);
+  const par2d::Status warm_up = args.stats ? render_with_report(scene, choice, image, report)
+                                           : choice.render(scene, image);
   if (!warm_up) return render_failed(common, warm_up);
 
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   for (int k = 0; k < args.frames; ++k) {
-    if (par2d::Status s = par2d::render(scene, options, image); !s) return fail(s.message());
+    if (par2d::Status s = choice.render(scene, image); !s) return fail(s.message());
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
 
@@ -556,9 +573,9 @@ int run_bench(const CommonArgs& common, const BenchArgs& args) {
   const double frames_per_s = seconds > 0.0 ? args.frames / seconds : INFINITY;
   const double mpixel_per_s =
       frames_per_s * static_cast<double>(scene.width) * static_cast<double>(scene.height) / 1e6;
-  const char* backend = par2d::backend_name(options.backend);
-  const char* isa = par2d::isa_name(par2d::resolved_isa(options));
-  const int threads = resolved_threads(options.threads);
+  const char* backend = choice.backend_name();
+  const char* isa = par2d::isa_name(choice.isa());
+  const int threads = resolved_threads(choice.options.threads);
 
   if (args.json) {
     std::printf(
@@ -567,7 +584,7 @@ int run_bench(const CommonArgs& common, const BenchArgs& args) {
         "\"height\": %d, \"frames\": %d, \"spp\": %d, \"lights\": %zu, \"occluders\": %zu%s}\n",
         ms_per_frame, std::isfinite(frames_per_s) ? frames_per_s : 0.0,
         std::isfinite(mpixel_per_s) ? mpixel_per_s : 0.0, backend, isa, threads, scene.width,
-        scene.height, args.frames, options.spp, scene.lights.size(), scene.occluders.size(),
+        scene.height, args.frames, choice.options.spp, scene.lights.size(), scene.occluders.size(),
         args.stats ? (", \"stats\": " + stats_json(report)).c_str() : "");
   } else {
     std::printf("ms/frame=%.3f frames/s=%.2f Mpixel/s=%.2f backend=%s isa=%s threads=%d size=%dx%d\n",

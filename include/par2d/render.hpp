@@ -15,14 +15,15 @@
 #pragma GCC visibility push(default)
 namespace par2d {
 
+// The paths a Renderer (and so render()) computes with. The ray-casting baseline is not one:
+// it is render_raycast, a function of its own.
 enum class Backend {
   automatic,  // the fastest path this CPU supports (the SIMD path where there is one)
   simd,       // the vectorized tiled path at RenderOptions::isa (or the default ISA)
   scalar,     // the reference: double precision, exact trigonometry, one pixel at a time
-  raycast,    // the brute-force baseline (render() calls render_raycast; a Renderer refuses it)
 };
 
-// "auto", "simd", "scalar", "raycast".
+// "auto", "simd", "scalar".
 const char* backend_name(Backend backend) noexcept;
 std::optional<Backend> parse_backend(const char* name) noexcept;
 
@@ -62,7 +63,7 @@ struct RenderOptions {
   // Samples per pixel in a fixed stratified pattern (see sample_offset); 1 is the
   // pixel center. 1 .. 256. Default: 1.
   int spp = 1;
-  // Directions per sample for Backend::raycast. 1 .. 1<<20. Default: 1024.
+  // Directions per sample for render_raycast (nothing else reads it). 1 .. 1<<20. Default: 1024.
   int rays = 1024;
   // Forces the SIMD instruction set (see capped_isa: a level the CPU lacks falls back to
   // the best it has). Empty: the
@@ -108,20 +109,6 @@ struct ImageView {
 // Offset inside the pixel, in [0, 1)^2 pixel units, of sample k of `spp` (a
 // stratified rank-1 lattice; spp = 1 gives the center (0.5, 0.5)).
 void sample_offset(int k, int spp, double& dx, double& dy) noexcept;
-
-// Renders the linear irradiance E of `scene` (docs/contract.md section 1) into `image`,
-// whose size must equal the scene's width and height. Validates the scene and the
-// arguments first; on failure the image content is unspecified and a status says why.
-// One frame of a Renderer made for the call (Backend::raycast: render_raycast).
-Status render(const Scene& scene, const RenderOptions& options, const ImageView& image);
-
-// The brute-force baseline, sharing nothing with the renderers but the scene types and the
-// parallel loop: per sample (options.spp), options.rays stratified directions, each taking
-// the emission of the first light it meets through the transmittances of the occluders before
-// it (docs/contract.md sections 1 and 6). Converges to render()'s image as rays grow; for
-// tests and for measuring what the analytic renderers save. Reads spp, rays, threads and
-// shaded; the other options are checked and ignored.
-Status render_raycast(const Scene& scene, const RenderOptions& options, const ImageView& image);
 
 // What one frame computed, in counts a host can act on (none is a time): read with
 // Renderer::frame_stats(). The algorithm's own counts (culling, proofs, the kernel's pairs)
@@ -199,15 +186,17 @@ struct WorkEstimate {
   double samples = 0.0;
   double bounce = 0.0;   // one bounce (SIMD or scalar path): pieces x (samples + lights x (occluders + 1))
   double scalar = 0.0;   // the scalar reference's direct light: samples x lights x (occluders + 1)
-  double raycast = 0.0;  // Backend::raycast: rays x (samples + pieces) x (lights + occluders)
+  double raycast = 0.0;  // render_raycast: rays x (samples + pieces) x (lights + occluders)
   double total = 0.0;    // bounce + scalar + raycast: what RenderOptions::work_limit bounds
 };
 
-// The estimated work of render(scene, options, ...) for the whole frame (the scene is validated).
+// The estimated work of render(scene, options, ...) for the whole frame (the scene is validated),
+// and of render_raycast(scene, options, ...).
 Status estimate_work(const Scene& scene, const RenderOptions& options, WorkEstimate& estimate);
+Status estimate_raycast_work(const Scene& scene, const RenderOptions& options, WorkEstimate& estimate);
 
 // How far a frame has got, in the 16x16-pixel tiles it computes (64x64 blocks for
-// Backend::raycast, counted as their tiles).
+// render_raycast, counted as their tiles).
 struct Progress {
   std::uint64_t tiles_done = 0;
   std::uint64_t tiles = 0;  // the frame's total
@@ -226,11 +215,25 @@ struct RenderControl {
   const std::atomic<bool>* cancel = nullptr;  // set (from any thread) to cancel before the next tile
 };
 
-// render() with progress and cancellation.
-Status render(const Scene& scene, const RenderOptions& options, const ImageView& image, const RenderControl& control);
+// Renders the linear irradiance E of `scene` (docs/contract.md section 1) into `image`,
+// whose size must equal the scene's width and height. Validates the scene and the
+// arguments first; on failure the image content is unspecified and a status says why.
+// One frame of a Renderer made for the call; `control`: progress and cancellation (none by
+// default).
+Status render(const Scene& scene, const RenderOptions& options, const ImageView& image,
+              const RenderControl& control = {});
+
+// The brute-force baseline, sharing nothing with the renderers but the scene types and the
+// parallel loop: per sample (options.spp), options.rays stratified directions, each taking
+// the emission of the first light it meets through the transmittances of the occluders before
+// it (docs/contract.md sections 1 and 6). Converges to render()'s image as rays grow; for
+// tests and for measuring what the analytic renderers save. Reads spp, rays, threads, shaded,
+// bounce and work_limit; the other options are checked and ignored.
+Status render_raycast(const Scene& scene, const RenderOptions& options, const ImageView& image,
+                      const RenderControl& control = {});
 
 // The ISA the SIMD path would use for these options on this CPU (scalar when the
-// backend is scalar or raycast).
+// backend is scalar).
 Isa resolved_isa(const RenderOptions& options) noexcept;
 
 }  // namespace par2d

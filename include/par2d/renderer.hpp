@@ -62,7 +62,7 @@ struct RendererStats {
 };
 
 // One frame of `scene` in any pixel format: render() for a FrameBuffer (whole frame, the
-// scene's width x height). Backend::raycast is refused (render_raycast writes float RGB).
+// scene's width x height).
 Status render(const Scene& scene, const RenderOptions& options, const FrameBuffer& buffer);
 
 // A persistent world and renderer. Not thread-safe: one thread at a time calls its methods
@@ -85,8 +85,8 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  // Backend (automatic, simd or scalar; raycast is refused: it is the baseline render_raycast),
-  // spp, isa, culling, threading, shading and sample_needs.
+  // Backend, spp, isa, culling, threading, shading, sample_needs, bounce and work_limit
+  // (rays is render_raycast's alone).
   // Creates the renderer's thread pool here (never per frame) unless
   // options.threading == Threading::caller_arena.
   Status set_options(const RenderOptions& options);

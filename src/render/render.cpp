@@ -40,7 +40,6 @@ const char* backend_name(Backend backend) noexcept {
     case Backend::automatic: return "auto";
     case Backend::simd: return "simd";
     case Backend::scalar: return "scalar";
-    case Backend::raycast: return "raycast";
   }
   return "unknown";
 }
@@ -50,7 +49,6 @@ std::optional<Backend> parse_backend(const char* name) noexcept {
   if (n == "auto") return Backend::automatic;
   if (n == "simd") return Backend::simd;
   if (n == "scalar") return Backend::scalar;
-  if (n == "raycast") return Backend::raycast;
   return std::nullopt;
 }
 
@@ -85,7 +83,7 @@ void sample_offset(int k, int spp, double& dx, double& dy) noexcept {
 }
 
 Isa resolved_isa(const RenderOptions& options) noexcept {
-  if (options.backend == Backend::scalar || options.backend == Backend::raycast) return Isa::scalar;
+  if (options.backend == Backend::scalar) return Isa::scalar;
   if (!options.isa) return default_isa();
   return capped_isa(*options.isa);
 }
@@ -103,13 +101,11 @@ Status check_options(const RenderOptions& options, const char* who) {
   };
   if (options.threads < 0) return bad("threads must be >= 0 (0 = all hardware threads)");
   if (options.spp < 1 || options.spp > kMaxSpp) return bad("spp must be in 1.." + std::to_string(kMaxSpp));
-  if (options.backend == Backend::raycast && (options.rays < 1 || options.rays > kMaxRays))
-    return bad("rays must be in 1.." + std::to_string(kMaxRays));
   if (options.isa && (static_cast<int>(*options.isa) < static_cast<int>(Isa::scalar) ||
                       static_cast<int>(*options.isa) > static_cast<int>(Isa::neon64)))
     return bad("unknown isa " + std::to_string(static_cast<int>(*options.isa)));
   if (static_cast<int>(options.backend) < static_cast<int>(Backend::automatic) ||
-      static_cast<int>(options.backend) > static_cast<int>(Backend::raycast))
+      static_cast<int>(options.backend) > static_cast<int>(Backend::scalar))
     return bad("unknown backend " + std::to_string(static_cast<int>(options.backend)));
   if (options.threading != Threading::own_pool && options.threading != Threading::caller_arena)
     return bad("unknown threading " + std::to_string(static_cast<int>(options.threading)));
@@ -178,6 +174,15 @@ Status render_once(const Scene& scene, const RenderOptions& options, const Frame
   });
 }
 
+// The options the ray caster reads, checked: all of a renderer's, and the rays.
+Status check_raycast_options(const RenderOptions& options, const char* who) {
+  if (Status s = detail::check_options(options, who); !s.ok()) return s;
+  if (options.rays < 1 || options.rays > kMaxRays)
+    return Status(StatusCode::invalid_argument,
+                  std::string(who) + ": rays must be in 1.." + std::to_string(kMaxRays));
+  return {};
+}
+
 // The ray caster's estimated work on a validated scene.
 WorkEstimate raycast_estimate(const Scene& scene, const RenderOptions& options) noexcept {
   detail::WorkCounts counts;
@@ -196,9 +201,7 @@ WorkEstimate raycast_estimate(const Scene& scene, const RenderOptions& options) 
 Status raycast_frame(const Scene& scene, const RenderOptions& options, const ImageView& image,
                      const RenderControl* control) {
   if (Status s = detail::check_image_view(image, scene.width, scene.height, "render_raycast", "scene"); !s.ok()) return s;
-  RenderOptions checked = options;
-  checked.backend = Backend::raycast;  // the rays' range is checked
-  if (Status s = detail::check_options(checked, "render_raycast"); !s.ok()) return s;
+  if (Status s = check_raycast_options(options, "render_raycast"); !s.ok()) return s;
   return detail::guarded("render_raycast", [&]() -> Status {
     if (Status s = validate_scene(scene); !s.ok()) return s;
     if (Status s = detail::check_work(raycast_estimate(scene, options), options.work_limit, "render_raycast"); !s.ok())
@@ -245,27 +248,16 @@ Status raycast_frame(const Scene& scene, const RenderOptions& options, const Ima
   });
 }
 
-Status render_frame(const Scene& scene, const RenderOptions& options, const ImageView& image) {
-  if (Status s = detail::check_image_view(image, scene.width, scene.height, "render", "scene"); !s.ok()) return s;
-  if (Status s = detail::check_options(options, "render"); !s.ok()) return s;
-  if (options.backend == Backend::raycast) return raycast_frame(scene, options, image, nullptr);
-  return render_once(scene, options, detail::frame_buffer_of(image));
-}
-
 }  // namespace
 
-Status render_raycast(const Scene& scene, const RenderOptions& options, const ImageView& image) {
-  return raycast_frame(scene, options, image, nullptr);
-}
-
-Status render(const Scene& scene, const RenderOptions& options, const ImageView& image) {
-  return render_frame(scene, options, image);
+Status render_raycast(const Scene& scene, const RenderOptions& options, const ImageView& image,
+                      const RenderControl& control) {
+  return raycast_frame(scene, options, image, &control);
 }
 
 Status render(const Scene& scene, const RenderOptions& options, const ImageView& image, const RenderControl& control) {
   if (Status s = detail::check_image_view(image, scene.width, scene.height, "render", "scene"); !s.ok()) return s;
   if (Status s = detail::check_options(options, "render"); !s.ok()) return s;
-  if (options.backend == Backend::raycast) return raycast_frame(scene, options, image, &control);
   return render_once(scene, options, detail::frame_buffer_of(image), &control);
 }
 
@@ -273,10 +265,6 @@ Status estimate_work(const Scene& scene, const RenderOptions& options, WorkEstim
   if (Status s = detail::check_options(options, "estimate_work"); !s.ok()) return s;
   return detail::guarded("estimate_work", [&]() -> Status {
     if (Status s = validate_scene(scene); !s.ok()) return s;
-    if (options.backend == Backend::raycast) {
-      estimate = raycast_estimate(scene, options);
-      return {};
-    }
     Renderer renderer;
     if (Status s = renderer.set_options(options); !s.ok()) return s;
     if (Status s = renderer.set_scene(scene); !s.ok()) return s;
@@ -284,10 +272,17 @@ Status estimate_work(const Scene& scene, const RenderOptions& options, WorkEstim
   });
 }
 
+Status estimate_raycast_work(const Scene& scene, const RenderOptions& options, WorkEstimate& estimate) {
+  if (Status s = check_raycast_options(options, "estimate_raycast_work"); !s.ok()) return s;
+  return detail::guarded("estimate_raycast_work", [&]() -> Status {
+    if (Status s = validate_scene(scene); !s.ok()) return s;
+    estimate = raycast_estimate(scene, options);
+    return {};
+  });
+}
+
 Status render(const Scene& scene, const RenderOptions& options, const FrameBuffer& buffer) {
   if (Status s = detail::check_options(options, "render"); !s.ok()) return s;
-  if (options.backend == Backend::raycast)
-    return Status(StatusCode::unsupported, "render: the raycast baseline writes float RGB (call render_raycast)");
   return render_once(scene, options, buffer);
 }
 

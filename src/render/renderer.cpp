@@ -92,9 +92,6 @@ Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 Status Renderer::set_options(const RenderOptions& options) {
   return guarded("set_options", [&]() -> Status {
     if (Status s = detail::check_options(options, "set_options"); !s.ok()) return s;
-    if (options.backend == Backend::raycast)
-      return Status(StatusCode::unsupported,
-                    "set_options: the raycast backend is a baseline, not a renderer (call par2d::render_raycast)");
     impl_->scheduler.configure(resolved_threads(options), options.threading);
     impl_->options = options;
     impl_->isa.reset();  // resolved at the next frame

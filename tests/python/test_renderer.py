@@ -140,6 +140,8 @@ def test_bad_updates_raise_and_keep_the_world():
         r.set_light_emission(h, [1.0, 1.0, 1.0], -2.0)
     with pytest.raises(par2d.Error) as e:
         r.set_options(backend="raycast")
+    assert str(e.value) == 'backend: "raycast" is the baseline of par2d.render, not a Renderer backend (auto, simd, scalar)'
+    assert r.options["backend"] != "raycast"
     with pytest.raises(par2d.Error, match="backend"):
         r.set_options(backend="fast")
     with pytest.raises(par2d.Error) as e:

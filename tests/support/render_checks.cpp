@@ -16,9 +16,9 @@
 
 namespace par2d::test {
 
-RenderedImage render_or_fail(const Scene& scene, const RenderOptions& options) {
+RenderedImage render_or_fail(const Scene& scene, const RenderOptions& options, bool raycast) {
   Status status;
-  RenderedImage image = render_image(scene, options, status);
+  RenderedImage image = render_image(scene, options, status, raycast);
   INFO("render: " << status.message());
   REQUIRE(status.ok());
   return image;
