@@ -546,7 +546,7 @@ void bind_renderer(py::module_& m) {
            py::arg("sample_needs") = false, py::arg("bounce") = "included",
            "A renderer holding `scene` (a Scene or a dict), or an empty world (then call set_frame).\n"
            "backend: auto|simd|scalar (raycast is par2d.render's alone); threads: 0 = all; shaded=False: the plain\n"
-           "irradiance even with a normal source; sample_needs=True: frame_stats' sampled_* counts too;\n"
+           "irradiance even with a normal source; sample_needs=True: frame_diagnostics' sampled_* counts too;\n"
            "bounce: included|excluded|only, which terms of one bounce a frame outputs.")
       .def("set_options", &PyRenderer::set_options, py::kw_only(), py::arg("backend") = "auto", py::arg("threads") = 0,
            py::arg("isa") = py::none(), py::arg("spp") = 1, py::arg("culling") = true, py::arg("shaded") = true,
