@@ -350,13 +350,18 @@ std::uint64_t handle_id(const py::handle& handle, const char* kind) {
 }
 
 par2d::RenderOptions make_options(const py::object& backend_arg, const py::object& threads, const py::object& spp,
-                                  int rays, const py::object& isa_arg, const py::object& culling) {
+                                  int rays, const py::object& isa_arg, const py::object& culling, bool* raycast) {
   par2d::RenderOptions options;
   const std::string backend = to_text(backend_arg, "backend");
+  if (raycast) *raycast = backend == "raycast";
+  if (backend == "raycast" && !raycast)
+    raise(par2d::StatusCode::invalid_argument,
+          "backend: \"raycast\" is the baseline of par2d.render, not a Renderer backend (auto, simd, scalar)");
   const auto parsed_backend = par2d::parse_backend(backend.c_str());
-  if (!parsed_backend)
-    raise(par2d::StatusCode::invalid_argument, "backend: unknown name \"" + backend + "\" (auto, simd, scalar, raycast)");
-  options.backend = *parsed_backend;
+  if (!parsed_backend && !(raycast && *raycast))
+    raise(par2d::StatusCode::invalid_argument, "backend: unknown name \"" + backend + "\" (auto, simd, scalar" +
+                                                   (raycast ? ", raycast)" : ")"));
+  if (parsed_backend) options.backend = *parsed_backend;
   if (const std::optional<std::string> isa = to_optional_text(isa_arg, "isa")) {
     options.isa = par2d::parse_isa(*isa);
     if (!options.isa) raise(par2d::StatusCode::invalid_argument, "isa: unknown name \"" + *isa + "\" (scalar, sse4, avx2, avx512)");

@@ -71,8 +71,11 @@ std::optional<par2d::View> to_view(const py::handle& obj);
 std::optional<par2d::Transform> to_transform(const py::handle& obj);
 std::uint64_t handle_id(const py::handle& handle, const char* kind);  // kind: "light", "occluder"
 
+// The options of a backend name: "auto", "simd", "scalar", and where `raycast` is given also
+// "raycast" (the one-shot calls' ray-casting baseline, par2d::render_raycast), which sets it.
 par2d::RenderOptions make_options(const py::object& backend, const py::object& threads, const py::object& spp,
-                                  int rays, const py::object& isa, const py::object& culling);
+                                  int rays, const py::object& isa, const py::object& culling,
+                                  bool* raycast = nullptr);
 // "included", "excluded" or "only" (RenderOptions::bounce).
 par2d::BounceTerm to_bounce_term(const py::object& obj);
 

@@ -24,9 +24,10 @@ namespace par2d::python {
 namespace {
 
 // Renders into `out`, an (H, W, 3) float32 array whose pixels and channels are packed (rows
-// may be padded), with the GIL released so other Python threads run meanwhile.
-void render_into(const par2d::Scene& scene, const par2d::RenderOptions& options, const py::object& out_arg,
-                 py::array& out, PyProgress& progress) {
+// may be padded), with the GIL released so other Python threads run meanwhile; `raycast`: by
+// the ray-casting baseline.
+void render_into(const par2d::Scene& scene, const par2d::RenderOptions& options, bool raycast,
+                 const py::object& out_arg, py::array& out, PyProgress& progress) {
   const bool fits = py::isinstance<py::array>(out_arg);
   if (fits) out = py::reinterpret_borrow<py::array>(out_arg);
   if (!fits || !py::isinstance<py::array_t<float>>(out) || out.ndim() != 3 || out.shape(2) != 3 ||
@@ -43,7 +44,7 @@ void render_into(const par2d::Scene& scene, const par2d::RenderOptions& options,
   par2d::Status status;
   {
     py::gil_scoped_release release;
-    status = par2d::render(scene, options, view, control);
+    status = raycast ? par2d::render_raycast(scene, options, view, control) : par2d::render(scene, options, view, control);
   }
   progress.finish(status);
 }
@@ -160,7 +161,9 @@ void define_module(py::module_& m) {
          const py::object& rays, const py::object& isa, const py::object& culling, const py::object& out,
          const py::object& shaded, const py::object& bounce, const py::object& work_limit,
          const py::object& progress_arg) {
-        par2d::RenderOptions options = make_options(backend, threads, spp, to_int(rays, "rays"), isa, culling);
+        bool raycast = false;
+        par2d::RenderOptions options =
+            make_options(backend, threads, spp, to_int(rays, "rays"), isa, culling, &raycast);
         options.shaded = to_bool(shaded, "shaded");
         options.bounce = to_bounce_term(bounce);
         options.work_limit = to_work_limit(work_limit);
@@ -170,9 +173,9 @@ void define_module(py::module_& m) {
         py::array image;
         if (out.is_none()) {
           image = FloatArray({scene.scene().height, scene.scene().width, 3});
-          render_into(scene.scene(), options, image, image, progress);
+          render_into(scene.scene(), options, raycast, image, image, progress);
         } else {
-          render_into(scene.scene(), options, out, image, progress);
+          render_into(scene.scene(), options, raycast, out, image, progress);
         }
         return image;
       },
@@ -195,13 +198,15 @@ void define_module(py::module_& m) {
       "estimate_work",
       [](const py::object& scene_or_dict, const py::object& backend, const py::object& spp, const py::object& rays,
          const py::object& isa, const py::object& bounce) {
+        bool raycast = false;
         par2d::RenderOptions options =
-            make_options(backend, py::int_(0), spp, to_int(rays, "rays"), isa, py::bool_(true));
+            make_options(backend, py::int_(0), spp, to_int(rays, "rays"), isa, py::bool_(true), &raycast);
         options.bounce = to_bounce_term(bounce);
         std::optional<PyScene> holder;
         const PyScene& scene = as_scene(scene_or_dict, holder);
         par2d::WorkEstimate estimate;
-        check(par2d::estimate_work(scene.scene(), options, estimate));
+        check(raycast ? par2d::estimate_raycast_work(scene.scene(), options, estimate)
+                      : par2d::estimate_work(scene.scene(), options, estimate));
         return estimate_dict(estimate);
       },
       py::arg("scene"), py::kw_only(), py::arg("backend") = "auto", py::arg("spp") = 1, py::arg("rays") = 1024,

@@ -259,7 +259,8 @@ class PyRenderer {
     return out;
   }
 
-  // The culling and kernel work of the last successful render (all zero before one).
+  // What the last successful render computed (all zero before one), and what its culling and
+  // kernel did.
   py::dict frame_stats() const {
     par2d::FrameStats s;
     {
@@ -268,18 +269,29 @@ class PyRenderer {
     }
     py::dict d;
 #define PAR2D_FRAME_STAT(name) d[#name] = s.name;
-    PAR2D_FRAME_STAT(pixels) PAR2D_FRAME_STAT(samples) PAR2D_FRAME_STAT(blocks) PAR2D_FRAME_STAT(block_lights)
+    PAR2D_FRAME_STAT(pixels) PAR2D_FRAME_STAT(tiles) PAR2D_FRAME_STAT(layer_tiles_reused)
+    PAR2D_FRAME_STAT(layer_tiles_filled) PAR2D_FRAME_STAT(bounce_pieces) PAR2D_FRAME_STAT(bounce_lit_sources)
+#undef PAR2D_FRAME_STAT
+    return d;
+  }
+  py::dict frame_diagnostics() const {
+    par2d::FrameDiagnostics s;
+    {
+      WorldLock lock(mutex_);
+      s = renderer_.frame_diagnostics();
+    }
+    py::dict d;
+#define PAR2D_FRAME_STAT(name) d[#name] = s.name;
+    PAR2D_FRAME_STAT(samples) PAR2D_FRAME_STAT(blocks) PAR2D_FRAME_STAT(block_lights)
     PAR2D_FRAME_STAT(block_lights_out_of_reach) PAR2D_FRAME_STAT(block_candidates) PAR2D_FRAME_STAT(block_proofs_tried)
-    PAR2D_FRAME_STAT(block_proofs_succeeded) PAR2D_FRAME_STAT(block_proofs_skipped) PAR2D_FRAME_STAT(tiles)
+    PAR2D_FRAME_STAT(block_proofs_succeeded) PAR2D_FRAME_STAT(block_proofs_skipped)
     PAR2D_FRAME_STAT(tile_lights) PAR2D_FRAME_STAT(tile_pairs) PAR2D_FRAME_STAT(tile_general_pairs)
     PAR2D_FRAME_STAT(tile_proofs_tried) PAR2D_FRAME_STAT(tile_proofs_succeeded) PAR2D_FRAME_STAT(tile_proofs_skipped)
     PAR2D_FRAME_STAT(umbra_tests) PAR2D_FRAME_STAT(umbra_hits) PAR2D_FRAME_STAT(tile_pairs_outside_hull)
     PAR2D_FRAME_STAT(light_samples) PAR2D_FRAME_STAT(pair_samples) PAR2D_FRAME_STAT(scalar_tiles)
-    PAR2D_FRAME_STAT(layer_tiles_reused) PAR2D_FRAME_STAT(layer_tiles_filled)
     PAR2D_FRAME_STAT(sampled_pixels) PAR2D_FRAME_STAT(sampled_visible_lights) PAR2D_FRAME_STAT(sampled_blocking_pairs)
-    PAR2D_FRAME_STAT(bounce_pieces) PAR2D_FRAME_STAT(bounce_lit_sources) PAR2D_FRAME_STAT(bounce_tile_sources)
-    PAR2D_FRAME_STAT(bounce_tile_sources_hidden) PAR2D_FRAME_STAT(bounce_source_walks)
-    PAR2D_FRAME_STAT(bounce_depth_tests)
+    PAR2D_FRAME_STAT(bounce_tile_sources) PAR2D_FRAME_STAT(bounce_tile_sources_hidden)
+    PAR2D_FRAME_STAT(bounce_source_walks) PAR2D_FRAME_STAT(bounce_depth_tests)
 #undef PAR2D_FRAME_STAT
     return d;
   }
@@ -533,8 +545,8 @@ void bind_renderer(py::module_& m) {
            py::arg("isa") = py::none(), py::arg("spp") = 1, py::arg("culling") = true, py::arg("shaded") = true,
            py::arg("sample_needs") = false, py::arg("bounce") = "included",
            "A renderer holding `scene` (a Scene or a dict), or an empty world (then call set_frame).\n"
-           "backend: auto|simd|scalar (raycast is refused); threads: 0 = all; shaded=False: the plain\n"
-           "irradiance even with a normal source; sample_needs=True: frame_stats' sampled_* counts too;\n"
+           "backend: auto|simd|scalar (raycast is par2d.render's alone); threads: 0 = all; shaded=False: the plain\n"
+           "irradiance even with a normal source; sample_needs=True: frame_diagnostics' sampled_* counts too;\n"
            "bounce: included|excluded|only, which terms of one bounce a frame outputs.")
       .def("set_options", &PyRenderer::set_options, py::kw_only(), py::arg("backend") = "auto", py::arg("threads") = 0,
            py::arg("isa") = py::none(), py::arg("spp") = 1, py::arg("culling") = true, py::arg("shaded") = true,
@@ -613,7 +625,10 @@ void bind_renderer(py::module_& m) {
                              "list of (x0, y0, x1, y1): the pixels the last render wrote (merged 64x64 blocks); empty\n"
                              "when an incremental frame changed nothing.")
       .def_property_readonly("frame_stats", &PyRenderer::frame_stats,
-                             "dict: the culling and kernel work of the last render (docs/api.md, FrameStats).")
+                             "dict: what the last render computed: pixels, tiles, the light-layer cache's reused\n"
+                             "and filled shares, the bounce's pieces and lit sources (docs/api.md, FrameStats).")
+      .def_property_readonly("frame_diagnostics", &PyRenderer::frame_diagnostics,
+                             "dict: what the last render's culling and kernel did (docs/api.md, FrameDiagnostics).")
       .def_property_readonly("lights", &PyRenderer::lights, "Handles of the lights, in the order they were added.")
       .def_property_readonly("occluders", &PyRenderer::occluders, "Handles of the occluders, in the order they were added.")
       .def_property_readonly("width", [](const PyRenderer& r) { return r.summary().width; })

@@ -39,7 +39,7 @@ RENDER_FLOORS = {
     # 0: tiles and blocks, the sample pattern, the frame's counters, the pixel formats and stores,
     # ISA facts and the per-ISA kernel tables.
     "tiling": 0, "tile_plan": 0, "scene_bounds": 0, "frame_counters": 0, "frame_output": 0,
-    "kernel_table": 0, "isa_detect": 0, "isa_usage": 0, "sample_pattern": 0,
+    "kernel_table": 0, "kernel_test_hooks": 0, "isa_detect": 0, "isa_usage": 0, "sample_pattern": 0,
     # 1: per-block and per-tile setup, and the tiles the scalar reference and the bounce compute.
     "kernel_shapes": 1, "model_terms": 1, "block_culling": 1, "pair_setup": 1, "tile_setup": 1,
     "cell_lists": 1, "bounce_tiles": 1, "scalar_tiles": 1,

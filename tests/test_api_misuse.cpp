@@ -117,11 +117,8 @@ TEST_CASE("negative threads, spp 0 or above 256, rays 0 are invalid_argument wit
   o.spp = -4;
   cases.push_back({o, "spp"});
   o = {};
-  o.backend = Backend::raycast;
-  o.rays = 0;
-  cases.push_back({o, "rays"});
-  o.rays = (1 << 20) + 1;
-  cases.push_back({o, "rays"});
+  o.backend = static_cast<Backend>(3);
+  cases.push_back({o, "backend"});
   for (const Case& c : cases) {
     Buffer b(5, 4, 15);
     const Status s = render(small_scene(), c.options, b.view);
@@ -129,6 +126,16 @@ TEST_CASE("negative threads, spp 0 or above 256, rays 0 are invalid_argument wit
     CHECK(s.code() == StatusCode::invalid_argument);
     CHECK(mentions(s, c.word));
     CHECK(s.message().find('\n') == std::string::npos);
+  }
+  // The ray caster's own option, checked by render_raycast.
+  for (const int rays : {0, (1 << 20) + 1}) {
+    RenderOptions r;
+    r.rays = rays;
+    Buffer b(5, 4, 15);
+    const Status s = render_raycast(small_scene(), r, b.view);
+    INFO("rays ", rays, ": ", s.message());
+    CHECK(s.code() == StatusCode::invalid_argument);
+    CHECK(mentions(s, "rays"));
   }
 }
 
@@ -160,25 +167,26 @@ TEST_CASE("an ISA this CPU lacks (e.g. another architecture's) renders at the be
   }
 }
 
-TEST_CASE("a million threads are capped and render the same bytes as one thread, for every backend" * par2d::test::per_isa()) {
-  for (Backend backend : {Backend::scalar, Backend::simd, Backend::raycast}) {
+TEST_CASE("a million threads are capped and render the same bytes as one thread, for every backend and the ray caster" * par2d::test::per_isa()) {
+  for (const std::string method : {"scalar", "simd", "raycast"}) {
     RenderOptions one;
-    one.backend = backend;
+    one.backend = method == "scalar" ? Backend::scalar : Backend::simd;
     one.threads = 1;
     one.rays = 32;
     RenderOptions many = one;
     many.threads = 1000000;
     Status s1, s2;
-    const test::RenderedImage a = test::render_image(small_scene(), one, s1);
-    const test::RenderedImage b = test::render_image(small_scene(), many, s2);
-    INFO(backend_name(backend));
+    const bool raycast = method == "raycast";
+    const test::RenderedImage a = test::render_image(small_scene(), one, s1, raycast);
+    const test::RenderedImage b = test::render_image(small_scene(), many, s2, raycast);
+    INFO(method);
     REQUIRE(s1.ok());
     REQUIRE_MESSAGE(s2.ok(), s2.message());
     CHECK(a.pixels == b.pixels);
   }
 }
 
-TEST_CASE("rays are ignored by the non-raycast backends") {
+TEST_CASE("rays are ignored by render()") {
   RenderOptions o;
   o.backend = Backend::scalar;
   o.rays = 0;

@@ -1,5 +1,5 @@
-// FrameStats (par2d::render's overload, Renderer::frame_stats, `par2d bench --stats`): counts
-// that follow the frame's structure, agree across entry points and thread counts, and move
+// FrameStats and FrameDiagnostics (Renderer::frame_stats and frame_diagnostics, `par2d bench
+// --stats`): counts that follow the frame's structure, agree across thread counts, and move
 // the way culling says they should; and the scattered level generator's size knobs.
 #include <doctest/doctest.h>
 
@@ -11,6 +11,7 @@
 #include "par2d/par2d.hpp"
 #include "scattered_scene.hpp"
 #include "support/random_scenes.hpp"
+#include "support/render_checks.hpp"
 #include "support/test_tiers.hpp"
 
 using namespace par2d;
@@ -28,15 +29,21 @@ RenderOptions simd_options() {
   return options;
 }
 
-FrameStats stats_of(const Scene& scene, RenderOptions options) {
-  std::vector<float> pixels(static_cast<std::size_t>(scene.width) * static_cast<std::size_t>(scene.height) * 3);
-  const ImageView image{pixels.data(), scene.width, scene.height, 3 * static_cast<std::ptrdiff_t>(scene.width)};
-  FrameStats stats;
-  stats.tiles = 12345;  // overwritten, not added to
-  const Status s = render(scene, options, image, stats);
-  REQUIRE(s.ok());
-  return stats;
+using test::FrameCounts;
+using Counts = FrameCounts;
+
+std::vector<float> pixels_for(const Scene& scene) {
+  return std::vector<float>(static_cast<std::size_t>(scene.width) * static_cast<std::size_t>(scene.height) * 3);
 }
+
+ImageView view_of(std::vector<float>& pixels, const Scene& scene) {
+  return ImageView{pixels.data(), scene.width, scene.height, 3 * static_cast<std::ptrdiff_t>(scene.width)};
+}
+
+Counts counts_of(const Renderer& renderer) { return test::frame_counts(renderer); }
+
+// One frame of a Renderer that also samples what pixels need.
+Counts stats_of(const Scene& scene, const RenderOptions& options) { return test::frame_counts(scene, options); }
 
 Polygon box(double x0, double y0, double x1, double y1) { return Polygon{{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}}; }
 
@@ -67,7 +74,7 @@ TEST_CASE("FrameStats follow the frame's blocks and tiles, and the kernel's work
   const Scene scene = bench::scattered_scene(12, 90, 7, 200, 136);
   RenderOptions options = simd_options();
   options.threads = 2;
-  const FrameStats s = stats_of(scene, options);
+  const Counts s = stats_of(scene, options);
   CHECK(s.pixels == 200u * 136u);
   CHECK(s.tiles == cells(200, 16) * cells(136, 16));
   CHECK(s.blocks == cells(200, 64) * cells(136, 64));
@@ -95,7 +102,7 @@ TEST_CASE("FrameStats follow the frame's blocks and tiles, and the kernel's work
     CHECK(s.sampled_blocking_pairs > 0u);
     RenderOptions unculled = options;
     unculled.culling = false;
-    const FrameStats u = stats_of(scene, unculled);
+    const Counts u = stats_of(scene, unculled);
     CHECK(u.sampled_visible_lights == s.sampled_visible_lights);
     CHECK(u.sampled_blocking_pairs == s.sampled_blocking_pairs);
     CHECK(u.light_samples == u.tile_lights * 256u);  // no cells: the tile's lists
@@ -105,7 +112,7 @@ TEST_CASE("FrameStats follow the frame's blocks and tiles, and the kernel's work
   SUBCASE("the same counts at 1 thread, 4 samples per pixel scale the samples only") {
     RenderOptions one = options;
     one.threads = 1;
-    const FrameStats t = stats_of(scene, one);
+    const Counts t = stats_of(scene, one);
     CHECK(t.tile_lights == s.tile_lights);
     CHECK(t.tile_pairs == s.tile_pairs);
     CHECK(t.block_proofs_tried == s.block_proofs_tried);
@@ -114,30 +121,30 @@ TEST_CASE("FrameStats follow the frame's blocks and tiles, and the kernel's work
     CHECK(t.umbra_tests == s.umbra_tests);
     CHECK(t.tile_pairs_outside_hull == s.tile_pairs_outside_hull);
     one.spp = 4;
-    const FrameStats u = stats_of(scene, one);
+    const Counts u = stats_of(scene, one);
     CHECK(u.samples == 4u * s.samples);
     CHECK(u.tile_lights == s.tile_lights);
   }
 
-  SUBCASE("a persistent Renderer reports the same frame") {
+  SUBCASE("a Renderer without sample_needs reports the same frame and no sampled needs") {
     Renderer renderer;
     REQUIRE(renderer.set_options(options).ok());
     REQUIRE(renderer.set_scene(scene).ok());
     CHECK(renderer.frame_stats().tiles == 0u);
-    std::vector<float> pixels(static_cast<std::size_t>(scene.width) * static_cast<std::size_t>(scene.height) * 3);
-    REQUIRE(renderer.render(ImageView{pixels.data(), scene.width, scene.height, 3 * static_cast<std::ptrdiff_t>(scene.width)}).ok());
-    const FrameStats r = renderer.frame_stats();
+    std::vector<float> pixels = pixels_for(scene);
+    REQUIRE(renderer.render(view_of(pixels, scene)).ok());
+    const Counts r = counts_of(renderer);
     CHECK(r.tiles == s.tiles);
     CHECK(r.tile_lights == s.tile_lights);
     CHECK(r.tile_pairs == s.tile_pairs);
     CHECK(r.block_proofs_succeeded == s.block_proofs_succeeded);
-    CHECK(r.sampled_pixels == 0u);  // the exact sampling is render()'s only
+    CHECK(r.sampled_pixels == 0u);
   }
 
   SUBCASE("the scalar reference counts its tiles as scalar tiles and nothing else") {
     RenderOptions scalar = options;
     scalar.backend = Backend::scalar;
-    const FrameStats t = stats_of(scene, scalar);
+    const Counts t = stats_of(scene, scalar);
     CHECK(t.scalar_tiles == s.tiles);
     CHECK(t.tiles == s.tiles);
     CHECK(t.tile_lights == 0u);
@@ -145,16 +152,58 @@ TEST_CASE("FrameStats follow the frame's blocks and tiles, and the kernel's work
   }
 }
 
+TEST_CASE("a frame's FrameStats hold what it computed and its FrameDiagnostics what culling did, zero before a frame, for a whole frame, a region and an unchanged incremental frame") {
+  const Scene scene = closed_room();
+  Renderer renderer;
+  REQUIRE(renderer.set_options(simd_options()).ok());
+  REQUIRE(renderer.set_scene(scene).ok());
+  const Counts before = counts_of(renderer);
+  CHECK(before.pixels == 0u);
+  CHECK(before.tiles == 0u);
+  CHECK(before.blocks == 0u);
+  CHECK(before.samples == 0u);
+  std::vector<float> pixels = pixels_for(scene);
+  REQUIRE(renderer.render(view_of(pixels, scene)).ok());
+  const Counts whole = counts_of(renderer);
+  CHECK(whole.pixels == 256u * 192u);
+  CHECK(whole.tiles == 16u * 12u);
+  CHECK(whole.layer_tiles_reused == 0u);
+  CHECK(whole.bounce_pieces == 0u);
+  CHECK(whole.blocks == 4u * 3u);
+  CHECK(whole.block_lights == 4u * 3u * 2u);
+  CHECK(whole.samples == whole.tiles * 256u);
+  // The walls hide the inner light from blocks beyond the room, by reach or by a proof.
+  CHECK(whole.block_lights_out_of_reach + whole.block_proofs_succeeded > 0u);
+  CHECK(whole.tile_pairs > 0u);
+  CHECK(whole.umbra_tests > 0u);
+  // A region: only its pixels and the blocks and tiles that meet it.
+  const FrameBuffer part{pixels.data(), PixelFormat::rgb_f32, 48 * 3 * static_cast<std::ptrdiff_t>(sizeof(float))};
+  REQUIRE(renderer.render(part, PixelRect{64, 64, 112, 96}).ok());
+  const Counts region = counts_of(renderer);
+  CHECK(region.pixels == 48u * 32u);
+  CHECK(region.tiles == 3u * 2u);
+  CHECK(region.blocks == 1u);
+  // An incremental frame where nothing changed computes nothing, and says so in both.
+  REQUIRE(renderer.set_incremental(true).ok());
+  REQUIRE(renderer.render(view_of(pixels, scene)).ok());
+  REQUIRE(renderer.render(view_of(pixels, scene)).ok());
+  const Counts unchanged = counts_of(renderer);
+  CHECK(unchanged.pixels == 0u);
+  CHECK(unchanged.tiles == 0u);
+  CHECK(unchanged.blocks == 0u);
+  CHECK(unchanged.samples == 0u);
+}
+
 TEST_CASE("FrameStats: culling removes a walled-in light from the blocks outside its room; without culling every tile gets every light") {
   const Scene scene = closed_room();
   RenderOptions options = simd_options();
-  const FrameStats culled = stats_of(scene, options);
+  const Counts culled = stats_of(scene, options);
   // The room spans one 64 px block's worth of pixels; blocks beyond it lose the inner light
   // to its reach or to a proof, and no tile far from the room computes it.
   CHECK(culled.block_lights_out_of_reach + culled.block_proofs_succeeded > 0u);
   CHECK(culled.tile_lights < culled.tiles * 2u);
   options.culling = false;
-  const FrameStats unculled = stats_of(scene, options);
+  const Counts unculled = stats_of(scene, options);
   CHECK(unculled.tile_lights == unculled.tiles * 2u);
   CHECK(unculled.block_lights_out_of_reach == 0u);
   CHECK(unculled.block_proofs_tried == 0u);
@@ -169,14 +218,14 @@ TEST_CASE("FrameStats' sampled needs in closed cases: an open view sees every li
   Scene open = closed_room();
   open.occluders.clear();
   RenderOptions options = simd_options();
-  const FrameStats o = stats_of(open, options);
+  const Counts o = stats_of(open, options);
   CHECK(o.sampled_visible_lights == 2u * o.sampled_pixels);
   CHECK(o.sampled_blocking_pairs == 0u);
   // Only the walled-in light: it is visible exactly at the tile middles inside the room's
   // interior (14 < x, y < 66): x, y in {24.5, 40.5, 56.5}, 9 of the 192.
   Scene room = closed_room();
   room.lights.pop_back();
-  const FrameStats w = stats_of(room, options);
+  const Counts w = stats_of(room, options);
   CHECK(w.sampled_pixels == 16u * 12u);
   CHECK(w.sampled_visible_lights == 9u);
   CHECK(w.sampled_blocking_pairs == 0u);  // from inside, no wall is in front of the light
@@ -189,7 +238,7 @@ TEST_CASE("FrameStats count a light containing an occluder as general pairs, on 
   inner.shape = box(195, 145, 205, 155);  // wholly inside the light: no line separates them
   scene.occluders.push_back(inner);
   RenderOptions options = simd_options();
-  const FrameStats s = stats_of(scene, options);
+  const Counts s = stats_of(scene, options);
   CHECK(s.tile_general_pairs > 0u);
   CHECK(s.scalar_tiles == 0u);
 }

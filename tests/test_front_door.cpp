@@ -1,9 +1,10 @@
-// One front door: one-shot render() is a Renderer's frame (every pixel format, the sampled
-// needs), the ray caster is the named baseline render_raycast, and the reach cache in culling
-// follows the World's change events exactly (a light's reach after any change sequence equals
-// the reach proven from scratch for the same world).
+// One front door: one-shot render() is a Renderer's frame (every pixel format), the sampled
+// needs are a Renderer option, the ray caster is the named baseline render_raycast, and the
+// reach cache in culling follows the World's change events exactly (a light's reach after any
+// change sequence equals the reach proven from scratch for the same world).
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <random>
@@ -51,57 +52,71 @@ TEST_CASE("one-shot render in every pixel format equals a Renderer's frame byte 
   }
 }
 
-TEST_CASE("the sampled needs come from a Renderer with sample_needs exactly as from the one-shot overload" *
+TEST_CASE("the sampled needs come from a Renderer with sample_needs only, into its FrameDiagnostics" *
           test::per_isa()) {
   const Scene scene = test::random_scene(5);
-  FrameStats once;
   std::vector<float> pixels = rgb_frame(scene);
-  REQUIRE(render(scene, RenderOptions{}, view_of(pixels, scene), once).ok());
-  // The scalar reference (PAR2D_ISA=scalar) counts only pixels and tiles.
-  CHECK((once.sampled_pixels > 0) == (resolved_isa(RenderOptions{}) != Isa::scalar));
-
   Renderer renderer;
   REQUIRE(renderer.set_scene(scene).ok());
   REQUIRE(renderer.render(view_of(pixels, scene)).ok());
-  CHECK(renderer.frame_stats().sampled_pixels == 0);  // off by default
+  const FrameDiagnostics plain = renderer.frame_diagnostics();
+  CHECK(plain.sampled_pixels == 0);  // off by default
   RenderOptions needs;
   needs.sample_needs = true;
   REQUIRE(renderer.set_options(needs).ok());
   REQUIRE(renderer.render(view_of(pixels, scene)).ok());
-  const FrameStats kept = renderer.frame_stats();
-  CHECK(kept.sampled_pixels == once.sampled_pixels);
-  CHECK(kept.sampled_visible_lights == once.sampled_visible_lights);
-  CHECK(kept.sampled_blocking_pairs == once.sampled_blocking_pairs);
-  CHECK(kept.tile_pairs == once.tile_pairs);
+  const FrameDiagnostics sampled = renderer.frame_diagnostics();
+  // The scalar reference (PAR2D_ISA=scalar) counts no needs; the SIMD path one pixel per tile.
+  CHECK((sampled.sampled_pixels == renderer.frame_stats().tiles) == (resolved_isa(needs) != Isa::scalar));
+  CHECK(sampled.tile_pairs == plain.tile_pairs);  // the sampling changes no other count
+  CHECK(sampled.blocks == plain.blocks);
 }
 
-TEST_CASE("render_raycast is the baseline render() calls for Backend::raycast; a Renderer refuses it by name") {
+TEST_CASE("the ray caster is render_raycast alone: no Backend names it, so no Renderer can be given it; it renders one-shot, with progress, and checks its rays") {
+  // Backend holds what a Renderer runs, each name parsing back; "raycast" is none of them, and
+  // a value past the last is refused as no backend.
+  for (const Backend b : {Backend::automatic, Backend::simd, Backend::scalar}) CHECK(parse_backend(backend_name(b)) == b);
+  CHECK(!parse_backend("raycast"));
+  RenderOptions past;
+  past.backend = static_cast<Backend>(static_cast<int>(Backend::scalar) + 1);
+  Renderer renderer;
+  const Status refused = renderer.set_options(past);
+  CHECK(refused.code() == StatusCode::invalid_argument);
+  CHECK(refused.message() == "set_options: unknown backend 3");
+
   const Scene scene = test::random_scene(7);
   RenderOptions options;
-  options.backend = Backend::raycast;
   options.rays = 64;
-  std::vector<float> via_render = rgb_frame(scene), direct = rgb_frame(scene);
-  REQUIRE(render(scene, options, view_of(via_render, scene)).ok());
-  RenderOptions plain;
-  plain.rays = 64;  // the backend field is not read by the baseline
-  REQUIRE(render_raycast(scene, plain, view_of(direct, scene)).ok());
-  CHECK(std::memcmp(via_render.data(), direct.data(), via_render.size() * sizeof(float)) == 0);
+  std::vector<float> plain = rgb_frame(scene), watched = rgb_frame(scene);
+  REQUIRE(render_raycast(scene, options, view_of(plain, scene)).ok());
+  CHECK(*std::max_element(plain.begin(), plain.end()) > 0.0f);
+  // Watched, the frame is computed aside and copied out once complete: the same bytes, its
+  // tiles reported up to all of them.
+  RenderControl control;
+  std::uint64_t done = 0, tiles = 0;
+  control.progress = [&](const Progress& p) {
+    done = p.tiles_done;
+    tiles = p.tiles;
+    return true;
+  };
+  REQUIRE(render_raycast(scene, options, view_of(watched, scene), control).ok());
+  CHECK(std::memcmp(plain.data(), watched.data(), plain.size() * sizeof(float)) == 0);
+  CHECK(tiles > 0u);
+  CHECK(done == tiles);
+  WorkEstimate estimate;
+  REQUIRE(estimate_raycast_work(scene, options, estimate).ok());
+  CHECK(estimate.raycast > 0.0);
+  CHECK(estimate.scalar == 0.0);
 
-  plain.rays = 0;
-  const Status bad_rays = render_raycast(scene, plain, view_of(direct, scene));
+  options.rays = 0;
+  const Status bad_rays = render_raycast(scene, options, view_of(plain, scene));
   CHECK(bad_rays.message() == "render_raycast: rays must be in 1..1048576");
+  CHECK(estimate_raycast_work(scene, options, estimate).message() == "estimate_raycast_work: rays must be in 1..1048576");
+  options.rays = 64;
   std::vector<float> small(12);
   const Status bad_size = render_raycast(scene, options, ImageView{small.data(), 2, 2, 6});
   CHECK(bad_size.message() == "render_raycast: image is 2x2 but the scene is " + std::to_string(scene.width) + "x" +
                                   std::to_string(scene.height));
-
-  Renderer renderer;
-  const Status refused = renderer.set_options(options);
-  CHECK(refused.code() == StatusCode::unsupported);
-  CHECK(refused.message().find("render_raycast") != std::string::npos);
-  std::vector<unsigned char> bytes(static_cast<std::size_t>(scene.width) * scene.height * 4);
-  const Status no_format = render(scene, options, FrameBuffer{bytes.data(), PixelFormat::rgba8_srgb, scene.width * 4, 1.0});
-  CHECK(no_format.code() == StatusCode::unsupported);
 }
 
 TEST_CASE("the reach cache follows the World's events: after random changes every light's reach equals a fresh proof") {

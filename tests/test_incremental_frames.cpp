@@ -11,6 +11,7 @@
 
 #include "par2d/renderer.hpp"
 #include "support/random_scenes.hpp"
+#include "support/render_checks.hpp"
 #include "support/test_tiers.hpp"
 
 namespace par2d::test {
@@ -469,7 +470,7 @@ TEST_CASE("light-layer cache: a flicker recombines stored layers; the image does
     for (int i = 0; i < 2; ++i) {
       if (frame > 0) REQUIRE(r[i].set_light_emission(handles[frame % 2], {1.0, 0.9, 0.8}, 0.5 + frame).ok());
       REQUIRE(r[i].render(ImageView{buffer[i].data(), 200, 140, 200 * 3}).ok());
-      const FrameStats st = r[i].frame_stats();
+      const FrameCounts st = frame_counts(r[i]);
       INFO("frame ", frame, " threads ", i + 1);
       if (frame == 0) {
         CHECK(st.layer_tiles_filled > 0u);

@@ -815,7 +815,7 @@ TEST_CASE("closed form: ambient is added everywhere, inside occluders too") {
 
 namespace par2d::test {
 
-TEST_CASE("raycast backend through render() matches the scalar reference on lighting-model scenes, shaded and plain") {
+TEST_CASE("render_raycast matches the scalar reference on lighting-model scenes, shaded and plain") {
   for (std::uint32_t seed = 301; seed <= 304; ++seed) {
     CAPTURE(seed);
     const Scene scene = model_scene(seed, true, RandomSceneOptions::Normals::map);
@@ -824,12 +824,11 @@ TEST_CASE("raycast backend through render() matches the scalar reference on ligh
     for (const bool shaded : {true, false}) {
       CAPTURE(shaded);
       RenderOptions options;
-      options.backend = Backend::raycast;
       options.rays = kRays;
       options.threads = 2;
       options.shaded = shaded;
       Status status;
-      const RenderedImage ray = render_image(scene, options, status);
+      const RenderedImage ray = render_image(scene, options, status, /*raycast=*/true);
       REQUIRE(status.ok());
       const Rgb bound = stratification_bound(scene, kRays, false, shaded);
       const double skip = 1e-6 * pixel_width(scene);
@@ -844,7 +843,7 @@ TEST_CASE("raycast backend through render() matches the scalar reference on ligh
           for (int c = 0; c < 3; ++c) {
             const double err = std::fabs(par[c] - ray.at(i, j, c));
             if (err <= bound[c]) continue;
-            INFO("pixel (" << i << ", " << j << ") channel " << c << ": scalar " << par[c] << ", raycast backend "
+            INFO("pixel (" << i << ", " << j << ") channel " << c << ": scalar " << par[c] << ", raycast "
                            << ray.at(i, j, c) << ", bound " << bound[c]);
             CHECK(false);
           }

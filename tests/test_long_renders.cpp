@@ -219,9 +219,8 @@ TEST_CASE("the estimate by counts: scalar reference, regions, spp and the ray ca
   CHECK(region.scalar == 32.0 * 16 * 2 * 2 * 4);
   CHECK(renderer.estimate_work(PixelRect{0, 0, 65, 48}, region).code() == StatusCode::invalid_argument);
 
-  options.backend = Backend::raycast;
   options.rays = 64;
-  REQUIRE(estimate_work(scene, options, e).ok());
+  REQUIRE(estimate_raycast_work(scene, options, e).ok());
   CHECK(e.raycast == 64.0 * (64 * 48 * 2) * (2 + 3));
   CHECK(e.total == e.raycast);
   options.work_limit = e.total / 2;
@@ -401,18 +400,17 @@ TEST_CASE("one-shot render with a RenderControl: progress, a cancel flag, and th
   CHECK(untouched(pixels));
 
   // The ray caster reports its 64x64 blocks as their tiles, and stops the same way.
-  options.backend = Backend::raycast;
   options.rays = 16;
   calls = Calls{};
   control.progress = recorder(calls);
-  REQUIRE(render(scene, options, view_of(pixels, scene), control).ok());
+  REQUIRE(render_raycast(scene, options, view_of(pixels, scene), control).ok());
   calls.check(std::this_thread::get_id(), tiles_of(0, 0, 96, 80));
   CHECK(calls.seen.back().tiles_done == tiles_of(0, 0, 96, 80));
   calls = Calls{};
   control.progress = recorder(calls, 1);
   options.threads = 1;  // the first block's report comes before the last block
   std::fill(pixels.begin(), pixels.end(), kSentinel);
-  CHECK(render(scene, options, view_of(pixels, scene), control).code() == StatusCode::cancelled);
+  CHECK(render_raycast(scene, options, view_of(pixels, scene), control).code() == StatusCode::cancelled);
   CHECK(untouched(pixels));
 }
 

@@ -29,30 +29,36 @@ Scene one_light_scene(double intensity, Rgb color = {1, 1, 1}) {
   return s;
 }
 
-std::vector<RenderOptions> every_backend() {
-  std::vector<RenderOptions> out;
+// Every backend with these options, and the ray caster (`raycast`) with its own rays.
+struct Method {
+  RenderOptions options;
+  bool raycast = false;
+  const char* name() const { return raycast ? "raycast" : backend_name(options.backend); }
+};
+
+std::vector<Method> every_backend() {
+  std::vector<Method> out;
   RenderOptions o;
   o.threads = 1;
   o.backend = Backend::scalar;
-  out.push_back(o);
-  o.backend = Backend::raycast;
+  out.push_back({o, false});
   o.rays = 64;
-  out.push_back(o);
+  out.push_back({o, true});
   for (Isa isa : par2d::kSimdIsas) {
     if (!isa_supported(isa)) continue;
     o.backend = Backend::simd;
     o.isa = isa;
-    out.push_back(o);
+    out.push_back({o, false});
   }
   return out;
 }
 
 void check_all_finite_and_bounded(const Scene& scene) {
-  for (const RenderOptions& o : every_backend()) {
+  for (const Method& m : every_backend()) {
     Status status;
-    const test::RenderedImage image = test::render_image(scene, o, status);
+    const test::RenderedImage image = test::render_image(scene, m.options, status, m.raycast);
     REQUIRE_MESSAGE(status.ok(), status.message());
-    const std::string problem = fuzz::check_bounds(scene, image, backend_name(o.backend));
+    const std::string problem = fuzz::check_bounds(scene, image, m.name());
     CHECK_MESSAGE(problem.empty(), problem);
   }
 }
@@ -116,10 +122,10 @@ TEST_CASE("views whose pixel size is not a normal double are refused; the smalle
   l.shape = Circle{{1, 0}, 0.5};
   small.lights.push_back(l);
   REQUIRE(validate_scene(small).ok());
-  for (const RenderOptions& o : every_backend()) {
-    if (o.backend == Backend::raycast) continue;  // sampled, checked for bounds below
+  for (const Method& m : every_backend()) {
+    if (m.raycast) continue;  // sampled, checked for bounds below
     Status status;
-    const test::RenderedImage got = test::render_image(small, o, status);
+    const test::RenderedImage got = test::render_image(small, m.options, status);
     REQUIRE_MESSAGE(status.ok(), status.message());
     for (float v : got.pixels) CHECK(std::fabs(v - 1.0 / 6.0) <= 1e-4);
   }

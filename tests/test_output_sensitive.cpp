@@ -83,13 +83,7 @@ RandomSceneOptions scattered_options(int width, int lights_min, int lights_max, 
   return opt;
 }
 
-FrameStats stats_of(const Scene& scene, const RenderOptions& options) {
-  std::vector<float> pixels(static_cast<std::size_t>(scene.width) * static_cast<std::size_t>(scene.height) * 3);
-  const ImageView image{pixels.data(), scene.width, scene.height, 3 * static_cast<std::ptrdiff_t>(scene.width)};
-  FrameStats stats;
-  REQUIRE(render(scene, options, image, stats).ok());
-  return stats;
-}
+test::FrameCounts stats_of(const Scene& scene, const RenderOptions& options) { return test::frame_counts(scene, options); }
 
 }  // namespace
 
@@ -145,11 +139,11 @@ void check_rubble_tile_rule(const Scene& scene) {
     INFO("isa ", std::string(isa_name(isa)));
     RenderOptions options = simd_options(isa, true);
     options.threads = 1;
-    const FrameStats one = stats_of(scene, options);
+    const test::FrameCounts one = stats_of(scene, options);
     CHECK(one.tile_proofs_skipped > one.tile_proofs_tried);
     // Decided per block from its own tiles: the same counts whatever the threads.
     options.threads = 3;
-    const FrameStats three = stats_of(scene, options);
+    const test::FrameCounts three = stats_of(scene, options);
     CHECK(three.tile_proofs_skipped == one.tile_proofs_skipped);
     CHECK(three.tile_proofs_tried == one.tile_proofs_tried);
     CHECK(three.tile_lights == one.tile_lights);
@@ -166,19 +160,19 @@ void check_rubble_block_rule(const Scene& scene) {
     INFO("isa ", std::string(isa_name(isa)));
     RenderOptions options = simd_options(isa, true);
     options.threads = 1;
-    const FrameStats one = stats_of(scene, options);
+    const test::FrameCounts one = stats_of(scene, options);
     INFO("block proofs tried ", one.block_proofs_tried, ", succeeded ", one.block_proofs_succeeded, ", skipped ",
          one.block_proofs_skipped);
     CHECK(one.block_proofs_skipped > 0u);
     CHECK(one.block_proofs_tried + one.block_proofs_skipped + one.block_lights_out_of_reach <= one.block_lights);
     // Decided per block from its own tries: the same counts whatever the threads.
     options.threads = 3;
-    const FrameStats three = stats_of(scene, options);
+    const test::FrameCounts three = stats_of(scene, options);
     CHECK(three.block_proofs_skipped == one.block_proofs_skipped);
     CHECK(three.block_proofs_tried == one.block_proofs_tried);
     CHECK(three.tile_lights == one.tile_lights);
     // Without culling no proof is tried or skipped.
-    const FrameStats unculled = stats_of(scene, simd_options(isa, false));
+    const test::FrameCounts unculled = stats_of(scene, simd_options(isa, false));
     CHECK(unculled.block_proofs_skipped == 0u);
   }
 }
@@ -260,7 +254,7 @@ TEST_CASE("the benchmark's level (4-12 px occluders), where most tile proofs hid
   // instructions for the frame than with the first tries always made): most stay.
   const Scene scene = bench::scattered_scene(24, 388, 20240611, 512, 384);
   RenderOptions options = simd_options(simd_isas_here().back(), true);
-  const FrameStats stats = stats_of(scene, options);
+  const test::FrameCounts stats = stats_of(scene, options);
   CHECK(stats.tile_proofs_succeeded * 2 > stats.tile_proofs_tried);
   CHECK(stats.tile_proofs_skipped * 4 < stats.tile_proofs_tried);
   // Its block proofs pay too (about 1 in 5 succeed, above the rule's 1 in 16): the block rule
@@ -279,7 +273,7 @@ TEST_CASE("pairs whose occluder misses the hull of the tile and the light are dr
     const RandomSceneOptions opt = scattered_options(160, 3, 5, 40, 60, 3.0, 10.0);
     const Scene scene = random_scene(seed, opt);
     RenderOptions options = simd_options(detect_isa(), true);
-    const FrameStats stats = stats_of(scene, options);
+    const test::FrameCounts stats = stats_of(scene, options);
     CHECK(stats.tile_pairs_outside_hull > 0u);
     check_against_scalar_and_unculled(scene, "seed " + std::to_string(seed));
   }
@@ -304,7 +298,7 @@ TEST_CASE("one tile: a small disc 0.1 px outside the exact hull of the tile and 
     const Vec2 center = outside ? Vec2{25.5703, 9.9825} : Vec2{25.3850, 9.9074};
     scene.occluders.push_back(Occluder{Circle{center, 0.5}});
     REQUIRE(validate_scene(scene).ok());
-    const FrameStats stats = stats_of(scene, simd_options(detect_isa(), true));
+    const test::FrameCounts stats = stats_of(scene, simd_options(detect_isa(), true));
     CHECK(stats.tiles == 1u);
     CHECK(stats.tile_lights == 1u);
     CHECK(stats.tile_pairs_outside_hull == (outside ? 1u : 0u));
@@ -339,7 +333,7 @@ TEST_CASE("a light with one occluder in front: each way the occluder's arc can c
       scene.lights.push_back(light);
       scene.occluders.push_back(Occluder{occluders[o]});
       REQUIRE(validate_scene(scene).ok());
-      const FrameStats stats = stats_of(scene, simd_options(detect_isa(), true));
+      const test::FrameCounts stats = stats_of(scene, simd_options(detect_isa(), true));
       CHECK(stats.tile_pairs > 0u);
       CHECK(stats.tile_pairs <= stats.tile_lights);  // one pair at most per light and tile
       check_against_scalar_and_unculled(scene, "light " + std::to_string(l) + " occluder " + std::to_string(o));

@@ -399,9 +399,9 @@ TEST_CASE("render refuses bad buffers and regions with a message" * par2d::test:
   fb.data = nullptr;
   CHECK(r.render(fb).code() == StatusCode::invalid_argument);
   CHECK(r.set_frame(0, 5).code() == StatusCode::invalid_scene);
-  RenderOptions raycast;
-  raycast.backend = Backend::raycast;
-  CHECK(r.set_options(raycast).code() == StatusCode::unsupported);
+  RenderOptions unknown;
+  unknown.backend = static_cast<Backend>(3);  // past scalar: no backend
+  CHECK(r.set_options(unknown).code() == StatusCode::invalid_argument);
   RenderOptions negative;
   negative.threads = -1;
   CHECK(r.set_options(negative).code() == StatusCode::invalid_argument);

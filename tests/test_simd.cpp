@@ -12,6 +12,7 @@
 
 #include "par2d/render.hpp"
 #include "render/kernel_table.hpp"
+#include "render/kernel_test_hooks.hpp"
 #include "world/world.hpp"
 #include "scattered_scene.hpp"
 #include "support/random_scenes.hpp"
@@ -208,7 +209,7 @@ TEST_CASE("1 thread and N threads give identical bytes") {
 TEST_CASE("SIMD interval merge equals a plain scalar merge of the same float inputs, exactly") {
   PortableRandom rng(99);
   for (Isa isa : simd_isas_here()) {
-    const detail::KernelSet* k = detail::kernels_for(isa);
+    const detail::KernelTestHooks* k = detail::kernel_test_hooks_for(isa);
     REQUIRE(k != nullptr);
     const std::size_t lanes = static_cast<std::size_t>(k->lanes);
     for (int trial = 0; trial < 400; ++trial) {
@@ -254,7 +255,8 @@ TEST_CASE("vector atan2 is within 3e-7 rad of std::atan2 and never NaN, in each 
   for (int domain = 0; domain < 3; ++domain) {
     PortableRandom rng(7);
     for (Isa isa : simd_isas_here()) {
-      const detail::KernelSet* k = detail::kernels_for(isa);
+      const detail::KernelTestHooks* k = detail::kernel_test_hooks_for(isa);
+      REQUIRE(k != nullptr);
       const std::size_t lanes = static_cast<std::size_t>(k->lanes);
       double worst = 0.0;
       std::vector<float> y(lanes), x(lanes), out(lanes);
@@ -443,14 +445,18 @@ TEST_CASE("a 0.1-unit polygon light 1e7 from the origin keeps its winding: insid
   }
 }
 
-TEST_CASE("isa_lanes reports the lane count of each compiled kernel") {
+TEST_CASE("isa_lanes reports the lane count of each compiled kernel; its test hooks match it") {
   CHECK(isa_lanes(Isa::scalar) == 1);
   CHECK(detail::kernels_for(Isa::scalar) == nullptr);
+  CHECK(detail::kernel_test_hooks_for(Isa::scalar) == nullptr);
   std::vector<Isa> compiled;
   for (Isa isa : kSimdIsas) {
     const detail::KernelSet* k = detail::kernels_for(isa);
+    const detail::KernelTestHooks* hooks = detail::kernel_test_hooks_for(isa);
     // Every level the CPU supports has a kernel; a level without one is never selected.
     if (isa_supported(isa)) REQUIRE(k != nullptr);
+    // The test hooks exist for exactly the kernels compiled, with their lane count.
+    CHECK((hooks == nullptr) == (k == nullptr));
     if (k == nullptr) {
       CHECK(capped_isa(isa) != isa);
       continue;
@@ -458,6 +464,9 @@ TEST_CASE("isa_lanes reports the lane count of each compiled kernel") {
     compiled.push_back(isa);
     CHECK(k->isa == isa);
     CHECK(k->lanes == isa_lanes(isa));
+    REQUIRE(hooks != nullptr);
+    CHECK(hooks->isa == isa);
+    CHECK(hooks->lanes == k->lanes);
   }
   // Exactly the target architecture's kernels are compiled in.
 #if defined(__x86_64__) || defined(__i386__)

@@ -156,7 +156,7 @@ struct BenchArgs {
 
 const CLI::Validator kBackendName(
     [](std::string& value) -> std::string {
-      if (par2d::parse_backend(value.c_str())) return {};
+      if (value == "raycast" || par2d::parse_backend(value.c_str())) return {};
       return "unknown backend '" + value + "' (expected auto, simd, scalar or raycast)";
     },
     "auto|simd|scalar|raycast", "backend name");
@@ -219,16 +219,33 @@ void add_common_options(CLI::App& cmd, CommonArgs& args) {
                "default it must stay inside the scene file's folder. For trusted scenes only");
 }
 
-par2d::RenderOptions make_options(const CommonArgs& args) {
+// What the rendering options ask for: a renderer's options, or with --backend raycast the
+// ray-casting baseline (par2d::render_raycast, which is no renderer backend) with them.
+struct RenderChoice {
   par2d::RenderOptions options;
-  options.backend = *par2d::parse_backend(args.backend.c_str());  // validated by kBackendName
+  bool raycast = false;
+
+  par2d::Status render(const par2d::Scene& scene, const par2d::ImageView& image,
+                       const par2d::RenderControl& control = {}) const {
+    return raycast ? par2d::render_raycast(scene, options, image, control) : par2d::render(scene, options, image, control);
+  }
+  const char* backend_name() const { return raycast ? "raycast" : par2d::backend_name(options.backend); }
+  // The ISA the choice runs at (the ray caster is scalar code).
+  par2d::Isa isa() const { return raycast ? par2d::Isa::scalar : par2d::resolved_isa(options); }
+};
+
+RenderChoice make_choice(const CommonArgs& args) {
+  RenderChoice choice;
+  par2d::RenderOptions& options = choice.options;
+  choice.raycast = args.backend == "raycast";
+  if (!choice.raycast) options.backend = *par2d::parse_backend(args.backend.c_str());  // validated by kBackendName
   options.threads = args.threads;
   options.spp = args.spp;
   options.rays = args.rays;
   options.bounce = *par2d::parse_bounce_term(args.bounce.c_str());  // validated by kBounceTermName
   if (!args.isa.empty()) options.isa = par2d::parse_isa(args.isa);
   options.work_limit = args.work_limit;
-  return options;
+  return choice;
 }
 
 // A refused or failed render as one line; a frame past the work limit names the option that
@@ -284,14 +301,14 @@ class ProgressBar {
   double drawn_at_ = 0.0;
 };
 
-// par2d::render with the progress bar `mode` asks for.
-par2d::Status render_with_progress(const par2d::Scene& scene, const par2d::RenderOptions& options,
+// The choice's render with the progress bar `mode` asks for.
+par2d::Status render_with_progress(const par2d::Scene& scene, const RenderChoice& choice,
                                    const par2d::ImageView& image, const std::string& mode, const char* label) {
-  if (!ProgressBar::wanted(mode)) return par2d::render(scene, options, image);
+  if (!ProgressBar::wanted(mode)) return choice.render(scene, image);
   ProgressBar bar(mode, label);
   par2d::RenderControl control;
   control.progress = [&bar](const par2d::Progress& p) { return bar(p); };
-  return par2d::render(scene, options, image, control);
+  return choice.render(scene, image, control);
 }
 
 // What the library resolves the thread count to (capped at the hardware), so that what is
@@ -365,8 +382,8 @@ int run_render(const CommonArgs& common, const RenderArgs& args) {
   if (!allocate_image(scene.width, scene.height, storage, image, error)) return fail(error);
 
   // The whole image exists before any file is touched: a failed render writes nothing.
-  par2d::RenderOptions options = make_options(common);
-  if (par2d::Status s = render_with_progress(scene, options, image, args.progress, "rendering"); !s)
+  RenderChoice choice = make_choice(common);
+  if (par2d::Status s = render_with_progress(scene, choice, image, args.progress, "rendering"); !s)
     return render_failed(common, s);
 
   // The plain irradiance differs only where a normal source shades the scene; then it is a
@@ -377,8 +394,8 @@ int run_render(const CommonArgs& common, const RenderArgs& args) {
   par2d::ImageView plain = image;
   if (wants_plain && shaded) {
     if (!allocate_image(scene.width, scene.height, plain_storage, plain, error)) return fail(error);
-    options.shaded = false;
-    if (par2d::Status s = render_with_progress(scene, options, plain, args.progress, "rendering the plain image"); !s)
+    choice.options.shaded = false;
+    if (par2d::Status s = render_with_progress(scene, choice, plain, args.progress, "rendering the plain image"); !s)
       return render_failed(common, s);
   }
 
@@ -396,10 +413,18 @@ int run_render(const CommonArgs& common, const RenderArgs& args) {
   return 0;
 }
 
-// FrameStats as a JSON object of its counts.
-std::string stats_json(const par2d::FrameStats& s) {
+// A frame's FrameStats and FrameDiagnostics, as `par2d bench --stats` reports them.
+struct FrameReport {
+  par2d::FrameStats stats;
+  par2d::FrameDiagnostics diagnostics;
+};
+
+// The report as a JSON object of its counts.
+std::string stats_json(const FrameReport& report) {
+  const par2d::FrameStats& f = report.stats;
+  const par2d::FrameDiagnostics& s = report.diagnostics;
   const std::pair<const char*, std::uint64_t> fields[] = {
-      {"pixels", s.pixels},
+      {"pixels", f.pixels},
       {"samples", s.samples},
       {"blocks", s.blocks},
       {"block_lights", s.block_lights},
@@ -408,7 +433,7 @@ std::string stats_json(const par2d::FrameStats& s) {
       {"block_proofs_tried", s.block_proofs_tried},
       {"block_proofs_succeeded", s.block_proofs_succeeded},
       {"block_proofs_skipped", s.block_proofs_skipped},
-      {"tiles", s.tiles},
+      {"tiles", f.tiles},
       {"tile_lights", s.tile_lights},
       {"tile_pairs", s.tile_pairs},
       {"tile_general_pairs", s.tile_general_pairs},
@@ -424,8 +449,8 @@ std::string stats_json(const par2d::FrameStats& s) {
       {"sampled_pixels", s.sampled_pixels},
       {"sampled_visible_lights", s.sampled_visible_lights},
       {"sampled_blocking_pairs", s.sampled_blocking_pairs},
-      {"bounce_pieces", s.bounce_pieces},
-      {"bounce_lit_sources", s.bounce_lit_sources},
+      {"bounce_pieces", f.bounce_pieces},
+      {"bounce_lit_sources", f.bounce_lit_sources},
       {"bounce_tile_sources", s.bounce_tile_sources},
       {"bounce_tile_sources_hidden", s.bounce_tile_sources_hidden},
       {"bounce_source_walks", s.bounce_source_walks},
@@ -444,10 +469,12 @@ double ratio(std::uint64_t part, std::uint64_t whole) {
   return whole == 0 ? 0.0 : static_cast<double>(part) / static_cast<double>(whole);
 }
 
-// FrameStats as a few readable lines: where a frame's work goes, from blocks down to samples.
-void print_stats(const par2d::FrameStats& s) {
+// The report as a few readable lines: where a frame's work goes, from blocks down to samples.
+void print_stats(const FrameReport& report) {
+  const par2d::FrameStats& f = report.stats;
+  const par2d::FrameDiagnostics& s = report.diagnostics;
   std::printf("stats per frame: %llu pixels, %llu tiles (16x16), %llu blocks (64x64)\n",
-              static_cast<unsigned long long>(s.pixels), static_cast<unsigned long long>(s.tiles),
+              static_cast<unsigned long long>(f.pixels), static_cast<unsigned long long>(f.tiles),
               static_cast<unsigned long long>(s.blocks));
   std::printf(
       "  blocks x lights: %llu, %.1f %% out of reach; %.1f occluders per (block, light) from the index; "
@@ -460,12 +487,12 @@ void print_stats(const par2d::FrameStats& s) {
   std::printf(
       "  per tile: %.2f lights, %.2f pairs (%.3f overlapping or touching); proofs %llu tried, %llu hid the light, "
       "%llu skipped by the adaptive rule; umbra tests %llu, %llu hit; %.2f pairs dropped outside the tile-light hull\n",
-      ratio(s.tile_lights, s.tiles), ratio(s.tile_pairs, s.tiles), ratio(s.tile_general_pairs, s.tiles),
+      ratio(s.tile_lights, f.tiles), ratio(s.tile_pairs, f.tiles), ratio(s.tile_general_pairs, f.tiles),
       static_cast<unsigned long long>(s.tile_proofs_tried), static_cast<unsigned long long>(s.tile_proofs_succeeded),
       static_cast<unsigned long long>(s.tile_proofs_skipped), static_cast<unsigned long long>(s.umbra_tests), static_cast<unsigned long long>(s.umbra_hits),
-      ratio(s.tile_pairs_outside_hull, s.tiles));
+      ratio(s.tile_pairs_outside_hull, f.tiles));
   std::printf("  per sample (kernel): %.2f light arcs, %.2f pairs; %.2f samples per pixel (tile padding included)\n",
-              ratio(s.light_samples, s.samples), ratio(s.pair_samples, s.samples), ratio(s.samples, s.pixels));
+              ratio(s.light_samples, s.samples), ratio(s.pair_samples, s.samples), ratio(s.samples, f.pixels));
   std::printf("  per pixel (exact, at %llu sampled pixels): %.2f lights visible, %.2f occluders cutting into their arcs",
               static_cast<unsigned long long>(s.sampled_pixels), ratio(s.sampled_visible_lights, s.sampled_pixels),
               ratio(s.sampled_blocking_pairs, s.sampled_pixels));
@@ -475,13 +502,30 @@ void print_stats(const par2d::FrameStats& s) {
                 ratio(s.pair_samples, s.samples) / ratio(s.sampled_blocking_pairs, s.sampled_pixels));
   std::printf("\n");
   std::printf("  tiles computed by the scalar reference: %llu\n", static_cast<unsigned long long>(s.scalar_tiles));
-  if (s.bounce_pieces == 0) return;
+  if (f.bounce_pieces == 0) return;
   std::printf(
       "  one bounce: %llu pieces, %llu reflecting occluders lit; per tile %.2f lit reflectors, %.1f %% hidden by "
       "proofs; per pixel %.2f reflectors walked, %.2f occluders depth-tested (exact, no clustering)\n",
-      static_cast<unsigned long long>(s.bounce_pieces), static_cast<unsigned long long>(s.bounce_lit_sources),
-      ratio(s.bounce_tile_sources, s.tiles), 100.0 * ratio(s.bounce_tile_sources_hidden, s.bounce_tile_sources),
-      ratio(s.bounce_source_walks, s.pixels), ratio(s.bounce_depth_tests, s.pixels));
+      static_cast<unsigned long long>(f.bounce_pieces), static_cast<unsigned long long>(f.bounce_lit_sources),
+      ratio(s.bounce_tile_sources, f.tiles), 100.0 * ratio(s.bounce_tile_sources_hidden, s.bounce_tile_sources),
+      ratio(s.bounce_source_walks, f.pixels), ratio(s.bounce_depth_tests, f.pixels));
+}
+
+// The choice's render as one frame of a Renderer that also measures what pixels need,
+// reporting its counts (all zero for the ray caster, which counts nothing).
+par2d::Status render_with_report(const par2d::Scene& scene, const RenderChoice& choice, const par2d::ImageView& image,
+                                 FrameReport& report) {
+  report = FrameReport{};
+  if (choice.raycast) return choice.render(scene, image);
+  par2d::RenderOptions measured = choice.options;
+  measured.sample_needs = true;
+  par2d::Renderer renderer;
+  if (par2d::Status s = renderer.set_options(measured); !s) return s;
+  if (par2d::Status s = renderer.set_scene(scene); !s) return s;
+  if (par2d::Status s = renderer.render(image); !s) return s;
+  report.stats = renderer.frame_stats();
+  report.diagnostics = renderer.frame_diagnostics();
+  return {};
 }
 
 int run_bench(const CommonArgs& common, const BenchArgs& args) {
@@ -509,19 +553,19 @@ int run_bench(const CommonArgs& common, const BenchArgs& args) {
   std::string error;
   if (!allocate_image(scene.width, scene.height, storage, image, error)) return fail(error);
 
-  const par2d::RenderOptions options = make_options(common);
+  const RenderChoice choice = make_choice(common);
   // One untimed frame first: it pays for thread-pool start-up and first-touch page faults.
   // With --stats its work counts are those of every frame (the scene does not change); only
   // then does it sample each tile's exact needs, which a timed frame never does.
-  par2d::FrameStats stats;
-  const par2d::Status warm_up = args.stats ? par2d::render(scene, options, image, stats)
-                                           : par2d::render(scene, options, image);
+  FrameReport report;
+  const par2d::Status warm_up = args.stats ? render_with_report(scene, choice, image, report)
+                                           : choice.render(scene, image);
   if (!warm_up) return render_failed(common, warm_up);
 
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   for (int k = 0; k < args.frames; ++k) {
-    if (par2d::Status s = par2d::render(scene, options, image); !s) return fail(s.message());
+    if (par2d::Status s = choice.render(scene, image); !s) return fail(s.message());
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
 
@@ -529,9 +573,9 @@ int run_bench(const CommonArgs& common, const BenchArgs& args) {
   const double frames_per_s = seconds > 0.0 ? args.frames / seconds : INFINITY;
   const double mpixel_per_s =
       frames_per_s * static_cast<double>(scene.width) * static_cast<double>(scene.height) / 1e6;
-  const char* backend = par2d::backend_name(options.backend);
-  const char* isa = par2d::isa_name(par2d::resolved_isa(options));
-  const int threads = resolved_threads(options.threads);
+  const char* backend = choice.backend_name();
+  const char* isa = par2d::isa_name(choice.isa());
+  const int threads = resolved_threads(choice.options.threads);
 
   if (args.json) {
     std::printf(
@@ -540,13 +584,13 @@ int run_bench(const CommonArgs& common, const BenchArgs& args) {
         "\"height\": %d, \"frames\": %d, \"spp\": %d, \"lights\": %zu, \"occluders\": %zu%s}\n",
         ms_per_frame, std::isfinite(frames_per_s) ? frames_per_s : 0.0,
         std::isfinite(mpixel_per_s) ? mpixel_per_s : 0.0, backend, isa, threads, scene.width,
-        scene.height, args.frames, options.spp, scene.lights.size(), scene.occluders.size(),
-        args.stats ? (", \"stats\": " + stats_json(stats)).c_str() : "");
+        scene.height, args.frames, choice.options.spp, scene.lights.size(), scene.occluders.size(),
+        args.stats ? (", \"stats\": " + stats_json(report)).c_str() : "");
   } else {
     std::printf("ms/frame=%.3f frames/s=%.2f Mpixel/s=%.2f backend=%s isa=%s threads=%d size=%dx%d\n",
                 ms_per_frame, frames_per_s, mpixel_per_s, backend, isa, threads, scene.width,
                 scene.height);
-    if (args.stats) print_stats(stats);
+    if (args.stats) print_stats(report);
   }
   return 0;
 }

@@ -299,7 +299,7 @@ typedef struct par2d_advanced_options {
   par2d_threading threading; /* default PAR2D_THREADING_OWN_POOL */
   int shaded;                /* nonzero (default): the normal-shaded value when there is a normal
                                 source; 0: the plain irradiance */
-  int sample_needs;          /* nonzero: also measure what pixels need (par2d_frame_stats'
+  int sample_needs;          /* nonzero: also measure what pixels need (par2d_frame_diagnostics'
                                 sampled_* fields; about one scalar pixel per 16x16 tile); default 0 */
   par2d_bounce_term bounce;  /* default PAR2D_BOUNCE_INCLUDED */
 } par2d_advanced_options;
@@ -378,29 +378,37 @@ typedef struct par2d_stats {
 } par2d_stats;
 PAR2D_C_API par2d_status par2d_get_stats(const par2d_renderer* renderer, par2d_stats* out);
 
-/* The culling and kernel work of the last successful par2d_render (all zero before one); the
- * fields of docs/api.md's FrameStats table, totals over the frame. */
+/* What the last successful par2d_render computed (all zero before one; docs/api.md, FrameStats):
+ * pixels and 16x16 tiles (an incremental frame: its changed blocks only); the light-layer
+ * cache's (tile, light) shares added from stored layers and computed to be stored; one
+ * bounce's pieces and reflecting occluders with a lit piece (zero without reflecting occluders
+ * or with PAR2D_BOUNCE_EXCLUDED). */
 typedef struct par2d_frame_stats {
-  uint64_t pixels, samples;
+  uint64_t pixels, tiles;
+  uint64_t layer_tiles_reused, layer_tiles_filled;
+  uint64_t bounce_pieces, bounce_lit_sources;
+} par2d_frame_stats;
+PAR2D_C_API par2d_status par2d_get_frame_stats(const par2d_renderer* renderer, par2d_frame_stats* out);
+/* What the last successful par2d_render's culling and kernel did (all zero before one): the
+ * fields of docs/api.md's FrameDiagnostics table, totals over the frame. They follow the
+ * algorithm, so a later ABI may change them. */
+typedef struct par2d_frame_diagnostics {
+  uint64_t samples;
   uint64_t blocks, block_lights, block_lights_out_of_reach, block_candidates;
   uint64_t block_proofs_tried, block_proofs_succeeded, block_proofs_skipped;
-  uint64_t tiles, tile_lights, tile_pairs, tile_general_pairs;
+  uint64_t tile_lights, tile_pairs, tile_general_pairs;
   uint64_t tile_proofs_tried, tile_proofs_succeeded, tile_proofs_skipped;
   uint64_t umbra_tests, umbra_hits, tile_pairs_outside_hull;
   uint64_t light_samples, pair_samples, scalar_tiles;
-  /* The light-layer cache (par2d_set_light_layer_budget): (tile, light) shares added from a
-   * stored layer, and shares computed alone to be stored. */
-  uint64_t layer_tiles_reused, layer_tiles_filled;
   /* Only with par2d_advanced_options.sample_needs (else 0): at each tile's middle pixel, by
    * exact double geometry, the lights visible there and the occluders cutting into their arcs. */
   uint64_t sampled_pixels, sampled_visible_lights, sampled_blocking_pairs;
-  /* One bounce (zero without reflecting occluders or with PAR2D_BOUNCE_EXCLUDED): pieces,
-   * reflecting occluders with a lit piece, (tile, lit reflector) pairs and those proofs hid,
-   * (sample, reflector) walks and the occluders depth-tested in them. */
-  uint64_t bounce_pieces, bounce_lit_sources, bounce_tile_sources, bounce_tile_sources_hidden;
+  /* One bounce: (tile, lit reflector) pairs and those proofs hid, (sample, reflector) walks
+   * and the occluders depth-tested in them. */
+  uint64_t bounce_tile_sources, bounce_tile_sources_hidden;
   uint64_t bounce_source_walks, bounce_depth_tests;
-} par2d_frame_stats;
-PAR2D_C_API par2d_status par2d_get_frame_stats(const par2d_renderer* renderer, par2d_frame_stats* out);
+} par2d_frame_diagnostics;
+PAR2D_C_API par2d_status par2d_get_frame_diagnostics(const par2d_renderer* renderer, par2d_frame_diagnostics* out);
 
 /* Renders region = {x0, y0, x1, y1} (pixels [x0, x1) x [y0, y1); NULL: the whole frame)
  * into `pixels`, whose first byte is the region's top-left pixel, rows `row_stride` bytes

@@ -16,14 +16,15 @@
 #pragma GCC visibility push(default)
 namespace par2d {
 
+// The paths a Renderer (and so render()) computes with. The ray-casting baseline is not one:
+// it is render_raycast, a function of its own.
 enum class Backend {
   automatic,  // the fastest path this CPU supports (the SIMD path where there is one)
   simd,       // the vectorized tiled path at RenderOptions::isa (or the default ISA)
   scalar,     // the reference: double precision, exact trigonometry, one pixel at a time
-  raycast,    // the brute-force baseline (render() calls render_raycast; a Renderer refuses it)
 };
 
-// "auto", "simd", "scalar", "raycast".
+// "auto", "simd", "scalar".
 const char* backend_name(Backend backend) noexcept;
 std::optional<Backend> parse_backend(const char* name) noexcept;
 
@@ -40,7 +41,7 @@ struct RenderOptions {
   // Samples per pixel in a fixed stratified pattern (see sample_offset); 1 is the
   // pixel center. 1 .. 256. Default: 1.
   int spp = 1;
-  // Directions per sample for Backend::raycast. 1 .. 1<<20. Default: 1024.
+  // Directions per sample for render_raycast (nothing else reads it). 1 .. 1<<20. Default: 1024.
   int rays = 1024;
   // Forces the SIMD instruction set (see capped_isa: a level the CPU lacks falls back to
   // the best it has). Empty: the
@@ -54,9 +55,8 @@ struct RenderOptions {
   // false: the plain irradiance even when the scene has a normal source (docs/contract.md
   // section 6), e.g. to output both. Default: true (the shaded value when there is a source).
   bool shaded = true;
-  // Also measure what pixels really need (FrameStats' sampled_* counts: one exact pixel per
-  // 16x16 tile, about a scalar pixel's cost per tile). render()'s FrameStats overload sets it;
-  // a Renderer fills them in frame_stats() when it is set. Default: false.
+  // Also measure what pixels really need (FrameDiagnostics' sampled_* counts: one exact pixel
+  // per 16x16 tile, about a scalar pixel's cost per tile). Default: false.
   bool sample_needs = false;
   // With reflecting occluders: the direct light and the bounce together, or one of them (see
   // BounceTerm; the ambient term belongs to the direct light). Default: included.
@@ -72,29 +72,34 @@ struct RenderOptions {
 // here); in caller_arena mode the calling arena's concurrency. What a benchmark should report.
 int resolved_threads(const RenderOptions& options) noexcept;
 
-// Renders the linear irradiance E of `scene` (docs/contract.md section 1) into `image`,
-// whose size must equal the scene's width and height. Validates the scene and the
-// arguments first; on failure the image content is unspecified and a status says why.
-// One frame of a Renderer made for the call (Backend::raycast: render_raycast).
-Status render(const Scene& scene, const RenderOptions& options, const ImageView& image);
-
-// The brute-force baseline, sharing nothing with the renderers but the scene types and the
-// parallel loop: per sample (options.spp), options.rays stratified directions, each taking
-// the emission of the first light it meets through the transmittances of the occluders before
-// it (docs/contract.md sections 1 and 6). Converges to render()'s image as rays grow; for
-// tests and for measuring what the analytic renderers save. Reads spp, rays, threads and
-// shaded; the other options are checked and ignored.
-Status render_raycast(const Scene& scene, const RenderOptions& options, const ImageView& image);
+// What one frame computed, in counts a host can act on (none is a time): read with
+// Renderer::frame_stats(). The algorithm's own counts (culling, proofs, the kernel's pairs)
+// are FrameDiagnostics. Zero for the ray caster (render_raycast).
+struct FrameStats {
+  // Pixels and 16x16 tiles computed: the frame's or region's, and for an incremental frame
+  // only its changed blocks (the dirty_rects' area), so 0 when nothing changed.
+  std::uint64_t pixels = 0;
+  std::uint64_t tiles = 0;
+  // The light-layer cache (Renderer::set_light_layer_budget): (tile, light) shares added from
+  // a stored layer instead of computed, and shares computed alone to be stored.
+  std::uint64_t layer_tiles_reused = 0;
+  std::uint64_t layer_tiles_filled = 0;
+  // One bounce (docs/contract.md section 7; zero without reflecting occluders or when
+  // RenderOptions::bounce excludes it): the pieces the reflecting occluders are cut into, and
+  // the reflecting occluders with a lit piece.
+  std::uint64_t bounce_pieces = 0;
+  std::uint64_t bounce_lit_sources = 0;
+};
 
 // What one frame's culling and kernel did: the numbers that say why a level costs what it
-// costs (`par2d bench --stats` prints them). Counts are totals over the frame; divide by
-// `tiles` or `pixels` for averages. The SIMD path works in blocks of 64x64 pixels (one
+// costs (`par2d bench --stats` prints them), read with Renderer::frame_diagnostics() next to
+// FrameStats' pixels and tiles. They follow the algorithm, so they change when it does.
+// Counts are totals over the frame. The SIMD path works in blocks of 64x64 pixels (one
 // spatial-index query and proof attempt per block and light) split into tiles of 16x16
 // (the kernel's unit: per tile, the lights that may reach it and, per light, the occluders
-// that may stand in front of it somewhere in the tile, the "pairs"). Zero for the raycast
-// backend; the scalar backend counts only pixels, tiles and scalar_tiles.
-struct FrameStats {
-  std::uint64_t pixels = 0;   // pixels rendered
+// that may stand in front of it somewhere in the tile, the "pairs"). The scalar backend
+// counts only scalar_tiles of the direct light's counts.
+struct FrameDiagnostics {
   std::uint64_t samples = 0;  // samples the kernel computed, tile padding included (pixels x spp when tiles fit)
   std::uint64_t blocks = 0;
   std::uint64_t block_lights = 0;               // (block, light) combinations looked at: blocks x lights
@@ -103,7 +108,6 @@ struct FrameStats {
   std::uint64_t block_proofs_tried = 0;         // occlusion proofs over a whole block and light
   std::uint64_t block_proofs_succeeded = 0;     // ... that proved the light hidden from the block
   std::uint64_t block_proofs_skipped = 0;       // proofs not tried: the block's earlier proofs mostly failed
-  std::uint64_t tiles = 0;
   std::uint64_t tile_lights = 0;          // lights handed to the kernel, summed over tiles
   std::uint64_t tile_pairs = 0;           // (light, occluder) pairs handed to the kernel, summed over tiles
   std::uint64_t tile_general_pairs = 0;   // of those, overlapping or touching pairs (a depth test per piece)
@@ -116,25 +120,17 @@ struct FrameStats {
   std::uint64_t light_samples = 0;        // light arcs the kernel evaluates: sum over tiles (or their cells) of lights x samples
   std::uint64_t pair_samples = 0;         // pairs likewise: sum over tiles (or their cells) of pairs x samples
   std::uint64_t scalar_tiles = 0;         // tiles computed by the scalar reference (only with Isa::scalar)
-  // The light-layer cache (Renderer::set_light_layer_budget): (tile, light) shares added from
-  // a stored layer instead of computed, and shares computed alone to be stored.
-  std::uint64_t layer_tiles_reused = 0;
-  std::uint64_t layer_tiles_filled = 0;
   // What pixels really need, by the exact double geometry at one pixel per tile (the tile's
   // middle pixel), for comparison with the kernel's work above: lights visible there (some
   // direction reaches the light with no occluder in front; the lighting model's cone, range
   // and transmittance aside) and, for those lights, the occluders in front of a part of the
-  // light's arc. Directional lights are not counted. Filled by render()'s
-  // FrameStats overload and by a Renderer whose options set sample_needs (it costs about a
-  // scalar pixel per tile); zero otherwise.
+  // light's arc. Directional lights are not counted. Filled only when RenderOptions::
+  // sample_needs is set (it costs about a scalar pixel per tile); zero otherwise.
   std::uint64_t sampled_pixels = 0;
   std::uint64_t sampled_visible_lights = 0;
   std::uint64_t sampled_blocking_pairs = 0;
-  // One bounce (docs/contract.md section 7; zero without reflecting occluders or when
-  // RenderOptions::bounce excludes it). The term is computed exactly, piece by piece: there
-  // is no grouping of pieces, so no cluster or refinement counts.
-  std::uint64_t bounce_pieces = 0;               // pieces the reflecting occluders are cut into
-  std::uint64_t bounce_lit_sources = 0;          // reflecting occluders with a lit piece
+  // One bounce, computed exactly piece by piece (no grouping of pieces, so no cluster or
+  // refinement counts).
   std::uint64_t bounce_tile_sources = 0;         // (tile, lit source) combinations looked at
   std::uint64_t bounce_tile_sources_hidden = 0;  // ... that occlusion proofs hid from the whole tile
   std::uint64_t bounce_source_walks = 0;         // (sample, source) walks over a source's pieces
@@ -152,15 +148,17 @@ struct WorkEstimate {
   double samples = 0.0;
   double bounce = 0.0;   // one bounce (SIMD or scalar path): pieces x (samples + lights x (occluders + 1))
   double scalar = 0.0;   // the scalar reference's direct light: samples x lights x (occluders + 1)
-  double raycast = 0.0;  // Backend::raycast: rays x (samples + pieces) x (lights + occluders)
+  double raycast = 0.0;  // render_raycast: rays x (samples + pieces) x (lights + occluders)
   double total = 0.0;    // bounce + scalar + raycast: what RenderOptions::work_limit bounds
 };
 
-// The estimated work of render(scene, options, ...) for the whole frame (the scene is validated).
+// The estimated work of render(scene, options, ...) for the whole frame (the scene is validated),
+// and of render_raycast(scene, options, ...).
 Status estimate_work(const Scene& scene, const RenderOptions& options, WorkEstimate& estimate);
+Status estimate_raycast_work(const Scene& scene, const RenderOptions& options, WorkEstimate& estimate);
 
 // How far a frame has got, in the 16x16-pixel tiles it computes (64x64 blocks for
-// Backend::raycast, counted as their tiles).
+// render_raycast, counted as their tiles).
 struct Progress {
   std::uint64_t tiles_done = 0;
   std::uint64_t tiles = 0;  // the frame's total
@@ -179,15 +177,25 @@ struct RenderControl {
   const std::atomic<bool>* cancel = nullptr;  // set (from any thread) to cancel before the next tile
 };
 
-// render() with progress and cancellation.
-Status render(const Scene& scene, const RenderOptions& options, const ImageView& image, const RenderControl& control);
+// Renders the linear irradiance E of `scene` (docs/contract.md section 1) into `image`,
+// whose size must equal the scene's width and height. Validates the scene and the
+// arguments first; on failure the image content is unspecified and a status says why.
+// One frame of a Renderer made for the call; `control`: progress and cancellation (none by
+// default).
+Status render(const Scene& scene, const RenderOptions& options, const ImageView& image,
+              const RenderControl& control = {});
 
-// render() that also reports the frame's work in `stats` (overwritten), including the sampled
-// needs (slower than render() by about one scalar pixel per 16x16 tile).
-Status render(const Scene& scene, const RenderOptions& options, const ImageView& image, FrameStats& stats);
+// The brute-force baseline, sharing nothing with the renderers but the scene types and the
+// parallel loop: per sample (options.spp), options.rays stratified directions, each taking
+// the emission of the first light it meets through the transmittances of the occluders before
+// it (docs/contract.md sections 1 and 6). Converges to render()'s image as rays grow; for
+// tests and for measuring what the analytic renderers save. Reads spp, rays, threads, shaded,
+// bounce and work_limit; the other options are checked and ignored.
+Status render_raycast(const Scene& scene, const RenderOptions& options, const ImageView& image,
+                      const RenderControl& control = {});
 
 // The ISA the SIMD path would use for these options on this CPU (scalar when the
-// backend is scalar or raycast).
+// backend is scalar).
 Isa resolved_isa(const RenderOptions& options) noexcept;
 
 }  // namespace par2d

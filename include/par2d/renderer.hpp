@@ -17,7 +17,7 @@
 namespace par2d {
 
 // One frame of `scene` in any pixel format: render() for a FrameBuffer (whole frame, the
-// scene's width x height). Backend::raycast is refused (render_raycast writes float RGB).
+// scene's width x height).
 Status render(const Scene& scene, const RenderOptions& options, const FrameBuffer& buffer);
 
 // A persistent world and renderer. Not thread-safe: one thread at a time calls its methods
@@ -40,8 +40,8 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  // Backend (automatic, simd or scalar; raycast is refused: it is the baseline render_raycast),
-  // spp, isa, culling, threading, shading and sample_needs.
+  // Backend, spp, isa, culling, threading, shading, sample_needs, bounce and work_limit
+  // (rays is render_raycast's alone).
   // Creates the renderer's thread pool here (never per frame) unless
   // options.threading == Threading::caller_arena.
   Status set_options(const RenderOptions& options);
@@ -166,8 +166,10 @@ class Renderer {
   Scene snapshot() const;
 
   RendererStats stats() const noexcept;
-  // The culling and kernel work of the last successful render call (all zero before one).
+  // What the last successful render call computed (all zero before one), and what its culling
+  // and kernel did (the sampled needs only when options().sample_needs is set).
   FrameStats frame_stats() const noexcept;
+  FrameDiagnostics frame_diagnostics() const noexcept;
 
  private:
   struct Impl;

@@ -244,43 +244,52 @@ par2d_status par2d_get_frame_stats(const par2d_renderer* r, par2d_frame_stats* o
   if (r == nullptr) return fail(fn, "renderer is null");
   if (out == nullptr) return fail(fn, "out is null");
   const par2d::FrameStats s = r->renderer.frame_stats();
-  *out = par2d_frame_stats{s.pixels,
-                           s.samples,
-                           s.blocks,
-                           s.block_lights,
-                           s.block_lights_out_of_reach,
-                           s.block_candidates,
-                           s.block_proofs_tried,
-                           s.block_proofs_succeeded,
-                           s.block_proofs_skipped,
-                           s.tiles,
-                           s.tile_lights,
-                           s.tile_pairs,
-                           s.tile_general_pairs,
-                           s.tile_proofs_tried,
-                           s.tile_proofs_succeeded,
-                           s.tile_proofs_skipped,
-                           s.umbra_tests,
-                           s.umbra_hits,
-                           s.tile_pairs_outside_hull,
-                           s.light_samples,
-                           s.pair_samples,
-                           s.scalar_tiles,
-                           s.layer_tiles_reused,
-                           s.layer_tiles_filled,
-                           s.sampled_pixels,
-                           s.sampled_visible_lights,
-                           s.sampled_blocking_pairs,
-                           s.bounce_pieces,
-                           s.bounce_lit_sources,
-                           s.bounce_tile_sources,
-                           s.bounce_tile_sources_hidden,
-                           s.bounce_source_walks,
-                           s.bounce_depth_tests};
+  *out = par2d_frame_stats{s.pixels,        s.tiles,         s.layer_tiles_reused, s.layer_tiles_filled,
+                           s.bounce_pieces, s.bounce_lit_sources};
+  return PAR2D_OK;
+}
+
+par2d_status par2d_get_frame_diagnostics(const par2d_renderer* r, par2d_frame_diagnostics* out) {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (out == nullptr) return fail(fn, "out is null");
+  const par2d::FrameDiagnostics d = r->renderer.frame_diagnostics();
+  *out = par2d_frame_diagnostics{d.samples,
+                                 d.blocks,
+                                 d.block_lights,
+                                 d.block_lights_out_of_reach,
+                                 d.block_candidates,
+                                 d.block_proofs_tried,
+                                 d.block_proofs_succeeded,
+                                 d.block_proofs_skipped,
+                                 d.tile_lights,
+                                 d.tile_pairs,
+                                 d.tile_general_pairs,
+                                 d.tile_proofs_tried,
+                                 d.tile_proofs_succeeded,
+                                 d.tile_proofs_skipped,
+                                 d.umbra_tests,
+                                 d.umbra_hits,
+                                 d.tile_pairs_outside_hull,
+                                 d.light_samples,
+                                 d.pair_samples,
+                                 d.scalar_tiles,
+                                 d.sampled_pixels,
+                                 d.sampled_visible_lights,
+                                 d.sampled_blocking_pairs,
+                                 d.bounce_tile_sources,
+                                 d.bounce_tile_sources_hidden,
+                                 d.bounce_source_walks,
+                                 d.bounce_depth_tests};
   return PAR2D_OK;
 }
 
 }  // extern "C"
+
+// The C reports hold the C++ ones field for field (the conversions above list every field).
+static_assert(sizeof(par2d_frame_stats) == sizeof(par2d::FrameStats) &&
+                  sizeof(par2d_frame_diagnostics) == sizeof(par2d::FrameDiagnostics),
+              "par2d_frame_stats and par2d_frame_diagnostics mirror FrameStats and FrameDiagnostics");
 
 // The C enum mirrors par2d::Isa value for value (the conversions above cast between them).
 static_assert(PAR2D_ISA_SCALAR == static_cast<int>(par2d::Isa::scalar) &&

@@ -1,6 +1,7 @@
 // Every count a frame keeps, per lane: filled where the work is done (the frame driver, block
 // culling, pair setup, the occlusion proofs), summed with +=, and turned into the public
-// FrameStats in one place (to_frame_stats), so a new counter leaves the public API alone.
+// FrameStats and FrameDiagnostics in one place (to_frame_report), so a new counter leaves the
+// public API alone.
 #pragma once
 
 #include <cstdint>
@@ -10,7 +11,7 @@
 namespace par2d::detail {
 
 // Counting costs a few additions per block and tile, so it is always on. The meanings are
-// FrameStats'; the fields that differ say how they map.
+// FrameStats' and FrameDiagnostics'; the fields that differ say how they map.
 struct FrameCounters {
   // Blocks (frame_driver.cpp).
   std::uint64_t blocks = 0;
@@ -23,7 +24,7 @@ struct FrameCounters {
   std::uint64_t block_proofs_skipped = 0;
   std::uint64_t tile_proofs_skipped = 0;
   // Occlusion proofs over blocks and tiles together (OcclusionProofScratch's own counts);
-  // FrameStats' tile proofs are these less the block proofs.
+  // FrameDiagnostics' tile proofs are these less the block proofs.
   std::uint64_t proofs_tried = 0;
   std::uint64_t proofs_succeeded = 0;
   // Pair setup (pair_setup.cpp).
@@ -96,43 +97,48 @@ struct FrameCounters {
 // A new field must be added above too.
 static_assert(sizeof(FrameCounters) == 33 * sizeof(std::uint64_t), "FrameCounters::operator+= adds every field");
 
-// The public report of a frame's counts: the one place FrameCounters map to FrameStats.
-inline FrameStats to_frame_stats(const FrameCounters& c) noexcept {
-  FrameStats s;
+// The public report of a frame's counts: the one place FrameCounters map to FrameStats (what a
+// host reads) and FrameDiagnostics (what the algorithm did).
+inline void to_frame_report(const FrameCounters& c, FrameStats& s, FrameDiagnostics& d) noexcept {
+  s = FrameStats{};
   s.pixels = c.pixels;
-  s.samples = c.samples;
-  s.blocks = c.blocks;
-  s.block_lights = c.block_lights;
-  s.block_lights_out_of_reach = c.block_lights_out_of_reach;
-  s.block_candidates = c.block_candidates;
-  s.block_proofs_tried = c.block_proofs_tried;
-  s.block_proofs_succeeded = c.block_proofs_succeeded;
-  s.block_proofs_skipped = c.block_proofs_skipped;
   s.tiles = c.tiles;
-  s.tile_lights = c.tile_lights;
-  s.tile_pairs = c.tile_pairs;
-  s.tile_general_pairs = c.tile_general_pairs;
-  s.tile_proofs_tried = c.proofs_tried - c.block_proofs_tried;
-  s.tile_proofs_succeeded = c.proofs_succeeded - c.block_proofs_succeeded;
-  s.tile_proofs_skipped = c.tile_proofs_skipped;
-  s.umbra_tests = c.umbra_tests;
-  s.umbra_hits = c.umbra_hits;
-  s.tile_pairs_outside_hull = c.tile_pairs_outside_hull;
-  s.light_samples = c.light_samples;
-  s.pair_samples = c.pair_samples;
-  s.scalar_tiles = c.scalar_tiles;
   s.layer_tiles_reused = c.layer_tiles_reused;
   s.layer_tiles_filled = c.layer_tiles_filled;
-  s.sampled_pixels = c.sampled_pixels;
-  s.sampled_visible_lights = c.sampled_visible_lights;
-  s.sampled_blocking_pairs = c.sampled_blocking_pairs;
   s.bounce_pieces = c.bounce_pieces;
   s.bounce_lit_sources = c.bounce_lit_sources;
-  s.bounce_tile_sources = c.bounce_tile_sources;
-  s.bounce_tile_sources_hidden = c.bounce_tile_sources_hidden;
-  s.bounce_source_walks = c.bounce_source_walks;
-  s.bounce_depth_tests = c.bounce_depth_tests;
-  return s;
+  d = FrameDiagnostics{};
+  d.samples = c.samples;
+  d.blocks = c.blocks;
+  d.block_lights = c.block_lights;
+  d.block_lights_out_of_reach = c.block_lights_out_of_reach;
+  d.block_candidates = c.block_candidates;
+  d.block_proofs_tried = c.block_proofs_tried;
+  d.block_proofs_succeeded = c.block_proofs_succeeded;
+  d.block_proofs_skipped = c.block_proofs_skipped;
+  d.tile_lights = c.tile_lights;
+  d.tile_pairs = c.tile_pairs;
+  d.tile_general_pairs = c.tile_general_pairs;
+  d.tile_proofs_tried = c.proofs_tried - c.block_proofs_tried;
+  d.tile_proofs_succeeded = c.proofs_succeeded - c.block_proofs_succeeded;
+  d.tile_proofs_skipped = c.tile_proofs_skipped;
+  d.umbra_tests = c.umbra_tests;
+  d.umbra_hits = c.umbra_hits;
+  d.tile_pairs_outside_hull = c.tile_pairs_outside_hull;
+  d.light_samples = c.light_samples;
+  d.pair_samples = c.pair_samples;
+  d.scalar_tiles = c.scalar_tiles;
+  d.sampled_pixels = c.sampled_pixels;
+  d.sampled_visible_lights = c.sampled_visible_lights;
+  d.sampled_blocking_pairs = c.sampled_blocking_pairs;
+  d.bounce_tile_sources = c.bounce_tile_sources;
+  d.bounce_tile_sources_hidden = c.bounce_tile_sources_hidden;
+  d.bounce_source_walks = c.bounce_source_walks;
+  d.bounce_depth_tests = c.bounce_depth_tests;
 }
+// Every public count is mapped above: the two reports hold the 33 counts less the two proof
+// totals, plus the two tile proof counts derived from them.
+static_assert(sizeof(FrameStats) + sizeof(FrameDiagnostics) == sizeof(FrameCounters),
+              "to_frame_report maps every count");
 
 }  // namespace par2d::detail

@@ -360,10 +360,10 @@ FrameEngine::FrameEngine(FrameEngine&&) noexcept = default;
 FrameEngine& FrameEngine::operator=(FrameEngine&&) noexcept = default;
 
 bool FrameEngine::run(const FramePlan& plan, const PreparedScene& scene, const Scheduler& scheduler,
-                      const FrameTarget& target, FrameStats* stats, const FrameControl* control) {
+                      const FrameTarget& target, FrameCounters* counts, const FrameControl* control) {
   FrameProgress progress(control, plan.tiles);
   if (plan.blocks.empty()) {  // an incremental frame in which nothing changed
-    if (stats) *stats = FrameStats{};
+    if (counts) *counts = FrameCounters{};
     progress.report_empty();
     return true;
   }
@@ -374,7 +374,7 @@ bool FrameEngine::run(const FramePlan& plan, const PreparedScene& scene, const S
   run_lanes(run, scheduler, lanes);
   if (plan.layers) plan.layers->finish_frame();
   if (!progress.finish()) return false;
-  if (stats) *stats = to_frame_stats(sum_counters(plan, lanes));
+  if (counts) *counts = sum_counters(plan, lanes);
   return true;
 }
 

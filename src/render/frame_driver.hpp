@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "par2d/render.hpp"
+#include "render/frame_counters.hpp"
 #include "render/frame_output.hpp"
 #include "render/frame_plan.hpp"
 #include "parallel/scheduler.hpp"
@@ -43,11 +44,11 @@ class FrameEngine {
   // within the region, each tile computed whole by its block's strategy and stored straight
   // into the target's format; the rest of the target is not touched. Tiles and blocks are
   // those of the whole frame, so a region's pixels equal the same pixels of a whole frame bit
-  // for bit. `stats`, when given, receives the frame's culling and kernel work (FrameStats).
+  // for bit. `counts`, when given, receives the frame's counts (render/frame_counters.hpp).
   // `control`, when given: progress and cancellation. Returns false when a cancelled frame
-  // skipped tiles (the target then holds part of the frame and `stats` is left as it was).
+  // skipped tiles (the target then holds part of the frame and `counts` is left as it was).
   bool run(const FramePlan& plan, const PreparedScene& scene, const Scheduler& scheduler, const FrameTarget& target,
-           FrameStats* stats = nullptr, const FrameControl* control = nullptr);
+           FrameCounters* counts = nullptr, const FrameControl* control = nullptr);
 
  private:
   // The frame's stages, in the order run calls them.

@@ -13,14 +13,6 @@ struct KernelSet {
   Isa isa;
   int lanes;
   void (*render_tile)(const TileWork& work, float* scratch, TileResult& out) noexcept;
-  // Kernel-level hooks for tests: per lane, the measure of the union of `count` intervals
-  // (lo/hi hold pow2(count) * lanes floats, lane-minor, and are sorted in place), of
-  // [0, reach0], padded with `width`; and the vector atan2 over `lanes` values, in the form
-  // the kernel uses for a domain: 0 any (y, x), 1 y >= 0 (fast_atan2_upper), 2 x, y >= 0
-  // (fast_atan2_first_quadrant).
-  void (*union_measure)(float* lo, float* hi, std::size_t count, const float* width, const float* reach0,
-                        float* out) noexcept;
-  void (*atan2)(const float* y, const float* x, float* out, int domain) noexcept;
   // out += emission[c] x layer plane c (plane 0 for every channel when `mono`): the light-layer
   // cache's recombination (render/light_layers.hpp).
   void (*add_light_layer)(const float* layer, bool mono, const float* emission, TileResult& out) noexcept;

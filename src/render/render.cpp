@@ -26,7 +26,6 @@ const char* backend_name(Backend backend) noexcept {
     case Backend::automatic: return "auto";
     case Backend::simd: return "simd";
     case Backend::scalar: return "scalar";
-    case Backend::raycast: return "raycast";
   }
   return "unknown";
 }
@@ -36,7 +35,6 @@ std::optional<Backend> parse_backend(const char* name) noexcept {
   if (n == "auto") return Backend::automatic;
   if (n == "simd") return Backend::simd;
   if (n == "scalar") return Backend::scalar;
-  if (n == "raycast") return Backend::raycast;
   return std::nullopt;
 }
 
@@ -60,13 +58,11 @@ std::optional<BounceTerm> parse_bounce_term(const char* name) noexcept {
 namespace {
 
 // One frame of `scene` by a Renderer made for it: the same path as a host's Renderer.
-Status render_once(const Scene& scene, const RenderOptions& options, const FrameBuffer& buffer, FrameStats* stats,
+Status render_once(const Scene& scene, const RenderOptions& options, const FrameBuffer& buffer,
                    const RenderControl* control = nullptr) {
   return detail::guarded("render", [&]() -> Status {
     Renderer renderer;
-    RenderOptions once = options;
-    once.sample_needs = options.sample_needs || stats != nullptr;
-    if (Status s = renderer.set_options(once); !s.ok()) return s;
+    if (Status s = renderer.set_options(options); !s.ok()) return s;
     if (Status s = renderer.set_scene(scene); !s.ok()) return s;
     if (control && (control->progress || control->cancel)) {
       if (control->cancel && control->cancel->load()) return Status(StatusCode::cancelled, "render: cancelled");
@@ -77,9 +73,7 @@ Status render_once(const Scene& scene, const RenderOptions& options, const Frame
         return !control->progress || control->progress(p);
       });
     }
-    if (Status s = renderer.render(buffer); !s.ok()) return s;
-    if (stats) *stats = renderer.frame_stats();
-    return {};
+    return renderer.render(buffer);
   });
 }
 
@@ -101,9 +95,7 @@ WorkEstimate raycast_estimate(const Scene& scene, const RenderOptions& options) 
 Status raycast_frame(const Scene& scene, const RenderOptions& options, const ImageView& image,
                      const RenderControl* control) {
   if (Status s = detail::check_image_view(image, scene.width, scene.height, "render_raycast", "scene"); !s.ok()) return s;
-  RenderOptions checked = options;
-  checked.backend = Backend::raycast;  // the rays' range is checked
-  if (Status s = detail::check_options(checked, "render_raycast"); !s.ok()) return s;
+  if (Status s = detail::check_raycast_options(options, "render_raycast"); !s.ok()) return s;
   return detail::guarded("render_raycast", [&]() -> Status {
     if (Status s = validate_scene(scene); !s.ok()) return s;
     if (Status s = detail::check_work(raycast_estimate(scene, options), options.work_limit, "render_raycast"); !s.ok())
@@ -150,38 +142,23 @@ Status raycast_frame(const Scene& scene, const RenderOptions& options, const Ima
   });
 }
 
-Status render_frame(const Scene& scene, const RenderOptions& options, const ImageView& image, FrameStats* stats) {
-  if (Status s = detail::check_image_view(image, scene.width, scene.height, "render", "scene"); !s.ok()) return s;
-  if (Status s = detail::check_options(options, "render"); !s.ok()) return s;
-  if (options.backend == Backend::raycast) return raycast_frame(scene, options, image, nullptr);
-  return render_once(scene, options, detail::frame_buffer_of(image), stats);
-}
-
 }  // namespace
 
-Status render_raycast(const Scene& scene, const RenderOptions& options, const ImageView& image) {
-  return raycast_frame(scene, options, image, nullptr);
-}
-
-Status render(const Scene& scene, const RenderOptions& options, const ImageView& image) {
-  return render_frame(scene, options, image, nullptr);
+Status render_raycast(const Scene& scene, const RenderOptions& options, const ImageView& image,
+                      const RenderControl& control) {
+  return raycast_frame(scene, options, image, &control);
 }
 
 Status render(const Scene& scene, const RenderOptions& options, const ImageView& image, const RenderControl& control) {
   if (Status s = detail::check_image_view(image, scene.width, scene.height, "render", "scene"); !s.ok()) return s;
   if (Status s = detail::check_options(options, "render"); !s.ok()) return s;
-  if (options.backend == Backend::raycast) return raycast_frame(scene, options, image, &control);
-  return render_once(scene, options, detail::frame_buffer_of(image), nullptr, &control);
+  return render_once(scene, options, detail::frame_buffer_of(image), &control);
 }
 
 Status estimate_work(const Scene& scene, const RenderOptions& options, WorkEstimate& estimate) {
   if (Status s = detail::check_options(options, "estimate_work"); !s.ok()) return s;
   return detail::guarded("estimate_work", [&]() -> Status {
     if (Status s = validate_scene(scene); !s.ok()) return s;
-    if (options.backend == Backend::raycast) {
-      estimate = raycast_estimate(scene, options);
-      return {};
-    }
     Renderer renderer;
     if (Status s = renderer.set_options(options); !s.ok()) return s;
     if (Status s = renderer.set_scene(scene); !s.ok()) return s;
@@ -189,16 +166,18 @@ Status estimate_work(const Scene& scene, const RenderOptions& options, WorkEstim
   });
 }
 
-Status render(const Scene& scene, const RenderOptions& options, const ImageView& image, FrameStats& stats) {
-  stats = FrameStats{};
-  return render_frame(scene, options, image, &stats);
+Status estimate_raycast_work(const Scene& scene, const RenderOptions& options, WorkEstimate& estimate) {
+  if (Status s = detail::check_raycast_options(options, "estimate_raycast_work"); !s.ok()) return s;
+  return detail::guarded("estimate_raycast_work", [&]() -> Status {
+    if (Status s = validate_scene(scene); !s.ok()) return s;
+    estimate = raycast_estimate(scene, options);
+    return {};
+  });
 }
 
 Status render(const Scene& scene, const RenderOptions& options, const FrameBuffer& buffer) {
   if (Status s = detail::check_options(options, "render"); !s.ok()) return s;
-  if (options.backend == Backend::raycast)
-    return Status(StatusCode::unsupported, "render: the raycast baseline writes float RGB (call render_raycast)");
-  return render_once(scene, options, buffer, nullptr);
+  return render_once(scene, options, buffer);
 }
 
 }  // namespace par2d

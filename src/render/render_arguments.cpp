@@ -32,13 +32,11 @@ Status check_options(const RenderOptions& options, const char* who) {
   };
   if (options.threads < 0) return bad("threads must be >= 0 (0 = all hardware threads)");
   if (options.spp < 1 || options.spp > kMaxSpp) return bad("spp must be in 1.." + std::to_string(kMaxSpp));
-  if (options.backend == Backend::raycast && (options.rays < 1 || options.rays > kMaxRays))
-    return bad("rays must be in 1.." + std::to_string(kMaxRays));
   if (options.isa && (static_cast<int>(*options.isa) < static_cast<int>(Isa::scalar) ||
                       static_cast<int>(*options.isa) > static_cast<int>(Isa::neon64)))
     return bad("unknown isa " + std::to_string(static_cast<int>(*options.isa)));
   if (static_cast<int>(options.backend) < static_cast<int>(Backend::automatic) ||
-      static_cast<int>(options.backend) > static_cast<int>(Backend::raycast))
+      static_cast<int>(options.backend) > static_cast<int>(Backend::scalar))
     return bad("unknown backend " + std::to_string(static_cast<int>(options.backend)));
   if (options.threading != Threading::own_pool && options.threading != Threading::caller_arena)
     return bad("unknown threading " + std::to_string(static_cast<int>(options.threading)));
@@ -47,6 +45,14 @@ Status check_options(const RenderOptions& options, const char* who) {
     return bad("unknown bounce term " + std::to_string(static_cast<int>(options.bounce)));
   if (!(std::isfinite(options.work_limit) && options.work_limit >= 0.0))
     return bad("work_limit must be finite and >= 0 (0 = no limit)");
+  return {};
+}
+
+// The options the ray caster reads, checked: all of a renderer's, and the rays.
+Status check_raycast_options(const RenderOptions& options, const char* who) {
+  if (Status s = check_options(options, who); !s.ok()) return s;
+  if (options.rays < 1 || options.rays > kMaxRays)
+    return Status(StatusCode::invalid_argument, std::string(who) + ": rays must be in 1.." + std::to_string(kMaxRays));
   return {};
 }
 
@@ -86,7 +92,7 @@ Status check_frame_buffer(const FrameBuffer& buffer, const PixelRect& region, in
 }  // namespace detail
 
 Isa resolved_isa(const RenderOptions& options) noexcept {
-  if (options.backend == Backend::scalar || options.backend == Backend::raycast) return Isa::scalar;
+  if (options.backend == Backend::scalar) return Isa::scalar;
   if (!options.isa) return default_isa();
   return capped_isa(*options.isa);
 }

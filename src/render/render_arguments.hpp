@@ -14,6 +14,8 @@ int worker_threads(int requested) noexcept;
 
 // threads >= 0, spp and rays in range, known backend, ISA and threading. `who` prefixes messages.
 Status check_options(const RenderOptions& options, const char* who);
+// check_options and the rays of the ray caster (render_raycast).
+Status check_raycast_options(const RenderOptions& options, const char* who);
 
 // Non-null data, known format, finite exposure >= 0, a non-empty region inside the
 // width x height frame, and a row stride that holds a row of the region.

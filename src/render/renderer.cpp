@@ -12,6 +12,7 @@
 #include "culling/reach_cache.hpp"
 #include "render/change_tracker.hpp"
 #include "parallel/scheduler.hpp"
+#include "render/frame_counters.hpp"
 #include "render/frame_driver.hpp"
 #include "render/frame_output.hpp"
 #include "render/frame_plan.hpp"
@@ -45,7 +46,7 @@ struct Renderer::Impl {
   detail::World world;
   detail::FramePlan plan;  // this frame's (its storage kept from frame to frame)
   detail::FrameEngine engine;
-  FrameStats frame_stats;  // the last successful render's
+  detail::FrameCounters frame_counts;  // the last successful render's (FrameStats, FrameDiagnostics)
   // Shapes placed by a Transform before they go to the world (kept: their storage is reused).
   Light placed_light;
   Occluder placed_occluder;
@@ -93,9 +94,6 @@ Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 Status Renderer::set_options(const RenderOptions& options) {
   return guarded("set_options", [&]() -> Status {
     if (Status s = detail::check_options(options, "set_options"); !s.ok()) return s;
-    if (options.backend == Backend::raycast)
-      return Status(StatusCode::unsupported,
-                    "set_options: the raycast backend is a baseline, not a renderer (call par2d::render_raycast)");
     impl_->scheduler.configure(resolved_threads(options), options.threading);
     impl_->options = options;
     impl_->isa.reset();  // resolved at the next frame
@@ -335,7 +333,7 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
     bool complete = false;
     try {
       detail::plan_frame(scene, settings, target.region, reach, dirty, layers, impl.plan);
-      complete = impl.engine.run(impl.plan, scene, impl.scheduler, target, &impl.frame_stats, watched ? &control : nullptr);
+      complete = impl.engine.run(impl.plan, scene, impl.scheduler, target, &impl.frame_counts, watched ? &control : nullptr);
     } catch (...) {
       impl.tracker.force_full();  // the buffer may hold part of a frame (the plan drops the layers)
       throw;
@@ -407,6 +405,18 @@ Scene Renderer::snapshot() const { return impl_->world.snapshot(); }
 
 RendererStats Renderer::stats() const noexcept { return impl_->world.stats(); }
 
-FrameStats Renderer::frame_stats() const noexcept { return impl_->frame_stats; }
+FrameStats Renderer::frame_stats() const noexcept {
+  FrameStats stats;
+  FrameDiagnostics diagnostics;
+  detail::to_frame_report(impl_->frame_counts, stats, diagnostics);
+  return stats;
+}
+
+FrameDiagnostics Renderer::frame_diagnostics() const noexcept {
+  FrameStats stats;
+  FrameDiagnostics diagnostics;
+  detail::to_frame_report(impl_->frame_counts, stats, diagnostics);
+  return diagnostics;
+}
 
 }  // namespace par2d

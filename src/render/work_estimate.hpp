@@ -20,7 +20,7 @@ struct WorkCounts {
   double pieces = 0.0;     // bounce pieces (0: no bounce term computed)
   bool direct = true;      // the direct light is computed (not BounceTerm::only)
   bool scalar = false;     // the direct light by the scalar reference
-  bool raycast = false;    // Backend::raycast (rays per sample: `rays`)
+  bool raycast = false;    // render_raycast (rays per sample: `rays`)
   int rays = 0;
 };
 

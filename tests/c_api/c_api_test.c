@@ -640,18 +640,31 @@ static void check_parity_with_the_cpp_renderer(const char* dir) {
   CHECK(par2d_get_stats(r, &stats) == PAR2D_OK && stats.frames == 2 && stats.index_builds >= 1);
   CHECK(par2d_render(r, pool, PAR2D_RGB_F32, 40 * 12, 1.0, NULL) == PAR2D_OK);
   CHECK(par2d_get_stats(r, &stats) == PAR2D_OK && stats.frames == 3);
-  CHECK(par2d_get_frame_stats(r, &frame) == PAR2D_OK && frame.pixels == 40 * 30 && frame.tiles > 0);
+  CHECK(par2d_get_frame_stats(r, &frame) == PAR2D_OK && frame.pixels == 40 * 30 && frame.tiles == 3 * 2);
+  /* The algorithm's counts apart: the SIMD path's one 64x64 block and the kernel's samples (at
+   * least the pixels), or the scalar reference's tiles. */
+  par2d_frame_diagnostics diagnostics;
+  memset(&diagnostics, 0xff, sizeof diagnostics);
+  CHECK(par2d_get_frame_diagnostics(r, &diagnostics) == PAR2D_OK);
+  if (par2d_renderer_isa(r) == PAR2D_ISA_SCALAR)
+    CHECK(diagnostics.scalar_tiles == frame.tiles && diagnostics.blocks == 0 && diagnostics.samples == 0);
+  else
+    CHECK(diagnostics.blocks == 1 && diagnostics.block_lights == par2d_light_count(r) &&
+          diagnostics.samples >= frame.pixels && diagnostics.scalar_tiles == 0);
   const int region[4] = {8, 4, 24, 20};
   CHECK(par2d_render(r, other, PAR2D_RGB_F32, 16 * 12, 1.0, region) == PAR2D_OK);
   CHECK(par2d_get_frame_stats(r, &frame) == PAR2D_OK && frame.pixels == 16 * 16);
-  CHECK(frame.sampled_pixels == 0); /* off by default */
+  CHECK(par2d_get_frame_diagnostics(r, &diagnostics) == PAR2D_OK && diagnostics.sampled_pixels == 0); /* off by default */
   /* What pixels need, on request: one sampled pixel per 16x16 tile (none from the scalar path). */
   CHECK(par2d_get_advanced_options(r, &advanced) == PAR2D_OK && advanced.sample_needs == 0);
   advanced.sample_needs = 1;
   CHECK(par2d_set_advanced_options(r, &advanced) == PAR2D_OK);
   CHECK(par2d_render(r, pool, PAR2D_RGB_F32, 40 * 12, 1.0, NULL) == PAR2D_OK);
-  CHECK(par2d_get_frame_stats(r, &frame) == PAR2D_OK);
-  CHECK((frame.sampled_pixels == frame.tiles) == (par2d_renderer_isa(r) != PAR2D_ISA_SCALAR));
+  CHECK(par2d_get_frame_stats(r, &frame) == PAR2D_OK && par2d_get_frame_diagnostics(r, &diagnostics) == PAR2D_OK);
+  CHECK((diagnostics.sampled_pixels == frame.tiles) == (par2d_renderer_isa(r) != PAR2D_ISA_SCALAR));
+  CHECK_ERROR(par2d_get_frame_diagnostics(r, NULL), PAR2D_INVALID_ARGUMENT, "par2d_get_frame_diagnostics: out is null");
+  CHECK_ERROR(par2d_get_frame_diagnostics(NULL, &diagnostics), PAR2D_INVALID_ARGUMENT,
+              "par2d_get_frame_diagnostics: renderer is null");
   advanced.sample_needs = 0;
   CHECK(par2d_set_advanced_options(r, &advanced) == PAR2D_OK);
   CHECK_ERROR(par2d_get_stats(r, NULL), PAR2D_INVALID_ARGUMENT, "par2d_get_stats: out is null");
@@ -791,8 +804,10 @@ static void check_incremental_frames(void) {
   for (int i = 0; i < 2; ++i) CHECK(par2d_set_light_emission(both[i], lights[i], white, 0.75) == PAR2D_OK);
   CHECK(par2d_render(r, a, PAR2D_RGBA8_SRGB, IW * 4, 1.0, NULL) == PAR2D_OK);
   CHECK(par2d_render(full, b, PAR2D_RGBA8_SRGB, IW * 4, 1.0, NULL) == PAR2D_OK);
+  par2d_frame_diagnostics diagnostics;
   CHECK(par2d_get_frame_stats(r, &stats) == PAR2D_OK && (stats.layer_tiles_reused > 0) == simd &&
-        stats.layer_tiles_filled == 0 && (stats.tile_lights == 0) == simd && stats.pixels == 64 * 64);
+        stats.layer_tiles_filled == 0 && stats.pixels == 64 * 64);
+  CHECK(par2d_get_frame_diagnostics(r, &diagnostics) == PAR2D_OK && (diagnostics.tile_lights == 0) == simd);
   int close = 1;
   for (size_t i = 0; i < (size_t)IW * IH * 4; ++i) close = close && abs((int)a[i] - (int)b[i]) <= 1;
   CHECK(close);
@@ -1162,8 +1177,10 @@ static void check_bounce(void) {
   /* The terms apart: the direct light alone is the frame without albedo, the bounce alone is
    * what albedo adds (within float rounding of the sum), and the frame's stats count pieces. */
   par2d_frame_stats frame;
+  par2d_frame_diagnostics diagnostics;
   CHECK(par2d_get_frame_stats(r, &frame) == PAR2D_OK && frame.bounce_pieces == 8 && frame.bounce_lit_sources == 1);
-  CHECK(frame.bounce_source_walks > 0 && frame.bounce_tile_sources >= frame.bounce_tile_sources_hidden);
+  CHECK(par2d_get_frame_diagnostics(r, &diagnostics) == PAR2D_OK && diagnostics.bounce_source_walks > 0 &&
+        diagnostics.bounce_tile_sources >= diagnostics.bounce_tile_sources_hidden);
   float direct[24 * 3], bounce[24 * 3];
   par2d_advanced_options advanced;
   CHECK(par2d_get_advanced_options(r, &advanced) == PAR2D_OK && advanced.bounce == PAR2D_BOUNCE_INCLUDED);

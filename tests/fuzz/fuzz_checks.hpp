@@ -563,9 +563,8 @@ inline std::string check_render_scene(const FuzzScene& f, bool compare_simd = tr
 
   if (f.polygon_vertices <= 256) {  // the ray caster is O(rays * vertices) per pixel
     RenderOptions o = base;
-    o.backend = Backend::raycast;
     o.rays = f.rays;
-    const test::RenderedImage rays = test::render_image(scene, o, status);
+    const test::RenderedImage rays = test::render_image(scene, o, status, /*raycast=*/true);
     if (!status.ok()) return "raycast render failed: " + status.message();
     if (std::string p = check_bounds(scene, rays, "raycast"); !p.empty()) return p;
   }
@@ -617,22 +616,26 @@ inline std::string check_angle_residues(const FuzzScene& f) {
     o.isa = isa;
     backends.push_back(o);
   }
+  const std::size_t renderers = backends.size();  // the ray caster's options follow
   if (f.polygon_vertices <= 256) {  // the ray caster is O(rays * vertices) per pixel
-    o.backend = Backend::raycast;
+    o.backend = Backend::scalar;
     o.rays = f.rays;
     backends.push_back(o);
   }
-  for (const RenderOptions& options : backends) {
+  for (std::size_t b = 0; b < backends.size(); ++b) {
+    const RenderOptions& options = backends[b];
+    const bool raycast = b >= renderers;
     Status status;
-    const test::RenderedImage huge = test::render_image(f.scene, options, status);
+    const test::RenderedImage huge = test::render_image(f.scene, options, status, raycast);
     if (!status.ok()) return "render failed: " + status.message();
-    const test::RenderedImage small = test::render_image(reduced, options, status);
+    const test::RenderedImage small = test::render_image(reduced, options, status, raycast);
     if (!status.ok()) return "render of the reduced angles failed: " + status.message();
     for (std::size_t k = 0; k < huge.pixels.size(); ++k)
       if (!(huge.pixels[k] == small.pixels[k] || (std::isnan(huge.pixels[k]) && std::isnan(small.pixels[k])))) {
         std::ostringstream out;
         out.precision(17);
-        out << backend_name(options.backend) << (options.backend == Backend::simd ? std::string(" ") + isa_name(*options.isa) : "")
+        out << (raycast ? "raycast" : backend_name(options.backend))
+            << (!raycast && options.backend == Backend::simd ? std::string(" ") + isa_name(*options.isa) : "")
             << ": angles past a turn differ from their residues at value " << k << ": " << huge.pixels[k] << " vs "
             << small.pixels[k];
         return out.str();

@@ -124,9 +124,8 @@ inline std::string check_huge_bytes(const std::uint8_t* data, std::size_t size) 
   // a huge triangle's edge is a contact, which the two paths may resolve differently).
   if (!lights_disjoint_from_occluders(scene)) return {};
   constexpr int kRays = 512;
-  o.backend = Backend::raycast;
   o.rays = kRays;
-  const test::RenderedImage rays = test::render_image(scene, o, status);
+  const test::RenderedImage rays = test::render_image(scene, o, status, /*raycast=*/true);
   if (!status.ok()) return "raycast render failed: " + status.message();
   const double e_max = test::emission_max_sum(scene);
   double bound[3];

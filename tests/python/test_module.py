@@ -172,6 +172,14 @@ def test_missing_file_and_bad_options_raise():
     with pytest.raises(par2d.Error) as e:
         par2d.render(one_circle_light(), backend="gpu")
     assert str(e.value) == 'backend: unknown name "gpu" (auto, simd, scalar, raycast)'
+    # The one-shot render still has the ray-casting baseline (par2d::render_raycast): near the
+    # exact image, not equal to it, and it checks its rays.
+    rays = par2d.render(one_circle_light(), backend="raycast", rays=256)
+    exact = par2d.render(one_circle_light())
+    assert rays.shape == exact.shape and np.all(np.isfinite(rays)) and rays.max() > 0
+    assert np.max(np.abs(rays - exact)) <= 0.05 * exact.max() and not np.array_equal(rays, exact)
+    with pytest.raises(par2d.Error, match="^render_raycast: rays must be in 1..1048576$"):
+        par2d.render(one_circle_light(), backend="raycast", rays=0)
     with pytest.raises(par2d.Error) as e:
         par2d.render(one_circle_light(), isa="neon2")
     assert e.value.code == "invalid_argument"

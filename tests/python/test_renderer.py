@@ -140,6 +140,8 @@ def test_bad_updates_raise_and_keep_the_world():
         r.set_light_emission(h, [1.0, 1.0, 1.0], -2.0)
     with pytest.raises(par2d.Error) as e:
         r.set_options(backend="raycast")
+    assert str(e.value) == 'backend: "raycast" is the baseline of par2d.render, not a Renderer backend (auto, simd, scalar)'
+    assert r.options["backend"] != "raycast"
     with pytest.raises(par2d.Error, match="backend"):
         r.set_options(backend="fast")
     with pytest.raises(par2d.Error) as e:
@@ -287,7 +289,11 @@ def test_options_and_frame_stats():
     assert r.frame_stats["pixels"] == 0
     r.render()
     s = r.frame_stats
-    assert s["pixels"] == 256 * 192 and s["tiles"] > 0 and set(s) >= {"samples", "tile_pairs", "umbra_hits"}
+    assert s == {"pixels": 256 * 192, "tiles": 16 * 12, "layer_tiles_reused": 0, "layer_tiles_filled": 0,
+                 "bounce_pieces": 0, "bounce_lit_sources": 0}
+    diagnostics = r.frame_diagnostics
+    assert diagnostics["scalar_tiles"] == 16 * 12 and diagnostics["blocks"] == 0  # the scalar reference's tiles
+    assert not set(s) & set(diagnostics) and set(diagnostics) >= {"samples", "tile_pairs", "umbra_hits"}
     r.render(region=(0, 0, 32, 16))
     assert r.frame_stats["pixels"] == 32 * 16
     r.set_options(threads=1, backend="scalar")
@@ -298,15 +304,17 @@ def test_sampled_needs_on_request_equal_the_one_shot_counts():
     d = small_example_dict()
     r = par2d.Renderer(d, threads=1, backend="simd", isa="avx2")
     r.render()
-    assert r.frame_stats["sampled_pixels"] == 0  # off by default
+    assert r.frame_diagnostics["sampled_pixels"] == 0  # off by default
     r.set_options(threads=1, backend="simd", isa="avx2", sample_needs=True)
     assert r.options["sample_needs"] is True
     r.render()
-    s = r.frame_stats
+    s = r.frame_diagnostics
     if r.options["isa"] == "scalar":  # a CPU with no SIMD level: the reference counts no needs
         assert s["sampled_pixels"] == 0
     else:
-        assert s["sampled_pixels"] == s["tiles"] and s["sampled_visible_lights"] > 0
+        # One sampled pixel per tile; culling at work on the small example's walls.
+        assert s["sampled_pixels"] == r.frame_stats["tiles"] and s["sampled_visible_lights"] > 0
+        assert s["blocks"] > 0 and s["block_proofs_tried"] > 0 and s["tile_pairs"] > 0
 
 
 def test_incremental_frames_write_only_dirty_rects_and_equal_full_renders():

@@ -420,14 +420,14 @@ double emission_max_sum(const Scene& scene) noexcept {
   return sum + std::max({scene.ambient[0], scene.ambient[1], scene.ambient[2]});
 }
 
-RenderedImage render_image(const Scene& scene, const RenderOptions& options, Status& status) {
+RenderedImage render_image(const Scene& scene, const RenderOptions& options, Status& status, bool raycast) {
   RenderedImage image;
   image.width = scene.width;
   image.height = scene.height;
   image.pixels.assign(static_cast<std::size_t>(scene.width) * scene.height * 3, -1.0f);
   const ImageView view{image.pixels.data(), scene.width, scene.height,
                        static_cast<std::ptrdiff_t>(scene.width) * 3};
-  status = render(scene, options, view);
+  status = raycast ? render_raycast(scene, options, view) : render(scene, options, view);
   return image;
 }
 

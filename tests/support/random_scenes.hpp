@@ -134,11 +134,12 @@ struct RenderedImage {
   float at(int i, int j, int c) const { return pixels[(static_cast<std::size_t>(j) * width + i) * 3 + c]; }
 };
 
-// Renders through the public API; `status` receives the result of par2d::render.
-RenderedImage render_image(const Scene& scene, const RenderOptions& options, Status& status);
+// Renders through the public API; `status` receives the result of par2d::render (with
+// `raycast`, of the baseline par2d::render_raycast).
+RenderedImage render_image(const Scene& scene, const RenderOptions& options, Status& status, bool raycast = false);
 
 // Renders, or fails the test case with par2d's message (render_checks.cpp; doctest binaries only).
-RenderedImage render_or_fail(const Scene& scene, const RenderOptions& options);
+RenderedImage render_or_fail(const Scene& scene, const RenderOptions& options, bool raycast = false);
 
 // The SIMD levels this CPU runs (tests force each in turn).
 std::vector<Isa> simd_isas_here();

@@ -16,9 +16,9 @@
 
 namespace par2d::test {
 
-RenderedImage render_or_fail(const Scene& scene, const RenderOptions& options) {
+RenderedImage render_or_fail(const Scene& scene, const RenderOptions& options, bool raycast) {
   Status status;
-  RenderedImage image = render_image(scene, options, status);
+  RenderedImage image = render_image(scene, options, status, raycast);
   INFO("render: " << status.message());
   REQUIRE(status.ok());
   return image;
@@ -199,6 +199,24 @@ std::vector<float> one_shot(const Scene& scene, const RenderOptions& options) {
 
 bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+FrameCounts frame_counts(const Renderer& renderer) {
+  FrameCounts c;
+  static_cast<FrameStats&>(c) = renderer.frame_stats();
+  static_cast<FrameDiagnostics&>(c) = renderer.frame_diagnostics();
+  return c;
+}
+
+FrameCounts frame_counts(const Scene& scene, RenderOptions options) {
+  options.sample_needs = true;
+  Renderer renderer;
+  Status s = renderer.set_options(options);
+  if (s.ok()) s = renderer.set_scene(scene);
+  std::vector<float> pixels(static_cast<std::size_t>(scene.width) * static_cast<std::size_t>(scene.height) * 3);
+  if (s.ok()) s = renderer.render(ImageView{pixels.data(), scene.width, scene.height, 3 * static_cast<std::ptrdiff_t>(scene.width)});
+  REQUIRE_MESSAGE(s.ok(), s.message());
+  return frame_counts(renderer);
 }
 
 }  // namespace par2d::test

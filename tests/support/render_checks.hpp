@@ -43,6 +43,13 @@ std::vector<float> frame_rgb(Renderer& r);
 std::vector<float> one_shot(const Scene& scene, const RenderOptions& options);
 bool same_bits(const std::vector<float>& a, const std::vector<float>& b);
 
+// Both reports of a frame, read as one set of counts (their field names differ): a Renderer's
+// last frame, or one frame of `scene` by a Renderer with `options` and sample_needs set
+// (failing the test case on an error).
+struct FrameCounts : FrameStats, FrameDiagnostics {};
+FrameCounts frame_counts(const Renderer& renderer);
+FrameCounts frame_counts(const Scene& scene, RenderOptions options);
+
 // The ray caster (`rays` directions, jitter 0.5) at every pixel center farther than `skip`
 // world units from every shape boundary, against `image`: the worst |E_image - E_ray| over
 // stratification_bound(scene, rays, overlapping) (at most 1 means they agree), the pixels
