@@ -561,10 +561,10 @@ TEST_CASE("partition_convex: combs with their teeth along either axis, exact, th
   // Eight times the teeth: the pairs of edges the validation compares and the pairs of piece
   // edges shared_boundaries compares grow about eightfold (64-fold when every tooth's edges
   // are compared with every other tooth's, as they were along y, and for shared boundaries
-  // along x too). The ear tests' scans still grow quadratically (the base's fan).
+  // along x too).
   for (const bool sideways : {false, true}) {
     CAPTURE(sideways);
-    std::size_t edge_pairs[2] = {}, ear_scans[2] = {}, boundary_pairs[2] = {};
+    std::size_t edge_pairs[2] = {}, triangulation_tests[2] = {}, boundary_pairs[2] = {};
     const int teeth[2] = {500, 4000};
     for (int size = 0; size < 2; ++size) {
       const PolygonRings polygon{comb(teeth[size], sideways), {}};
@@ -577,7 +577,7 @@ TEST_CASE("partition_convex: combs with their teeth along either axis, exact, th
       std::vector<Segment> shared;
       detail::shared_boundaries(as_polygons, shared, &boundary_pairs[size]);
       edge_pairs[size] = work.edge_pairs;
-      ear_scans[size] = work.ear_scans;
+      triangulation_tests[size] = work.triangulation_tests;
       // One piece per tooth and the base under them all, T-junctions with the base at each tooth.
       CHECK(pieces.size() == static_cast<std::size_t>(teeth[size]) + 1);
       CHECK(shared.size() == static_cast<std::size_t>(teeth[size]));
@@ -586,8 +586,8 @@ TEST_CASE("partition_convex: combs with their teeth along either axis, exact, th
         check_partition(polygon, pieces, random_samples(rng, polygon.outer, 4000));
       }
     }
-    MESSAGE("edge pairs " << edge_pairs[0] << " -> " << edge_pairs[1] << ", ear scans " << ear_scans[0] << " -> "
-                          << ear_scans[1] << ", boundary pairs " << boundary_pairs[0] << " -> " << boundary_pairs[1]);
+    MESSAGE("edge pairs " << edge_pairs[0] << " -> " << edge_pairs[1] << ", triangulation tests " << triangulation_tests[0] << " -> "
+                          << triangulation_tests[1] << ", boundary pairs " << boundary_pairs[0] << " -> " << boundary_pairs[1]);
     CHECK(edge_pairs[1] <= 12 * edge_pairs[0]);
     CHECK(boundary_pairs[1] <= 12 * boundary_pairs[0]);
   }

@@ -1,13 +1,15 @@
 // Convex partition of a polygon with holes (polygon_partition.hpp): clean and validate the
-// rings, bridge the holes into the outer ring, clip ears, then merge triangles across
-// diagonals while the merged piece stays convex (Hertel-Mehlhorn). Every decision is an exact
-// orientation sign or a comparison of input coordinates; no point is ever computed.
+// rings, triangulate them by a monotone decomposition (holes need no bridges), then merge
+// triangles across diagonals while the merged piece stays convex (Hertel-Mehlhorn). Every
+// decision is an exact orientation sign or a comparison of input coordinates; no point is ever
+// computed.
 #include "geometry/polygon_partition.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <set>
 #include <utility>
 
 namespace par2d::detail {
@@ -252,244 +254,262 @@ bool box_inside(const Ring& inner, const Ring& outer) noexcept {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The ring being triangulated: nodes in a doubly linked list, each naming a vertex id. A
-// bridge visits its two end points twice, so one vertex can have several nodes ("copies"),
-// each with its own wedge of the polygon.
+// Triangulation by monotone decomposition (de Berg et al., Computational Geometry, ch. 3): a
+// sweep from top to bottom adds diagonals that cut the polygon, holes included, into pieces
+// monotone along the sweep, and each piece is triangulated in one pass down its two chains.
+// O(n log n) for n vertices in all rings, whatever the shape. "Above" is the sweep order: larger
+// y, or equal y and smaller x (a symbolic rotation, so that no two vertices tie and a
+// horizontal edge is treated as descending to the right). Every decision is that order or an
+// exact orientation sign.
 
+bool above(Vec2 p, Vec2 q) noexcept { return p.y > q.y || (p.y == q.y && p.x < q.x); }
+
+// The rings and the diagonals added to them: nodes in doubly linked rings, each naming a vertex
+// id. A vertex where diagonals end has one node ("copy") per piece around it, each with its
+// own wedge of the polygon.
 struct Mesh {
-  std::vector<Vec2> points;  // by vertex id
+  std::vector<Vec2> points;             // by vertex id
   std::vector<int> vertex, prev, next;  // by node
+  std::vector<int> next_copy;           // by node: the vertex's next node, or -1
+  std::vector<int> first_copy;          // by vertex id
 
   Vec2 at(int node) const noexcept { return points[static_cast<std::size_t>(vertex[node])]; }
   int add_node(int vertex_id) {
     vertex.push_back(vertex_id);
     prev.push_back(-1);
     next.push_back(-1);
-    return static_cast<int>(vertex.size()) - 1;
+    next_copy.push_back(first_copy[static_cast<std::size_t>(vertex_id)]);
+    const int node = static_cast<int>(vertex.size()) - 1;
+    first_copy[static_cast<std::size_t>(vertex_id)] = node;
+    return node;
   }
   // Whether the direction from node x toward d lies in the polygon's (closed) wedge at x: from
   // the outgoing edge counter-clockwise to the incoming one (the interior lies left of edges).
   bool wedge_holds(int x, Vec2 d) const noexcept { return in_wedge(at(x), at(next[x]), at(prev[x]), d); }
-};
-
-// Which of two ray hits (the ray from m toward +x) is nearer. A hit is a vertex on the ray or
-// an edge crossing it strictly between its end points (lo below the ray, hi above).
-struct RayHit {
-  bool is_vertex = false;
-  int node = -1;  // the vertex's node, or the node starting the edge
-  Vec2 point, lo, hi;
-};
-
-// Sign of x2 - x1 where edges 1 and 2 (lo below, hi above the ray's line) cross that line. The
-// edges of a valid ring never cross, so on their common y-range one stays on one side of the
-// other: the sign is read at the range's lower end, or at its upper end where they meet below.
-int crossing_order(const RayHit& e1, const RayHit& e2) noexcept {
-  int s = e2.lo.y >= e1.lo.y ? -orientation(e1.lo, e1.hi, e2.lo) : orientation(e2.lo, e2.hi, e1.lo);
-  if (s != 0) return s;
-  s = e2.hi.y <= e1.hi.y ? -orientation(e1.lo, e1.hi, e2.hi) : orientation(e2.lo, e2.hi, e1.hi);
-  return s;
-}
-
-// Whether hit a is strictly nearer to the ray's origin than hit b.
-bool nearer(const RayHit& a, const RayHit& b) noexcept {
-  if (a.is_vertex && b.is_vertex) return a.point.x < b.point.x;
-  if (a.is_vertex) return orientation(b.lo, b.hi, a.point) > 0;  // left of b's crossing
-  if (b.is_vertex) return orientation(a.lo, a.hi, b.point) < 0;
-  return crossing_order(a, b) > 0;
-}
-
-// The node of the ring visible from m (a hole's lexicographically largest vertex; every vertex
-// of the holes not yet bridged is lexicographically smaller, so only the ring can block) that
-// the bridge goes to, or -1. Eberly's choice, made exactly: the nearest hit of the ray m + t
-// (1, 0); a vertex hit is visible; for an edge hit, its end point P of larger x is visible
-// unless ring vertices lie in the closed triangle (m, crossing, P), and then the one among them
-// at the smallest angle from the ray (the nearest on ties) is.
-int find_bridge(const Mesh& mesh, const std::vector<int>& ring_nodes, Vec2 m) {
-  RayHit best;
-  bool found = false;
-  for (const int n : ring_nodes) {
-    const Vec2 p = mesh.at(n), q = mesh.at(mesh.next[n]);
-    if (p.y == m.y && p.x > m.x) {
-      RayHit hit;
-      hit.is_vertex = true;
-      hit.node = n;
-      hit.point = p;
-      if (!found || nearer(hit, best)) best = hit;
-      found = true;
-    }
-    if ((p.y < m.y && q.y > m.y) || (p.y > m.y && q.y < m.y)) {
-      RayHit hit;
-      hit.node = n;
-      hit.lo = p.y < q.y ? p : q;
-      hit.hi = p.y < q.y ? q : p;
-      if (orientation(hit.lo, hit.hi, m) > 0) {  // m left of the upward edge: the crossing is right of m
-        if (!found || nearer(hit, best)) best = hit;
-        found = true;
-      }
-    }
+  // The copy of vertex v whose wedge holds the direction toward d, or -1.
+  int copy_toward(int v, Vec2 d) const noexcept {
+    for (int x = first_copy[static_cast<std::size_t>(v)]; x >= 0; x = next_copy[static_cast<std::size_t>(x)])
+      if (wedge_holds(x, d)) return x;
+    return -1;
   }
-  if (!found) return -1;
-  Vec2 target = best.point;
-  if (!best.is_vertex) {
-    const bool hi_is_p = best.hi.x >= best.lo.x;
-    const Vec2 p = hi_is_p ? best.hi : best.lo, q = hi_is_p ? best.lo : best.hi;
-    const bool above = p.y > m.y;
-    bool have = false;
-    Vec2 choice{};
-    for (const int n : ring_nodes) {
-      const Vec2 r = mesh.at(n);
-      if (same_point(r, p)) continue;
-      // In the closed triangle (m, crossing, p): on p's side of the ray's line, on m's side of
-      // the edge's line, on the crossing's side of the line m p.
-      const bool inside = above ? (r.y >= m.y && orientation(q, p, r) >= 0 && orientation(p, m, r) >= 0)
-                                : (r.y <= m.y && orientation(p, q, r) >= 0 && orientation(m, p, r) >= 0);
-      if (!inside) continue;
-      if (!have) {
-        choice = r;
-        have = true;
-        continue;
-      }
-      const int o = orientation(m, r, choice);
-      if ((above ? o > 0 : o < 0) || (o == 0 && r.x < choice.x)) choice = r;
-    }
-    target = have ? choice : p;
-  }
-  // The copy of the target point whose wedge holds the direction to m.
-  for (const int n : ring_nodes)
-    if (same_point(mesh.at(n), target) && mesh.wedge_holds(n, m)) return n;
-  return -1;
-}
-
-// ---------------------------------------------------------------------------------------------
-// Ear clipping on the bridged ring (counter-clockwise). Node v with neighbours u, w is an ear
-// when (1) u v w turns strictly left, (2) the triangle's corners at u and w lie in the ring's
-// wedges there (so the copies of u and w, whose wedges are elsewhere, cannot reach into it),
-// (3) no vertex other than copies of u, v, w lies in the closed triangle. Then no boundary
-// meets the triangle's interior and it lies in the polygon. If any vertex lies in the triangle
-// then a non-convex one does (the one nearest v sees open polygon toward v), so (3) scans the
-// non-convex nodes only; a node's turn only grows more convex as ears are clipped beside it.
-// (2) is implied by (3) on a weakly simple ring as far as the tests reach (dropping it fails
-// none); it is kept because it is local and cheap, and it only ever refuses an ear whose
-// triangle would leave the polygon at u or w.
-
-class EarClipper {
- public:
-  EarClipper(Mesh& mesh, const std::vector<int>& ring_nodes, std::size_t& scanned)
-      : mesh_(mesh), nodes_(ring_nodes), scanned_(scanned) {
-    const std::size_t total = mesh.vertex.size();
-    alive_.assign(total, 0);
-    reflex_.assign(total, 0);
-    for (const int n : nodes_) {
-      alive_[n] = 1;
-      if (!convex(n)) {
-        reflex_[n] = 1;
-        reflex_by_x_.push_back(n);
-      }
-    }
-    // By x and by y, so that an ear test scans only the nodes within its triangle's x-range or
-    // its y-range, whichever holds fewer (a comb's teeth lie side by side along one axis).
-    std::sort(reflex_by_x_.begin(), reflex_by_x_.end(), [&](int a, int b) { return mesh_.at(a).x < mesh_.at(b).x; });
-    reflex_by_y_ = reflex_by_x_;
-    std::sort(reflex_by_y_.begin(), reflex_by_y_.end(), [&](int a, int b) { return mesh_.at(a).y < mesh_.at(b).y; });
-  }
-
-  // Appends the triangles (vertex ids, counter-clockwise). False when clipping stalls on a ring
-  // that still has area (a bug; valid input never gets here).
-  bool run(std::vector<std::array<int, 3>>& triangles) {
-    std::vector<int> work(nodes_.rbegin(), nodes_.rend());
-    int count = static_cast<int>(nodes_.size());
-    bool clipped_since_fill = false;
-    // Clipping v changes the ring only at u and w, so only u, w, prev(u) (whose corner test
-    // reads u's wedge) and next(w) change ear status: a node whose triangle held v also held
-    // another vertex, which stays. The refill below is therefore a safety net (the tests
-    // never reach it), and the work is O(n) ear tests of O(reflex vertices) each.
-    while (count >= 3) {
-      if (work.empty()) {
-        if (!clipped_since_fill) break;
-        clipped_since_fill = false;
-        for (const int n : nodes_)
-          if (alive_[n]) work.push_back(n);
-        continue;
-      }
-      const int v = work.back();
-      work.pop_back();
-      if (!alive_[v] || !is_ear(v)) continue;
-      const int u = mesh_.prev[v], w = mesh_.next[v];
-      triangles.push_back({mesh_.vertex[u], mesh_.vertex[v], mesh_.vertex[w]});
-      mesh_.next[u] = w;
-      mesh_.prev[w] = u;
-      alive_[v] = 0;
-      --count;
-      clipped_since_fill = true;
-      for (const int x : {u, w})
-        if (reflex_[x] && convex(x)) {
-          reflex_[x] = 0;
-          ++stale_;
-        }
-      if (reflex_[v]) ++stale_;  // cannot be: an ear tip is convex
-      if (stale_ * 2 > reflex_by_x_.size()) compact();
-      work.push_back(mesh_.next[w]);
-      work.push_back(mesh_.prev[u]);
-      work.push_back(w);
-      work.push_back(u);
-    }
-    if (count < 3) return true;
-    // Stalled: fine only if what is left has no area (a slit traced both ways).
-    for (const int n : nodes_)
-      if (alive_[n] && orientation(mesh_.at(mesh_.prev[n]), mesh_.at(n), mesh_.at(mesh_.next[n])) != 0) return false;
+  // Cuts the piece holding the diagonal between vertices a and b (distinct, the diagonal inside
+  // the polygon) into two along it. False if no wedge at a or b holds it (a bug).
+  bool split(int a, int b) {
+    const int na = copy_toward(a, points[static_cast<std::size_t>(b)]);
+    const int nb = copy_toward(b, points[static_cast<std::size_t>(a)]);
+    if (na < 0 || nb < 0) return false;
+    const int a_next = next[na], b_next = next[nb];
+    const int a2 = add_node(a), b2 = add_node(b);
+    // na -> b2 -> (old next of nb) ... na, and nb -> a2 -> (old next of na) ... nb.
+    next[na] = b2;
+    prev[b2] = na;
+    next[b2] = b_next;
+    prev[b_next] = b2;
+    next[nb] = a2;
+    prev[a2] = nb;
+    next[a2] = a_next;
+    prev[a_next] = a2;
     return true;
+  }
+};
+
+// The edges the sweep line crosses with the polygon's interior on their right, left to right.
+// An edge is named by the node it starts at; it runs downward (its start is above its end).
+// Two such edges never cross, so the one that entered later has its start between the other's
+// ends, strictly left or right of it: that orders them.
+class SweepStatus {
+ public:
+  SweepStatus(const Mesh& mesh, std::size_t node_count, std::size_t& tests)
+      : edges_(Order{&mesh, &tests}), where_(node_count), inside_(node_count, 0) {}
+
+  void insert(int edge) {
+    where_[static_cast<std::size_t>(edge)] = edges_.insert(edge).first;
+    inside_[static_cast<std::size_t>(edge)] = 1;
+  }
+  void erase(int edge) {
+    if (!inside_[static_cast<std::size_t>(edge)]) return;
+    edges_.erase(where_[static_cast<std::size_t>(edge)]);
+    inside_[static_cast<std::size_t>(edge)] = 0;
+  }
+  // The edge directly left of p (the nearest whose crossing with p's sweep line is left of p),
+  // or -1.
+  int left_of(Vec2 p) const {
+    auto it = edges_.lower_bound(p);  // the first edge not left of p
+    if (it == edges_.begin()) return -1;
+    return *--it;
   }
 
  private:
-  bool convex(int n) const noexcept {
-    return orientation(mesh_.at(mesh_.prev[n]), mesh_.at(n), mesh_.at(mesh_.next[n])) > 0;
-  }
-
-  void compact() {
-    for (std::vector<int>* list : {&reflex_by_x_, &reflex_by_y_}) {
-      std::size_t kept = 0;
-      for (const int n : *list)
-        if (alive_[n] && reflex_[n]) (*list)[kept++] = n;
-      list->resize(kept);
+  struct Order {
+    using is_transparent = void;
+    const Mesh* mesh;
+    std::size_t* tests;
+    // Whether edge e passes left of p, p strictly between its ends in the sweep order.
+    bool edge_left(int e, Vec2 p) const noexcept {
+      ++*tests;
+      return orientation(mesh->at(e), mesh->at(mesh->next[e]), p) > 0;
     }
-    stale_ = 0;
-  }
-
-  bool is_ear(int v) noexcept {
-    const int u = mesh_.prev[v], w = mesh_.next[v];
-    const Vec2 a = mesh_.at(u), b = mesh_.at(v), c = mesh_.at(w);
-    if (orientation(a, b, c) <= 0) return false;
-    if (!in_wedge(a, b, mesh_.at(mesh_.prev[u]), c)) return false;  // corner at u: from u->v to u->w
-    if (!in_wedge(c, mesh_.at(mesh_.next[w]), b, a)) return false;  // corner at w: from w->u to w->v
-    const double min_x = std::min({a.x, b.x, c.x}), max_x = std::max({a.x, b.x, c.x});
-    const double min_y = std::min({a.y, b.y, c.y}), max_y = std::max({a.y, b.y, c.y});
-    const auto by_x_first = std::lower_bound(reflex_by_x_.begin(), reflex_by_x_.end(), min_x,
-                                             [&](int r, double x) { return mesh_.at(r).x < x; });
-    const auto by_x_last = std::upper_bound(by_x_first, reflex_by_x_.end(), max_x,
-                                            [&](double x, int r) { return x < mesh_.at(r).x; });
-    const auto by_y_first = std::lower_bound(reflex_by_y_.begin(), reflex_by_y_.end(), min_y,
-                                             [&](int r, double y) { return mesh_.at(r).y < y; });
-    const auto by_y_last = std::upper_bound(by_y_first, reflex_by_y_.end(), max_y,
-                                            [&](double y, int r) { return y < mesh_.at(r).y; });
-    const bool by_x = by_x_last - by_x_first <= by_y_last - by_y_first;
-    for (auto it = by_x ? by_x_first : by_y_first, end = by_x ? by_x_last : by_y_last; it != end; ++it) {
-      ++scanned_;
-      const int r = *it;
-      const Vec2 p = mesh_.at(r);
-      if (!alive_[r] || !reflex_[r] || p.x < min_x || p.x > max_x || p.y < min_y || p.y > max_y) continue;
-      if (same_point(p, a) || same_point(p, b) || same_point(p, c)) continue;
-      if (orientation(a, b, p) >= 0 && orientation(b, c, p) >= 0 && orientation(c, a, p) >= 0) return false;
+    bool operator()(int a, int b) const noexcept {
+      if (a == b) return false;
+      const Vec2 pa = mesh->at(a), pb = mesh->at(b);
+      if (above(pb, pa)) return !edge_left(b, pa);  // a entered later: a is left of b unless b passes left of a's start
+      return edge_left(a, pb);
     }
-    return true;
-  }
-
-  Mesh& mesh_;
-  const std::vector<int>& nodes_;
-  std::size_t& scanned_;
-  std::vector<char> alive_, reflex_;
-  std::vector<int> reflex_by_x_, reflex_by_y_;  // the reflex nodes by x and by y
-  std::size_t stale_ = 0;
+    bool operator()(int e, Vec2 p) const noexcept { return edge_left(e, p); }
+    bool operator()(Vec2 p, int e) const noexcept { return !edge_left(e, p); }
+  };
+  std::set<int, Order> edges_;
+  std::vector<std::set<int, Order>::iterator> where_;  // by edge, while inside_
+  std::vector<char> inside_;
 };
+
+// Adds the diagonals that cut the mesh's rings (outer counter-clockwise, holes clockwise) into
+// pieces monotone in the sweep order: each split vertex (a reflex vertex whose neighbours are
+// both below) gets a diagonal up, each merge vertex (reflex, both neighbours above) one down, to
+// the "helper" of the edge left of it (the lowest vertex above the sweep line that sees that
+// edge horizontally). False on a bug (no edge where one must be).
+bool monotone_diagonals(const Mesh& mesh, int node_count, std::vector<std::pair<int, int>>& diagonals,
+                        std::size_t& tests) {
+  std::vector<int> order(static_cast<std::size_t>(node_count));
+  for (int n = 0; n < node_count; ++n) order[static_cast<std::size_t>(n)] = n;
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return above(mesh.at(a), mesh.at(b)); });
+  std::vector<int> helper(static_cast<std::size_t>(node_count), -1);
+  std::vector<char> merge(static_cast<std::size_t>(node_count), 0);
+  SweepStatus status(mesh, static_cast<std::size_t>(node_count), tests);
+  const auto connect_if_merge = [&](int v, int edge) {
+    const int h = helper[static_cast<std::size_t>(edge)];
+    if (h >= 0 && merge[static_cast<std::size_t>(h)]) diagonals.emplace_back(v, h);
+  };
+  for (const int v : order) {
+    const int u = mesh.prev[v], w = mesh.next[v];
+    const Vec2 pu = mesh.at(u), pv = mesh.at(v), pw = mesh.at(w);
+    const bool reflex = orientation(pu, pv, pw) < 0;  // no straight vertex is left
+    const bool u_below = above(pv, pu), w_below = above(pv, pw);
+    if (u_below && w_below) {
+      if (reflex) {  // split
+        const int e = status.left_of(pv);
+        if (e < 0) return false;
+        diagonals.emplace_back(v, helper[static_cast<std::size_t>(e)]);
+        helper[static_cast<std::size_t>(e)] = v;
+      }
+      status.insert(v);  // start or split: the edge v -> w enters
+      helper[static_cast<std::size_t>(v)] = v;
+    } else if (!u_below && !w_below) {
+      connect_if_merge(v, u);  // end or merge: the edge u -> v leaves
+      status.erase(u);
+      if (reflex) {
+        merge[static_cast<std::size_t>(v)] = 1;
+        const int e = status.left_of(pv);
+        if (e < 0) return false;
+        connect_if_merge(v, e);
+        helper[static_cast<std::size_t>(e)] = v;
+      }
+    } else if (w_below) {  // going down: the interior is right of v
+      connect_if_merge(v, u);
+      status.erase(u);
+      status.insert(v);
+      helper[static_cast<std::size_t>(v)] = v;
+    } else {  // going up: the interior is left of v
+      const int e = status.left_of(pv);
+      if (e < 0) return false;
+      connect_if_merge(v, e);
+      helper[static_cast<std::size_t>(e)] = v;
+    }
+  }
+  return true;
+}
+
+// Triangulates one monotone piece (the ring through `start`) in one pass down its two chains,
+// appending counter-clockwise triangles of vertex ids. Triangles a run of collinear vertices
+// would make flat are left out (they hold no area).
+void triangulate_monotone(const Mesh& mesh, int start, std::vector<std::array<int, 3>>& triangles,
+                          std::vector<std::pair<int, bool>>& sorted, std::vector<std::pair<int, bool>>& stack,
+                          std::size_t& tests) {
+  int top = start, bottom = start;
+  for (int x = mesh.next[start]; x != start; x = mesh.next[x]) {
+    if (above(mesh.at(x), mesh.at(top))) top = x;
+    if (above(mesh.at(bottom), mesh.at(x))) bottom = x;
+  }
+  // Down the left chain (following next from the top) and the right one (prev from the top),
+  // merged; `true` marks the left chain.
+  sorted.clear();
+  sorted.emplace_back(top, true);
+  int l = mesh.next[top], r = mesh.prev[top];
+  while (l != bottom || r != bottom) {
+    if (r == bottom || (l != bottom && above(mesh.at(l), mesh.at(r)))) {
+      sorted.emplace_back(l, true);
+      l = mesh.next[l];
+    } else {
+      sorted.emplace_back(r, false);
+      r = mesh.prev[r];
+    }
+  }
+  sorted.emplace_back(bottom, true);
+  const auto emit = [&](int a, int b, int c) {
+    ++tests;
+    const int o = orientation(mesh.at(a), mesh.at(b), mesh.at(c));
+    if (o > 0) triangles.push_back({mesh.vertex[a], mesh.vertex[b], mesh.vertex[c]});
+    if (o < 0) triangles.push_back({mesh.vertex[a], mesh.vertex[c], mesh.vertex[b]});
+  };
+  const std::size_t n = sorted.size();
+  if (n < 3) return;
+  stack.assign(sorted.begin(), sorted.begin() + 2);
+  for (std::size_t j = 2; j + 1 < n; ++j) {
+    const auto [v, left] = sorted[j];
+    if (left != stack.back().second) {
+      // v sees the whole reflex chain on the other side: a fan.
+      for (std::size_t k = 0; k + 1 < stack.size(); ++k) emit(v, stack[k].first, stack[k + 1].first);
+      const auto last = stack.back();
+      stack.clear();
+      stack.push_back(last);
+      stack.emplace_back(v, left);
+    } else {
+      // Same chain: clip while the triangle with the next vertex up turns the way the chain's
+      // interior lies (strictly: a collinear run stays on the stack).
+      auto x = stack.back();
+      stack.pop_back();
+      while (!stack.empty()) {
+        const int t = stack.back().first;
+        ++tests;
+        const int o = left ? orientation(mesh.at(t), mesh.at(x.first), mesh.at(v))
+                           : orientation(mesh.at(v), mesh.at(x.first), mesh.at(t));
+        if (o <= 0) break;
+        if (left)
+          triangles.push_back({mesh.vertex[t], mesh.vertex[x.first], mesh.vertex[v]});
+        else
+          triangles.push_back({mesh.vertex[v], mesh.vertex[x.first], mesh.vertex[t]});
+        x = stack.back();
+        stack.pop_back();
+      }
+      stack.push_back(x);
+      stack.emplace_back(v, left);
+    }
+  }
+  const int b = sorted[n - 1].first;
+  for (std::size_t k = 0; k + 1 < stack.size(); ++k) emit(b, stack[k].first, stack[k + 1].first);
+}
+
+// Triangulates the mesh's rings (outer counter-clockwise, holes clockwise, pairwise disjoint):
+// the monotone diagonals, then each piece. False on a bug.
+bool triangulate(Mesh& mesh, std::vector<std::array<int, 3>>& triangles, std::size_t& tests) {
+  const int ring_nodes = static_cast<int>(mesh.vertex.size());
+  std::vector<std::pair<int, int>> diagonals;
+  if (!monotone_diagonals(mesh, ring_nodes, diagonals, tests)) return false;
+  for (const auto& [a, b] : diagonals)
+    if (!mesh.split(mesh.vertex[a], mesh.vertex[b])) return false;
+  std::vector<char> seen(mesh.vertex.size(), 0);
+  std::vector<std::pair<int, bool>> sorted, stack;
+  for (int n = 0; n < static_cast<int>(mesh.vertex.size()); ++n) {
+    if (seen[static_cast<std::size_t>(n)]) continue;
+    int x = n;
+    do {
+      seen[static_cast<std::size_t>(x)] = 1;
+      x = mesh.next[x];
+    } while (x != n);
+    triangulate_monotone(mesh, n, triangles, sorted, stack, tests);
+  }
+  return true;
+}
 
 // ---------------------------------------------------------------------------------------------
 // Hertel-Mehlhorn: remove each diagonal (an edge two triangles share) whose removal leaves a
@@ -628,8 +648,7 @@ bool partition_convex(const PolygonRings& polygon, std::vector<std::vector<Vec2>
   }
 
   Mesh mesh;
-  std::vector<int> ring_nodes;
-  std::vector<int> hole_start(hole_count + 1, 0);  // node of each hole's lexicographically largest vertex
+  mesh.first_copy.assign(total, -1);
   for (std::size_t r = 0; r <= hole_count; ++r) {
     const auto& pts = rings[r].points;
     const int first = static_cast<int>(mesh.vertex.size());
@@ -639,47 +658,12 @@ bool partition_convex(const PolygonRings& polygon, std::vector<std::vector<Vec2>
       const int node = mesh.add_node(static_cast<int>(mesh.points.size()) - 1);
       mesh.prev[node] = first + (k + n - 1) % n;
       mesh.next[node] = first + (k + 1) % n;
-      if (r == 0) ring_nodes.push_back(node);
-      if (k == 0 || lex_less(mesh.at(hole_start[r]), pts[k])) hole_start[r] = node;
     }
   }
-  // Holes by decreasing largest vertex: each one's bridge runs where no later hole reaches.
-  std::vector<std::size_t> order;
-  for (std::size_t h = 1; h <= hole_count; ++h) order.push_back(h);
-  std::sort(order.begin(), order.end(),
-            [&](std::size_t a, std::size_t b) { return lex_less(mesh.at(hole_start[b]), mesh.at(hole_start[a])); });
-  for (const std::size_t h : order) {
-    const int m = hole_start[h];
-    const int r = find_bridge(mesh, ring_nodes, mesh.at(m));
-    if (r < 0) {
-      error = "internal error: no bridge found for " + rings[h].name;
-      return false;
-    }
-    // r -> m -> (around the hole) -> m' -> r' -> old next of r.
-    const int r_next = mesh.next[r], m_prev = mesh.prev[m];
-    const int m_copy = mesh.add_node(mesh.vertex[m]);
-    const int r_copy = mesh.add_node(mesh.vertex[r]);
-    int x = m;
-    do {
-      ring_nodes.push_back(x);
-      x = mesh.next[x];
-    } while (x != m);
-    mesh.next[r] = m;
-    mesh.prev[m] = r;
-    mesh.next[m_prev] = m_copy;
-    mesh.prev[m_copy] = m_prev;
-    mesh.next[m_copy] = r_copy;
-    mesh.prev[r_copy] = m_copy;
-    mesh.next[r_copy] = r_next;
-    mesh.prev[r_next] = r_copy;
-    ring_nodes.push_back(m_copy);
-    ring_nodes.push_back(r_copy);
-  }
-
   std::vector<std::array<int, 3>> triangles;
-  triangles.reserve(ring_nodes.size());
-  if (!EarClipper(mesh, ring_nodes, counted.ear_scans).run(triangles)) {
-    error = "internal error: ear clipping stalled";
+  triangles.reserve(mesh.points.size() + 2 * hole_count);
+  if (!triangulate(mesh, triangles, counted.triangulation_tests)) {
+    error = "internal error: the triangulation found no edge where one must be";
     return false;
   }
   std::vector<std::vector<int>> merged;

@@ -30,10 +30,11 @@ struct PolygonRings {
 inline constexpr std::size_t kMaxPartitionVertices = 65536;
 
 // What a partition looked at, for tests of how its work grows: the pairs of edges its
-// validation sweep compared, and the reflex vertices its ear tests scanned.
+// validation sweep compared, and the orientation tests its triangulation made (the sweep's
+// comparisons of an edge with a vertex, and the monotone pieces' triangle tests).
 struct PartitionWork {
   std::size_t edge_pairs = 0;
-  std::size_t ear_scans = 0;
+  std::size_t triangulation_tests = 0;
 };
 
 // Decomposes `polygon` into convex pieces.
@@ -64,12 +65,11 @@ struct PartitionWork {
 //
 // Cost: O(n log n) plus the pairs of edges whose x-ranges overlap (or y-ranges, where that
 // makes far fewer: an outline whose edges lie side by side along either axis, as a comb's, is
-// validated in O(n log n)), plus, per ear test, the reflex and straight vertices within its
-// triangle's x-range or y-range (the shorter); each hole's bridge scans the ring once, and
-// merging the triangles costs O(1) a diagonal. The ear tests stay quadratic where the
-// triangulation must fan out from one vertex over a long run of vertices (a comb's base under
-// its teeth: 65,534 vertices take about 2 s). `work`, when given, receives the counts of pairs
-// and scans. No input makes it crash, loop or produce non-finite output.
+// validated in O(n log n)). The triangulation (a sweep that cuts the polygon into monotone
+// pieces, holes included, then one pass down each piece) is O(n log n) for any shape, and
+// merging the triangles costs O(1) a diagonal. `work`, when given, receives the counts of
+// pairs and of the triangulation's orientation tests. No input makes it crash, loop or produce
+// non-finite output.
 bool partition_convex(const PolygonRings& polygon, std::vector<std::vector<Vec2>>& pieces, std::string& error,
                       PartitionWork* work = nullptr);
 
