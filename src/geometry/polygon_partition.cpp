@@ -190,6 +190,152 @@ std::size_t sweep_pairs(std::vector<std::pair<double, double>>& spans) {
 
 namespace {
 
+// The error for edge k of ring r and edge l of ring q meeting (crossing or touching).
+void report_meeting(const std::vector<Ring>& rings, int r, int k, int q, int l, bool cross, std::string& error) {
+  if (q < r || (q == r && l < k)) {
+    std::swap(r, q);
+    std::swap(k, l);
+  }
+  const std::string k1 = std::to_string(rings[r].input_index[k]);
+  const std::string k2 = std::to_string(rings[q].input_index[l]);
+  if (r == q) {
+    error = rings[r].name + ": edges " + k1 + " and " + k2 + (cross ? " cross" : " touch");
+  } else if (r == 0) {
+    error = rings[q].name + (cross ? " crosses" : " touches") + " the outer boundary (its edge " + k2 +
+            " and outer edge " + k1 + ")";
+  } else {
+    error = rings[r].name + " and " + rings[q].name +
+            (cross ? " overlap (edges " + k1 + " and " + k2 + " cross)" : " touch (edges " + k1 + " and " + k2 + ")");
+  }
+}
+
+// The same check as check_edges by a sweep (Shamos and Hoey) in O(n log n) for any shape, for
+// outlines whose edges' boxes overlap pairwise along both axes (a star's edges around its
+// centre). The sweep runs along x, then y (lexicographic order of the end points); the edges
+// it crosses are kept ordered bottom to top, and only edges next to each other there are
+// compared. At each end point p it first checks that exactly the two edges of one vertex end
+// there and that no other edge passes through p; with no meeting before p the order is
+// strict, and the first meeting (lexicographically) is found when the sweep reaches it or as
+// two edges become neighbours before it.
+class SimplicitySweep {
+ public:
+  SimplicitySweep(const std::vector<Ring>& rings, std::size_t& pairs)
+      : rings_(rings), pairs_(pairs), status_(Below{this}) {
+    for (int r = 0; r < static_cast<int>(rings.size()); ++r) {
+      const int n = static_cast<int>(rings[r].points.size());
+      for (int k = 0; k < n; ++k) {
+        Vec2 a = rings[r].points[k], b = rings[r].points[(k + 1) % n];
+        if (lex_less(b, a)) std::swap(a, b);
+        edges_.push_back({a, b, r, k});
+      }
+    }
+  }
+
+  // True when no two edges meet but adjacent ones at their vertex; else false with `error`.
+  bool run(std::string& error) {
+    struct Event {
+      Vec2 p;
+      int edge;
+      bool start;
+    };
+    std::vector<Event> events;
+    events.reserve(2 * edges_.size());
+    for (int e = 0; e < static_cast<int>(edges_.size()); ++e) {
+      events.push_back({edges_[e].lo, e, true});
+      events.push_back({edges_[e].hi, e, false});
+    }
+    std::sort(events.begin(), events.end(), [](const Event& a, const Event& b) { return lex_less(a.p, b.p); });
+    where_.resize(edges_.size());
+    std::vector<int> starting, ending;
+    for (std::size_t i = 0; i < events.size();) {
+      const Vec2 p = events[i].p;
+      starting.clear();
+      ending.clear();
+      for (; i < events.size() && same_point(events[i].p, p); ++i)
+        (events[i].start ? starting : ending).push_back(events[i].edge);
+      // Exactly the two edges of one vertex end at p.
+      std::vector<int>& at_p = ending;
+      for (const int e : ending) status_.erase(where_[static_cast<std::size_t>(e)]);
+      at_p.insert(at_p.end(), starting.begin(), starting.end());
+      for (std::size_t x = 0; x < at_p.size(); ++x)
+        for (std::size_t y = x + 1; y < at_p.size(); ++y)
+          if (!adjacent(at_p[x], at_p[y])) return meeting(at_p[x], at_p[y], error);
+      // No other edge passes through p; the edges just below and above it.
+      auto above = status_.lower_bound(p);
+      if (above != status_.end() && side(*above, p) == 0) return meeting(*above, at_p.front(), error);
+      if (starting.empty()) {
+        if (above != status_.end() && above != status_.begin() && !check(*std::prev(above), *above, error)) return false;
+        continue;
+      }
+      for (const int e : starting) where_[static_cast<std::size_t>(e)] = status_.insert(e).first;
+      for (const int e : starting) {
+        const auto it = where_[static_cast<std::size_t>(e)];
+        if (it != status_.begin() && !check(*std::prev(it), e, error)) return false;
+        if (std::next(it) != status_.end() && !check(e, *std::next(it), error)) return false;
+      }
+    }
+    return true;
+  }
+
+ private:
+  struct Edge {
+    Vec2 lo, hi;  // lexicographically ordered end points
+    int ring, k;
+  };
+  // Orders the edges the sweep line crosses bottom to top. Of two edges, the one that entered
+  // later has its start within the other's span: compared by the side of the other it starts
+  // on, or, for two edges from one point, by their directions.
+  struct Below {
+    using is_transparent = void;
+    const SimplicitySweep* sweep;
+    bool operator()(int a, int b) const noexcept {
+      if (a == b) return false;
+      const Edge& ea = sweep->edges_[static_cast<std::size_t>(a)];
+      const Edge& eb = sweep->edges_[static_cast<std::size_t>(b)];
+      ++sweep->pairs_;
+      if (same_point(ea.lo, eb.lo)) return orientation(ea.lo, ea.hi, eb.hi) > 0;
+      if (lex_less(eb.lo, ea.lo)) return sweep->side(b, ea.lo) < 0;
+      return sweep->side(a, eb.lo) > 0;
+    }
+    bool operator()(int e, Vec2 p) const noexcept { return sweep->side(e, p) > 0; }  // e passes below p
+    bool operator()(Vec2 p, int e) const noexcept { return sweep->side(e, p) < 0; }
+  };
+
+  int side(int e, Vec2 p) const noexcept {
+    const Edge& edge = edges_[static_cast<std::size_t>(e)];
+    return orientation(edge.lo, edge.hi, p);
+  }
+  bool adjacent(int a, int b) const noexcept {
+    const Edge& ea = edges_[static_cast<std::size_t>(a)];
+    const Edge& eb = edges_[static_cast<std::size_t>(b)];
+    if (ea.ring != eb.ring) return false;
+    const int n = static_cast<int>(rings_[static_cast<std::size_t>(ea.ring)].points.size());
+    return (ea.k + 1) % n == eb.k || (eb.k + 1) % n == ea.k;
+  }
+  bool meeting(int a, int b, std::string& error) const {
+    const Edge& ea = edges_[static_cast<std::size_t>(a)];
+    const Edge& eb = edges_[static_cast<std::size_t>(b)];
+    report_meeting(rings_, ea.ring, ea.k, eb.ring, eb.k, segments_meet(ea.lo, ea.hi, eb.lo, eb.hi) == Meet::cross,
+                   error);
+    return false;
+  }
+  // Two edges next to each other on the sweep line: false (with `error`) if they meet.
+  bool check(int a, int b, std::string& error) const {
+    ++pairs_;
+    if (adjacent(a, b)) return true;  // they share one vertex only: no fold survives cleaning
+    const Edge& ea = edges_[static_cast<std::size_t>(a)];
+    const Edge& eb = edges_[static_cast<std::size_t>(b)];
+    if (segments_meet(ea.lo, ea.hi, eb.lo, eb.hi) == Meet::none) return true;
+    return meeting(a, b, error);
+  }
+
+  const std::vector<Ring>& rings_;
+  std::size_t& pairs_;
+  std::vector<Edge> edges_;
+  std::set<int, Below> status_;
+  std::vector<std::set<int, Below>::iterator> where_;
+};
+
 // No two edges of all rings meet, except adjacent edges of one ring at their shared vertex.
 // Edges sorted by their smallest x (or y); each is compared with those whose x-range (y-range)
 // starts before its own ends, along y where that makes far fewer pairs: a comb's teeth side by
@@ -210,7 +356,10 @@ bool check_edges(const std::vector<Ring>& rings, std::string& error, std::size_t
     x_spans[i] = {edges[i].min_x, edges[i].max_x};
     y_spans[i] = {edges[i].min_y, edges[i].max_y};
   }
-  const bool along_y = sweep_along_y(edges.size(), sweep_pairs(x_spans), sweep_pairs(y_spans));
+  const std::size_t x_pairs = sweep_pairs(x_spans), y_pairs = sweep_pairs(y_spans);
+  // Pairs in both axes far beyond the edges: the sweep, whose cost does not depend on them.
+  if (std::min(x_pairs, y_pairs) > 16 * edges.size()) return SimplicitySweep(rings, pairs).run(error);
+  const bool along_y = sweep_along_y(edges.size(), x_pairs, y_pairs);
   if (along_y)
     std::sort(edges.begin(), edges.end(), [](const EdgeBox& a, const EdgeBox& b) { return a.min_y < b.min_y; });
   for (std::size_t i = 0; i < edges.size(); ++i) {
@@ -228,20 +377,7 @@ bool check_edges(const std::vector<Ring>& rings, std::string& error, std::size_t
       const int ne = static_cast<int>(pe.size()), nf = static_cast<int>(pf.size());
       const Meet meet = segments_meet(pe[e.k], pe[(e.k + 1) % ne], pf[f.k], pf[(f.k + 1) % nf]);
       if (meet == Meet::none) continue;
-      const bool cross = meet == Meet::cross;
-      const EdgeBox& first = (e.ring < f.ring || (e.ring == f.ring && e.k < f.k)) ? e : f;
-      const EdgeBox& second = &first == &e ? f : e;
-      const std::string k1 = std::to_string(rings[first.ring].input_index[first.k]);
-      const std::string k2 = std::to_string(rings[second.ring].input_index[second.k]);
-      if (first.ring == second.ring) {
-        error = rings[first.ring].name + ": edges " + k1 + " and " + k2 + (cross ? " cross" : " touch");
-      } else if (first.ring == 0) {
-        error = rings[second.ring].name + (cross ? " crosses" : " touches") + " the outer boundary (its edge " + k2 +
-                " and outer edge " + k1 + ")";
-      } else {
-        error = rings[first.ring].name + " and " + rings[second.ring].name +
-                (cross ? " overlap (edges " + k1 + " and " + k2 + " cross)" : " touch (edges " + k1 + " and " + k2 + ")");
-      }
+      report_meeting(rings, e.ring, e.k, f.ring, f.k, meet == Meet::cross, error);
       return false;
     }
   }
