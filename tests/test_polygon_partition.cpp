@@ -685,6 +685,48 @@ TEST_CASE("partition_convex: outlines whose edges' boxes all overlap (stars) are
   CHECK(accepted > 10);
 }
 
+TEST_CASE("partition_convex: many holes, placed by the sweep: holes outside the outer boundary and nested holes are refused by name") {
+  // A square with a 6 x 6 grid of holes (more hole pairs than vertices: the sweep places them),
+  // every other one wound the other way and some of them triangles.
+  std::mt19937_64 rng(36);
+  const auto grid = [] {
+    PolygonRings p{{{0, 0}, {19, 0}, {19, 19}, {0, 19}}, {}};
+    for (int a = 0; a < 6; ++a)
+      for (int b = 0; b < 6; ++b) {
+        const double x = 3.0 * a + 1, y = 3.0 * b + 1;
+        std::vector<Vec2> hole{{x, y}, {x + 2, y}, {x + 2, y + 2}, {x, y + 2}};
+        if ((a + b) % 3 == 0) hole.erase(hole.begin() + 2);
+        if ((a + b) % 2 == 0) std::reverse(hole.begin(), hole.end());
+        p.holes.push_back(hole);
+      }
+    return p;
+  };
+  const PolygonRings valid = grid();
+  check_partition(valid, partition_ok(valid), random_samples(rng, valid.outer, 3000));
+  const auto refused_with = [](const PolygonRings& p, const std::string& expected) {
+    Pieces pieces;
+    std::string error;
+    CHECK_FALSE(partition_convex(p, pieces, error));
+    CHECK(error == expected);
+    CHECK(pieces.empty());
+  };
+  PolygonRings outside = grid();
+  for (Vec2& v : outside.holes[7]) v.x += 100.0;
+  refused_with(outside, "holes[7]: not inside the outer boundary");
+  PolygonRings left_of_all = grid();
+  for (Vec2& v : left_of_all.holes[20]) v.x -= 100.0;
+  refused_with(left_of_all, "holes[20]: not inside the outer boundary");
+  PolygonRings nested = grid();
+  nested.holes[12] = {{4.5, 4.5}, {4.75, 4.5}, {4.75, 4.75}, {4.5, 4.75}};  // inside holes[7]'s square
+  refused_with(nested, "holes[12] lies inside holes[7] (nested holes)");
+  PolygonRings nested_deeper = nested;  // inside holes[12], itself inside holes[7]
+  nested_deeper.holes[30] = {{4.6, 4.6}, {4.7, 4.6}, {4.7, 4.7}};
+  refused_with(nested_deeper, "holes[12] lies inside holes[7] (nested holes)");
+  PolygonRings in_outside = outside;  // inside holes[7], which lies outside the outer boundary
+  in_outside.holes[13] = {{104.5, 4.5}, {104.75, 4.5}, {104.75, 4.75}};
+  refused_with(in_outside, "holes[7]: not inside the outer boundary");
+}
+
 // Comb, slanted comb, star, spiral, and a square with a grid of holes, of about n vertices.
 PolygonRings growth_shape(int kind, int n, std::mt19937_64& rng) {
   PolygonRings p;

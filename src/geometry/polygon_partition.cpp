@@ -225,11 +225,17 @@ class SimplicitySweep {
       const int n = static_cast<int>(rings[r].points.size());
       for (int k = 0; k < n; ++k) {
         Vec2 a = rings[r].points[k], b = rings[r].points[(k + 1) % n];
-        if (lex_less(b, a)) std::swap(a, b);
-        edges_.push_back({a, b, r, k});
+        const bool forward = !lex_less(b, a);
+        if (!forward) std::swap(a, b);
+        edges_.push_back({a, b, r, k, forward});
       }
+      ccw_.push_back(ring_orientation(rings[r].points) > 0);
     }
+    parent_.assign(rings.size(), -1);
   }
+
+  // After a successful run: the ring whose region immediately encloses ring r's, or -1.
+  int parent(int r) const noexcept { return parent_[static_cast<std::size_t>(r)]; }
 
   // True when no two edges meet but adjacent ones at their vertex; else false with `error`.
   bool run(std::string& error) {
@@ -246,6 +252,7 @@ class SimplicitySweep {
     }
     std::sort(events.begin(), events.end(), [](const Event& a, const Event& b) { return lex_less(a.p, b.p); });
     where_.resize(edges_.size());
+    seen_.assign(rings_.size(), 0);
     std::vector<int> starting, ending;
     for (std::size_t i = 0; i < events.size();) {
       const Vec2 p = events[i].p;
@@ -263,6 +270,15 @@ class SimplicitySweep {
       // No other edge passes through p; the edges just below and above it.
       auto above = status_.lower_bound(p);
       if (above != status_.end() && side(*above, p) == 0) return meeting(*above, at_p.front(), error);
+      // A ring's first point: the edge just below it tells the ring around it. Left of an edge
+      // (above it, as it runs lo -> hi) lies inside a counter-clockwise ring.
+      const int r = edges_[static_cast<std::size_t>(at_p.front())].ring;
+      if (!seen_[static_cast<std::size_t>(r)] && above != status_.begin()) {
+        const Edge& below = edges_[static_cast<std::size_t>(*std::prev(above))];
+        const bool inside = below.forward == ccw_[static_cast<std::size_t>(below.ring)];
+        parent_[static_cast<std::size_t>(r)] = inside ? below.ring : parent_[static_cast<std::size_t>(below.ring)];
+      }
+      seen_[static_cast<std::size_t>(r)] = 1;
       if (starting.empty()) {
         if (above != status_.end() && above != status_.begin() && !check(*std::prev(above), *above, error)) return false;
         continue;
@@ -281,6 +297,7 @@ class SimplicitySweep {
   struct Edge {
     Vec2 lo, hi;  // lexicographically ordered end points
     int ring, k;
+    bool forward;  // lo is the ring's vertex k (the ring runs lo -> hi)
   };
   // Orders the edges the sweep line crosses bottom to top. Of two edges, the one that entered
   // later has its start within the other's span: compared by the side of the other it starts
@@ -334,6 +351,8 @@ class SimplicitySweep {
   std::vector<Edge> edges_;
   std::set<int, Below> status_;
   std::vector<std::set<int, Below>::iterator> where_;
+  std::vector<char> ccw_, seen_;  // by ring
+  std::vector<int> parent_;       // by ring
 };
 
 // No two edges of all rings meet, except adjacent edges of one ring at their shared vertex.
@@ -764,13 +783,34 @@ bool partition_convex(const PolygonRings& polygon, std::vector<std::vector<Vec2>
   for (std::size_t r = 0; r <= hole_count; ++r)
     if (!clean_ring(r == 0 ? polygon.outer : polygon.holes[r - 1], rings[r], error)) return false;
   if (!check_edges(rings, error, counted.edge_pairs)) return false;
-  // Boundaries are now pairwise disjoint, so one vertex tells where a whole ring lies.
-  for (std::size_t h = 1; h <= hole_count; ++h)
+  // Boundaries are now pairwise disjoint, so one vertex tells where a whole ring lies. Many
+  // holes (where testing every pair would cost more than the vertices) are placed by a sweep.
+  if (hole_count * hole_count > total) {
+    std::size_t compared = 0;
+    SimplicitySweep sweep(rings, compared);
+    if (!sweep.run(error)) return false;  // cannot be: check_edges passed
+    const auto inside_outer = [&](int r) {
+      while (r > 0) r = sweep.parent(r);
+      return r == 0;
+    };
+    for (std::size_t h = 1; h <= hole_count; ++h)
+      if (!inside_outer(static_cast<int>(h))) {
+        error = rings[h].name + ": not inside the outer boundary";
+        return false;
+      }
+    for (std::size_t h = 1; h <= hole_count; ++h)
+      if (sweep.parent(static_cast<int>(h)) != 0) {
+        error = rings[h].name + " lies inside " + rings[static_cast<std::size_t>(sweep.parent(static_cast<int>(h)))].name +
+                " (nested holes)";
+        return false;
+      }
+  }
+  for (std::size_t h = 1; h <= hole_count && hole_count * hole_count <= total; ++h)
     if (!inside_ring(rings[0].points, rings[h].points[0])) {
       error = rings[h].name + ": not inside the outer boundary";
       return false;
     }
-  for (std::size_t i = 1; i <= hole_count; ++i)
+  for (std::size_t i = 1; i <= hole_count && hole_count * hole_count <= total; ++i)
     for (std::size_t j = 1; j <= hole_count; ++j)
       if (i != j && box_inside(rings[j], rings[i]) && inside_ring(rings[i].points, rings[j].points[0])) {
         error = rings[j].name + " lies inside " + rings[i].name + " (nested holes)";
