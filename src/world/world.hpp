@@ -193,6 +193,7 @@ class World {
   // A plain occluder as given, in a group or not.
   const Occluder& plain_source(std::uint32_t slot) const noexcept;
   std::vector<std::uint32_t> regroup_order_;  // scratch
+  std::vector<std::uint32_t> chain_scratch_;  // scratch: a light's entry slots, for erase_light
   // set_scene: the plain occluders (user slot, index in `scene`) into the lists, merged.
   void push_loaded_occluders(const Scene& scene, const std::vector<std::pair<std::uint32_t, std::size_t>>& plain);
   std::vector<Light> dark_sources_;
