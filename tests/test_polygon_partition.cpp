@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -725,6 +726,68 @@ TEST_CASE("partition_convex: many holes, placed by the sweep: holes outside the 
   PolygonRings in_outside = outside;  // inside holes[7], which lies outside the outer boundary
   in_outside.holes[13] = {{104.5, 4.5}, {104.75, 4.5}, {104.75, 4.75}};
   refused_with(in_outside, "holes[7]: not inside the outer boundary");
+}
+
+// Every stretch two pieces share, by comparing every pair of edges of different pieces: the
+// reference for shared_boundaries, as sorted (from, to) pairs, each ordered lexicographically.
+std::vector<std::array<double, 4>> all_pairs_shared(const std::vector<Polygon>& pieces) {
+  const auto less = [](Vec2 p, Vec2 q) { return p.x < q.x || (p.x == q.x && p.y < q.y); };
+  std::vector<std::array<double, 4>> out;
+  for (std::size_t a = 0; a < pieces.size(); ++a)
+    for (std::size_t b = a + 1; b < pieces.size(); ++b) {
+      const auto& u = pieces[a].vertices;
+      const auto& v = pieces[b].vertices;
+      for (std::size_t i = 0; i < u.size(); ++i)
+        for (std::size_t j = 0; j < v.size(); ++j) {
+          Vec2 p = u[i], q = u[(i + 1) % u.size()], r = v[j], t = v[(j + 1) % v.size()];
+          if (orientation(p, q, r) != 0 || orientation(p, q, t) != 0) continue;
+          if (less(q, p)) std::swap(p, q);
+          if (less(t, r)) std::swap(r, t);
+          const Vec2 from = less(p, r) ? r : p, to = less(q, t) ? q : t;
+          if (less(from, to)) out.push_back({from.x, from.y, to.x, to.y});
+        }
+    }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST_CASE("shared_boundaries: every stretch the pieces share, slanted ones included, comparing few pairs on stars") {
+  std::mt19937_64 rng(314);
+  for (int trial = 0; trial < 24; ++trial) {
+    CAPTURE(trial);
+    PolygonRings polygon;
+    if (trial % 3 == 2) {
+      // A comb slanted (its teeth's sides and the base's top on shared slanted lines), at
+      // ordinary and at huge and tiny scales.
+      polygon.outer = bench::comb_outline(20 + trial, false);
+      const double scale = trial % 2 ? 1e300 : 1e-300;
+      for (Vec2& v : polygon.outer) v = {(v.x - 0.75 * v.y) * (trial < 12 ? 1.0 : scale), (0.5 * v.x + v.y) * (trial < 12 ? 1.0 : scale)};
+    } else {
+      polygon.outer = random_star(rng, 300, {0, 0}, 1.0);
+      if (trial % 3 == 1) add_random_holes(rng, polygon, 4);
+    }
+    const Pieces pieces = partition_ok(polygon);
+    std::vector<Polygon> as_polygons;
+    std::size_t piece_edges = 0;
+    for (const auto& piece : pieces) {
+      as_polygons.push_back(Polygon{piece});
+      piece_edges += piece.size();
+    }
+    std::vector<Segment> shared;
+    std::size_t pairs = 0;
+    detail::shared_boundaries(as_polygons, shared, &pairs);
+    std::vector<std::array<double, 4>> found;
+    const auto less = [](Vec2 p, Vec2 q) { return p.x < q.x || (p.x == q.x && p.y < q.y); };
+    for (const Segment& g : shared) {
+      const Vec2 p = less(g.a, g.b) ? g.a : g.b, q = less(g.a, g.b) ? g.b : g.a;
+      found.push_back({p.x, p.y, q.x, q.y});
+    }
+    std::sort(found.begin(), found.end());
+    const auto expected = all_pairs_shared(as_polygons);
+    CHECK(found == expected);
+    CHECK(expected.size() + 1 >= pieces.size());  // the pieces are connected through them
+    if (trial % 3 != 2) CHECK(pairs <= 4 * piece_edges);
+  }
 }
 
 // Comb, slanted comb, star, spiral, and a square with a grid of holes, of about n vertices.
