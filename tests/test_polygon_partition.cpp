@@ -361,8 +361,8 @@ TEST_CASE("partition_convex: closed forms") {
       check_partition(ell, pieces, {{0.5 * s, 0.5 * s}, {1.5 * s, 0.5 * s}, {0.5 * s, 1.5 * s}, {1.5 * s, 1.5 * s}});
     }
   }
-  SUBCASE("a hole whose bridge must avoid a closer hole's bridge and a vertex on the ray") {
-    // Holes lined up on one horizontal line: each bridge ray meets the previous hole's vertex.
+  SUBCASE("holes lined up on one horizontal line, their vertices level with one another") {
+    // Vertices at equal heights, which the triangulation's sweep orders by x.
     PolygonRings row{{{0, 0}, {20, 0}, {20, 4}, {0, 4}}, {}};
     for (int k = 0; k < 6; ++k) {
       const double x = 1.0 + 3.0 * k;
@@ -386,7 +386,7 @@ TEST_CASE("partition_convex: random star polygons with and without holes") {
     if (trial % 2) add_random_holes(rng, polygon, uniform_int(rng, 1, 5));
     const Pieces pieces = partition_ok(polygon);
     std::vector<Vec2> samples = random_samples(rng, polygon.outer, 300);
-    // Points near every hole too, where bridges and the pieces around them are.
+    // Points near every hole too, where diagonals and the pieces around them are.
     for (const auto& hole : polygon.holes)
       for (const Vec2 v : hole)
         for (int k = 0; k < 4; ++k) samples.push_back({v.x + 0.02 * (uniform(rng) - 0.5), v.y + 0.02 * (uniform(rng) - 0.5)});
@@ -423,10 +423,11 @@ TEST_CASE("partition_convex: tile-map rooms with pillars, probed on the grid lin
   CHECK(with_holes > 50);
 }
 
-TEST_CASE("partition_convex: small-integer polygons, where bridges meet vertices and lines") {
-  // Coordinates on a coarse grid: rays from hole vertices run through other vertices and along
-  // edges, holes share their largest x, many vertices are collinear. Random rings may be
-  // invalid (refused, never for an internal reason); the valid ones must partition exactly.
+TEST_CASE("partition_convex: small-integer polygons, where diagonals meet vertices and lines") {
+  // Coordinates on a coarse grid: vertices level with one another (the sweep's ties), lines
+  // through vertices run through other vertices and along edges, holes share their largest x,
+  // many vertices are collinear. Random rings may be invalid (refused, never for an internal
+  // reason); the valid ones must partition exactly.
   std::mt19937_64 rng(99);
   int accepted = 0, holed = 0;
   for (int trial = 0; trial < 600; ++trial) {

@@ -403,6 +403,7 @@ void World::erase_lit(std::size_t p) {
   const auto at = static_cast<std::ptrdiff_t>(p);
   // Its overlaps go back to the pool (reserve_overlaps).
   for (LightOverlap& o : scene_.lights[p].overlaps) scene_.spare_overlaps.push_back(std::move(o));
+  lit_entries_moved_ += m - p;
   light_sources_.erase(light_sources_.begin() + at);
   light_slots_.erase(light_slots_.begin() + at);
   scene_.lights.erase(scene_.lights.begin() + at);
