@@ -705,6 +705,14 @@ TEST_CASE("partition_convex: many holes, placed by the sweep: holes outside the 
   };
   const PolygonRings valid = grid();
   check_partition(valid, partition_ok(valid), random_samples(rng, valid.outer, 3000));
+  for (int trial = 0; trial < 10; ++trial) {  // random stars with many small holes
+    PolygonRings star{random_star(rng, 40, {0, 0}, 1.0), {}};
+    add_random_holes(rng, star, 40, 0.02, 0.05);
+    std::size_t total = star.outer.size();
+    for (const auto& hole : star.holes) total += hole.size();
+    REQUIRE(star.holes.size() * star.holes.size() > total);
+    check_partition(star, partition_ok(star), random_samples(rng, star.outer, 1000));
+  }
   const auto refused_with = [](const PolygonRings& p, const std::string& expected) {
     Pieces pieces;
     std::string error;
