@@ -4,6 +4,10 @@
 // cleanup). Near-linear cost shows as time roughly proportional to the vertex count.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <random>
 #include <utility>
 #include <vector>
 
@@ -41,6 +45,73 @@ void BM_CombLightPreparation(benchmark::State& state) {
 }
 BENCHMARK(BM_CombLightPreparation)
     ->ArgsProduct({{1000, 4000, 16383}, {0, 1}})
+    ->Unit(benchmark::kMillisecond);
+
+// A star: n vertices at random radii in 0.2 .. 1 around the origin (fixed seed), scaled by 100.
+Polygon star(int n) {
+  std::mt19937_64 rng(static_cast<std::uint64_t>(n));
+  std::vector<Vec2> v;
+  for (int k = 0; k < n; ++k) {
+    const double a = 2.0 * 3.14159265358979323846 * k / n, r = 20.0 + 80.0 * static_cast<double>(rng() >> 11) * 0x1p-53;
+    v.push_back({r * std::cos(a), r * std::sin(a)});
+  }
+  return Polygon{std::move(v)};
+}
+
+// A spiral strip of eight turns, 3 wide, n vertices (half along each side).
+Polygon spiral(int n) {
+  std::vector<Vec2> v;
+  const int m = n / 2;
+  for (int k = 0; k < m; ++k) {
+    const double t = 16.0 * 3.14159265358979323846 * k / m;
+    v.push_back({(1.0 + t) * std::cos(t), (1.0 + t) * std::sin(t)});
+  }
+  for (int k = m - 1; k >= 0; --k) {
+    const double t = 16.0 * 3.14159265358979323846 * k / m;
+    v.push_back({(4.0 + t) * std::cos(t), (4.0 + t) * std::sin(t)});
+  }
+  return Polygon{std::move(v)};
+}
+
+// A square with k x k square holes (4k^2 + 4 vertices).
+Polygon holed(int k) {
+  Polygon p{{{0.0, 0.0}, {3.0 * k + 1.0, 0.0}, {3.0 * k + 1.0, 3.0 * k + 1.0}, {0.0, 3.0 * k + 1.0}}};
+  for (int i = 0; i < k; ++i)
+    for (int j = 0; j < k; ++j) {
+      const double x = 3.0 * i + 1.0, y = 3.0 * j + 1.0;
+      p.holes.push_back({{x, y}, {x + 2.0, y}, {x + 2.0, y + 2.0}, {x, y + 2.0}});
+    }
+  return p;
+}
+
+// Validation and preparation of one concave light of another shape: `shape` 0 a random star,
+// 1 a spiral (n vertices each), 2 a square with k x k holes (n = k).
+void BM_ConcaveLightPreparation(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const int shape = static_cast<int>(state.range(1));
+  Polygon p = shape == 0 ? star(n) : (shape == 1 ? spiral(n) : holed(n));
+  double extent = 0.0;
+  for (const Vec2 v : p.vertices) extent = std::max({extent, std::abs(v.x), std::abs(v.y)});
+  std::size_t vertices = p.vertices.size();
+  for (const auto& hole : p.holes) vertices += hole.size();
+  Scene s = light_scene(std::move(p), extent);
+  s.view = {-extent - 1.0, -extent - 1.0, extent + 1.0, extent + 1.0};
+  for (auto _ : state) {
+    if (!validate_scene(s).ok()) state.SkipWithError("refused");
+    benchmark::DoNotOptimize(detail::prepare_scene(s));
+  }
+  state.counters["vertices"] = static_cast<double>(vertices);
+}
+BENCHMARK(BM_ConcaveLightPreparation)
+    ->Args({4000, 0})
+    ->Args({16000, 0})
+    ->Args({64000, 0})
+    ->Args({4000, 1})
+    ->Args({16000, 1})
+    ->Args({64000, 1})
+    ->Args({32, 2})
+    ->Args({64, 2})
+    ->Args({127, 2})
     ->Unit(benchmark::kMillisecond);
 
 // A comb light moved by update_light in a Renderer holding it (validation, partition and the

@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -360,8 +361,8 @@ TEST_CASE("partition_convex: closed forms") {
       check_partition(ell, pieces, {{0.5 * s, 0.5 * s}, {1.5 * s, 0.5 * s}, {0.5 * s, 1.5 * s}, {1.5 * s, 1.5 * s}});
     }
   }
-  SUBCASE("a hole whose bridge must avoid a closer hole's bridge and a vertex on the ray") {
-    // Holes lined up on one horizontal line: each bridge ray meets the previous hole's vertex.
+  SUBCASE("holes lined up on one horizontal line, their vertices level with one another") {
+    // Vertices at equal heights, which the triangulation's sweep orders by x.
     PolygonRings row{{{0, 0}, {20, 0}, {20, 4}, {0, 4}}, {}};
     for (int k = 0; k < 6; ++k) {
       const double x = 1.0 + 3.0 * k;
@@ -385,7 +386,7 @@ TEST_CASE("partition_convex: random star polygons with and without holes") {
     if (trial % 2) add_random_holes(rng, polygon, uniform_int(rng, 1, 5));
     const Pieces pieces = partition_ok(polygon);
     std::vector<Vec2> samples = random_samples(rng, polygon.outer, 300);
-    // Points near every hole too, where bridges and the pieces around them are.
+    // Points near every hole too, where diagonals and the pieces around them are.
     for (const auto& hole : polygon.holes)
       for (const Vec2 v : hole)
         for (int k = 0; k < 4; ++k) samples.push_back({v.x + 0.02 * (uniform(rng) - 0.5), v.y + 0.02 * (uniform(rng) - 0.5)});
@@ -422,10 +423,11 @@ TEST_CASE("partition_convex: tile-map rooms with pillars, probed on the grid lin
   CHECK(with_holes > 50);
 }
 
-TEST_CASE("partition_convex: small-integer polygons, where bridges meet vertices and lines") {
-  // Coordinates on a coarse grid: rays from hole vertices run through other vertices and along
-  // edges, holes share their largest x, many vertices are collinear. Random rings may be
-  // invalid (refused, never for an internal reason); the valid ones must partition exactly.
+TEST_CASE("partition_convex: small-integer polygons, where diagonals meet vertices and lines") {
+  // Coordinates on a coarse grid: vertices level with one another (the sweep's ties), lines
+  // through vertices run through other vertices and along edges, holes share their largest x,
+  // many vertices are collinear. Random rings may be invalid (refused, never for an internal
+  // reason); the valid ones must partition exactly.
   std::mt19937_64 rng(99);
   int accepted = 0, holed = 0;
   for (int trial = 0; trial < 600; ++trial) {
@@ -561,10 +563,10 @@ TEST_CASE("partition_convex: combs with their teeth along either axis, exact, th
   // Eight times the teeth: the pairs of edges the validation compares and the pairs of piece
   // edges shared_boundaries compares grow about eightfold (64-fold when every tooth's edges
   // are compared with every other tooth's, as they were along y, and for shared boundaries
-  // along x too). The ear tests' scans still grow quadratically (the base's fan).
+  // along x too).
   for (const bool sideways : {false, true}) {
     CAPTURE(sideways);
-    std::size_t edge_pairs[2] = {}, ear_scans[2] = {}, boundary_pairs[2] = {};
+    std::size_t edge_pairs[2] = {}, triangulation_tests[2] = {}, boundary_pairs[2] = {};
     const int teeth[2] = {500, 4000};
     for (int size = 0; size < 2; ++size) {
       const PolygonRings polygon{comb(teeth[size], sideways), {}};
@@ -577,7 +579,7 @@ TEST_CASE("partition_convex: combs with their teeth along either axis, exact, th
       std::vector<Segment> shared;
       detail::shared_boundaries(as_polygons, shared, &boundary_pairs[size]);
       edge_pairs[size] = work.edge_pairs;
-      ear_scans[size] = work.ear_scans;
+      triangulation_tests[size] = work.triangulation_tests;
       // One piece per tooth and the base under them all, T-junctions with the base at each tooth.
       CHECK(pieces.size() == static_cast<std::size_t>(teeth[size]) + 1);
       CHECK(shared.size() == static_cast<std::size_t>(teeth[size]));
@@ -586,8 +588,8 @@ TEST_CASE("partition_convex: combs with their teeth along either axis, exact, th
         check_partition(polygon, pieces, random_samples(rng, polygon.outer, 4000));
       }
     }
-    MESSAGE("edge pairs " << edge_pairs[0] << " -> " << edge_pairs[1] << ", ear scans " << ear_scans[0] << " -> "
-                          << ear_scans[1] << ", boundary pairs " << boundary_pairs[0] << " -> " << boundary_pairs[1]);
+    MESSAGE("edge pairs " << edge_pairs[0] << " -> " << edge_pairs[1] << ", triangulation tests " << triangulation_tests[0] << " -> "
+                          << triangulation_tests[1] << ", boundary pairs " << boundary_pairs[0] << " -> " << boundary_pairs[1]);
     CHECK(edge_pairs[1] <= 12 * edge_pairs[0]);
     CHECK(boundary_pairs[1] <= 12 * boundary_pairs[0]);
   }
@@ -612,6 +614,247 @@ TEST_CASE("partition_convex: a 65,534-vertex comb, the most a partition takes, a
     detail::shared_boundaries(as_polygons, shared, &pairs);
     CHECK(shared.size() == 16383);
     CHECK(pairs <= 8 * polygon.outer.size());
+  }
+}
+
+// Whether closed segments ab and cd meet, exactly (the reference for the simplicity sweep).
+bool segments_touch(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
+  const int o1 = orientation(a, b, c), o2 = orientation(a, b, d), o3 = orientation(c, d, a), o4 = orientation(c, d, b);
+  if (o1 * o2 < 0 && o3 * o4 < 0) return true;
+  return (o1 == 0 && within_box(a, b, c)) || (o2 == 0 && within_box(a, b, d)) || (o3 == 0 && within_box(c, d, a)) ||
+         (o4 == 0 && within_box(c, d, b));
+}
+
+TEST_CASE("partition_convex: outlines whose edges' boxes all overlap (stars) are refused exactly when two edges meet") {
+  // Stars on integer coordinates, their edges' boxes overlapping pairwise far more than the
+  // edges are many (the validation then sweeps), each with one vertex moved: anywhere, onto
+  // another vertex, onto the middle of another edge (exactly on it), or onto a hole's vertex.
+  // The verdict must be the all-pairs check's.
+  std::mt19937_64 rng(20261207);
+  int refused = 0, accepted = 0;
+  for (int trial = 0; trial < 120; ++trial) {
+    CAPTURE(trial);
+    PolygonRings polygon;
+    const int n = 400 + static_cast<int>(rng() % 200);
+    for (const Vec2 v : random_star(rng, n, {0, 0}, 1.0))
+      polygon.outer.push_back({2.0 * std::round(v.x * 50000.0), 2.0 * std::round(v.y * 50000.0)});
+    if (trial % 3 == 0) polygon.holes.push_back({{-2000, -2000}, {2000, -2000}, {2000, 2000}, {-2000, 2000}});
+    const int i = static_cast<int>(rng() % static_cast<std::uint64_t>(n));
+    const int j = (i + 2 + static_cast<int>(rng() % static_cast<std::uint64_t>(n - 3))) % n;  // not i, not next to it
+    const Vec2 a = polygon.outer[static_cast<std::size_t>(j)], b = polygon.outer[static_cast<std::size_t>((j + 1) % n)];
+    switch (trial % 4) {
+      case 0: polygon.outer[static_cast<std::size_t>(i)] = {2.0 * static_cast<double>(rng() % 100000) - 1e5, 0.0}; break;
+      case 1: polygon.outer[static_cast<std::size_t>(i)] = a; break;
+      case 2: polygon.outer[static_cast<std::size_t>(i)] = {(a.x + b.x) / 2, (a.y + b.y) / 2}; break;
+      default: if (!polygon.holes.empty()) polygon.outer[static_cast<std::size_t>(i)] = polygon.holes[0][rng() % 4];
+    }
+    // Leave out moves that made a vertex straight or repeated (cleaning would drop it).
+    const auto& o = polygon.outer;
+    const std::size_t u = static_cast<std::size_t>(i);
+    const Vec2 prev = o[(u + o.size() - 1) % o.size()], next = o[(u + 1) % o.size()];
+    if (orientation(prev, o[u], next) == 0) continue;
+    struct RingEdge {
+      Vec2 a, b;
+      std::size_t ring, k, size;
+    };
+    std::vector<RingEdge> edges;
+    for (std::size_t r = 0; r <= polygon.holes.size(); ++r) {
+      const auto& ring = r == 0 ? polygon.outer : polygon.holes[r - 1];
+      for (std::size_t k = 0; k < ring.size(); ++k) edges.push_back({ring[k], ring[(k + 1) % ring.size()], r, k, ring.size()});
+    }
+    bool meet = false;
+    for (std::size_t e = 0; e < edges.size() && !meet; ++e)
+      for (std::size_t f = e + 1; f < edges.size() && !meet; ++f) {
+        const RingEdge &x = edges[e], &y = edges[f];
+        if (x.ring == y.ring && ((x.k + 1) % x.size == y.k || (y.k + 1) % y.size == x.k)) continue;  // adjacent
+        meet = segments_touch(x.a, x.b, y.a, y.b);
+      }
+    Pieces pieces;
+    std::string error;
+    detail::PartitionWork work;
+    const bool ok = partition_convex(polygon, pieces, error, &work);
+    CHECK(work.edge_pairs < 40 * edges.size());  // swept: nowhere near the pairs of overlapping boxes
+    CHECK(ok == !meet);
+    if (ok) {
+      ++accepted;
+      check_partition(polygon, pieces, random_samples(rng, polygon.outer, 300));
+    } else {
+      ++refused;
+      CHECK((error.find("cross") != std::string::npos || error.find("touch") != std::string::npos));
+    }
+  }
+  CHECK(refused > 40);
+  CHECK(accepted > 10);
+}
+
+TEST_CASE("partition_convex: many holes, placed by the sweep: holes outside the outer boundary and nested holes are refused by name") {
+  // A square with a 6 x 6 grid of holes (more hole pairs than vertices: the sweep places them),
+  // every other one wound the other way and some of them triangles.
+  std::mt19937_64 rng(36);
+  const auto grid = [] {
+    PolygonRings p{{{0, 0}, {19, 0}, {19, 19}, {0, 19}}, {}};
+    for (int a = 0; a < 6; ++a)
+      for (int b = 0; b < 6; ++b) {
+        const double x = 3.0 * a + 1, y = 3.0 * b + 1;
+        std::vector<Vec2> hole{{x, y}, {x + 2, y}, {x + 2, y + 2}, {x, y + 2}};
+        if ((a + b) % 3 == 0) hole.erase(hole.begin() + 2);
+        if ((a + b) % 2 == 0) std::reverse(hole.begin(), hole.end());
+        p.holes.push_back(hole);
+      }
+    return p;
+  };
+  const PolygonRings valid = grid();
+  check_partition(valid, partition_ok(valid), random_samples(rng, valid.outer, 3000));
+  for (int trial = 0; trial < 10; ++trial) {  // random stars with many small holes
+    PolygonRings star{random_star(rng, 40, {0, 0}, 1.0), {}};
+    add_random_holes(rng, star, 40, 0.02, 0.05);
+    std::size_t total = star.outer.size();
+    for (const auto& hole : star.holes) total += hole.size();
+    REQUIRE(star.holes.size() * star.holes.size() > total);
+    check_partition(star, partition_ok(star), random_samples(rng, star.outer, 1000));
+  }
+  const auto refused_with = [](const PolygonRings& p, const std::string& expected) {
+    Pieces pieces;
+    std::string error;
+    CHECK_FALSE(partition_convex(p, pieces, error));
+    CHECK(error == expected);
+    CHECK(pieces.empty());
+  };
+  PolygonRings outside = grid();
+  for (Vec2& v : outside.holes[7]) v.x += 100.0;
+  refused_with(outside, "holes[7]: not inside the outer boundary");
+  PolygonRings left_of_all = grid();
+  for (Vec2& v : left_of_all.holes[20]) v.x -= 100.0;
+  refused_with(left_of_all, "holes[20]: not inside the outer boundary");
+  PolygonRings nested = grid();
+  nested.holes[12] = {{4.5, 4.5}, {4.75, 4.5}, {4.75, 4.75}, {4.5, 4.75}};  // inside holes[7]'s square
+  refused_with(nested, "holes[12] lies inside holes[7] (nested holes)");
+  PolygonRings nested_deeper = nested;  // inside holes[12], itself inside holes[7]
+  nested_deeper.holes[30] = {{4.6, 4.6}, {4.7, 4.6}, {4.7, 4.7}};
+  refused_with(nested_deeper, "holes[12] lies inside holes[7] (nested holes)");
+  PolygonRings in_outside = outside;  // inside holes[7], which lies outside the outer boundary
+  in_outside.holes[13] = {{104.5, 4.5}, {104.75, 4.5}, {104.75, 4.75}};
+  refused_with(in_outside, "holes[7]: not inside the outer boundary");
+}
+
+// Every stretch two pieces share, by comparing every pair of edges of different pieces: the
+// reference for shared_boundaries, as sorted (from, to) pairs, each ordered lexicographically.
+std::vector<std::array<double, 4>> all_pairs_shared(const std::vector<Polygon>& pieces) {
+  const auto less = [](Vec2 p, Vec2 q) { return p.x < q.x || (p.x == q.x && p.y < q.y); };
+  std::vector<std::array<double, 4>> out;
+  for (std::size_t a = 0; a < pieces.size(); ++a)
+    for (std::size_t b = a + 1; b < pieces.size(); ++b) {
+      const auto& u = pieces[a].vertices;
+      const auto& v = pieces[b].vertices;
+      for (std::size_t i = 0; i < u.size(); ++i)
+        for (std::size_t j = 0; j < v.size(); ++j) {
+          Vec2 p = u[i], q = u[(i + 1) % u.size()], r = v[j], t = v[(j + 1) % v.size()];
+          if (orientation(p, q, r) != 0 || orientation(p, q, t) != 0) continue;
+          if (less(q, p)) std::swap(p, q);
+          if (less(t, r)) std::swap(r, t);
+          const Vec2 from = less(p, r) ? r : p, to = less(q, t) ? q : t;
+          if (less(from, to)) out.push_back({from.x, from.y, to.x, to.y});
+        }
+    }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST_CASE("shared_boundaries: every stretch the pieces share, slanted ones included, comparing few pairs on stars") {
+  std::mt19937_64 rng(314);
+  for (int trial = 0; trial < 24; ++trial) {
+    CAPTURE(trial);
+    PolygonRings polygon;
+    if (trial % 3 == 2) {
+      // A comb slanted (its teeth's sides and the base's top on shared slanted lines), at
+      // ordinary and at huge and tiny scales.
+      polygon.outer = bench::comb_outline(20 + trial, false);
+      const double scale = trial % 2 ? 1e300 : 1e-300;
+      for (Vec2& v : polygon.outer) v = {(v.x - 0.75 * v.y) * (trial < 12 ? 1.0 : scale), (0.5 * v.x + v.y) * (trial < 12 ? 1.0 : scale)};
+    } else {
+      polygon.outer = random_star(rng, 300, {0, 0}, 1.0);
+      if (trial % 3 == 1) add_random_holes(rng, polygon, 4);
+    }
+    const Pieces pieces = partition_ok(polygon);
+    std::vector<Polygon> as_polygons;
+    std::size_t piece_edges = 0;
+    for (const auto& piece : pieces) {
+      as_polygons.push_back(Polygon{piece});
+      piece_edges += piece.size();
+    }
+    std::vector<Segment> shared;
+    std::size_t pairs = 0;
+    detail::shared_boundaries(as_polygons, shared, &pairs);
+    std::vector<std::array<double, 4>> found;
+    const auto less = [](Vec2 p, Vec2 q) { return p.x < q.x || (p.x == q.x && p.y < q.y); };
+    for (const Segment& g : shared) {
+      const Vec2 p = less(g.a, g.b) ? g.a : g.b, q = less(g.a, g.b) ? g.b : g.a;
+      found.push_back({p.x, p.y, q.x, q.y});
+    }
+    std::sort(found.begin(), found.end());
+    const auto expected = all_pairs_shared(as_polygons);
+    CHECK(found == expected);
+    CHECK(expected.size() + 1 >= pieces.size());  // the pieces are connected through them
+    if (trial % 3 != 2) CHECK(pairs <= 4 * piece_edges);
+  }
+}
+
+// Comb, slanted comb, star, spiral, and a square with a grid of holes, of about n vertices.
+PolygonRings growth_shape(int kind, int n, std::mt19937_64& rng) {
+  PolygonRings p;
+  switch (kind) {
+    case 0: p.outer = bench::comb_outline(n / 4, false); break;
+    case 1: p.outer = bench::comb_outline(n / 4, true); break;
+    case 2:
+      p.outer = bench::comb_outline(n / 4, false);
+      for (Vec2& v : p.outer) v = {v.x - 0.75 * v.y, 0.5 * v.x + v.y};
+      break;
+    case 3: p.outer = random_star(rng, n, {0, 0}, 1.0); break;
+    case 4:
+      for (int k = 0; k < n / 2; ++k) {
+        const double t = 16.0 * 3.14159265358979323846 * k / (n / 2);
+        p.outer.push_back({(1.0 + t) * std::cos(t), (1.0 + t) * std::sin(t)});
+      }
+      for (int k = n / 2 - 1; k >= 0; --k) {
+        const double t = 16.0 * 3.14159265358979323846 * k / (n / 2);
+        p.outer.push_back({(4.0 + t) * std::cos(t), (4.0 + t) * std::sin(t)});
+      }
+      break;
+    default: {
+      const int k = static_cast<int>(std::lround(std::sqrt(n / 4.0)));
+      p.outer = {{0, 0}, {3.0 * k + 1, 0}, {3.0 * k + 1, 3.0 * k + 1}, {0, 3.0 * k + 1}};
+      for (int a = 0; a < k; ++a)
+        for (int b = 0; b < k; ++b)
+          p.holes.push_back({{3.0 * a + 1, 3.0 * b + 1}, {3.0 * a + 3, 3.0 * b + 1}, {3.0 * a + 3, 3.0 * b + 3}, {3.0 * a + 1, 3.0 * b + 3}});
+    }
+  }
+  return p;
+}
+
+TEST_CASE("partition_convex: its work grows as n log n on combs, stars, spirals and holed squares") {
+  // The pairs of edges the validation compares plus the triangulation's orientation tests, at
+  // about 4,000 and 16,000 vertices: n log n gives at most 4 x 1.2 = 4.8 times the work (the
+  // log grows by 2 in 12), a quadratic part 16 times. Ear clipping scanned a comb's base fan
+  // (16 times) and the validation compared every pair of a star's edges (16 times).
+  for (int kind = 0; kind < 6; ++kind) {
+    CAPTURE(kind);
+    std::size_t total[2] = {};
+    std::size_t vertices[2] = {};
+    for (int size = 0; size < 2; ++size) {
+      std::mt19937_64 rng(static_cast<std::uint64_t>(kind));
+      const PolygonRings polygon = growth_shape(kind, size == 0 ? 4000 : 16000, rng);
+      vertices[size] = polygon.outer.size();
+      for (const auto& hole : polygon.holes) vertices[size] += hole.size();
+      Pieces pieces;
+      std::string error;
+      detail::PartitionWork work;
+      REQUIRE_MESSAGE(partition_convex(polygon, pieces, error, &work), error);
+      total[size] = work.edge_pairs + work.triangulation_tests;
+    }
+    MESSAGE("kind " << kind << ": " << vertices[0] << " -> " << vertices[1] << " vertices, work " << total[0] << " -> "
+                    << total[1]);
+    CHECK(vertices[1] <= 4 * vertices[0] + 16);
+    CHECK(total[1] <= 5 * total[0]);
   }
 }
 

@@ -1,11 +1,14 @@
 // Handles of the persistent world: a slot's generation at the end of its 32 bits retires the
-// slot rather than wrapping, so no handle ever names a second object.
+// slot rather than wrapping, so no handle ever names a second object; erasing a light with many
+// entries moves the entries after it, not its own.
 #include <doctest/doctest.h>
 
 #include <cstdint>
 #include <limits>
+#include <variant>
 #include <vector>
 
+#include "comb_outline.hpp"
 #include "world/world.hpp"
 
 namespace par2d::detail {
@@ -104,6 +107,27 @@ TEST_CASE("set_scene keeps retired slots retired and retires slots at their last
     REQUIRE(w.add_light(lamp(12.0), &extra).ok());
     CHECK((extra.id & 0xffffffffu) != aged_slot);
   }
+}
+
+TEST_CASE("changing or removing a concave light moves each later entry once per entry erased, none of its own") {
+  // A comb of 250 teeth is 501 entries (251 pieces and 250 shared boundaries); a lamp comes
+  // after them. Erasing the comb's entries from the first up moved the rest of them each time
+  // (125,000 moves); from the last down only the lamp moves, once per entry.
+  detail::World w = framed_world();
+  Light comb{Polygon{bench::comb_outline(250, false)}, {1.0, 1.0, 1.0}, 1.0};
+  LightHandle comb_handle, lamp_handle;
+  REQUIRE(w.add_light(comb, &comb_handle).ok());
+  REQUIRE(w.add_light(lamp(4.0), &lamp_handle).ok());
+  std::size_t moved = w.lit_entries_moved();
+  for (Vec2& v : std::get<Polygon>(comb.shape).vertices) v.x += 0.5;
+  REQUIRE(w.update_light(comb_handle, comb).ok());
+  CHECK(w.lit_entries_moved() - moved <= 501);
+  moved = w.lit_entries_moved();
+  REQUIRE(w.remove_light(comb_handle).ok());
+  CHECK(w.lit_entries_moved() - moved <= 501);
+  const Scene snapshot = w.snapshot();
+  REQUIRE(snapshot.lights.size() == 1);  // the lamp, untouched
+  CHECK(std::get<Circle>(snapshot.lights[0].shape).center.x == 4.0);
 }
 
 }  // namespace par2d::test

@@ -1,37 +1,24 @@
 // Convex partition of a polygon with holes (polygon_partition.hpp): clean and validate the
-// rings, bridge the holes into the outer ring, clip ears, then merge triangles across
-// diagonals while the merged piece stays convex (Hertel-Mehlhorn). Every decision is an exact
-// orientation sign or a comparison of input coordinates; no point is ever computed.
+// rings, triangulate them by a monotone decomposition (holes need no bridges), then merge
+// triangles across diagonals while the merged piece stays convex (Hertel-Mehlhorn). Every
+// decision is an exact orientation sign or a comparison of input coordinates; no point is ever
+// computed.
 #include "geometry/polygon_partition.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <set>
 #include <utility>
+
+#include "geometry/monotone_triangulation.hpp"
 
 namespace par2d::detail {
 namespace {
 
 bool same_point(Vec2 p, Vec2 q) noexcept { return p.x == q.x && p.y == q.y; }
 bool lex_less(Vec2 p, Vec2 q) noexcept { return p.x < q.x || (p.x == q.x && p.y < q.y); }
-
-// p and q lie on one line through apex and differ from it: whether on the same side of apex.
-bool same_direction(Vec2 apex, Vec2 p, Vec2 q) noexcept {
-  if (p.x != apex.x) return (p.x > apex.x) == (q.x > apex.x);
-  return (p.y > apex.y) == (q.y > apex.y);  // a vertical line
-}
-
-// Whether the direction d - apex lies in the closed wedge swept counter-clockwise from s - apex
-// to e - apex. When s and e point the same way the wedge is the full turn: the tip of a
-// zero-width slit (a hole's bridge) has polygon on both sides.
-bool in_wedge(Vec2 apex, Vec2 s, Vec2 e, Vec2 d) noexcept {
-  const int se = orientation(apex, s, e);
-  if (se > 0) return orientation(apex, s, d) >= 0 && orientation(apex, d, e) >= 0;
-  if (se < 0) return !(orientation(apex, e, d) > 0 && orientation(apex, d, s) > 0);
-  if (same_direction(apex, s, e)) return true;
-  return orientation(apex, s, d) >= 0;  // a straight angle: the closed left half-plane
-}
 
 bool in_box(Vec2 a, Vec2 b, Vec2 p) noexcept {
   return std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= p.y &&
@@ -188,6 +175,171 @@ std::size_t sweep_pairs(std::vector<std::pair<double, double>>& spans) {
 
 namespace {
 
+// The error for edge k of ring r and edge l of ring q meeting (crossing or touching).
+void report_meeting(const std::vector<Ring>& rings, int r, int k, int q, int l, bool cross, std::string& error) {
+  if (q < r || (q == r && l < k)) {
+    std::swap(r, q);
+    std::swap(k, l);
+  }
+  const std::string k1 = std::to_string(rings[r].input_index[k]);
+  const std::string k2 = std::to_string(rings[q].input_index[l]);
+  if (r == q) {
+    error = rings[r].name + ": edges " + k1 + " and " + k2 + (cross ? " cross" : " touch");
+  } else if (r == 0) {
+    error = rings[q].name + (cross ? " crosses" : " touches") + " the outer boundary (its edge " + k2 +
+            " and outer edge " + k1 + ")";
+  } else {
+    error = rings[r].name + " and " + rings[q].name +
+            (cross ? " overlap (edges " + k1 + " and " + k2 + " cross)" : " touch (edges " + k1 + " and " + k2 + ")");
+  }
+}
+
+// The same check as check_edges by a sweep (Shamos and Hoey) in O(n log n) for any shape, for
+// outlines whose edges' boxes overlap pairwise along both axes (a star's edges around its
+// centre). The sweep runs along x, then y (lexicographic order of the end points); the edges
+// it crosses are kept ordered bottom to top, and only edges next to each other there are
+// compared. At each end point p it first checks that exactly the two edges of one vertex end
+// there and that no other edge passes through p; with no meeting before p the order is
+// strict, and the first meeting (lexicographically) is found when the sweep reaches it or as
+// two edges become neighbours before it.
+class SimplicitySweep {
+ public:
+  SimplicitySweep(const std::vector<Ring>& rings, std::size_t& pairs)
+      : rings_(rings), pairs_(pairs), status_(Below{this}) {
+    for (int r = 0; r < static_cast<int>(rings.size()); ++r) {
+      const int n = static_cast<int>(rings[r].points.size());
+      for (int k = 0; k < n; ++k) {
+        Vec2 a = rings[r].points[k], b = rings[r].points[(k + 1) % n];
+        const bool forward = !lex_less(b, a);
+        if (!forward) std::swap(a, b);
+        edges_.push_back({a, b, r, k, forward});
+      }
+      ccw_.push_back(ring_orientation(rings[r].points) > 0);
+    }
+    parent_.assign(rings.size(), -1);
+  }
+
+  // After a successful run: the ring whose region immediately encloses ring r's, or -1.
+  int parent(int r) const noexcept { return parent_[static_cast<std::size_t>(r)]; }
+
+  // True when no two edges meet but adjacent ones at their vertex; else false with `error`.
+  bool run(std::string& error) {
+    struct Event {
+      Vec2 p;
+      int edge;
+      bool start;
+    };
+    std::vector<Event> events;
+    events.reserve(2 * edges_.size());
+    for (int e = 0; e < static_cast<int>(edges_.size()); ++e) {
+      events.push_back({edges_[e].lo, e, true});
+      events.push_back({edges_[e].hi, e, false});
+    }
+    std::sort(events.begin(), events.end(), [](const Event& a, const Event& b) { return lex_less(a.p, b.p); });
+    where_.resize(edges_.size());
+    seen_.assign(rings_.size(), 0);
+    std::vector<int> starting, ending;
+    for (std::size_t i = 0; i < events.size();) {
+      const Vec2 p = events[i].p;
+      starting.clear();
+      ending.clear();
+      for (; i < events.size() && same_point(events[i].p, p); ++i)
+        (events[i].start ? starting : ending).push_back(events[i].edge);
+      // Exactly the two edges of one vertex end at p.
+      std::vector<int>& at_p = ending;
+      for (const int e : ending) status_.erase(where_[static_cast<std::size_t>(e)]);
+      at_p.insert(at_p.end(), starting.begin(), starting.end());
+      for (std::size_t x = 0; x < at_p.size(); ++x)
+        for (std::size_t y = x + 1; y < at_p.size(); ++y)
+          if (!adjacent(at_p[x], at_p[y])) return meeting(at_p[x], at_p[y], error);
+      // No other edge passes through p; the edges just below and above it.
+      auto above = status_.lower_bound(p);
+      if (above != status_.end() && side(*above, p) == 0) return meeting(*above, at_p.front(), error);
+      // A ring's first point: the edge just below it tells the ring around it. Left of an edge
+      // (above it, as it runs lo -> hi) lies inside a counter-clockwise ring.
+      const int r = edges_[static_cast<std::size_t>(at_p.front())].ring;
+      if (!seen_[static_cast<std::size_t>(r)] && above != status_.begin()) {
+        const Edge& below = edges_[static_cast<std::size_t>(*std::prev(above))];
+        const bool inside = below.forward == ccw_[static_cast<std::size_t>(below.ring)];
+        parent_[static_cast<std::size_t>(r)] = inside ? below.ring : parent_[static_cast<std::size_t>(below.ring)];
+      }
+      seen_[static_cast<std::size_t>(r)] = 1;
+      if (starting.empty()) {
+        if (above != status_.end() && above != status_.begin() && !check(*std::prev(above), *above, error)) return false;
+        continue;
+      }
+      for (const int e : starting) where_[static_cast<std::size_t>(e)] = status_.insert(e).first;
+      for (const int e : starting) {
+        const auto it = where_[static_cast<std::size_t>(e)];
+        if (it != status_.begin() && !check(*std::prev(it), e, error)) return false;
+        if (std::next(it) != status_.end() && !check(e, *std::next(it), error)) return false;
+      }
+    }
+    return true;
+  }
+
+ private:
+  struct Edge {
+    Vec2 lo, hi;  // lexicographically ordered end points
+    int ring, k;
+    bool forward;  // lo is the ring's vertex k (the ring runs lo -> hi)
+  };
+  // Orders the edges the sweep line crosses bottom to top. Of two edges, the one that entered
+  // later has its start within the other's span: compared by the side of the other it starts
+  // on, or, for two edges from one point, by their directions.
+  struct Below {
+    using is_transparent = void;
+    const SimplicitySweep* sweep;
+    bool operator()(int a, int b) const noexcept {
+      if (a == b) return false;
+      const Edge& ea = sweep->edges_[static_cast<std::size_t>(a)];
+      const Edge& eb = sweep->edges_[static_cast<std::size_t>(b)];
+      ++sweep->pairs_;
+      if (same_point(ea.lo, eb.lo)) return orientation(ea.lo, ea.hi, eb.hi) > 0;
+      if (lex_less(eb.lo, ea.lo)) return sweep->side(b, ea.lo) < 0;
+      return sweep->side(a, eb.lo) > 0;
+    }
+    bool operator()(int e, Vec2 p) const noexcept { return sweep->side(e, p) > 0; }  // e passes below p
+    bool operator()(Vec2 p, int e) const noexcept { return sweep->side(e, p) < 0; }
+  };
+
+  int side(int e, Vec2 p) const noexcept {
+    const Edge& edge = edges_[static_cast<std::size_t>(e)];
+    return orientation(edge.lo, edge.hi, p);
+  }
+  bool adjacent(int a, int b) const noexcept {
+    const Edge& ea = edges_[static_cast<std::size_t>(a)];
+    const Edge& eb = edges_[static_cast<std::size_t>(b)];
+    if (ea.ring != eb.ring) return false;
+    const int n = static_cast<int>(rings_[static_cast<std::size_t>(ea.ring)].points.size());
+    return (ea.k + 1) % n == eb.k || (eb.k + 1) % n == ea.k;
+  }
+  bool meeting(int a, int b, std::string& error) const {
+    const Edge& ea = edges_[static_cast<std::size_t>(a)];
+    const Edge& eb = edges_[static_cast<std::size_t>(b)];
+    report_meeting(rings_, ea.ring, ea.k, eb.ring, eb.k, segments_meet(ea.lo, ea.hi, eb.lo, eb.hi) == Meet::cross,
+                   error);
+    return false;
+  }
+  // Two edges next to each other on the sweep line: false (with `error`) if they meet.
+  bool check(int a, int b, std::string& error) const {
+    ++pairs_;
+    if (adjacent(a, b)) return true;  // they share one vertex only: no fold survives cleaning
+    const Edge& ea = edges_[static_cast<std::size_t>(a)];
+    const Edge& eb = edges_[static_cast<std::size_t>(b)];
+    if (segments_meet(ea.lo, ea.hi, eb.lo, eb.hi) == Meet::none) return true;
+    return meeting(a, b, error);
+  }
+
+  const std::vector<Ring>& rings_;
+  std::size_t& pairs_;
+  std::vector<Edge> edges_;
+  std::set<int, Below> status_;
+  std::vector<std::set<int, Below>::iterator> where_;
+  std::vector<char> ccw_, seen_;  // by ring
+  std::vector<int> parent_;       // by ring
+};
+
 // No two edges of all rings meet, except adjacent edges of one ring at their shared vertex.
 // Edges sorted by their smallest x (or y); each is compared with those whose x-range (y-range)
 // starts before its own ends, along y where that makes far fewer pairs: a comb's teeth side by
@@ -208,7 +360,10 @@ bool check_edges(const std::vector<Ring>& rings, std::string& error, std::size_t
     x_spans[i] = {edges[i].min_x, edges[i].max_x};
     y_spans[i] = {edges[i].min_y, edges[i].max_y};
   }
-  const bool along_y = sweep_along_y(edges.size(), sweep_pairs(x_spans), sweep_pairs(y_spans));
+  const std::size_t x_pairs = sweep_pairs(x_spans), y_pairs = sweep_pairs(y_spans);
+  // Pairs in both axes far beyond the edges: the sweep, whose cost does not depend on them.
+  if (std::min(x_pairs, y_pairs) > 16 * edges.size()) return SimplicitySweep(rings, pairs).run(error);
+  const bool along_y = sweep_along_y(edges.size(), x_pairs, y_pairs);
   if (along_y)
     std::sort(edges.begin(), edges.end(), [](const EdgeBox& a, const EdgeBox& b) { return a.min_y < b.min_y; });
   for (std::size_t i = 0; i < edges.size(); ++i) {
@@ -226,20 +381,7 @@ bool check_edges(const std::vector<Ring>& rings, std::string& error, std::size_t
       const int ne = static_cast<int>(pe.size()), nf = static_cast<int>(pf.size());
       const Meet meet = segments_meet(pe[e.k], pe[(e.k + 1) % ne], pf[f.k], pf[(f.k + 1) % nf]);
       if (meet == Meet::none) continue;
-      const bool cross = meet == Meet::cross;
-      const EdgeBox& first = (e.ring < f.ring || (e.ring == f.ring && e.k < f.k)) ? e : f;
-      const EdgeBox& second = &first == &e ? f : e;
-      const std::string k1 = std::to_string(rings[first.ring].input_index[first.k]);
-      const std::string k2 = std::to_string(rings[second.ring].input_index[second.k]);
-      if (first.ring == second.ring) {
-        error = rings[first.ring].name + ": edges " + k1 + " and " + k2 + (cross ? " cross" : " touch");
-      } else if (first.ring == 0) {
-        error = rings[second.ring].name + (cross ? " crosses" : " touches") + " the outer boundary (its edge " + k2 +
-                " and outer edge " + k1 + ")";
-      } else {
-        error = rings[first.ring].name + " and " + rings[second.ring].name +
-                (cross ? " overlap (edges " + k1 + " and " + k2 + " cross)" : " touch (edges " + k1 + " and " + k2 + ")");
-      }
+      report_meeting(rings, e.ring, e.k, f.ring, f.k, meet == Meet::cross, error);
       return false;
     }
   }
@@ -250,246 +392,6 @@ bool box_inside(const Ring& inner, const Ring& outer) noexcept {
   return outer.box_min.x <= inner.box_min.x && inner.box_max.x <= outer.box_max.x &&
          outer.box_min.y <= inner.box_min.y && inner.box_max.y <= outer.box_max.y;
 }
-
-// ---------------------------------------------------------------------------------------------
-// The ring being triangulated: nodes in a doubly linked list, each naming a vertex id. A
-// bridge visits its two end points twice, so one vertex can have several nodes ("copies"),
-// each with its own wedge of the polygon.
-
-struct Mesh {
-  std::vector<Vec2> points;  // by vertex id
-  std::vector<int> vertex, prev, next;  // by node
-
-  Vec2 at(int node) const noexcept { return points[static_cast<std::size_t>(vertex[node])]; }
-  int add_node(int vertex_id) {
-    vertex.push_back(vertex_id);
-    prev.push_back(-1);
-    next.push_back(-1);
-    return static_cast<int>(vertex.size()) - 1;
-  }
-  // Whether the direction from node x toward d lies in the polygon's (closed) wedge at x: from
-  // the outgoing edge counter-clockwise to the incoming one (the interior lies left of edges).
-  bool wedge_holds(int x, Vec2 d) const noexcept { return in_wedge(at(x), at(next[x]), at(prev[x]), d); }
-};
-
-// Which of two ray hits (the ray from m toward +x) is nearer. A hit is a vertex on the ray or
-// an edge crossing it strictly between its end points (lo below the ray, hi above).
-struct RayHit {
-  bool is_vertex = false;
-  int node = -1;  // the vertex's node, or the node starting the edge
-  Vec2 point, lo, hi;
-};
-
-// Sign of x2 - x1 where edges 1 and 2 (lo below, hi above the ray's line) cross that line. The
-// edges of a valid ring never cross, so on their common y-range one stays on one side of the
-// other: the sign is read at the range's lower end, or at its upper end where they meet below.
-int crossing_order(const RayHit& e1, const RayHit& e2) noexcept {
-  int s = e2.lo.y >= e1.lo.y ? -orientation(e1.lo, e1.hi, e2.lo) : orientation(e2.lo, e2.hi, e1.lo);
-  if (s != 0) return s;
-  s = e2.hi.y <= e1.hi.y ? -orientation(e1.lo, e1.hi, e2.hi) : orientation(e2.lo, e2.hi, e1.hi);
-  return s;
-}
-
-// Whether hit a is strictly nearer to the ray's origin than hit b.
-bool nearer(const RayHit& a, const RayHit& b) noexcept {
-  if (a.is_vertex && b.is_vertex) return a.point.x < b.point.x;
-  if (a.is_vertex) return orientation(b.lo, b.hi, a.point) > 0;  // left of b's crossing
-  if (b.is_vertex) return orientation(a.lo, a.hi, b.point) < 0;
-  return crossing_order(a, b) > 0;
-}
-
-// The node of the ring visible from m (a hole's lexicographically largest vertex; every vertex
-// of the holes not yet bridged is lexicographically smaller, so only the ring can block) that
-// the bridge goes to, or -1. Eberly's choice, made exactly: the nearest hit of the ray m + t
-// (1, 0); a vertex hit is visible; for an edge hit, its end point P of larger x is visible
-// unless ring vertices lie in the closed triangle (m, crossing, P), and then the one among them
-// at the smallest angle from the ray (the nearest on ties) is.
-int find_bridge(const Mesh& mesh, const std::vector<int>& ring_nodes, Vec2 m) {
-  RayHit best;
-  bool found = false;
-  for (const int n : ring_nodes) {
-    const Vec2 p = mesh.at(n), q = mesh.at(mesh.next[n]);
-    if (p.y == m.y && p.x > m.x) {
-      RayHit hit;
-      hit.is_vertex = true;
-      hit.node = n;
-      hit.point = p;
-      if (!found || nearer(hit, best)) best = hit;
-      found = true;
-    }
-    if ((p.y < m.y && q.y > m.y) || (p.y > m.y && q.y < m.y)) {
-      RayHit hit;
-      hit.node = n;
-      hit.lo = p.y < q.y ? p : q;
-      hit.hi = p.y < q.y ? q : p;
-      if (orientation(hit.lo, hit.hi, m) > 0) {  // m left of the upward edge: the crossing is right of m
-        if (!found || nearer(hit, best)) best = hit;
-        found = true;
-      }
-    }
-  }
-  if (!found) return -1;
-  Vec2 target = best.point;
-  if (!best.is_vertex) {
-    const bool hi_is_p = best.hi.x >= best.lo.x;
-    const Vec2 p = hi_is_p ? best.hi : best.lo, q = hi_is_p ? best.lo : best.hi;
-    const bool above = p.y > m.y;
-    bool have = false;
-    Vec2 choice{};
-    for (const int n : ring_nodes) {
-      const Vec2 r = mesh.at(n);
-      if (same_point(r, p)) continue;
-      // In the closed triangle (m, crossing, p): on p's side of the ray's line, on m's side of
-      // the edge's line, on the crossing's side of the line m p.
-      const bool inside = above ? (r.y >= m.y && orientation(q, p, r) >= 0 && orientation(p, m, r) >= 0)
-                                : (r.y <= m.y && orientation(p, q, r) >= 0 && orientation(m, p, r) >= 0);
-      if (!inside) continue;
-      if (!have) {
-        choice = r;
-        have = true;
-        continue;
-      }
-      const int o = orientation(m, r, choice);
-      if ((above ? o > 0 : o < 0) || (o == 0 && r.x < choice.x)) choice = r;
-    }
-    target = have ? choice : p;
-  }
-  // The copy of the target point whose wedge holds the direction to m.
-  for (const int n : ring_nodes)
-    if (same_point(mesh.at(n), target) && mesh.wedge_holds(n, m)) return n;
-  return -1;
-}
-
-// ---------------------------------------------------------------------------------------------
-// Ear clipping on the bridged ring (counter-clockwise). Node v with neighbours u, w is an ear
-// when (1) u v w turns strictly left, (2) the triangle's corners at u and w lie in the ring's
-// wedges there (so the copies of u and w, whose wedges are elsewhere, cannot reach into it),
-// (3) no vertex other than copies of u, v, w lies in the closed triangle. Then no boundary
-// meets the triangle's interior and it lies in the polygon. If any vertex lies in the triangle
-// then a non-convex one does (the one nearest v sees open polygon toward v), so (3) scans the
-// non-convex nodes only; a node's turn only grows more convex as ears are clipped beside it.
-// (2) is implied by (3) on a weakly simple ring as far as the tests reach (dropping it fails
-// none); it is kept because it is local and cheap, and it only ever refuses an ear whose
-// triangle would leave the polygon at u or w.
-
-class EarClipper {
- public:
-  EarClipper(Mesh& mesh, const std::vector<int>& ring_nodes, std::size_t& scanned)
-      : mesh_(mesh), nodes_(ring_nodes), scanned_(scanned) {
-    const std::size_t total = mesh.vertex.size();
-    alive_.assign(total, 0);
-    reflex_.assign(total, 0);
-    for (const int n : nodes_) {
-      alive_[n] = 1;
-      if (!convex(n)) {
-        reflex_[n] = 1;
-        reflex_by_x_.push_back(n);
-      }
-    }
-    // By x and by y, so that an ear test scans only the nodes within its triangle's x-range or
-    // its y-range, whichever holds fewer (a comb's teeth lie side by side along one axis).
-    std::sort(reflex_by_x_.begin(), reflex_by_x_.end(), [&](int a, int b) { return mesh_.at(a).x < mesh_.at(b).x; });
-    reflex_by_y_ = reflex_by_x_;
-    std::sort(reflex_by_y_.begin(), reflex_by_y_.end(), [&](int a, int b) { return mesh_.at(a).y < mesh_.at(b).y; });
-  }
-
-  // Appends the triangles (vertex ids, counter-clockwise). False when clipping stalls on a ring
-  // that still has area (a bug; valid input never gets here).
-  bool run(std::vector<std::array<int, 3>>& triangles) {
-    std::vector<int> work(nodes_.rbegin(), nodes_.rend());
-    int count = static_cast<int>(nodes_.size());
-    bool clipped_since_fill = false;
-    // Clipping v changes the ring only at u and w, so only u, w, prev(u) (whose corner test
-    // reads u's wedge) and next(w) change ear status: a node whose triangle held v also held
-    // another vertex, which stays. The refill below is therefore a safety net (the tests
-    // never reach it), and the work is O(n) ear tests of O(reflex vertices) each.
-    while (count >= 3) {
-      if (work.empty()) {
-        if (!clipped_since_fill) break;
-        clipped_since_fill = false;
-        for (const int n : nodes_)
-          if (alive_[n]) work.push_back(n);
-        continue;
-      }
-      const int v = work.back();
-      work.pop_back();
-      if (!alive_[v] || !is_ear(v)) continue;
-      const int u = mesh_.prev[v], w = mesh_.next[v];
-      triangles.push_back({mesh_.vertex[u], mesh_.vertex[v], mesh_.vertex[w]});
-      mesh_.next[u] = w;
-      mesh_.prev[w] = u;
-      alive_[v] = 0;
-      --count;
-      clipped_since_fill = true;
-      for (const int x : {u, w})
-        if (reflex_[x] && convex(x)) {
-          reflex_[x] = 0;
-          ++stale_;
-        }
-      if (reflex_[v]) ++stale_;  // cannot be: an ear tip is convex
-      if (stale_ * 2 > reflex_by_x_.size()) compact();
-      work.push_back(mesh_.next[w]);
-      work.push_back(mesh_.prev[u]);
-      work.push_back(w);
-      work.push_back(u);
-    }
-    if (count < 3) return true;
-    // Stalled: fine only if what is left has no area (a slit traced both ways).
-    for (const int n : nodes_)
-      if (alive_[n] && orientation(mesh_.at(mesh_.prev[n]), mesh_.at(n), mesh_.at(mesh_.next[n])) != 0) return false;
-    return true;
-  }
-
- private:
-  bool convex(int n) const noexcept {
-    return orientation(mesh_.at(mesh_.prev[n]), mesh_.at(n), mesh_.at(mesh_.next[n])) > 0;
-  }
-
-  void compact() {
-    for (std::vector<int>* list : {&reflex_by_x_, &reflex_by_y_}) {
-      std::size_t kept = 0;
-      for (const int n : *list)
-        if (alive_[n] && reflex_[n]) (*list)[kept++] = n;
-      list->resize(kept);
-    }
-    stale_ = 0;
-  }
-
-  bool is_ear(int v) noexcept {
-    const int u = mesh_.prev[v], w = mesh_.next[v];
-    const Vec2 a = mesh_.at(u), b = mesh_.at(v), c = mesh_.at(w);
-    if (orientation(a, b, c) <= 0) return false;
-    if (!in_wedge(a, b, mesh_.at(mesh_.prev[u]), c)) return false;  // corner at u: from u->v to u->w
-    if (!in_wedge(c, mesh_.at(mesh_.next[w]), b, a)) return false;  // corner at w: from w->u to w->v
-    const double min_x = std::min({a.x, b.x, c.x}), max_x = std::max({a.x, b.x, c.x});
-    const double min_y = std::min({a.y, b.y, c.y}), max_y = std::max({a.y, b.y, c.y});
-    const auto by_x_first = std::lower_bound(reflex_by_x_.begin(), reflex_by_x_.end(), min_x,
-                                             [&](int r, double x) { return mesh_.at(r).x < x; });
-    const auto by_x_last = std::upper_bound(by_x_first, reflex_by_x_.end(), max_x,
-                                            [&](double x, int r) { return x < mesh_.at(r).x; });
-    const auto by_y_first = std::lower_bound(reflex_by_y_.begin(), reflex_by_y_.end(), min_y,
-                                             [&](int r, double y) { return mesh_.at(r).y < y; });
-    const auto by_y_last = std::upper_bound(by_y_first, reflex_by_y_.end(), max_y,
-                                            [&](double y, int r) { return y < mesh_.at(r).y; });
-    const bool by_x = by_x_last - by_x_first <= by_y_last - by_y_first;
-    for (auto it = by_x ? by_x_first : by_y_first, end = by_x ? by_x_last : by_y_last; it != end; ++it) {
-      ++scanned_;
-      const int r = *it;
-      const Vec2 p = mesh_.at(r);
-      if (!alive_[r] || !reflex_[r] || p.x < min_x || p.x > max_x || p.y < min_y || p.y > max_y) continue;
-      if (same_point(p, a) || same_point(p, b) || same_point(p, c)) continue;
-      if (orientation(a, b, p) >= 0 && orientation(b, c, p) >= 0 && orientation(c, a, p) >= 0) return false;
-    }
-    return true;
-  }
-
-  Mesh& mesh_;
-  const std::vector<int>& nodes_;
-  std::size_t& scanned_;
-  std::vector<char> alive_, reflex_;
-  std::vector<int> reflex_by_x_, reflex_by_y_;  // the reflex nodes by x and by y
-  std::size_t stale_ = 0;
-};
 
 // ---------------------------------------------------------------------------------------------
 // Hertel-Mehlhorn: remove each diagonal (an edge two triangles share) whose removal leaves a
@@ -608,13 +510,34 @@ bool partition_convex(const PolygonRings& polygon, std::vector<std::vector<Vec2>
   for (std::size_t r = 0; r <= hole_count; ++r)
     if (!clean_ring(r == 0 ? polygon.outer : polygon.holes[r - 1], rings[r], error)) return false;
   if (!check_edges(rings, error, counted.edge_pairs)) return false;
-  // Boundaries are now pairwise disjoint, so one vertex tells where a whole ring lies.
-  for (std::size_t h = 1; h <= hole_count; ++h)
+  // Boundaries are now pairwise disjoint, so one vertex tells where a whole ring lies. Many
+  // holes (where testing every pair would cost more than the vertices) are placed by a sweep.
+  if (hole_count * hole_count > total) {
+    std::size_t compared = 0;
+    SimplicitySweep sweep(rings, compared);
+    if (!sweep.run(error)) return false;  // cannot be: check_edges passed
+    const auto inside_outer = [&](int r) {
+      while (r > 0) r = sweep.parent(r);
+      return r == 0;
+    };
+    for (std::size_t h = 1; h <= hole_count; ++h)
+      if (!inside_outer(static_cast<int>(h))) {
+        error = rings[h].name + ": not inside the outer boundary";
+        return false;
+      }
+    for (std::size_t h = 1; h <= hole_count; ++h)
+      if (sweep.parent(static_cast<int>(h)) != 0) {
+        error = rings[h].name + " lies inside " + rings[static_cast<std::size_t>(sweep.parent(static_cast<int>(h)))].name +
+                " (nested holes)";
+        return false;
+      }
+  }
+  for (std::size_t h = 1; h <= hole_count && hole_count * hole_count <= total; ++h)
     if (!inside_ring(rings[0].points, rings[h].points[0])) {
       error = rings[h].name + ": not inside the outer boundary";
       return false;
     }
-  for (std::size_t i = 1; i <= hole_count; ++i)
+  for (std::size_t i = 1; i <= hole_count && hole_count * hole_count <= total; ++i)
     for (std::size_t j = 1; j <= hole_count; ++j)
       if (i != j && box_inside(rings[j], rings[i]) && inside_ring(rings[i].points, rings[j].points[0])) {
         error = rings[j].name + " lies inside " + rings[i].name + " (nested holes)";
@@ -627,69 +550,27 @@ bool partition_convex(const PolygonRings& polygon, std::vector<std::vector<Vec2>
     if (ring_orientation(rings[r].points) != want) std::reverse(rings[r].points.begin(), rings[r].points.end());
   }
 
-  Mesh mesh;
-  std::vector<int> ring_nodes;
-  std::vector<int> hole_start(hole_count + 1, 0);  // node of each hole's lexicographically largest vertex
+  std::vector<Vec2> points;
+  std::vector<int> ring_sizes;
+  points.reserve(total);
   for (std::size_t r = 0; r <= hole_count; ++r) {
-    const auto& pts = rings[r].points;
-    const int first = static_cast<int>(mesh.vertex.size());
-    const int n = static_cast<int>(pts.size());
-    for (int k = 0; k < n; ++k) {
-      mesh.points.push_back(pts[k]);
-      const int node = mesh.add_node(static_cast<int>(mesh.points.size()) - 1);
-      mesh.prev[node] = first + (k + n - 1) % n;
-      mesh.next[node] = first + (k + 1) % n;
-      if (r == 0) ring_nodes.push_back(node);
-      if (k == 0 || lex_less(mesh.at(hole_start[r]), pts[k])) hole_start[r] = node;
-    }
+    points.insert(points.end(), rings[r].points.begin(), rings[r].points.end());
+    ring_sizes.push_back(static_cast<int>(rings[r].points.size()));
   }
-  // Holes by decreasing largest vertex: each one's bridge runs where no later hole reaches.
-  std::vector<std::size_t> order;
-  for (std::size_t h = 1; h <= hole_count; ++h) order.push_back(h);
-  std::sort(order.begin(), order.end(),
-            [&](std::size_t a, std::size_t b) { return lex_less(mesh.at(hole_start[b]), mesh.at(hole_start[a])); });
-  for (const std::size_t h : order) {
-    const int m = hole_start[h];
-    const int r = find_bridge(mesh, ring_nodes, mesh.at(m));
-    if (r < 0) {
-      error = "internal error: no bridge found for " + rings[h].name;
-      return false;
-    }
-    // r -> m -> (around the hole) -> m' -> r' -> old next of r.
-    const int r_next = mesh.next[r], m_prev = mesh.prev[m];
-    const int m_copy = mesh.add_node(mesh.vertex[m]);
-    const int r_copy = mesh.add_node(mesh.vertex[r]);
-    int x = m;
-    do {
-      ring_nodes.push_back(x);
-      x = mesh.next[x];
-    } while (x != m);
-    mesh.next[r] = m;
-    mesh.prev[m] = r;
-    mesh.next[m_prev] = m_copy;
-    mesh.prev[m_copy] = m_prev;
-    mesh.next[m_copy] = r_copy;
-    mesh.prev[r_copy] = m_copy;
-    mesh.next[r_copy] = r_next;
-    mesh.prev[r_next] = r_copy;
-    ring_nodes.push_back(m_copy);
-    ring_nodes.push_back(r_copy);
-  }
-
   std::vector<std::array<int, 3>> triangles;
-  triangles.reserve(ring_nodes.size());
-  if (!EarClipper(mesh, ring_nodes, counted.ear_scans).run(triangles)) {
-    error = "internal error: ear clipping stalled";
+  triangles.reserve(points.size() + 2 * hole_count);
+  if (!triangulate_polygon(points, ring_sizes, triangles, counted.triangulation_tests)) {
+    error = "internal error: the triangulation found no edge where one must be";
     return false;
   }
   std::vector<std::vector<int>> merged;
-  merge_pieces(mesh.points, triangles, merged);
+  merge_pieces(points, triangles, merged);
   for (const auto& piece : merged) {
     if (piece.empty()) continue;
     std::vector<Vec2> out;
     const std::size_t n = piece.size();
     for (std::size_t k = 0; k < n; ++k) {
-      const Vec2 p = mesh.points[piece[(k + n - 1) % n]], v = mesh.points[piece[k]], q = mesh.points[piece[(k + 1) % n]];
+      const Vec2 p = points[piece[(k + n - 1) % n]], v = points[piece[k]], q = points[piece[(k + 1) % n]];
       if (orientation(p, v, q) != 0) out.push_back(v);  // drop straight vertices
     }
     if (out.size() >= 3) pieces.push_back(std::move(out));

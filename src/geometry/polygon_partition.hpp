@@ -23,17 +23,18 @@ struct PolygonRings {
   std::vector<std::vector<Vec2>> holes;
 };
 
-// The most vertices partition_convex accepts over all rings together. The work is O(n^2) in the
-// worst case (an outline whose edges' boxes overlap pairwise along both axes, as a comb
-// slanted at 45 degrees), so a bound keeps a hostile input from costing minutes; 65536 covers
-// any hand-made or tile-derived outline.
+// The most vertices partition_convex accepts over all rings together: the work is O(n log n)
+// (65,536 vertices take a few tenths of a second), and the bound keeps one shape's pieces, and
+// the memory the renderers give each, in reach; 65536 covers any hand-made or tile-derived
+// outline.
 inline constexpr std::size_t kMaxPartitionVertices = 65536;
 
 // What a partition looked at, for tests of how its work grows: the pairs of edges its
-// validation sweep compared, and the reflex vertices its ear tests scanned.
+// validation sweep compared, and the orientation tests its triangulation made (the sweep's
+// comparisons of an edge with a vertex, and the monotone pieces' triangle tests).
 struct PartitionWork {
   std::size_t edge_pairs = 0;
-  std::size_t ear_scans = 0;
+  std::size_t triangulation_tests = 0;
 };
 
 // Decomposes `polygon` into convex pieces.
@@ -62,14 +63,15 @@ struct PartitionWork {
 // vertices", "outer: zero area (all vertices on one line)", "outer: vertex 3 is not finite".
 // `error` is left as it was on success.
 //
-// Cost: O(n log n) plus the pairs of edges whose x-ranges overlap (or y-ranges, where that
-// makes far fewer: an outline whose edges lie side by side along either axis, as a comb's, is
-// validated in O(n log n)), plus, per ear test, the reflex and straight vertices within its
-// triangle's x-range or y-range (the shorter); each hole's bridge scans the ring once, and
-// merging the triangles costs O(1) a diagonal. The ear tests stay quadratic where the
-// triangulation must fan out from one vertex over a long run of vertices (a comb's base under
-// its teeth: 65,534 vertices take about 2 s). `work`, when given, receives the counts of pairs
-// and scans. No input makes it crash, loop or produce non-finite output.
+// Cost: O(n log n) for n vertices in all rings, whatever the shape. Validation compares the
+// pairs of edges whose x-ranges overlap (or y-ranges, where that makes far fewer: a comb's teeth
+// side by side along either axis) while those are at most 16 an edge; past that (a star's
+// edges around its centre) a sweep (Shamos-Hoey) checks them, and places the holes where they
+// have more pairs than there are vertices. The triangulation (a sweep that cuts the polygon into
+// monotone pieces, holes included, then one pass down each piece) is O(n log n), and merging
+// the triangles costs O(1) a diagonal. `work`, when given, receives the pairs of edges compared
+// and the triangulation's orientation tests. No input makes it crash, loop or produce
+// non-finite output.
 bool partition_convex(const PolygonRings& polygon, std::vector<std::vector<Vec2>>& pieces, std::string& error,
                       PartitionWork* work = nullptr);
 
@@ -83,8 +85,9 @@ bool partition_polygon(const Polygon& polygon, std::string& error);
 // shared stretch once, as a segment of positive length between two piece vertices (`out` is
 // not cleared). Exact: collinearity by `orientation`, order along the line by coordinates.
 // O(e log e + s) for e piece edges and s pairs of edges that overlap along their axis and lie
-// on one vertical or horizontal line, or, for slanted edges, overlap in x; `pairs`, when
-// given, receives s.
+// on one vertical or horizontal line, or, for slanted edges, overlap in x and fall in one
+// group of directions and distances from the origin chained 1e-12 apart (relative to the
+// largest coordinate); `pairs`, when given, receives s.
 void shared_boundaries(const std::vector<Polygon>& pieces, std::vector<Segment>& out, std::size_t* pairs = nullptr);
 
 // How many pairs of the closed intervals `spans` (low, high) overlap as a sweep sees them: for

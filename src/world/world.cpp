@@ -358,7 +358,19 @@ void World::erase_chain(std::uint32_t slot, void (World::*erase_entry)(std::size
 void World::erase_light(std::uint32_t slot) {
   if (slots_[slot].list == kDark) return erase_dark(static_cast<std::size_t>(slots_[slot].where));
   const ModelFlagBatch batch(*this);
-  erase_chain(slot, &World::erase_lit, internal_lights_);
+  // A concave light's entries lie together; erased from the last down, no erase moves an entry
+  // erased after it (from the first up, each moved all the rest: quadratic in the pieces). The
+  // slots are released in the chain's order, as erase_chain does.
+  chain_scratch_.clear();
+  for (std::uint32_t s = slots_[slot].next; s != kNoSlot; s = slots_[s].next) chain_scratch_.push_back(s);
+  for (auto it = chain_scratch_.rbegin(); it != chain_scratch_.rend(); ++it)
+    erase_lit(static_cast<std::size_t>(slots_[*it].where));
+  for (const std::uint32_t s : chain_scratch_) {
+    release_slot(&slots_[s]);
+    --internal_lights_;
+  }
+  slots_[slot].next = kNoSlot;
+  erase_lit(static_cast<std::size_t>(slots_[slot].where));
   compound_lights_.erase(slot);
 }
 
@@ -391,6 +403,7 @@ void World::erase_lit(std::size_t p) {
   const auto at = static_cast<std::ptrdiff_t>(p);
   // Its overlaps go back to the pool (reserve_overlaps).
   for (LightOverlap& o : scene_.lights[p].overlaps) scene_.spare_overlaps.push_back(std::move(o));
+  lit_entries_moved_ += m - p;
   light_sources_.erase(light_sources_.begin() + at);
   light_slots_.erase(light_slots_.begin() + at);
   scene_.lights.erase(scene_.lights.begin() + at);

@@ -34,6 +34,9 @@ class World {
   Status update_light(LightHandle handle, const Light& light);
   Status set_light_emission(LightHandle handle, const Rgb& color, double intensity);
   Status remove_light(LightHandle handle);
+  // Lit entries moved down a place by erasures over the World's life (each erasure moves the
+  // entries after it): for tests of what removing a light with many entries costs.
+  std::size_t lit_entries_moved() const noexcept { return lit_entries_moved_; }
   Status add_occluder(const Occluder& occluder, OccluderHandle* handle);
   Status update_occluder(OccluderHandle handle, const Occluder& occluder);
   Status remove_occluder(OccluderHandle handle);
@@ -193,6 +196,8 @@ class World {
   // A plain occluder as given, in a group or not.
   const Occluder& plain_source(std::uint32_t slot) const noexcept;
   std::vector<std::uint32_t> regroup_order_;  // scratch
+  std::vector<std::uint32_t> chain_scratch_;  // scratch: a light's entry slots, for erase_light
+  std::size_t lit_entries_moved_ = 0;
   // set_scene: the plain occluders (user slot, index in `scene`) into the lists, merged.
   void push_loaded_occluders(const Scene& scene, const std::vector<std::pair<std::uint32_t, std::size_t>>& plain);
   std::vector<Light> dark_sources_;
