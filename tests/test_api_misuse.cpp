@@ -186,8 +186,8 @@ TEST_CASE("rays are ignored by the non-raycast backends") {
   CHECK(render(small_scene(), o, b.view).ok());
 }
 
-// FINDINGS.md #1: check_arguments only refuses isa values above avx512, so a negative one
-// reaches the kernel table and crashes. Skipped until src/render/render.cpp checks the low end.
+// FINDINGS.md #1: an isa value below the enum once reached the kernel table and crashed;
+// check_options (src/render/render_arguments.cpp) refuses both ends.
 TEST_CASE("an isa below the enum is invalid_argument") {
   RenderOptions o;
   o.backend = Backend::simd;

@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "par2d/render.hpp"
 #include "par2d/status.hpp"
+#include "par2d/types.hpp"
 
 // The public API is what the shared library exports (built with hidden visibility).
 #pragma GCC visibility push(default)

@@ -8,4 +8,5 @@
 #include "par2d/scene.hpp"
 #include "par2d/scene_write.hpp"
 #include "par2d/status.hpp"
+#include "par2d/types.hpp"
 #include "par2d/version.hpp"

@@ -10,6 +10,7 @@
 #include "par2d/isa.hpp"
 #include "par2d/scene.hpp"
 #include "par2d/status.hpp"
+#include "par2d/types.hpp"
 
 // The public API is what the shared library exports (built with hidden visibility).
 #pragma GCC visibility push(default)
@@ -25,29 +26,6 @@ enum class Backend {
 // "auto", "simd", "scalar", "raycast".
 const char* backend_name(Backend backend) noexcept;
 std::optional<Backend> parse_backend(const char* name) noexcept;
-
-// Which terms of a scene with one bounce (docs/contract.md section 7) a render outputs, so
-// that a host can composite or inspect the direct and the indirect light apart. A scene with
-// no reflecting occluder has no bounce term: `only` renders it black, the others the same.
-enum class BounceTerm {
-  included,  // direct light plus the bounce (the contract's value)
-  excluded,  // the direct light alone (section 6), as if every albedo were zero
-  only,      // the bounce term alone: what `included` adds to `excluded`
-};
-
-// "included", "excluded", "only".
-const char* bounce_term_name(BounceTerm term) noexcept;
-std::optional<BounceTerm> parse_bounce_term(const char* name) noexcept;
-
-// Where render's parallel work runs.
-enum class Threading {
-  // par2d's own pool of `threads` workers: a one-shot render makes one per call; a Renderer
-  // makes one in set_options and keeps it.
-  own_pool,
-  // The TBB arena render is called from: the host calls render inside its own
-  // tbb::task_arena::execute, and `threads` is ignored.
-  caller_arena,
-};
 
 // The estimated work (WorkEstimate::total) past which a frame is refused by default: 1e11 units,
 // a quarter of an hour to two and a half hours of one core (docs/api.md, "Long renders").
@@ -93,22 +71,6 @@ struct RenderOptions {
 // capped at the hardware thread count, 0 meaning all of them (TBB's concurrency limit from
 // here); in caller_arena mode the calling arena's concurrency. What a benchmark should report.
 int resolved_threads(const RenderOptions& options) noexcept;
-
-// A float RGB image owned by the caller. Pixel (i, j) channel c lives at
-// data[j * row_stride + 3 * i + c]; row 0 is the top row. `row_stride` counts
-// floats and must be at least 3 * width. Any alignment works; an image of 16 MiB or more
-// whose data starts on a 64-byte boundary (with a row stride in floats divisible by 16) is
-// written with non-temporal stores, which bypass the cache.
-struct ImageView {
-  float* data = nullptr;
-  int width = 0;
-  int height = 0;
-  std::ptrdiff_t row_stride = 0;
-};
-
-// Offset inside the pixel, in [0, 1)^2 pixel units, of sample k of `spp` (a
-// stratified rank-1 lattice; spp = 1 gives the center (0.5, 0.5)).
-void sample_offset(int k, int spp, double& dx, double& dy) noexcept;
 
 // Renders the linear irradiance E of `scene` (docs/contract.md section 1) into `image`,
 // whose size must equal the scene's width and height. Validates the scene and the

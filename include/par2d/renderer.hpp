@@ -10,67 +10,11 @@
 #include "par2d/render.hpp"
 #include "par2d/scene.hpp"
 #include "par2d/status.hpp"
+#include "par2d/types.hpp"
 
 // The public API is what the shared library exports (built with hidden visibility).
 #pragma GCC visibility push(default)
 namespace par2d {
-
-// Names a light of one Renderer for as long as it exists; a removed light's handle is never
-// valid again (handles carry a generation). id 0 never names anything.
-struct LightHandle {
-  std::uint64_t id = 0;
-};
-struct OccluderHandle {
-  std::uint64_t id = 0;
-};
-
-// Pixel layouts a frame can be written in. Every format is written by the tiles directly,
-// and every ISA writes the same bytes.
-enum class PixelFormat {
-  rgb_f32,     // 3 floats per pixel: linear irradiance E (docs/contract.md section 1)
-  rgba_f32,    // 4 floats: E and alpha 1
-  rgba8_srgb,  // 4 bytes: round(255 * srgb(clamp(exposure * E, 0, 1))) per channel, alpha 255
-  bgra8_srgb,  // the same bytes in B, G, R, A order (the layout many GPUs and window systems prefer)
-  // 4 IEEE half floats (8 bytes, native byte order): E rounded to nearest even, values past the
-  // largest finite half (65504) saturating to it, alpha 1: what engines upload as RGBA16F.
-  rgba16f,
-  // rgba8_srgb and bgra8_srgb with an ordered dither: floor(255 * srgb(clamp(exposure * E, 0,
-  // 1)) + t) per channel, t = (B(x mod 8, y mod 8) + 0.5) / 64 with B the 8x8 Bayer matrix and
-  // (x, y) the pixel in the frame, so that dark gradients do not band; a region or an
-  // incremental frame writes the bytes a whole frame has there (docs/api.md, "Pixel formats").
-  rgba8_srgb_dithered,
-  bgra8_srgb_dithered,
-};
-
-// Bytes one pixel of `format` takes (12, 16, 4, 4, 8, 4, 4).
-int bytes_per_pixel(PixelFormat format) noexcept;
-
-// Pixel columns [x0, x1) and rows [y0, y1) of the lightmap.
-struct PixelRect {
-  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-};
-
-// The host's buffer for a frame or a region of it: the region's top-left pixel is at `data`,
-// row r of the region starts `r * row_stride` bytes after it. Any alignment works; float
-// regions of 16 MiB or more are written with non-temporal stores (bypassing the cache) on
-// the rows that start on a 64-byte boundary (16 bytes for SSE4.2 kernels, 32 for AVX2).
-struct FrameBuffer {
-  void* data = nullptr;
-  PixelFormat format = PixelFormat::rgb_f32;
-  // Bytes between the starts of consecutive rows; at least region width * bytes_per_pixel.
-  std::ptrdiff_t row_stride = 0;
-  // Multiplies E before sRGB encoding (the 8-bit formats only); finite, >= 0. Default: 1.
-  double exposure = 1.0;
-};
-
-// What the renderer has done so far (for tests and profiling).
-struct RendererStats {
-  std::uint64_t frames = 0;             // successful render calls
-  std::uint64_t index_builds = 0;       // occluder index (BVH) built from scratch
-  std::uint64_t index_updates = 0;      // occluder index updated in place (refit, insert, remove)
-  std::uint64_t reach_computations = 0; // per-light reach proofs run (lights changed or near changes)
-  std::uint64_t full_prepares = 0;      // whole world re-prepared (frame or coordinate scale changed)
-};
 
 // One frame of `scene` in any pixel format: render() for a FrameBuffer (whole frame, the
 // scene's width x height). Backend::raycast is refused (render_raycast writes float RGB).

@@ -8,7 +8,7 @@
 
 #include <memory>
 
-#include "par2d/render.hpp"
+#include "par2d/types.hpp"
 #include "parallel/parallel_for.hpp"
 
 namespace par2d::detail {

@@ -7,8 +7,8 @@
 #include <optional>
 #include <vector>
 
-#include "par2d/render.hpp"
 #include "par2d/scene.hpp"
+#include "par2d/types.hpp"
 
 namespace par2d::detail {
 

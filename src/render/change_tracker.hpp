@@ -8,7 +8,7 @@
 
 #include "culling/light_reach.hpp"
 #include "par2d/isa.hpp"
-#include "par2d/renderer.hpp"
+#include "par2d/types.hpp"
 #include "render/frame_driver.hpp"
 #include "render/light_layers.hpp"
 #include "world/prepared_scene.hpp"

@@ -5,7 +5,7 @@
 #include <cstdint>
 
 #include "io/pixel_encoding.hpp"
-#include "par2d/renderer.hpp"
+#include "par2d/types.hpp"
 #include "render/tiling.hpp"
 #include "simd/tile_work.hpp"
 
@@ -45,7 +45,7 @@ using GenericTileStore = void (*)(const TileResult& result, int tile_x0, int til
 // The one table of pixel formats (frame_output.cpp), a row per PixelFormat. A new format is a
 // row there with its generic store, a VectorTileStores member with each ISA's store
 // (simd/tile_kernel_entry.hpp, declared and listed in simd/tile_kernel_entries.hpp), and the
-// enum value (par2d/renderer.hpp).
+// enum value (par2d/types.hpp).
 struct PixelFormatInfo {
   PixelFormat format;
   const char* name;  // the enum value's name

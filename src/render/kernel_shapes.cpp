@@ -3,7 +3,6 @@
 #include "render/kernel_shapes.hpp"
 
 #include "geometry/box_clip.hpp"
-#include "par2d/render.hpp"
 
 namespace par2d::detail {
 namespace {

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "par2d/render.hpp"
+#include "par2d/types.hpp"
 #include "render/tiling.hpp"
 #include "simd/tile_work.hpp"
 #include "world/prepared_scene.hpp"

@@ -1,12 +1,16 @@
 // Argument checks shared by the one-shot render, the ray-casting baseline and par2d::Renderer
-// (one wording for all).
+// (one wording for all), and the worker count they resolve (render_arguments.cpp).
 #pragma once
 
 #include "par2d/render.hpp"
-#include "par2d/renderer.hpp"
 #include "par2d/status.hpp"
+#include "par2d/types.hpp"
 
 namespace par2d::detail {
+
+// Workers for `requested` threads: 0 means TBB's concurrency from the calling thread; more
+// than the hardware threads are capped there.
+int worker_threads(int requested) noexcept;
 
 // threads >= 0, spp and rays in range, known backend, ISA and threading. `who` prefixes messages.
 Status check_options(const RenderOptions& options, const char* who);

@@ -1,7 +1,7 @@
 // Pixel loops of the per-pixel backends (scalar reference, ray caster) over a rectangle.
 #pragma once
 
-#include "par2d/render.hpp"
+#include "par2d/types.hpp"
 #include "raycast/raycast_renderer.hpp"
 #include "world/prepared_scene.hpp"
 #include "render/tiling.hpp"

@@ -9,9 +9,9 @@
 #include <unordered_map>
 #include <vector>
 
-#include "par2d/renderer.hpp"
 #include "par2d/scene.hpp"
 #include "par2d/status.hpp"
+#include "par2d/types.hpp"
 #include "lighting/light_emission.hpp"
 #include "world/prepared_scene.hpp"
 #include "world/world_changes.hpp"
