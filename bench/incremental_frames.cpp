@@ -1,10 +1,12 @@
-// The incremental-frame game loop (issue 40) on the torch hall (torch_hall.hpp), 1280 x 720,
+// The incremental-frame game loop on the torch hall (torch_hall.hpp), 1280 x 720,
 // for a fixed number of frames after an untimed first one, with the per-frame time, the
 // pixels recomputed, and a function for callgrind to count exactly the frames:
 //   valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*timed_frames*'
 //       par2d_incremental_frames SCENARIO FRAMES [THREADS [LAYER_MIB [SCENE.json]]]
 // SCENARIO: full (2 torches move, every pixel computed: the baseline), a (nothing changes),
-// b (2 torches move), c (8 torches flicker and 2 move), d (the door moves). LAYER_MIB: the
+// b (2 torches move), c (8 torches flicker and 2 move), d (the door moves), s (b, and every
+// other light and occluder re-sent with the values it holds, as an engine syncing its
+// entities each frame: s against b is the re-sync's cost). LAYER_MIB: the
 // light-layer cache's budget in MiB (default 0: off); the first, untimed frame fills it.
 // SCENE.json: another level instead of the hall (levels built differently, e.g. by
 // par2d_make_grid): of its N lights the first N/32 move and the next N/8 flicker (the hall's
@@ -67,11 +69,12 @@ struct Motion {
 };
 
 __attribute__((noinline)) bool timed_frames(par2d::Renderer& r, const std::vector<par2d::LightHandle>& torches,
+                                            const std::vector<par2d::OccluderHandle>& occluders,
                                             par2d::OccluderHandle door, char scenario, const par2d::FrameBuffer& buffer,
-                                            int frames, const Motion& motion, FrameLog& log) {
+                                            int frames, const par2d::Scene& scene, const Motion& motion, FrameLog& log) {
   for (int f = 1; f <= frames; ++f) {
     const auto start = std::chrono::steady_clock::now();
-    if (scenario == 'f' || scenario == 'b' || scenario == 'c') {
+    if (scenario == 'f' || scenario == 'b' || scenario == 'c' || scenario == 's') {
       for (int t : motion.movers)
         if (!r.update_light(torches[static_cast<std::size_t>(t)], motion.light(t, f, false)).ok()) return false;
     }
@@ -82,6 +85,14 @@ __attribute__((noinline)) bool timed_frames(par2d::Renderer& r, const std::vecto
       }
     }
     if (scenario == 'd' && !r.update_occluder(door, motion.door(f)).ok()) return false;
+    if (scenario == 's') {
+      for (std::size_t t = 0; t < torches.size(); ++t)
+        if (std::find(motion.movers.begin(), motion.movers.end(), static_cast<int>(t)) == motion.movers.end() &&
+            !r.update_light(torches[t], scene.lights[t]).ok())
+          return false;
+      for (std::size_t o = 0; o < occluders.size(); ++o)
+        if (!r.update_occluder(occluders[o], scene.occluders[o]).ok()) return false;
+    }
     if (scenario == 'f') r.force_full_frame();
     if (!r.render(buffer).ok()) return false;
     log.seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
@@ -94,8 +105,8 @@ __attribute__((noinline)) bool timed_frames(par2d::Renderer& r, const std::vecto
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 3 || argc > 6 || std::strchr("fullabcd", argv[1][0]) == nullptr) {
-    std::fprintf(stderr, "usage: %s full|a|b|c|d FRAMES [THREADS [LAYER_MIB [SCENE.json]]]\n", argv[0]);
+  if (argc < 3 || argc > 6 || std::strchr("fullabcds", argv[1][0]) == nullptr) {
+    std::fprintf(stderr, "usage: %s full|a|b|c|d|s FRAMES [THREADS [LAYER_MIB [SCENE.json]]]\n", argv[0]);
     return 2;
   }
   const char scenario = argv[1][0];
@@ -136,7 +147,7 @@ int main(int argc, char** argv) {
             r.set_incremental(true).ok() && r.set_light_layer_budget(layer_mib << 20).ok() && r.render(buffer).ok();
   FrameLog log;
   const std::size_t door = motion.level ? 0 : static_cast<std::size_t>(par2d::bench::hall_door_index());
-  ok = ok && timed_frames(r, torches, occluders[door], scenario, buffer, frames, motion, log);
+  ok = ok && timed_frames(r, torches, occluders, occluders[door], scenario, buffer, frames, scene, motion, log);
   if (!ok || log.seconds.empty()) {
     std::printf("%s: FAILED\n", argv[1]);
     return 1;

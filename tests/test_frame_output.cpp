@@ -24,18 +24,66 @@ using par2d::test::simd_isas_here;
 
 namespace {
 
-// What the store must write for tile pixel (i, j) of `result`, in `format`.
-void reference_pixel(const TileResult& result, int i, int j, PixelFormat format, double exposure, unsigned char* out) {
+// IEEE half bits of `v` by the definition, apart from the store's bit manipulation: the
+// nearest of the finite halves (ties to the even one), saturating at 65504, NaN to 0.
+std::uint16_t reference_half(float v) {
+  if (std::isnan(v)) return 0;
+  const std::uint16_t sign = std::signbit(v) ? 0x8000 : 0;
+  const double a = std::fabs(static_cast<double>(v));
+  if (a >= 65504.0) return static_cast<std::uint16_t>(sign | 0x7bff);
+  // Halves below 2^-14 are steps of 2^-24; above, 11 significant bits.
+  const int exponent = a < 0x1p-14 ? -14 : std::ilogb(a);
+  const double step = std::ldexp(1.0, exponent - 10);
+  const double units = a / step;  // exact: a power-of-two division
+  double whole = std::floor(units);
+  const double rest = units - whole;
+  if (rest > 0.5 || (rest == 0.5 && std::fmod(whole, 2.0) != 0.0)) whole += 1.0;
+  const double rounded = whole * step;
+  if (rounded >= 65536.0) return static_cast<std::uint16_t>(sign | 0x7bff);
+  if (rounded < 0x1p-14) return static_cast<std::uint16_t>(sign | static_cast<std::uint16_t>(rounded / 0x1p-24));
+  const int e = std::ilogb(rounded);
+  const auto mantissa = static_cast<std::uint16_t>(rounded / std::ldexp(1.0, e - 10) - 1024.0);
+  return static_cast<std::uint16_t>(sign | ((e + 15) << 10) | mantissa);
+}
+
+// The dithered code by its definition: floor(255 * srgb(clamp(v, 0, 1)) + t).
+unsigned char reference_dithered(double v, int x, int y) {
+  if (!(v > 0.0)) return 0;
+  v = std::min(v, 1.0);
+  const double s = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+  const double t = (detail::bayer8(x, y) + 0.5) / 64.0;
+  return static_cast<unsigned char>(std::min(255.0, std::floor(255.0 * s + t)));
+}
+
+// What the store must write for the pixel of `result` at tile pixel (i, j), frame pixel
+// (x, y), in `format`.
+void reference_pixel(const TileResult& result, int i, int j, int x, int y, PixelFormat format, double exposure,
+                     unsigned char* out) {
   const std::size_t k = static_cast<std::size_t>(j) * kTileSize + static_cast<std::size_t>(i);
   const float rgb[3] = {result.rgb[0][k], result.rgb[1][k], result.rgb[2][k]};
-  if (format == PixelFormat::rgba8_srgb) {
-    for (int c = 0; c < 3; ++c) out[c] = detail::encode_srgb8(exposure * static_cast<double>(rgb[c]));
+  const bool bgra = format == PixelFormat::bgra8_srgb || format == PixelFormat::bgra8_srgb_dithered;
+  const bool dithered = format == PixelFormat::rgba8_srgb_dithered || format == PixelFormat::bgra8_srgb_dithered;
+  if (format == PixelFormat::rgba8_srgb || bgra || dithered) {
+    for (int c = 0; c < 3; ++c) {
+      const double v = exposure * static_cast<double>(rgb[c]);
+      out[bgra ? 2 - c : c] = dithered ? reference_dithered(v, x, y) : detail::encode_srgb8(v);
+    }
     out[3] = 255;
+    return;
+  }
+  if (format == PixelFormat::rgba16f) {
+    const std::uint16_t pixel[4] = {reference_half(rgb[0]), reference_half(rgb[1]), reference_half(rgb[2]), 0x3C00};
+    std::memcpy(out, pixel, sizeof pixel);
     return;
   }
   const float pixel[4] = {rgb[0], rgb[1], rgb[2], 1.0f};
   std::memcpy(out, pixel, static_cast<std::size_t>(bytes_per_pixel(format)));
 }
+
+constexpr PixelFormat kEveryFormat[] = {PixelFormat::rgb_f32,    PixelFormat::rgba_f32,
+                                        PixelFormat::rgba8_srgb, PixelFormat::bgra8_srgb,
+                                        PixelFormat::rgba16f,    PixelFormat::rgba8_srgb_dithered,
+                                        PixelFormat::bgra8_srgb_dithered};
 
 }  // namespace
 
@@ -50,7 +98,7 @@ TEST_CASE("tile store: every format, every part of a tile, at odd offsets and st
     const detail::KernelSet* kernels = detail::kernels_for(isa);
     REQUIRE(kernels != nullptr);
     const bool has_stores = kernels->stores.rgb_f32 != nullptr && kernels->stores.rgba_f32 != nullptr &&
-                            kernels->stores.rgba8_srgb != nullptr;
+                            kernels->stores.rgba8_srgb != nullptr && kernels->stores.bgra8_srgb != nullptr;
     REQUIRE(has_stores);
     detail::VectorTileStores with_buckets = kernels->stores;
     with_buckets.srgb = &buckets;
@@ -68,9 +116,17 @@ TEST_CASE("tile store: every format, every part of a tile, at odd offsets and st
       for (float& v : plane) v = value(rng);
     result->rgb[1][5] = -0.0f;  // signs and special values pass through the float formats unchanged
     result->rgb[2][17] = 1e-40f;
+    // Half-float edges: past the largest finite half, the tie that would round to infinity,
+    // infinity, a subnormal half and a value below the smallest.
+    result->rgb[0][3] = 70000.0f;
+    result->rgb[1][7] = 65520.0f;
+    result->rgb[2][9] = 65519.0f;
+    result->rgb[0][11] = std::numeric_limits<float>::infinity();
+    result->rgb[1][13] = 3.0e-6f;
+    result->rgb[2][15] = 2.0e-8f;
 
     const int tile_x0 = 32, tile_y0 = 48;  // the tile's top-left pixel in the frame
-    for (PixelFormat format : {PixelFormat::rgb_f32, PixelFormat::rgba_f32, PixelFormat::rgba8_srgb}) {
+    for (PixelFormat format : kEveryFormat) {
       const int bpp = bytes_per_pixel(format);
       int mismatches = 0, padding_changed = 0, parts = 0;
       for (int trial = 0; trial < 400; ++trial) {
@@ -106,7 +162,7 @@ TEST_CASE("tile store: every format, every part of a tile, at odd offsets and st
             }
             if (b % bpp != 0) continue;
             unsigned char expected[16];
-            reference_pixel(*result, x - tile_x0, y - tile_y0, format, target.exposure, expected);
+            reference_pixel(*result, x - tile_x0, y - tile_y0, x, y, format, target.exposure, expected);
             mismatches += std::memcmp(row + b, expected, static_cast<std::size_t>(bpp)) != 0;
           }
         }
@@ -186,7 +242,7 @@ TEST_CASE("tile store: frames over kStreamingFrameBytes (non-temporal stores on 
         for (int y = tile.y0; y < tile.y1; ++y)
           for (int x = tile.x0; x < tile.x1; ++x) {
             unsigned char expected[16];
-            reference_pixel(*result, x - tile.x0, y - tile.y0, format, 1.0, expected);
+            reference_pixel(*result, x - tile.x0, y - tile.y0, x, y, format, 1.0, expected);
             const unsigned char* at = aligned + static_cast<std::ptrdiff_t>(y) * target.row_stride +
                                       static_cast<std::ptrdiff_t>(x) * bpp;
             mismatches += std::memcmp(at, expected, static_cast<std::size_t>(bpp)) != 0;
@@ -269,4 +325,82 @@ TEST_CASE("8-bit sRGB vector store: every code's first value and the float befor
     detail::build_srgb_buckets(exposure, buckets);
     CHECK_FALSE(buckets.valid);
   }
+}
+
+TEST_CASE("half floats: every finite half converts to itself, midpoints to the even neighbour, saturating at 65504") {
+  int mismatches = 0;
+  for (std::uint32_t h = 0; h < 0x7c00u; ++h) {  // every finite non-negative half
+    const double value = h < 0x400u ? h * 0x1p-24 : std::ldexp(1.0 + (h & 0x3ffu) / 1024.0, static_cast<int>(h >> 10) - 15);
+    const auto v = static_cast<float>(value);  // exact: 11 significant bits
+    mismatches += detail::half_of(v) != h;
+    mismatches += detail::half_of(-v) != (h | 0x8000u);
+    mismatches += detail::half_of(v) != reference_half(v);
+    if (h + 1 < 0x7c00u) {
+      const double next = (h + 1) < 0x400u ? (h + 1) * 0x1p-24
+                                           : std::ldexp(1.0 + ((h + 1) & 0x3ffu) / 1024.0, static_cast<int>((h + 1) >> 10) - 15);
+      const auto middle = static_cast<float>(0.5 * (value + next));  // exact: 12 significant bits
+      const std::uint32_t even = (h & 1u) == 0 ? h : h + 1;
+      mismatches += detail::half_of(middle) != even;
+      mismatches += detail::half_of(std::nextafter(middle, 0.0f)) != h;
+      mismatches += detail::half_of(std::nextafter(middle, 1e9f)) != h + 1;
+    }
+  }
+  CHECK(mismatches == 0);
+  CHECK(detail::half_of(65504.0f) == 0x7bff);
+  CHECK(detail::half_of(65519.99f) == 0x7bff);
+  CHECK(detail::half_of(65520.0f) == 0x7bff);  // a tie that rounds to infinity: saturated
+  CHECK(detail::half_of(1e30f) == 0x7bff);
+  CHECK(detail::half_of(std::numeric_limits<float>::infinity()) == 0x7bff);
+  CHECK(detail::half_of(-std::numeric_limits<float>::infinity()) == 0xfbff);
+  CHECK(detail::half_of(std::numeric_limits<float>::quiet_NaN()) == 0);
+  CHECK(detail::half_of(0x1p-25f) == 0);       // half the smallest subnormal: ties to even 0
+  CHECK(detail::half_of(0x1.0p-25f * 1.5f) == 1);
+  std::mt19937 rng(16);
+  std::uniform_real_distribution<float> wide(-8.0f, 17.0f);
+  int random_mismatches = 0;
+  for (int i = 0; i < 200000; ++i) {
+    const float v = std::exp2(wide(rng)) * (i % 2 ? 1.0f : -1.0f);
+    random_mismatches += detail::half_of(v) != reference_half(v);
+  }
+  CHECK(random_mismatches == 0);
+}
+
+TEST_CASE("ordered dither: the 8x8 Bayer matrix, and the mean code of every 8x8 square within 1/128 of 255 srgb(v)") {
+  // The recursive construction, M(2n) = [[4M, 4M + 2], [4M + 3, 4M + 1]].
+  std::vector<std::vector<int>> m{{0}};
+  while (m.size() < 8) {
+    const std::size_t n = m.size();
+    std::vector<std::vector<int>> next(2 * n, std::vector<int>(2 * n));
+    for (std::size_t y = 0; y < n; ++y)
+      for (std::size_t x = 0; x < n; ++x) {
+        next[y][x] = 4 * m[y][x];
+        next[y][x + n] = 4 * m[y][x] + 2;
+        next[y + n][x] = 4 * m[y][x] + 3;
+        next[y + n][x + n] = 4 * m[y][x] + 1;
+      }
+    m = next;
+  }
+  for (int y = -8; y < 16; ++y)
+    for (int x = -8; x < 16; ++x) CHECK(detail::bayer8(x, y) == m[static_cast<std::size_t>(y & 7)][static_cast<std::size_t>(x & 7)]);
+  std::mt19937 rng(64);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  double worst = 0.0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const double v = trial < 2 ? trial : std::pow(unit(rng), 3.0);
+    const double s = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+    double sum = 0.0;
+    for (int y = 0; y < 8; ++y)
+      for (int x = 0; x < 8; ++x) {
+        const unsigned char code = detail::encode_srgb8_dithered(v, detail::bayer8(x, y));
+        // Never more than one code from the rounded one.
+        REQUIRE(std::abs(static_cast<int>(code) - static_cast<int>(detail::encode_srgb8(v))) <= 1);
+        REQUIRE(code == reference_dithered(v, x, y));
+        sum += code;
+      }
+    worst = std::max(worst, std::fabs(sum / 64.0 - 255.0 * s));
+  }
+  CHECK(worst <= 1.0 / 128.0 + 1e-9);
+  CHECK(detail::encode_srgb8_dithered(std::numeric_limits<double>::quiet_NaN(), 5) == 0);
+  CHECK(detail::encode_srgb8_dithered(-1.0, 5) == 0);
+  CHECK(detail::encode_srgb8_dithered(std::numeric_limits<double>::infinity(), 63) == 255);
 }

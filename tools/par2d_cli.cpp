@@ -143,6 +143,7 @@ struct RenderArgs {
   std::string plain_png_path;
   std::string plain_pfm_path;
   double exposure = 1.0;
+  bool dither = false;  // PNG outputs with the ordered dither
   std::string progress = "auto";  // the progress bar: auto (a terminal, past a second), always, never
 };
 
@@ -408,6 +409,7 @@ int run_render(const CommonArgs& common, const RenderArgs& args) {
     outputs.push_back({args.plain_png_path, par2d::ImageOutput::Format::png, args.exposure, &plain});
   if (!args.plain_pfm_path.empty())
     outputs.push_back({args.plain_pfm_path, par2d::ImageOutput::Format::pfm, 1.0, &plain});
+  for (par2d::ImageOutput& output : outputs) output.dither = args.dither && output.format == par2d::ImageOutput::Format::png;
   for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGPIPE}) std::signal(sig, on_fatal_signal);
   if (par2d::Status s = par2d::write_images(outputs, image); !s) return fail(s.message());
   return 0;
@@ -632,6 +634,9 @@ int run_cli(int argc, char** argv) {
   render->add_option("--exposure", render_args.exposure,
                      "PNG shows clamp(exposure * E, 0, 1), sRGB-encoded. Default: 1")
       ->check(kNonNegative);
+  render->add_flag("--dither", render_args.dither,
+                   "PNG outputs with an 8x8 ordered dither (floor(255 srgb + t), t from the Bayer matrix) instead "
+                   "of rounding, so that dark gradients do not band; the codes of the library's dithered formats");
   render->add_option("--progress", render_args.progress,
                      "Progress bar on standard error: auto (default) on a terminal for renders past a second; "
                      "always; never")

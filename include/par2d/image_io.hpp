@@ -17,8 +17,10 @@ namespace par2d {
 // "-" is standard output (refused when descriptor 1 is closed). Symbolic links are followed to
 // their target.
 
-// Writes clamp(exposure * E, 0, 1), sRGB-encoded, as an 8-bit RGB PNG.
+// Writes clamp(exposure * E, 0, 1), sRGB-encoded, as an 8-bit RGB PNG; `dither`: with the
+// ordered dither of PixelFormat::rgba8_srgb_dithered (dark gradients do not band).
 Status write_png(const std::string& path, const ImageView& image, double exposure = 1.0);
+Status write_png(const std::string& path, const ImageView& image, double exposure, bool dither);
 
 // Writes the linear image as a PFM color image: "PF", scale -1.0 (little-endian),
 // float32 RGB, bottom row first.
@@ -33,6 +35,7 @@ struct ImageOutput {
   // The image this file shows; nullptr: the image given to write_images. One batch can so
   // write several images (the shaded and the plain irradiance) all or nothing.
   const ImageView* image = nullptr;
+  bool dither = false;  // PNG only: the ordered dither (write_png)
 };
 
 // Writes every output or, on any failure, none: all regular files go to temporaries first and

@@ -52,7 +52,11 @@ typedef enum par2d_backend {
 typedef enum par2d_pixel_format {
   PAR2D_RGB_F32 = 0,    /* 3 floats per pixel: linear irradiance */
   PAR2D_RGBA_F32 = 1,   /* 4 floats: irradiance, alpha 1 */
-  PAR2D_RGBA8_SRGB = 2  /* 4 bytes: sRGB of clamp(exposure * E, 0, 1), alpha 255 */
+  PAR2D_RGBA8_SRGB = 2, /* 4 bytes: sRGB of clamp(exposure * E, 0, 1), alpha 255 */
+  PAR2D_BGRA8_SRGB = 3, /* the same bytes in B, G, R, A order */
+  PAR2D_RGBA16F = 4,    /* 4 IEEE halves (8 bytes): E rounded to nearest even, saturating at 65504, alpha 1 */
+  PAR2D_RGBA8_SRGB_DITHERED = 5, /* PAR2D_RGBA8_SRGB with an 8x8 ordered dither (docs/api.md, "Pixel formats") */
+  PAR2D_BGRA8_SRGB_DITHERED = 6  /* PAR2D_BGRA8_SRGB with the same dither */
 } par2d_pixel_format;
 
 typedef enum par2d_shape_kind {
@@ -412,7 +416,7 @@ PAR2D_C_API par2d_status par2d_get_frame_diagnostics(const par2d_renderer* rende
 
 /* Renders region = {x0, y0, x1, y1} (pixels [x0, x1) x [y0, y1); NULL: the whole frame)
  * into `pixels`, whose first byte is the region's top-left pixel, rows `row_stride` bytes
- * apart. `exposure` (finite, >= 0) is used by PAR2D_RGBA8_SRGB only. A region's pixels are
+ * apart. `exposure` (finite, >= 0) is used by the 8-bit formats only. A region's pixels are
  * bit-identical to the same pixels of a whole frame. */
 PAR2D_C_API par2d_status par2d_render(par2d_renderer* renderer, void* pixels, par2d_pixel_format format,
                                       ptrdiff_t row_stride, double exposure, const int* region);

@@ -50,14 +50,25 @@ struct ImageView {
 // stratified rank-1 lattice; spp = 1 gives the center (0.5, 0.5)).
 void sample_offset(int k, int spp, double& dx, double& dy) noexcept;
 
-// Pixel layouts a frame can be written in. Every format is written by the tiles directly.
+// Pixel layouts a frame can be written in. Every format is written by the tiles directly,
+// and every ISA writes the same bytes.
 enum class PixelFormat {
   rgb_f32,     // 3 floats per pixel: linear irradiance E (docs/contract.md section 1)
   rgba_f32,    // 4 floats: E and alpha 1
   rgba8_srgb,  // 4 bytes: round(255 * srgb(clamp(exposure * E, 0, 1))) per channel, alpha 255
+  bgra8_srgb,  // the same bytes in B, G, R, A order (the layout many GPUs and window systems prefer)
+  // 4 IEEE half floats (8 bytes, native byte order): E rounded to nearest even, values past the
+  // largest finite half (65504) saturating to it, alpha 1: what engines upload as RGBA16F.
+  rgba16f,
+  // rgba8_srgb and bgra8_srgb with an ordered dither: floor(255 * srgb(clamp(exposure * E, 0,
+  // 1)) + t) per channel, t = (B(x mod 8, y mod 8) + 0.5) / 64 with B the 8x8 Bayer matrix and
+  // (x, y) the pixel in the frame, so that dark gradients do not band; a region or an
+  // incremental frame writes the bytes a whole frame has there (docs/api.md, "Pixel formats").
+  rgba8_srgb_dithered,
+  bgra8_srgb_dithered,
 };
 
-// Bytes one pixel of `format` takes (12, 16, 4).
+// Bytes one pixel of `format` takes (12, 16, 4, 4, 8, 4, 4).
 int bytes_per_pixel(PixelFormat format) noexcept;
 
 // Pixel columns [x0, x1) and rows [y0, y1) of the lightmap.
@@ -74,7 +85,7 @@ struct FrameBuffer {
   PixelFormat format = PixelFormat::rgb_f32;
   // Bytes between the starts of consecutive rows; at least region width * bytes_per_pixel.
   std::ptrdiff_t row_stride = 0;
-  // Multiplies E before sRGB encoding (rgba8_srgb only); finite, >= 0. Default: 1.
+  // Multiplies E before sRGB encoding (the 8-bit formats only); finite, >= 0. Default: 1.
   double exposure = 1.0;
 };
 

@@ -92,6 +92,20 @@ long long raw_enum(const E& field) noexcept {
   return static_cast<long long>(value);
 }
 
+// The PixelFormat a par2d_pixel_format names (the two enums list the formats in one order),
+// or null for a value outside it.
+inline const par2d::PixelFormat* pixel_format_of(par2d_pixel_format format) noexcept {
+  static constexpr par2d::PixelFormat kFormats[] = {
+      par2d::PixelFormat::rgb_f32,    par2d::PixelFormat::rgba_f32,           par2d::PixelFormat::rgba8_srgb,
+      par2d::PixelFormat::bgra8_srgb, par2d::PixelFormat::rgba16f,            par2d::PixelFormat::rgba8_srgb_dithered,
+      par2d::PixelFormat::bgra8_srgb_dithered};
+  static_assert(PAR2D_RGB_F32 == 0 && PAR2D_RGBA_F32 == 1 && PAR2D_RGBA8_SRGB == 2 && PAR2D_BGRA8_SRGB == 3 &&
+                    PAR2D_RGBA16F == 4 && PAR2D_RGBA8_SRGB_DITHERED == 5 && PAR2D_BGRA8_SRGB_DITHERED == 6,
+                "kFormats follows par2d_pixel_format");
+  const long long value = raw_enum(format);
+  return value >= 0 && value < 7 ? &kFormats[value] : nullptr;
+}
+
 // Converts into `out`, reusing a polygon's vertex buffer when the shape stays a polygon.
 // Everything about the C struct is checked before its vertices are read or copied.
 inline par2d_status convert_shape(const char* function, const par2d_shape* in, par2d::Shape& out) {

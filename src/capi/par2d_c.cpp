@@ -259,14 +259,10 @@ par2d_status par2d_render(par2d_renderer* r, void* pixels, par2d_pixel_format fo
   return guarded(fn, [&] {
     par2d::FrameBuffer buffer;
     buffer.data = pixels;
-    switch (raw_enum(format)) {
-      case PAR2D_RGB_F32: buffer.format = par2d::PixelFormat::rgb_f32; break;
-      case PAR2D_RGBA_F32: buffer.format = par2d::PixelFormat::rgba_f32; break;
-      case PAR2D_RGBA8_SRGB: buffer.format = par2d::PixelFormat::rgba8_srgb; break;
-      default:
-        return fail(fn, "pixel format " + std::to_string(raw_enum(format)) +
-                            " is not PAR2D_RGB_F32, PAR2D_RGBA_F32 or PAR2D_RGBA8_SRGB");
-    }
+    const par2d::PixelFormat* known = pixel_format_of(format);
+    if (known == nullptr)
+      return fail(fn, "pixel format " + std::to_string(raw_enum(format)) + " is not a par2d_pixel_format (0 .. 6)");
+    buffer.format = *known;
     buffer.row_stride = row_stride;
     buffer.exposure = exposure;
     if (region == nullptr) return to_c(fn, r->renderer.render(buffer));

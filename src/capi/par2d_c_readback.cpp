@@ -106,12 +106,8 @@ const char* par2d_isa_name(par2d_isa isa) {
 }
 
 int par2d_bytes_per_pixel(par2d_pixel_format format) {
-  switch (raw_enum(format)) {
-    case PAR2D_RGB_F32: return par2d::bytes_per_pixel(par2d::PixelFormat::rgb_f32);
-    case PAR2D_RGBA_F32: return par2d::bytes_per_pixel(par2d::PixelFormat::rgba_f32);
-    case PAR2D_RGBA8_SRGB: return par2d::bytes_per_pixel(par2d::PixelFormat::rgba8_srgb);
-    default: return 0;
-  }
+  const par2d::PixelFormat* known = pixel_format_of(format);
+  return known ? par2d::bytes_per_pixel(*known) : 0;
 }
 
 par2d_status par2d_get_frame(const par2d_renderer* r, int* width, int* height, double view[4]) {

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "io/output_file.hpp"
+#include "io/pixel_encoding.hpp"
 #include "par2d/image_io.hpp"
 
 namespace par2d {
@@ -44,29 +45,6 @@ Status check_view(const ImageView& image, const std::string& path) {
             path + ": row stride " + std::to_string(image.row_stride) +
                 " is less than 3 * width (" + std::to_string(3LL * image.width) + ")"};
   return {};
-}
-
-// Linear values at which the rounded 8-bit sRGB code steps from k-1 to k, k = 1..255:
-// the exact inverse transfer function at (k - 0.5) / 255. Looking a value up among them
-// equals round(255 * srgb(clamp(v, 0, 1))) without a pow() per channel.
-const std::array<double, 255>& srgb_thresholds() {
-  static const std::array<double, 255> table = [] {
-    std::array<double, 255> t{};
-    for (int k = 1; k <= 255; ++k) {
-      double s = (k - 0.5) / 255.0;
-      t[k - 1] = s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
-    }
-    return t;
-  }();
-  return table;
-}
-
-unsigned char encode_srgb8(double linear, const std::array<double, 255>& thresholds) {
-  // NaN compares false everywhere, so it lands on 0 like a negative value.
-  if (!(linear > 0.0)) return 0;
-  if (linear >= 1.0) return 255;
-  auto it = std::upper_bound(thresholds.begin(), thresholds.end(), linear);
-  return static_cast<unsigned char>(it - thresholds.begin());
 }
 
 bool host_is_little_endian() {
@@ -96,17 +74,20 @@ void append_bytes(void* context, void* data, int size) {
 
 namespace {
 
-// The PNG file's bytes for clamp(exposure * E, 0, 1).
-Status encode_png(const std::string& path, const ImageView& image, double exposure, std::vector<unsigned char>& png) {
+// The PNG file's bytes for clamp(exposure * E, 0, 1), rounded or with the ordered dither of
+// the 8-bit dithered pixel formats (the same codes as a frame rendered in them).
+Status encode_png(const std::string& path, const ImageView& image, double exposure, bool dither,
+                  std::vector<unsigned char>& png) {
   std::pair<std::vector<unsigned char>, bool> encoded{{}, false};
   try {
-    const auto& thresholds = srgb_thresholds();
     std::vector<unsigned char> rgb(static_cast<std::size_t>(image.width) * image.height * 3);
     for (int j = 0; j < image.height; ++j) {
       const float* row = image.data + j * image.row_stride;
       unsigned char* out = rgb.data() + static_cast<std::size_t>(j) * image.width * 3;
-      for (int c = 0; c < 3 * image.width; ++c)
-        out[c] = encode_srgb8(exposure * static_cast<double>(row[c]), thresholds);
+      for (int c = 0; c < 3 * image.width; ++c) {
+        const double v = exposure * static_cast<double>(row[c]);
+        out[c] = dither ? detail::encode_srgb8_dithered(v, detail::bayer8(c / 3, j)) : detail::encode_srgb8(v);
+      }
     }
     int ok = stbi_write_png_to_func(append_bytes, &encoded, image.width, image.height, 3,
                                     rgb.data(), image.width * 3);
@@ -201,7 +182,8 @@ Status write_images(const std::vector<ImageOutput>& outputs, const ImageView& sh
           continue;
         }
         std::vector<unsigned char> png;
-        if (Status s = encode_png(outputs[k].path, image_of(outputs[k]), outputs[k].exposure, png); !s) return s;
+        if (Status s = encode_png(outputs[k].path, image_of(outputs[k]), outputs[k].exposure, outputs[k].dither, png); !s)
+          return s;
         if (Status s = files[k]->write(png.data(), png.size()); !s) return s;
       }
     }
@@ -215,6 +197,12 @@ Status write_images(const std::vector<ImageOutput>& outputs, const ImageView& sh
 
 Status write_png(const std::string& path, const ImageView& image, double exposure) {
   return write_images({ImageOutput{path, ImageOutput::Format::png, exposure}}, image);
+}
+
+Status write_png(const std::string& path, const ImageView& image, double exposure, bool dither) {
+  ImageOutput output{path, ImageOutput::Format::png, exposure};
+  output.dither = dither;
+  return write_images({output}, image);
 }
 
 Status write_pfm(const std::string& path, const ImageView& image) {

@@ -1,4 +1,5 @@
-// The table of pixel formats and their tile stores: float RGB, float RGBA, 8-bit sRGB RGBA with exposure.
+// The table of pixel formats and their tile stores: float RGB and RGBA, half RGBA, 8-bit sRGB
+// RGBA and BGRA with exposure, plain or with an ordered dither.
 #include "render/frame_output.hpp"
 
 #include <algorithm>
@@ -16,33 +17,6 @@ namespace par2d {
 namespace detail {
 namespace {
 
-// Linear values at which the rounded 8-bit sRGB code steps from k-1 to k, k = 1..255: the
-// inverse transfer function at (k - 0.5) / 255 (the PNG writer encodes the same way). The
-// code of v is the number of thresholds <= v. A search over them costs ~10 ns a channel,
-// as much as the lighting of a simple pixel, so the table below answers in one look-up:
-// [0, 1) is cut into kBuckets equal buckets; the thresholds are more than 1/kBuckets apart
-// (the steepest slope of the encoding is 12.92 * 255 codes per unit < kBuckets), so a bucket
-// holds at most one, and code(v) = below[b] + (v >= inside[b]) exactly.
-struct SrgbTable {
-  static constexpr int kBuckets = 4096;
-  std::array<double, 255> thresholds{};
-  std::array<unsigned char, kBuckets> below{};
-  std::array<double, kBuckets> inside{};
-  SrgbTable() {
-    for (int k = 1; k <= 255; ++k) {
-      const double s = (k - 0.5) / 255.0;
-      thresholds[static_cast<std::size_t>(k - 1)] = s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
-    }
-    for (int b = 0; b < kBuckets; ++b) {
-      const double lo = static_cast<double>(b) / kBuckets, hi = static_cast<double>(b + 1) / kBuckets;
-      const auto first = std::lower_bound(thresholds.begin(), thresholds.end(), lo);
-      below[static_cast<std::size_t>(b)] = static_cast<unsigned char>(first - thresholds.begin());
-      inside[static_cast<std::size_t>(b)] =
-          first != thresholds.end() && *first < hi ? *first : std::numeric_limits<double>::infinity();
-    }
-  }
-};
-const SrgbTable kSrgb;
 
 // Calls row(r, g, b, host, count) for each row of `part`: the tile's three channel rows from
 // the part's first column, and the host row's first byte of the part.
@@ -119,24 +93,63 @@ void store_float_rows(const TileResult& result, int tile_x0, int tile_y0, const 
       });
 }
 
-// 8-bit sRGB rows through the scalar encoder, at the target's exposure.
+// 8-bit sRGB rows through the scalar encoder, at the target's exposure; kBgra: bytes B, G, R,
+// A; kDithered: the ordered dither of the pixel's place in the frame.
+template <bool kBgra, bool kDithered>
 void store_srgb8_rows(const TileResult& result, int tile_x0, int tile_y0, const TileRect& part,
                       const FrameTarget& target) noexcept {
   const double exposure = target.exposure;
-  store_rows<4, unsigned char>(result, tile_x0, tile_y0, part, target,
-                               [exposure](unsigned char* p, float r, float g, float b) {
-                                 p[0] = encode_srgb8(exposure * static_cast<double>(r));
-                                 p[1] = encode_srgb8(exposure * static_cast<double>(g));
-                                 p[2] = encode_srgb8(exposure * static_cast<double>(b));
-                                 p[3] = 255;
+  const std::size_t first = static_cast<std::size_t>(part.x0 - tile_x0);
+  constexpr int kRed = kBgra ? 2 : 0, kBlue = kBgra ? 0 : 2;
+  for (int y = part.y0; y < part.y1; ++y) {
+    const std::size_t base = static_cast<std::size_t>(y - tile_y0) * kTileSize + first;
+    unsigned char* host = target.data + static_cast<std::ptrdiff_t>(y - target.region.y0) * target.row_stride +
+                          static_cast<std::ptrdiff_t>(part.x0 - target.region.x0) * 4;
+    unsigned char row[kTileSize * 4];
+    for (int i = 0; i < part.x1 - part.x0; ++i) {
+      unsigned char* p = row + 4 * i;
+      const double rgb[3] = {exposure * static_cast<double>(result.rgb[0][base + static_cast<std::size_t>(i)]),
+                             exposure * static_cast<double>(result.rgb[1][base + static_cast<std::size_t>(i)]),
+                             exposure * static_cast<double>(result.rgb[2][base + static_cast<std::size_t>(i)])};
+      if constexpr (kDithered) {
+        const int b = bayer8(part.x0 + i, y);
+        p[kRed] = encode_srgb8_dithered(rgb[0], b);
+        p[1] = encode_srgb8_dithered(rgb[1], b);
+        p[kBlue] = encode_srgb8_dithered(rgb[2], b);
+      } else {
+        p[kRed] = encode_srgb8(rgb[0]);
+        p[1] = encode_srgb8(rgb[1]);
+        p[kBlue] = encode_srgb8(rgb[2]);
+      }
+      p[3] = 255;
+    }
+    std::memcpy(host, row, static_cast<std::size_t>(part.x1 - part.x0) * 4);
+  }
+}
+
+// Half-float RGBA rows (alpha 1.0 = 0x3C00), in the host's byte order.
+void store_half_rows(const TileResult& result, int tile_x0, int tile_y0, const TileRect& part,
+                     const FrameTarget& target) noexcept {
+  store_rows<4, std::uint16_t>(result, tile_x0, tile_y0, part, target,
+                               [](std::uint16_t* p, float r, float g, float b) {
+                                 p[0] = half_of(r);
+                                 p[1] = half_of(g);
+                                 p[2] = half_of(b);
+                                 p[3] = 0x3C00;
                                });
 }
 
 // Rows in PixelFormat's order, so that a format's row is found by its value.
 constexpr PixelFormatInfo kPixelFormats[] = {
-    {PixelFormat::rgb_f32, "rgb_f32", 12, 3, false, &VectorTileStores::rgb_f32, store_float_rows<3>},
-    {PixelFormat::rgba_f32, "rgba_f32", 16, 4, false, &VectorTileStores::rgba_f32, store_float_rows<4>},
-    {PixelFormat::rgba8_srgb, "rgba8_srgb", 4, 4, true, nullptr, store_srgb8_rows},
+    {PixelFormat::rgb_f32, "rgb_f32", 12, 3, false, &VectorTileStores::rgb_f32, nullptr, store_float_rows<3>},
+    {PixelFormat::rgba_f32, "rgba_f32", 16, 4, false, &VectorTileStores::rgba_f32, nullptr, store_float_rows<4>},
+    {PixelFormat::rgba8_srgb, "rgba8_srgb", 4, 4, true, nullptr, &VectorTileStores::rgba8_srgb,
+     store_srgb8_rows<false, false>},
+    {PixelFormat::bgra8_srgb, "bgra8_srgb", 4, 4, true, nullptr, &VectorTileStores::bgra8_srgb,
+     store_srgb8_rows<true, false>},
+    {PixelFormat::rgba16f, "rgba16f", 8, 4, false, nullptr, nullptr, store_half_rows},
+    {PixelFormat::rgba8_srgb_dithered, "rgba8_srgb_dithered", 4, 4, true, nullptr, nullptr, store_srgb8_rows<false, true>},
+    {PixelFormat::bgra8_srgb_dithered, "bgra8_srgb_dithered", 4, 4, true, nullptr, nullptr, store_srgb8_rows<true, true>},
 };
 constexpr std::size_t kPixelFormatCount = sizeof(kPixelFormats) / sizeof(kPixelFormats[0]);
 
@@ -154,21 +167,6 @@ const PixelFormatInfo* pixel_format_info(PixelFormat format) noexcept {
   return index < kPixelFormatCount ? &kPixelFormats[index] : nullptr;
 }
 
-unsigned char encode_srgb8(double linear) noexcept {
-  if (!(linear > 0.0)) return 0;
-  if (linear >= 1.0) return 255;
-  // linear * kBuckets is exact (a power of two), so the bucket is exactly floor of it.
-  const auto b = static_cast<std::size_t>(linear * SrgbTable::kBuckets);
-  return static_cast<unsigned char>(kSrgb.below[b] + (linear >= kSrgb.inside[b] ? 1 : 0));
-}
-
-unsigned char encode_srgb8_search(double linear) noexcept {
-  if (!(linear > 0.0)) return 0;
-  if (linear >= 1.0) return 255;
-  return static_cast<unsigned char>(std::upper_bound(kSrgb.thresholds.begin(), kSrgb.thresholds.end(), linear) -
-                                    kSrgb.thresholds.begin());
-}
-
 void build_srgb_buckets(double exposure, SrgbBuckets& out) {
   out.exposure = exposure;
   out.valid = false;
@@ -184,7 +182,7 @@ void build_srgb_buckets(double exposure, SrgbBuckets& out) {
       const std::uint32_t mid = lo + (hi - lo) / 2;
       float r;
       std::memcpy(&r, &mid, sizeof r);
-      if (exposure * static_cast<double>(r) >= kSrgb.thresholds[k]) hi = mid;
+      if (exposure * static_cast<double>(r) >= srgb8_thresholds()[k]) hi = mid;
       else lo = mid + 1;
     }
     std::memcpy(&threshold[k], &lo, sizeof lo);
@@ -217,7 +215,7 @@ void build_srgb_buckets(double exposure, SrgbBuckets& out) {
 
 bool streams_float_frame(const FrameTarget& target) noexcept {
   const PixelFormatInfo& format = *pixel_format_info(target.format);
-  if (format.srgb8) return false;
+  if (!format.float_store) return false;
   const std::size_t frame_bytes = static_cast<std::size_t>(target.region.x1 - target.region.x0) *
                                   static_cast<std::size_t>(target.region.y1 - target.region.y0) *
                                   static_cast<std::size_t>(format.bytes_per_pixel);
@@ -236,10 +234,9 @@ void store_tile(const TileResult& result, int tile_x0, int tile_y0, const TileRe
     float_store(result, first_column, first_row, rows, count, host, target.row_stride, streams_float_frame(target));
     return;
   }
-  if (format.srgb8 && vector_stores.rgba8_srgb && vector_stores.srgb &&
-      vector_stores.srgb->valid && vector_stores.srgb->exposure == target.exposure) {
-    vector_stores.rgba8_srgb(result, first_column, first_row, rows, count, host, target.row_stride,
-                             *vector_stores.srgb);
+  const Srgb8RowsStore srgb8_store = format.srgb8_store ? vector_stores.*format.srgb8_store : nullptr;
+  if (srgb8_store && vector_stores.srgb && vector_stores.srgb->valid && vector_stores.srgb->exposure == target.exposure) {
+    srgb8_store(result, first_column, first_row, rows, count, host, target.row_stride, *vector_stores.srgb);
     return;
   }
   format.generic_store(result, tile_x0, tile_y0, part, target);

@@ -2,7 +2,9 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 
+#include "io/pixel_encoding.hpp"
 #include "par2d/types.hpp"
 #include "render/tiling.hpp"
 #include "simd/tile_work.hpp"
@@ -31,6 +33,7 @@ struct VectorTileStores {
   FloatRowsStore rgb_f32 = nullptr;
   FloatRowsStore rgba_f32 = nullptr;
   Srgb8RowsStore rgba8_srgb = nullptr;
+  Srgb8RowsStore bgra8_srgb = nullptr;
   const SrgbBuckets* srgb = nullptr;  // the target's exposure's buckets (rgba8_srgb needs valid ones)
 };
 
@@ -48,9 +51,10 @@ struct PixelFormatInfo {
   const char* name;  // the enum value's name
   int bytes_per_pixel;
   int channels;  // stored per pixel, alpha included
-  bool srgb8;    // 8-bit sRGB with exposure: the ISA store needs the frame's SrgbBuckets; never streamed
+  bool srgb8;    // 8-bit sRGB with exposure: an ISA store needs the frame's SrgbBuckets; never streamed
   FloatRowsStore VectorTileStores::*float_store;  // the ISA's vector store of a float format, else null
-  GenericTileStore generic_store;
+  Srgb8RowsStore VectorTileStores::*srgb8_store;  // the ISA's vector store of an 8-bit format, else null
+  GenericTileStore generic_store;  // every ISA's store where it has no vector store: the same bytes
 };
 
 // The row of `format`, or null for a value outside the enum.
@@ -80,9 +84,5 @@ void store_tile(const TileResult& result, int tile_x0, int tile_y0, const TileRe
 // (and the scalar encoder is used) for an exposure outside [2^-20, 2^20].
 void build_srgb_buckets(double exposure, SrgbBuckets& out);
 
-// round(255 * srgb(clamp(v, 0, 1))), NaN and negatives to 0, from a table (no pow per channel).
-unsigned char encode_srgb8(double linear) noexcept;
-// The same by a binary search over the 255 thresholds: the table's reference in tests.
-unsigned char encode_srgb8_search(double linear) noexcept;
 
 }  // namespace par2d::detail

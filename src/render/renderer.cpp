@@ -19,6 +19,7 @@
 #include "render/light_layers.hpp"
 #include "render/render_arguments.hpp"
 #include "render/work_estimate.hpp"
+#include "scene/same_values.hpp"
 #include "status_guard.hpp"
 #include "world/world.hpp"
 
@@ -185,6 +186,7 @@ Status Renderer::remove_occluder(OccluderHandle handle) {
 
 Status Renderer::set_ambient(const Rgb& ambient) {
   return guarded("set_ambient", [&] {
+    if (detail::same_rgb(impl_->world.model_terms().ambient, ambient)) return Status::success();  // unchanged: nothing marked
     Scene terms = impl_->world.model_terms();
     terms.ambient = ambient;
     return impl_->world.set_model_terms("set_ambient", terms);
@@ -196,6 +198,8 @@ Status Renderer::set_bounce(const Bounce& bounce) {
 const Bounce& Renderer::bounce() const noexcept { return impl_->world.model_terms().bounce; }
 Status Renderer::set_directional_lights(const std::vector<DirectionalLight>& lights) {
   return guarded("set_directional_lights", [&] {
+    if (detail::same_directional_lights(impl_->world.model_terms().directional_lights, lights))
+      return Status::success();  // unchanged: nothing marked
     Scene terms = impl_->world.model_terms();
     terms.directional_lights = lights;
     return impl_->world.set_model_terms("set_directional_lights", terms);

@@ -16,11 +16,13 @@
   void store_rgba_f32_##suffix(const detail::TileResult&, int, int, int, int, unsigned char*, std::ptrdiff_t, bool) noexcept; \
   void store_rgba8_srgb_##suffix(const detail::TileResult&, int, int, int, int, unsigned char*, std::ptrdiff_t,         \
                                  const detail::SrgbBuckets&) noexcept;                                                   \
+  void store_bgra8_srgb_##suffix(const detail::TileResult&, int, int, int, int, unsigned char*, std::ptrdiff_t,         \
+                                 const detail::SrgbBuckets&) noexcept;                                                   \
   }
 
 // An ISA's VectorTileStores (render/frame_output.hpp), for its kernel table row.
 #define PAR2D_TILE_STORES(suffix)                                                                      \
   {                                                                                                    \
     ::par2d::simd::store_rgb_f32_##suffix, ::par2d::simd::store_rgba_f32_##suffix,                    \
-        ::par2d::simd::store_rgba8_srgb_##suffix                                                       \
+        ::par2d::simd::store_rgba8_srgb_##suffix, ::par2d::simd::store_bgra8_srgb_##suffix             \
   }

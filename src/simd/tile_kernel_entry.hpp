@@ -69,4 +69,11 @@ void PAR2D_CONCAT(store_rgba8_srgb_, PAR2D_KERNEL_SUFFIX)(const TileResult& tile
   store_srgb8_tile<PAR2D_KERNEL_ARCH>(tile, first_column, first_row, rows, count, host, row_stride, buckets);
 }
 
+void PAR2D_CONCAT(store_bgra8_srgb_, PAR2D_KERNEL_SUFFIX)(const TileResult& tile, int first_column, int first_row,
+                                                          int rows, int count, unsigned char* host,
+                                                          std::ptrdiff_t row_stride,
+                                                          const detail::SrgbBuckets& buckets) noexcept {
+  store_srgb8_tile<PAR2D_KERNEL_ARCH, true>(tile, first_column, first_row, rows, count, host, row_stride, buckets);
+}
+
 }  // namespace par2d::simd

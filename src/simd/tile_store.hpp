@@ -222,7 +222,8 @@ inline xsimd::batch<std::int32_t, A> srgb_codes(const float* channel, const deta
 // alpha packed into one 32-bit pixel (bytes R, G, B, A in memory on little-endian targets,
 // which are all the targets par2d builds for). NaN and values <= 0 encode as 0, as in the
 // scalar encoder; the codes equal its codes (the thresholds carry its double product).
-template <class A>
+// kBgra: bytes B, G, R, A instead (the red and blue codes swap places).
+template <class A, bool kBgra = false>
 void store_srgb8_tile(const detail::TileResult& tile, int first_column, int first_row, int rows, int count,
                       unsigned char* host, std::ptrdiff_t row_stride, const detail::SrgbBuckets& buckets) noexcept {
   using B = xsimd::batch<float, A>;
@@ -237,7 +238,10 @@ void store_srgb8_tile(const detail::TileResult& tile, int first_column, int firs
   };
   const I alpha(-0x1000000);  // 0xFF000000: byte 3 of each pixel
   for (int j = 0; j < rows; ++j) {
-    const auto [r, g, b] = tile_store_detail::tile_row_planes(tile, first_column, first_row, j);
+    const tile_store_detail::TileRowPlanes planes = tile_store_detail::tile_row_planes(tile, first_column, first_row, j);
+    const float* r = kBgra ? planes.b : planes.r;  // the plane whose codes go to byte 0
+    const float* g = planes.g;
+    const float* b = kBgra ? planes.r : planes.b;
     unsigned char* row = host + j * row_stride;
     int i = 0;
     for (; i + W <= count; i += W) {

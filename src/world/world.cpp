@@ -13,6 +13,7 @@
 #include "geometry/bounce_pieces.hpp"
 #include "geometry/polygon_partition.hpp"
 #include "lighting/light_emission.hpp"
+#include "scene/same_values.hpp"
 #include "scene/scene_validate.hpp"
 #include "world/world_support.hpp"
 
@@ -110,6 +111,7 @@ const Occluder& World::user_occluder(std::uint32_t slot) const noexcept {
 Status World::set_frame(int width, int height, const View& view) {
   if (auto problem = check_image_size(width, height)) return scene_error("set_frame", *problem);
   if (auto problem = check_view(view, width, height)) return scene_error("set_frame", *problem);
+  if (width == scene_.width && height == scene_.height && same_view(view, view_)) return {};  // nothing moves
   if (globals_.normal_map && (globals_.normal_map->width != width || globals_.normal_map->height != height))
     return Status(StatusCode::invalid_argument,
                   "set_frame: the normal map is " + std::to_string(globals_.normal_map->width) + "x" +
@@ -137,6 +139,7 @@ double World::bounce_pieces_of(const Occluder& occluder) const noexcept {
 
 Status World::set_bounce(const Bounce& bounce) {
   if (auto problem = check_bounce(bounce)) return refused("set_bounce", *problem);
+  if (same_value(bounce.piece, globals_.bounce.piece)) return {};  // unchanged
   double pieces = 0.0;
   for (const Occluder& o : occluder_sources_) {
     if (o.albedo == Rgb{0.0, 0.0, 0.0}) continue;
@@ -544,6 +547,8 @@ bool World::same_parts(const Slot& slot, const Light& light) const noexcept {
 Status World::update_light(LightHandle handle, const Light& light) {
   Slot* slot = find(handle.id, false);
   if (!slot) return unknown_handle("light", handle.id);
+  // The values it holds (already checked): nothing changes, nothing is marked.
+  if (same_light(user_light(static_cast<std::uint32_t>(slot - slots_.data())), light)) return {};
   if (auto problem = check_light(light, std::string())) return refused("light " + std::to_string(handle.id), *problem);
   const std::uint32_t index = static_cast<std::uint32_t>(slot - slots_.data());
   if (auto problem = emission_total_problem(entries_emission(light), slot))
@@ -581,6 +586,7 @@ Status World::set_light_emission(LightHandle handle, const Rgb& color, double in
   Light& source = compound != compound_lights_.end() ? compound->second
                   : slot->list == kLit                ? light_sources_[where]
                                                       : dark_sources_[where];
+  if (same_rgb(source.color, color) && same_value(source.intensity, intensity)) return {};  // unchanged
   Rgb emission = light_emission(color, intensity, emission_scale(source));
   if (compound != compound_lights_.end()) {
     const double entries = concave_entries_bound(std::get<Polygon>(source.shape));

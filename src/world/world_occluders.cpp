@@ -10,6 +10,7 @@
 #include "geometry/bounce_pieces.hpp"
 #include "geometry/polygon_partition.hpp"
 #include "lighting/light_emission.hpp"
+#include "scene/same_values.hpp"
 #include "scene/scene_validate.hpp"
 #include "world/occluder_merge.hpp"
 #include "world/world_support.hpp"
@@ -98,6 +99,8 @@ void World::erase_occluder(std::uint32_t slot) {
 Status World::update_occluder(OccluderHandle handle, const Occluder& occluder) {
   Slot* slot = find(handle.id, true);
   if (!slot) return unknown_handle("occluder", handle.id);
+  // The values it holds (already checked): nothing changes, nothing is marked.
+  if (same_occluder(user_occluder(static_cast<std::uint32_t>(slot - slots_.data())), occluder)) return {};
   if (auto problem = check_occluder(occluder, std::string())) return refused("occluder " + std::to_string(handle.id), *problem);
   const auto index = static_cast<std::uint32_t>(slot - slots_.data());
   const double pieces = bounce_pieces_ - bounce_pieces_of(user_occluder(index)) + bounce_pieces_of(occluder);
