@@ -218,14 +218,19 @@ void define_module(py::module_& m) {
 
   m.def(
       "write_png",
-      [](const py::object& path_arg, const py::object& image_arg, const py::object& exposure_arg) {
+      [](const py::object& path_arg, const py::object& image_arg, const py::object& exposure_arg,
+         const py::object& dither_arg) {
         const std::string path = to_path(path_arg, "path");
         const double exposure = to_double(exposure_arg, "exposure");
+        const bool dither = to_bool(dither_arg, "dither");
         if (is_srgb8_image(image_arg)) {
-          // Already encoded (render_rgba8's bytes): an exposure would have to have been given there.
+          // Already encoded (render_rgba8's bytes): an exposure or dither would have to have been given there.
           if (exposure != 1.0)
             bad_argument("exposure", "applies to float images; a uint8 image is stored as it is (give the exposure "
                                      "to render_rgba8)");
+          if (dither)
+            bad_argument("dither", "applies to float images; a uint8 image is stored as it is (give dither=True "
+                                   "to render_rgba8)");
           const std::vector<float> linear = decoded_srgb8(py::reinterpret_borrow<py::array>(image_arg));
           const auto a = py::reinterpret_borrow<py::array>(image_arg);
           par2d::ImageView view{const_cast<float*>(linear.data()), static_cast<int>(a.shape(1)),
@@ -240,13 +245,14 @@ void define_module(py::module_& m) {
         // ImageView takes a mutable pointer but write_png only reads; the array is C-contiguous.
         par2d::ImageView view{const_cast<float*>(image.data()), static_cast<int>(image.shape(1)),
                               static_cast<int>(image.shape(0)), static_cast<std::ptrdiff_t>(3 * image.shape(1))};
-        check(par2d::write_png(path, view, exposure));
+        check(par2d::write_png(path, view, exposure, dither));
       },
-      py::arg("path"), py::arg("image"), py::arg("exposure") = 1.0,
+      py::arg("path"), py::arg("image"), py::arg("exposure") = 1.0, py::kw_only(), py::arg("dither") = false,
       "Writes an image as an 8-bit sRGB PNG (path: str or os.PathLike), atomically (as `par2d render -o`):\n"
-      "a float array (height, width, 3) of linear values as clamp(exposure * image, 0, 1), or the uint8\n"
+      "a float array (height, width, 3) of linear values as clamp(exposure * image, 0, 1), rounded or with\n"
+      "dither=True the ordered dither of render_rgba8(dither=True) (`par2d render --dither`), or the uint8\n"
       "array render_rgba8 returns, (height, width, 4) or (height, width, 3), byte for byte (the PNG is RGB:\n"
-      "alpha is not stored; exposure must stay 1).");
+      "alpha is not stored; exposure must stay 1 and dither False).");
 
   m.def("detect_isa", [] { return std::string(par2d::isa_name(par2d::detect_isa())); },
         "The best SIMD level this CPU supports: scalar, sse4, avx2 or avx512.");

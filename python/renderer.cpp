@@ -1,6 +1,6 @@
 // Python module: par2d.Renderer, par2d::Renderer behind a lock so that a Python object may be
 // shared between threads; a persistent world changed through integer handles, rendered into
-// float32 or sRGB uint8 arrays.
+// float32, float16 or sRGB uint8 arrays.
 #include <pybind11/stl.h>
 
 #include <algorithm>
@@ -156,9 +156,26 @@ class PyRenderer {
   py::array render(const py::object& out, const py::object& region, const py::object& progress) {
     return render_format(par2d::PixelFormat::rgb_f32, 1.0, out, region, progress);
   }
-  py::array render_rgba8(const py::object& exposure, const py::object& out, const py::object& region,
-                         const py::object& progress) {
-    return render_format(par2d::PixelFormat::rgba8_srgb, to_double(exposure, "exposure"), out, region, progress);
+  py::array render_rgba(const py::object& out, const py::object& region, const py::object& progress) {
+    return render_format(par2d::PixelFormat::rgba_f32, 1.0, out, region, progress);
+  }
+  py::array render_rgba8(const py::object& exposure, const py::object& dither, const py::object& out,
+                         const py::object& region, const py::object& progress) {
+    const double e = to_double(exposure, "exposure");
+    const bool dithered = to_bool(dither, "dither");
+    return render_format(dithered ? par2d::PixelFormat::rgba8_srgb_dithered : par2d::PixelFormat::rgba8_srgb, e, out,
+                         region, progress);
+  }
+  py::array render_bgra8(const py::object& exposure, const py::object& dither, const py::object& out,
+                         const py::object& region, const py::object& progress) {
+    const double e = to_double(exposure, "exposure");
+    const bool dithered = to_bool(dither, "dither");
+    return render_format(dithered ? par2d::PixelFormat::bgra8_srgb_dithered : par2d::PixelFormat::bgra8_srgb, e, out,
+                         region, progress);
+  }
+  // IEEE halves as NumPy float16 (native byte order, as the library writes them).
+  py::array render_rgba16f(const py::object& out, const py::object& region, const py::object& progress) {
+    return render_format(par2d::PixelFormat::rgba16f, 1.0, out, region, progress);
   }
 
   // Long renders (docs/python.md): the work estimate of the whole frame or a region, and the limit.
@@ -446,13 +463,32 @@ class PyRenderer {
     check(status);
   }
 
+  // The NumPy array a pixel format fills: its element type and channels per pixel.
+  struct ArrayLayout {
+    const char* dtype;
+    py::ssize_t channels;
+  };
+  static ArrayLayout layout_of(par2d::PixelFormat format) {
+    switch (format) {
+      case par2d::PixelFormat::rgb_f32: return {"float32", 3};
+      case par2d::PixelFormat::rgba_f32: return {"float32", 4};
+      case par2d::PixelFormat::rgba16f: return {"float16", 4};
+      case par2d::PixelFormat::rgba8_srgb:
+      case par2d::PixelFormat::bgra8_srgb:
+      case par2d::PixelFormat::rgba8_srgb_dithered:
+      case par2d::PixelFormat::bgra8_srgb_dithered: break;
+    }
+    return {"uint8", 4};
+  }
+
   py::array render_format(par2d::PixelFormat format, double exposure, const py::object& out_arg,
                           const py::object& region_arg, const py::object& progress_arg) {
     const std::optional<std::array<long long, 4>> region = to_region(region_arg);
     PyProgress progress(to_progress(progress_arg));
     const bool out_given = !out_arg.is_none();
-    const bool bytes = format == par2d::PixelFormat::rgba8_srgb;
-    const py::ssize_t channels = bytes ? 4 : 3, item = bytes ? 1 : static_cast<py::ssize_t>(sizeof(float));
+    const ArrayLayout layout = layout_of(format);
+    const py::dtype dtype(layout.dtype);
+    const py::ssize_t channels = layout.channels, item = dtype.itemsize();
     py::array image;
     par2d::Status status;
     {
@@ -476,21 +512,19 @@ class PyRenderer {
         bool fits = py::isinstance<py::array>(out_arg);
         if (fits) {
           image = py::reinterpret_borrow<py::array>(out_arg);
-          const bool dtype_ok =
-              bytes ? py::isinstance<py::array_t<std::uint8_t>>(image) : py::isinstance<py::array_t<float>>(image);
+          const bool dtype_ok = image.dtype().equal(dtype);
           fits = dtype_ok && image.ndim() == 3 && image.shape(0) == h && image.shape(1) == w &&
                  image.shape(2) == channels && image.strides(2) == item && image.strides(1) == channels * item &&
                  image.strides(0) >= w * channels * item && image.writeable();
         }
         if (!fits)
           status = par2d::Status(par2d::StatusCode::invalid_argument,
-                                 std::string("out: needs a writable ") + (bytes ? "uint8" : "float32") +
+                                 std::string("out: needs a writable ") + layout.dtype +
                                      " array of shape (" + std::to_string(h) + ", " + std::to_string(w) + ", " +
                                      std::to_string(channels) + ") with packed pixels (rows may be padded)");
       } else if (status.ok()) {
         try {
-          if (bytes) image = py::array_t<std::uint8_t, py::array::c_style>({h, w, channels});
-          else image = FloatArray({h, w, channels});
+          image = py::array(dtype, std::vector<py::ssize_t>{h, w, channels});
         } catch (py::error_already_set&) {
           PyErr_Clear();
           status = par2d::Status(par2d::StatusCode::out_of_memory,
@@ -584,10 +618,26 @@ void bind_renderer(py::module_& m) {
            "to fill. progress: called as progress(tiles_done, tiles) on this thread as tiles finish; returning\n"
            "False cancels (par2d.CancelledError), as does Ctrl-C (KeyboardInterrupt), `out` then untouched.\n"
            "A frame past work_limit raises par2d.WorkLimitError. The GIL is released while rendering.")
+      .def("render_rgba", &PyRenderer::render_rgba, py::kw_only(), py::arg("out") = py::none(),
+           py::arg("region") = py::none(), py::arg("progress") = py::none(),
+           "The frame as float32 (height, width, 4): render's values and alpha 1. out, region, progress: as for\n"
+           "render.")
       .def("render_rgba8", &PyRenderer::render_rgba8, py::arg("exposure") = 1.0, py::kw_only(),
-           py::arg("out") = py::none(), py::arg("region") = py::none(), py::arg("progress") = py::none(),
+           py::arg("dither") = false, py::arg("out") = py::none(), py::arg("region") = py::none(),
+           py::arg("progress") = py::none(),
            "The frame as uint8 (height, width, 4): round(255 * srgb(clamp(exposure * E, 0, 1))), alpha 255 -\n"
-           "the bytes write_png stores, written by the tiles directly. progress: as for render.")
+           "the bytes write_png stores, written by the tiles directly. dither=True: floor(255 * srgb(...) + t)\n"
+           "with t from the 8x8 Bayer matrix at the frame pixel, so dark gradients do not band (docs/api.md,\n"
+           "\"Pixel formats\"). out, region, progress: as for render.")
+      .def("render_bgra8", &PyRenderer::render_bgra8, py::arg("exposure") = 1.0, py::kw_only(),
+           py::arg("dither") = false, py::arg("out") = py::none(), py::arg("region") = py::none(),
+           py::arg("progress") = py::none(),
+           "render_rgba8's bytes in B, G, R, A order (the layout many GPUs and window systems prefer).")
+      .def("render_rgba16f", &PyRenderer::render_rgba16f, py::kw_only(), py::arg("out") = py::none(),
+           py::arg("region") = py::none(), py::arg("progress") = py::none(),
+           "The frame as float16 (height, width, 4): render's values rounded to the nearest half (ties to even),\n"
+           "those past 65504 (the largest finite half) saturating to it, alpha 1; what engines upload as\n"
+           "RGBA16F. out, region, progress: as for render.")
       .def("estimate_work", &PyRenderer::estimate_work, py::arg("region") = py::none(),
            "The estimated work of the whole frame (or region (x0, y0, x1, y1)) with the options and world of\n"
            "now, as a dict: samples, bounce, scalar, raycast, total (docs/python.md, \"Long renders\").")
