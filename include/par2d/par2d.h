@@ -319,7 +319,7 @@ PAR2D_C_API par2d_isa par2d_renderer_isa(const par2d_renderer* renderer);
 PAR2D_C_API par2d_isa par2d_detect_isa(void);
 PAR2D_C_API const char* par2d_isa_name(par2d_isa isa);
 
-/* Bytes one pixel of `format` takes (12, 16, 4; 0 for a value that is no format). */
+/* Bytes one pixel of `format` takes (12, 16, 4, 4, 8, 4, 4; 0 for a value that is no format). */
 PAR2D_C_API int par2d_bytes_per_pixel(par2d_pixel_format format);
 
 /* The frame as last set: width, height and view {x0, y0, x1, y1}; any pointer may be NULL.

@@ -378,7 +378,7 @@ static void check_errors_name_the_call(par2d_renderer* r) {
   float pixel[4 * W];
   const int row[4] = {0, 0, W, 1};
   CHECK_ERROR(par2d_render(r, pixel, (par2d_pixel_format)9, sizeof pixel, 1.0, row), PAR2D_INVALID_ARGUMENT,
-              "par2d_render: pixel format 9 is not PAR2D_RGB_F32, PAR2D_RGBA_F32 or PAR2D_RGBA8_SRGB");
+              "par2d_render: pixel format 9 is not a par2d_pixel_format (0 .. 6)");
   par2d_options bad_options;
   par2d_options_default(&bad_options);
   bad_options.backend = (par2d_backend)5;
@@ -843,6 +843,201 @@ static par2d_shape polygon_shape(const double* xy, size_t count) {
 /* Every count and pointer of a par2d_shape is checked before the arrays it sizes are read: a
  * hole_count past PAR2D_MAX_POLYGON_HOLES (as in a struct that was never zeroed), hole counts
  * that overflow the total, null vertices behind holes. Each is refused, nothing crashes. */
+/* An IEEE half's value (sign, 5 exponent bits, 10 mantissa bits; no infinities or NaNs here). */
+static double half_value(uint16_t h) {
+  const int exponent = (h >> 10) & 0x1F;
+  const double mantissa = (double)(h & 0x3FF);
+  const double magnitude = exponent == 0 ? ldexp(mantissa, -24) : ldexp(1024.0 + mantissa, exponent - 25);
+  return (h & 0x8000) ? -magnitude : magnitude;
+}
+
+/* Whether half h is the nearest half to f (ties to the even one), or 65504 for f past it. */
+static int is_nearest_half(uint16_t h, float f) {
+  if (f >= 65520.0f) return h == 0x7BFF;
+  if (f < 0.0f || (h & 0x8000) || ((h >> 10) & 0x1F) == 0x1F) return 0;
+  const double d = fabs(half_value(h) - f);
+  if (h > 0 && fabs(half_value((uint16_t)(h - 1)) - f) < d) return 0;
+  if (h < 0x7BFF && fabs(half_value((uint16_t)(h + 1)) - f) < d) return 0;
+  if (h > 0 && fabs(half_value((uint16_t)(h - 1)) - f) == d && (h & 1)) return 0;
+  if (h < 0x7BFF && fabs(half_value((uint16_t)(h + 1)) - f) == d && (h & 1)) return 0;
+  return 1;
+}
+
+/* Whether `bgra` holds `rgba`'s count pixels with R and B swapped. */
+static int is_swapped(const unsigned char* bgra, const unsigned char* rgba, size_t count) {
+  for (size_t i = 0; i < count; ++i) {
+    const unsigned char* p = bgra + 4 * i;
+    const unsigned char* q = rgba + 4 * i;
+    if (p[0] != q[2] || p[1] != q[1] || p[2] != q[0] || p[3] != q[3]) return 0;
+  }
+  return 1;
+}
+
+/* The GPU-ready formats through par2d_render: their sizes; BGRA = RGBA with R and B swapped,
+ * plain and dithered; the dither within one code of the rounding; halves nearest to the float
+ * frame (ties to even) and saturating at 65504; a region's pixels equal the whole frame's in
+ * every format; values that are no format refused without a byte written. */
+static void check_gpu_formats(void) {
+  enum { FW = 80, FH = 60, N = FW * FH };
+  CHECK(par2d_bytes_per_pixel(PAR2D_BGRA8_SRGB) == 4 && par2d_bytes_per_pixel(PAR2D_RGBA16F) == 8 &&
+        par2d_bytes_per_pixel(PAR2D_RGBA8_SRGB_DITHERED) == 4 && par2d_bytes_per_pixel(PAR2D_BGRA8_SRGB_DITHERED) == 4);
+  CHECK(par2d_bytes_per_pixel((par2d_pixel_format)-1) == 0);
+  par2d_options options;
+  par2d_options_default(&options);
+  options.threads = 2;
+  par2d_renderer* r = NULL;
+  CHECK(par2d_renderer_create(&options, &r) == PAR2D_OK);
+  if (r == NULL) return;
+  CHECK(par2d_set_frame(r, FW, FH, NULL) == PAR2D_OK);
+  /* A light bright enough that its disc passes the largest half, dimmer ones around it. */
+  const double white[3] = {1.0, 0.8, 0.5};
+  const par2d_shape sun = circle_shape(20.0, 20.0, 4.0);
+  const par2d_shape lamp = circle_shape(65.0, 45.0, 2.0);
+  par2d_light light = 0;
+  CHECK(par2d_add_light(r, &sun, white, 2e5, &light) == PAR2D_OK);
+  CHECK(par2d_add_light(r, &lamp, white, 0.3, &light) == PAR2D_OK);
+  const double box[8] = {40, 10, 46, 10, 46, 50, 40, 50};
+  par2d_occluder occluder = 0;
+  const par2d_shape wall = polygon_shape(box, 4);
+  CHECK(par2d_add_occluder(r, &wall, &occluder) == PAR2D_OK);
+
+  float* rgba = malloc(sizeof(float) * 4 * N);
+  uint16_t* half = malloc(sizeof(uint16_t) * 4 * N);
+  unsigned char* bytes[4] = {malloc(4 * N), malloc(4 * N), malloc(4 * N), malloc(4 * N)};
+  if (rgba == NULL || half == NULL || !bytes[0] || !bytes[1] || !bytes[2] || !bytes[3]) return;
+  const par2d_pixel_format eight[4] = {PAR2D_RGBA8_SRGB, PAR2D_BGRA8_SRGB, PAR2D_RGBA8_SRGB_DITHERED,
+                                       PAR2D_BGRA8_SRGB_DITHERED};
+  CHECK(par2d_render(r, rgba, PAR2D_RGBA_F32, FW * 16, 1.0, NULL) == PAR2D_OK);
+  CHECK(par2d_render(r, half, PAR2D_RGBA16F, FW * 8, 1.0, NULL) == PAR2D_OK);
+  /* A dim exposure, so that most pixels are between the codes' ends. */
+  for (int k = 0; k < 4; ++k) CHECK(par2d_render(r, bytes[k], eight[k], FW * 4, 1e-3, NULL) == PAR2D_OK);
+  CHECK(is_swapped(bytes[1], bytes[0], N));
+  CHECK(is_swapped(bytes[3], bytes[2], N));
+  int within_one = 1, differs = 0;
+  for (size_t i = 0; i < 4 * (size_t)N; ++i) {
+    within_one = within_one && abs((int)bytes[2][i] - (int)bytes[0][i]) <= 1;
+    differs = differs || bytes[2][i] != bytes[0][i];
+  }
+  CHECK(within_one && differs);
+  int nearest = 1, saturated = 0, lit = 0;
+  for (size_t i = 0; i < (size_t)N; ++i) {
+    for (int c = 0; c < 3; ++c) {
+      nearest = nearest && is_nearest_half(half[4 * i + c], rgba[4 * i + c]);
+      saturated += rgba[4 * i + c] > 65504.0f;
+      lit += rgba[4 * i + c] > 0.0f && rgba[4 * i + c] < 1000.0f;
+    }
+    nearest = nearest && half[4 * i + 3] == 0x3C00; /* alpha 1 */
+  }
+  CHECK(nearest && saturated > 0 && lit > 0);
+
+  /* A region at odd offsets in each format: the whole frame's pixels, dither phase included. */
+  const int region[4] = {5, 3, 37, 29};
+  const int rw = region[2] - region[0], rh = region[3] - region[1];
+  unsigned char* part = malloc((size_t)rw * rh * 8);
+  if (part == NULL) return;
+  for (int k = 0; k < 5; ++k) {
+    const par2d_pixel_format format = k < 4 ? eight[k] : PAR2D_RGBA16F;
+    const int bpp = par2d_bytes_per_pixel(format);
+    const unsigned char* whole = k < 4 ? bytes[k] : (const unsigned char*)half;
+    CHECK(par2d_render(r, part, format, rw * bpp, k < 4 ? 1e-3 : 1.0, region) == PAR2D_OK);
+    int same = 1;
+    for (int j = 0; j < rh; ++j)
+      same = same && memcmp(part + (size_t)j * rw * bpp, whole + ((size_t)(j + region[1]) * FW + region[0]) * bpp,
+                            (size_t)rw * bpp) == 0;
+    CHECK(same);
+  }
+
+  /* Values that are no format: refused, nothing written. */
+  const int unknown[2] = {7, -1};
+  for (int k = 0; k < 2; ++k) {
+    memset(bytes[0], 0xA5, 4 * N);
+    CHECK_ERROR_PREFIX(par2d_render(r, bytes[0], (par2d_pixel_format)unknown[k], FW * 16, 1.0, NULL),
+                       PAR2D_INVALID_ARGUMENT, "par2d_render: ");
+    int untouched = 1;
+    for (size_t i = 0; i < 4 * (size_t)N; ++i) untouched = untouched && bytes[0][i] == 0xA5;
+    CHECK(untouched);
+  }
+  free(part);
+  for (int k = 0; k < 4; ++k) free(bytes[k]);
+  free(half);
+  free(rgba);
+  par2d_renderer_destroy(r);
+}
+
+/* An engine re-sending every entity every frame: each update with the values the item holds
+ * (shapes, transforms, emission, terms, ambient) marks nothing, so the next incremental frame
+ * writes no byte and reports no rectangle; one real change after them is computed. */
+static void check_resync_every_frame(void) {
+  enum { RW = 192, RH = 128, N = RW * RH };
+  par2d_options options;
+  par2d_options_default(&options);
+  options.threads = 2;
+  par2d_renderer* r = NULL;
+  CHECK(par2d_renderer_create(&options, &r) == PAR2D_OK);
+  if (r == NULL) return;
+  CHECK(par2d_set_frame(r, RW, RH, NULL) == PAR2D_OK);
+  const double warm[3] = {1.0, 0.7, 0.4}, cold[3] = {0.4, 0.6, 1.0}, ambient[3] = {0.01, 0.01, 0.02};
+  const par2d_shape torch = circle_shape(30.0, 30.0, 2.0);
+  const par2d_shape lamp = circle_shape(150.0, 90.0, 3.0);
+  par2d_light lights[2] = {0, 0};
+  CHECK(par2d_add_light(r, &torch, warm, 2.0, &lights[0]) == PAR2D_OK);
+  CHECK(par2d_add_light(r, &lamp, cold, 1.5, &lights[1]) == PAR2D_OK);
+  par2d_light_terms terms;
+  par2d_light_terms_default(&terms);
+  terms.range = 40.0;
+  CHECK(par2d_set_light_terms(r, lights[0], &terms) == PAR2D_OK);
+  const double box[8] = {80, 20, 90, 20, 90, 100, 80, 100};
+  const double local[8] = {-4, -2, 4, -2, 4, 2, -4, 2};
+  const par2d_shape wall = polygon_shape(box, 4), crate = polygon_shape(local, 4);
+  par2d_transform crate_at;
+  par2d_transform_identity(&crate_at);
+  crate_at.position[0] = 120.0;
+  crate_at.position[1] = 40.0;
+  crate_at.rotation = 30.0;
+  par2d_occluder occluders[2] = {0, 0};
+  CHECK(par2d_add_occluder(r, &wall, &occluders[0]) == PAR2D_OK);
+  CHECK(par2d_add_occluder_transformed(r, &crate, &crate_at, &occluders[1]) == PAR2D_OK);
+  par2d_occluder_terms wall_terms;
+  par2d_occluder_terms_default(&wall_terms);
+  wall_terms.transmittance[1] = 0.5;
+  CHECK(par2d_set_occluder_terms(r, occluders[0], &wall_terms) == PAR2D_OK);
+  CHECK(par2d_set_ambient(r, ambient) == PAR2D_OK);
+  CHECK(par2d_set_incremental(r, 1) == PAR2D_OK);
+
+  unsigned char* frame = malloc(4 * N);
+  if (frame == NULL) return;
+  par2d_rect rects[4];
+  size_t count = 99;
+  CHECK(par2d_render(r, frame, PAR2D_BGRA8_SRGB_DITHERED, RW * 4, 1.0, NULL) == PAR2D_OK);
+  CHECK(par2d_dirty_rects(r, rects, 4, &count) == PAR2D_OK && count == 1);
+  for (int frame_number = 0; frame_number < 3; ++frame_number) {
+    CHECK(par2d_update_light(r, lights[0], &torch, warm, 2.0) == PAR2D_OK);
+    CHECK(par2d_update_light(r, lights[1], &lamp, cold, 1.5) == PAR2D_OK);
+    CHECK(par2d_set_light_emission(r, lights[1], cold, 1.5) == PAR2D_OK);
+    CHECK(par2d_set_light_terms(r, lights[0], &terms) == PAR2D_OK);
+    CHECK(par2d_update_occluder(r, occluders[0], &wall) == PAR2D_OK);
+    CHECK(par2d_update_occluder_transformed(r, occluders[1], &crate, &crate_at) == PAR2D_OK);
+    CHECK(par2d_set_occluder_terms(r, occluders[0], &wall_terms) == PAR2D_OK);
+    CHECK(par2d_set_ambient(r, ambient) == PAR2D_OK);
+    memset(frame, 0xA5, 4 * N);
+    count = 99;
+    CHECK(par2d_render(r, frame, PAR2D_BGRA8_SRGB_DITHERED, RW * 4, 1.0, NULL) == PAR2D_OK);
+    CHECK(par2d_dirty_rects(r, rects, 4, &count) == PAR2D_OK && count == 0);
+    int untouched = 1;
+    for (size_t i = 0; i < 4 * (size_t)N; ++i) untouched = untouched && frame[i] == 0xA5;
+    CHECK(untouched);
+  }
+  /* A real change among the re-sent ones: the torch's emission. Its blocks only. */
+  CHECK(par2d_update_light(r, lights[0], &torch, warm, 2.5) == PAR2D_OK);
+  CHECK(par2d_update_light(r, lights[1], &lamp, cold, 1.5) == PAR2D_OK);
+  CHECK(par2d_render(r, frame, PAR2D_BGRA8_SRGB_DITHERED, RW * 4, 1.0, NULL) == PAR2D_OK);
+  par2d_frame_stats stats;
+  CHECK(par2d_dirty_rects(r, rects, 4, &count) == PAR2D_OK && count >= 1);
+  CHECK(par2d_get_frame_stats(r, &stats) == PAR2D_OK && stats.pixels > 0 && stats.pixels < (uint64_t)N);
+  free(frame);
+  par2d_renderer_destroy(r);
+}
+
 static void check_shape_counts(void) {
   par2d_renderer* r = NULL;
   CHECK(par2d_renderer_create(NULL, &r) == PAR2D_OK);
@@ -1233,6 +1428,8 @@ int main(void) {
   CHECK(par2d_renderer_threads(r) >= 1 && par2d_renderer_threads(r) <= 2);
   CHECK(par2d_set_frame(r, W, H, NULL) == PAR2D_OK);
   check_incremental_frames();
+  check_gpu_formats();
+  check_resync_every_frame();
   check_cookies();
   check_transforms();
   check_bounce();
