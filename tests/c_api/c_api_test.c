@@ -265,6 +265,18 @@ static void fill_sentinel(float* pixels, size_t n) {
   for (size_t i = 0; i < n; ++i) pixels[i] = -7.25f;
 }
 
+/* A renderer on two threads with a frame of width x height (no frame when width is 0), or NULL
+ * (the failure already counted). */
+static par2d_renderer* two_thread_renderer(int width, int height) {
+  par2d_options options;
+  par2d_options_default(&options);
+  options.threads = 2;
+  par2d_renderer* r = NULL;
+  CHECK(par2d_renderer_create(&options, &r) == PAR2D_OK);
+  if (r != NULL && width > 0) CHECK(par2d_set_frame(r, width, height, NULL) == PAR2D_OK);
+  return r;
+}
+
 static void check_long_frames(void) {
   par2d_options o;
   par2d_options_default(&o);
@@ -524,11 +536,7 @@ static void check_parity_with_the_cpp_renderer(const char* dir) {
                         "              {\"segment\": [[60, 5], [70, 5]], \"color\": [1, 0.5, 0.25]}],"
                         " \"occluders\": [{\"polygon\": [[30, 20], [40, 20], [40, 30], [30, 30]]},"
                         "                 {\"circle\": {\"center\": [50, 40], \"radius\": 4}}]}"));
-  par2d_options options;
-  par2d_options_default(&options);
-  options.threads = 2;
-  par2d_renderer* r = NULL;
-  CHECK(par2d_renderer_create(&options, &r) == PAR2D_OK);
+  par2d_renderer* r = two_thread_renderer(0, 0);
   if (r == NULL) return;
   CHECK(par2d_load_scene(r, path) == PAR2D_OK);
 
@@ -704,9 +712,8 @@ static void check_parity_with_the_cpp_renderer(const char* dir) {
   free(text);
   snprintf(saved, sizeof saved, "%s/snapshot.json", dir);
   CHECK(par2d_save_scene(r, saved) == PAR2D_OK);
-  par2d_renderer* copy = NULL;
-  CHECK(par2d_renderer_create(&options, &copy) == PAR2D_OK);
-  CHECK(par2d_load_scene(copy, saved) == PAR2D_OK);
+  par2d_renderer* copy = two_thread_renderer(0, 0);
+  CHECK(copy != NULL && par2d_load_scene(copy, saved) == PAR2D_OK);
   CHECK(par2d_render(r, pool, PAR2D_RGB_F32, 40 * 12, 1.0, NULL) == PAR2D_OK);
   CHECK(par2d_render(copy, other, PAR2D_RGB_F32, 40 * 12, 1.0, NULL) == PAR2D_OK);
   CHECK(memcmp(pool, other, sizeof(float) * n) == 0);
@@ -882,13 +889,8 @@ static void check_gpu_formats(void) {
   CHECK(par2d_bytes_per_pixel(PAR2D_BGRA8_SRGB) == 4 && par2d_bytes_per_pixel(PAR2D_RGBA16F) == 8 &&
         par2d_bytes_per_pixel(PAR2D_RGBA8_SRGB_DITHERED) == 4 && par2d_bytes_per_pixel(PAR2D_BGRA8_SRGB_DITHERED) == 4);
   CHECK(par2d_bytes_per_pixel((par2d_pixel_format)-1) == 0);
-  par2d_options options;
-  par2d_options_default(&options);
-  options.threads = 2;
-  par2d_renderer* r = NULL;
-  CHECK(par2d_renderer_create(&options, &r) == PAR2D_OK);
+  par2d_renderer* r = two_thread_renderer(FW, FH);
   if (r == NULL) return;
-  CHECK(par2d_set_frame(r, FW, FH, NULL) == PAR2D_OK);
   /* A light bright enough that its disc passes the largest half, dimmer ones around it. */
   const double white[3] = {1.0, 0.8, 0.5};
   const par2d_shape sun = circle_shape(20.0, 20.0, 4.0);
@@ -971,13 +973,8 @@ static void check_gpu_formats(void) {
  * writes no byte and reports no rectangle; one real change after them is computed. */
 static void check_resync_every_frame(void) {
   enum { RW = 192, RH = 128, N = RW * RH };
-  par2d_options options;
-  par2d_options_default(&options);
-  options.threads = 2;
-  par2d_renderer* r = NULL;
-  CHECK(par2d_renderer_create(&options, &r) == PAR2D_OK);
+  par2d_renderer* r = two_thread_renderer(RW, RH);
   if (r == NULL) return;
-  CHECK(par2d_set_frame(r, RW, RH, NULL) == PAR2D_OK);
   const double warm[3] = {1.0, 0.7, 0.4}, cold[3] = {0.4, 0.6, 1.0}, ambient[3] = {0.01, 0.01, 0.02};
   const par2d_shape torch = circle_shape(30.0, 30.0, 2.0);
   const par2d_shape lamp = circle_shape(150.0, 90.0, 3.0);
@@ -1135,13 +1132,8 @@ static void check_shape_counts(void) {
  * is what was given, and the read-back shapes given back to par2d_update_* render the same
  * frame byte for byte. */
 static void check_hole_rings(void) {
-  par2d_options options;
-  par2d_options_default(&options);
-  options.threads = 2;
-  par2d_renderer* r = NULL;
-  CHECK(par2d_renderer_create(&options, &r) == PAR2D_OK);
+  par2d_renderer* r = two_thread_renderer(W, H);
   if (r == NULL) return;
-  CHECK(par2d_set_frame(r, W, H, NULL) == PAR2D_OK);
   /* An occluder: a pentagon outline, a triangular hole, a pentagonal hole with the light in it. */
   const double wall[26] = {8, 8, 40, 8, 48, 24, 40, 40, 8, 40,              /* outline: 5 */
                            12, 12, 20, 12, 12, 20,                          /* hole 0: 3 */
