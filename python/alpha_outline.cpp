@@ -69,7 +69,7 @@ py::list occluders_from_alpha(const py::object& alpha_arg, const py::object& thr
 
 void bind_alpha_outline(py::module_& m) {
   m.def("occluders_from_alpha", &occluders_from_alpha, py::arg("alpha"), py::kw_only(), py::arg("threshold") = 128,
-        py::arg("tolerance") = 0.5, py::arg("max_vertices") = par2d::kMaxOutlineVertices, py::arg("scale") = 1.0,
+        py::arg("tolerance") = 1.0, py::arg("max_vertices") = par2d::kMaxOutlineVertices, py::arg("scale") = 1.0,
         py::arg("offset") = py::make_tuple(0.0, 0.0),
         "Occluders traced from an image's alpha, as a list of the scene's occluder dicts ({\"polygon\": ...,\n"
         "\"holes\": ...}): alpha a uint8 array (height, width) or RGBA (height, width, 4), row 0 at the top;\n"

@@ -271,6 +271,21 @@ TEST_CASE("alpha outline: a one-pixel bridge and a one-pixel gap stay valid at e
   }
 }
 
+TEST_CASE("alpha outline: a 45-degree staircase keeps its steps below a tolerance of 0.73 and is one edge above") {
+  Mask m{8, 8, {}};
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) m.alpha.push_back(x <= y ? 255 : 0);
+  const auto exact = outline(m, 0.0);
+  REQUIRE(exact.size() == 1);
+  CHECK(exact[0].vertices.size() == 18);  // (k, k) for k = 0 .. 8, (k + 1, k) for k = 0 .. 7, and (0, 8)
+  CHECK(outline(m, 0.72)[0].vertices.size() == 18);  // 0.707 + kSaddleShift * sqrt(2) = 0.729 needed
+  const auto straight = outline(m, 0.74);
+  REQUIRE(straight.size() == 1);
+  CHECK(straight[0].vertices.size() == 3);
+  check_valid(straight, 8, 8);
+  CHECK(hausdorff_to_pixels(straight, m) <= 0.74);
+}
+
 TEST_CASE("alpha outline: a checkerboard (every corner a diagonal touch) is one valid polygon of exact area") {
   Mask m{8, 8, {}};
   for (int y = 0; y < 8; ++y)

@@ -19,7 +19,7 @@ CLI::App* add_outline_command(CLI::App& app, OutlineArgs& args) {
   outline->add_option("--threshold", args.options.threshold, "A pixel is solid where alpha >= threshold. Default: 128")
       ->check(CLI::Range(0, 255));
   outline->add_option("--tolerance", args.options.tolerance,
-                      "Pixels: how far an outline may stray from the solid pixels' boundary. Default: 0.5")
+                      "Pixels: how far an outline may stray from the solid pixels' boundary (a 45-degree staircase straightens from about 0.73). Default: 1")
       ->check(CLI::NonNegativeNumber);
   outline->add_option("--max-vertices", args.options.max_vertices,
                       "The most vertices one polygon may keep (an error names a polygon that needs more). Default: 65536")

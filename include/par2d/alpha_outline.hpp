@@ -35,8 +35,10 @@ struct AlphaOutlineOptions {
   // Pixels (before `scale`), >= 0 and finite: every point of an outline lies within
   // max(tolerance, kSaddleShift * sqrt(2)) of the boundary of the solid pixels, and every point
   // of that boundary within as much of an outline. 0 keeps every corner of the pixel
-  // boundary (straight runs become one edge). Default: 0.5.
-  double tolerance = 0.5;
+  // boundary (straight runs become one edge). Kept vertices are pixel corners, so a 45-degree
+  // staircase, whose outer corners lie 0.71 px off the line through its inner ones, becomes
+  // one edge only from a tolerance of about 0.73. Default: 1.
+  double tolerance = 1.0;
   // The most vertices one polygon (its outline and holes) may keep, 3 .. kMaxOutlineVertices. A
   // polygon that needs more at `tolerance` is an error naming it (raise the tolerance).
   // Default: kMaxOutlineVertices.

@@ -248,6 +248,11 @@ Status polygons_from_alpha(const AlphaMask& mask, const AlphaOutlineOptions& opt
       rings.push_back(std::move(ring.vertices));
     }
     traced.clear();
+    std::size_t total = 0;
+    for (const auto& ring : rings) total += ring.size();
+    // The simplification numbers vertices with 32 bits.
+    if (total >= std::numeric_limits<std::uint32_t>::max())
+      return Status(StatusCode::out_of_memory, "polygons_from_alpha: " + std::to_string(total) + " vertices, too many");
 
     // The saddle shift already moves the outline up to kSaddleShift * sqrt(2) off the pixel
     // boundary: the simplification gets what remains of the tolerance.
