@@ -25,10 +25,13 @@ struct Point {
   bool operator!=(const Point& o) const { return !(*this == o); }
 };
 
-// The solid pixels, row by row as runs, joined into 8-connected groups (union-find over runs).
+// The solid pixels, one bit each and row by row as runs, the runs joined into 8-connected
+// groups (union-find).
 class SolidRuns {
  public:
-  SolidRuns(const AlphaMask& mask, int threshold) : width_(mask.width), height_(mask.height) {
+  SolidRuns(const AlphaMask& mask, int threshold)
+      : width_(mask.width), height_(mask.height),
+        bits_(static_cast<std::size_t>(mask.width) * static_cast<std::size_t>(mask.height)) {
     row_first_.reserve(static_cast<std::size_t>(height_) + 1);
     for (int y = 0; y < height_; ++y) {
       row_first_.push_back(static_cast<std::uint32_t>(runs_.size()));
@@ -41,6 +44,7 @@ class SolidRuns {
         const int begin = x;
         while (x < width_ && row[static_cast<std::ptrdiff_t>(x) * mask.pixel_stride] >= threshold) ++x;
         runs_.push_back({begin, x});
+        for (int k = begin; k < x; ++k) bits_[index(k, y)] = true;
       }
     }
     row_first_.push_back(static_cast<std::uint32_t>(runs_.size()));
@@ -59,7 +63,7 @@ class SolidRuns {
 
   bool solid(int x, int y) const {
     if (x < 0 || y < 0 || x >= width_ || y >= height_) return false;
-    return run_at(x, y) != kNone;
+    return bits_[index(x, y)];
   }
   // The group of solid pixel (x, y): its first run's index.
   std::uint32_t group(int x, int y) { return find(run_at(x, y)); }
@@ -69,6 +73,7 @@ class SolidRuns {
   struct Run {
     int begin, end;
   };
+  std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * width_ + x; }
   std::uint32_t run_at(int x, int y) const {
     const auto first = runs_.begin() + row_first_[y], last = runs_.begin() + row_first_[y + 1];
     const auto it = std::upper_bound(first, last, x, [](int v, const Run& r) { return v < r.begin; });
@@ -89,6 +94,7 @@ class SolidRuns {
   std::vector<Run> runs_;
   std::vector<std::uint32_t> row_first_;
   std::vector<std::uint32_t> parent_;
+  std::vector<bool> bits_;  // solid or not, row by row: the tracer's many lookups
 };
 
 // -1 for a step of -1 and 0 for +1: the pixel offset of the side a unit step points to.
