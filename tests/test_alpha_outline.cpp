@@ -430,6 +430,16 @@ TEST_CASE("alpha outline: bad masks and options are refused naming the field") {
   o = {};
   o.offset.x = INFINITY;
   refused(mask, o, "offset");
+  // A placement whose rounding merges vertices (1 px at 1e17, where doubles are 16 apart) is
+  // refused naming the polygon rather than returned invalid.
+  const Mask ring = drawn({"###", "#.#", "###"});
+  o = {};
+  o.offset = {1e17, 0.0};
+  const Status s = polygons_from_alpha(ring.view(), o, out);
+  CHECK(s.code() == StatusCode::invalid_argument);
+  CHECK_MESSAGE(s.message().find("polygon 0 (from pixel (0, 0)) is not a valid polygon after placement") !=
+                    std::string::npos, s.message());
+  CHECK(out.empty());
 }
 
 namespace {
