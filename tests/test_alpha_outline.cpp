@@ -461,13 +461,16 @@ std::vector<std::uint8_t> sprite_rgba(int side) {
   return rgba;
 }
 
-int run_cli(const std::vector<std::string>& args, const std::string& err_path) {
+// Runs the CLI, standard error to `err_path` and, when given, standard output to `out_path`.
+int run_cli(const std::vector<std::string>& args, const std::string& err_path, const std::string& out_path = "") {
   std::vector<char*> argv{const_cast<char*>(PAR2D_CLI_PATH)};
   for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
   posix_spawn_file_actions_t actions;
   REQUIRE(posix_spawn_file_actions_init(&actions) == 0);
   REQUIRE(posix_spawn_file_actions_addopen(&actions, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600) == 0);
+  if (!out_path.empty())
+    REQUIRE(posix_spawn_file_actions_addopen(&actions, 1, out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600) == 0);
   pid_t pid = 0;
   const int spawned = posix_spawn(&pid, PAR2D_CLI_PATH, &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
@@ -560,6 +563,9 @@ TEST_CASE("par2d outline: writes a scene of the sprite's occluders that loads an
       CHECK(got.vertices[i].y == expected[k].vertices[i].y);
     }
   }
+  // "-" writes the same scene to standard output.
+  REQUIRE(run_cli({"outline", png, "--threshold", "100", "--tolerance", "0.75", "-o", "-"}, err, dir / "stdout.json") == 0);
+  CHECK(read_text(dir / "stdout.json") == read_text(json));
   // With a light added, the CLI renders it.
   std::string text = read_text(json);
   const std::string no_lights = R"("lights": [])";

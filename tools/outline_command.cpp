@@ -1,6 +1,8 @@
 // `par2d outline`: a sprite PNG's alpha traced into occluder polygons (polygons_from_alpha), saved as a scene.
 #include "outline_command.hpp"
 
+#include <cstdio>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -14,7 +16,8 @@ CLI::App* add_outline_command(CLI::App& app, OutlineArgs& args) {
       "outline", "Trace a PNG's alpha into occluder polygons (with holes) and write them as a scene file");
   outline->add_option("png", args.png_path, "PNG with an alpha channel (gray+alpha or RGBA, 8 or 16 bits)")->required();
   outline->add_option("-o,--output", args.output_path,
-                      "Scene JSON to write: the image's size and view, no lights, one occluder per polygon")
+                      "Scene JSON to write (- for standard output): the image's size and view, no lights, one occluder per "
+                      "polygon")
       ->required();
   outline->add_option("--threshold", args.options.threshold, "A pixel is solid where alpha >= threshold. Default: 128")
       ->check(CLI::Range(0, 255));
@@ -31,7 +34,9 @@ CLI::App* add_outline_command(CLI::App& app, OutlineArgs& args) {
   return outline;
 }
 
-par2d::Status run_outline(const OutlineArgs& args) {
+par2d::Status run_outline(const OutlineArgs& args, bool stdout_closed) {
+  if (args.output_path == "-" && stdout_closed)
+    return par2d::Status(par2d::StatusCode::io_error, "outline: '-' (standard output): standard output is closed");
   par2d::AlphaImage image;
   if (par2d::Status s = par2d::load_png_alpha(args.png_path, image); !s) return s;
   std::vector<par2d::Polygon> polygons;
@@ -48,7 +53,12 @@ par2d::Status run_outline(const OutlineArgs& args) {
     occluder.shape = std::move(polygon);
     scene.occluders.push_back(std::move(occluder));
   }
-  return par2d::save_scene_file(args.output_path, scene);
+  if (args.output_path != "-") return par2d::save_scene_file(args.output_path, scene);
+  if (par2d::Status s = par2d::validate_scene(scene, "-"); !s) return s;
+  const std::string text = par2d::scene_to_json(scene);
+  if (std::fwrite(text.data(), 1, text.size(), stdout) != text.size() || std::fflush(stdout) != 0)
+    return par2d::Status(par2d::StatusCode::io_error, "outline: '-' (standard output): write failed");
+  return par2d::Status::success();
 }
 
 }  // namespace par2d::cli

@@ -685,7 +685,7 @@ int run_cli(int argc, char** argv) {
     if (render->parsed()) return run_render(render_common, render_args);
     if (bench->parsed()) return run_bench(bench_common, bench_args);
     if (outline->parsed()) {
-      const par2d::Status s = par2d::cli::run_outline(outline_args);
+      const par2d::Status s = par2d::cli::run_outline(outline_args, g_stdout_was_closed);
       return s ? 0 : fail(s.message());
     }
 #ifdef PAR2D_HAVE_VIEWER
