@@ -21,6 +21,7 @@
 #include "par2d/render.hpp"
 #include "par2d/scene.hpp"
 #include "support/temp_dir.hpp"
+#include "support/test_tiers.hpp"
 
 extern char** environ;
 
@@ -319,6 +320,26 @@ TEST_CASE("alpha outline: random noise masks give valid, apart polygons within t
     }
   }
   CHECK(cases == 480);
+}
+
+TEST_CASE("alpha outline: larger noise masks of every density, more seeds" * par2d::test::long_tier()) {
+  std::mt19937 rng(99);
+  for (int seed = 0; seed < 400; ++seed) {
+    std::uniform_int_distribution<int> side(20, 48);
+    const int width = side(rng), height = side(rng);
+    const Mask m = noise(rng, width, height, std::uniform_real_distribution<double>(0.05, 0.95)(rng));
+    for (double tolerance : {0.0, 0.6, 1.2, 5.0}) {
+      CAPTURE(seed);
+      CAPTURE(tolerance);
+      const auto polygons = outline(m, tolerance);
+      check_valid(polygons, width, height);
+      if (tolerance == 0.0) {
+        double area = 0.0;
+        for (const Polygon& p : polygons) area += polygon_area(p);
+        CHECK(area == m.count());
+      }
+    }
+  }
 }
 
 TEST_CASE("alpha outline: the vertex bound holds or the polygon over it is named") {
