@@ -35,7 +35,7 @@ struct AlphaOutlineOptions {
   // Pixels (before `scale`), >= 0 and finite: every point of an outline lies within
   // max(tolerance, kSaddleShift * sqrt(2)) of the boundary of the solid pixels, and every point
   // of that boundary within as much of an outline. 0 keeps every corner of the pixel
-  // boundary (straight runs become one edge). Kept vertices are pixel corners, so a 45-degree
+  // boundary (straight runs become one edge). Kept vertices are traced ones (pixel corners), so a 45-degree
   // staircase, whose outer corners lie 0.71 px off the line through its inner ones, becomes
   // one edge only from a tolerance of about 0.73. Default: 1.
   double tolerance = 1.0;
@@ -65,11 +65,13 @@ inline constexpr double kSaddleShift = 1.0 / 64.0;
 // cuts off (or adds) holds no other vertex: no ring crosses or touches itself, another ring of
 // its polygon or any other polygon, and a hole stays strictly inside its outline. Every polygon
 // passes validate_scene as an occluder or a light. With tolerance 0 the area of each polygon
-// (outline minus holes) is its solid pixel count exactly (times |scale.x * scale.y|).
+// (outline minus holes) is its solid pixel count exactly (times |scale.x * scale.y|, up to the
+// placement's rounding).
 //
 // Polygons come in the order of their first pixel in row order; `out` is cleared first and
 // left empty on error. Refused: a null alpha pointer, sizes, strides or options out of range
-// (invalid_argument, naming the field), a polygon over max_vertices (invalid_argument naming
+// (invalid_argument, naming the field), a polygon over max_vertices or one that the
+// placement's rounding breaks (an offset far larger than the scale: invalid_argument naming
 // the polygon and its first pixel). Memory: about 3 bits per pixel plus the vertices.
 Status polygons_from_alpha(const AlphaMask& mask, const AlphaOutlineOptions& options, std::vector<Polygon>& out);
 
