@@ -26,12 +26,12 @@ py::list occluders_from_alpha(const py::object& alpha_arg, const py::object& thr
   // uint8 only: a float image's alpha (0 .. 1) would silently threshold wrongly if cast.
   if (!py::isinstance<py::array>(alpha_arg) ||
       !py::reinterpret_borrow<py::array>(alpha_arg).dtype().is(py::dtype::of<std::uint8_t>()))
-    bad_argument("alpha", "needs a uint8 array of shape (height, width) or (height, width, 4), got " +
-                              describe(alpha_arg));
+    bad_argument("alpha",
+                 "needs a uint8 array of shape (height, width) or (height, width, 4), got " + describe(alpha_arg));
   const ByteArray alpha = ByteArray::ensure(alpha_arg);
   if (!alpha || !(alpha.ndim() == 2 || (alpha.ndim() == 3 && alpha.shape(2) == 4)))
-    bad_argument("alpha", "needs a uint8 array of shape (height, width) or (height, width, 4), got " +
-                              describe(alpha_arg));
+    bad_argument("alpha",
+                 "needs a uint8 array of shape (height, width) or (height, width, 4), got " + describe(alpha_arg));
   const bool rgba = alpha.ndim() == 3;
   const py::ssize_t height = alpha.shape(0), width = alpha.shape(1);
   if (width < 1 || height < 1 || width > par2d::kMaxImageSide || height > par2d::kMaxImageSide)

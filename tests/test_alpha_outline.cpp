@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 #include <fcntl.h>
 #include <spawn.h>
+#include <stb/stb_image_write.h>
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -13,8 +14,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <stb/stb_image_write.h>
 
 #include "geometry/polygon_partition.hpp"
 #include "par2d/alpha_outline.hpp"
@@ -278,7 +277,7 @@ TEST_CASE("alpha outline: a 45-degree staircase keeps its steps below a toleranc
     for (int x = 0; x < 8; ++x) m.alpha.push_back(x <= y ? 255 : 0);
   const auto exact = outline(m, 0.0);
   REQUIRE(exact.size() == 1);
-  CHECK(exact[0].vertices.size() == 18);  // (k, k) for k = 0 .. 8, (k + 1, k) for k = 0 .. 7, and (0, 8)
+  CHECK(exact[0].vertices.size() == 18);             // (k, k) for k = 0 .. 8, (k + 1, k) for k = 0 .. 7, and (0, 8)
   CHECK(outline(m, 0.72)[0].vertices.size() == 18);  // 0.707 + kSaddleShift * sqrt(2) = 0.729 needed
   const auto straight = outline(m, 0.74);
   REQUIRE(straight.size() == 1);
@@ -406,7 +405,8 @@ TEST_CASE("alpha outline: the threshold decides solid (alpha >= threshold); an e
   AlphaOutlineOptions options;
   options.tolerance = 0.0;
   std::vector<Polygon> out;
-  for (const auto& [threshold, area] : {std::pair{0, 3.0}, std::pair{11, 2.0}, std::pair{129, 1.0}, std::pair{255, 1.0}}) {
+  for (const auto& [threshold, area] :
+       {std::pair{0, 3.0}, std::pair{11, 2.0}, std::pair{129, 1.0}, std::pair{255, 1.0}}) {
     options.threshold = threshold;
     REQUIRE(polygons_from_alpha(m.view(), options, out).ok());
     REQUIRE(out.size() == 1);
@@ -458,8 +458,9 @@ TEST_CASE("alpha outline: bad masks and options are refused naming the field") {
   o.offset = {1e17, 0.0};
   const Status s = polygons_from_alpha(ring.view(), o, out);
   CHECK(s.code() == StatusCode::invalid_argument);
-  CHECK_MESSAGE(s.message().find("polygon 0 (from pixel (0, 0)) is not a valid polygon after placement") !=
-                    std::string::npos, s.message());
+  CHECK_MESSAGE(
+      s.message().find("polygon 0 (from pixel (0, 0)) is not a valid polygon after placement") != std::string::npos,
+      s.message());
   CHECK(out.empty());
 }
 
@@ -474,7 +475,8 @@ std::vector<std::uint8_t> sprite_rgba(int side) {
       const double px = x + 0.5, py = y + 0.5;
       const double body = coverage(18.0 - std::hypot(px - 24.0, py - 27.0));
       const double hole = coverage(5.0 - std::hypot(px - 28.0, py - 24.0));
-      const bool ear = py > 4.0 && py < 14.0 && (std::fabs(px - 14.0) < (py - 4.0) * 0.5 || std::fabs(px - 34.0) < (py - 4.0) * 0.5);
+      const bool ear =
+          py > 4.0 && py < 14.0 && (std::fabs(px - 14.0) < (py - 4.0) * 0.5 || std::fabs(px - 34.0) < (py - 4.0) * 0.5);
       const bool speck = x >= 2 && x < 4 && y >= 42 && y < 45;
       const double a = std::max({body * (1.0 - hole), ear ? 1.0 : 0.0, speck ? 1.0 : 0.0});
       rgba.insert(rgba.end(), {200, 120, 40, static_cast<std::uint8_t>(std::lround(255.0 * a))});
@@ -585,7 +587,8 @@ TEST_CASE("par2d outline: writes a scene of the sprite's occluders that loads an
     }
   }
   // "-" writes the same scene to standard output.
-  REQUIRE(run_cli({"outline", png, "--threshold", "100", "--tolerance", "0.75", "-o", "-"}, err, dir / "stdout.json") == 0);
+  REQUIRE(run_cli({"outline", png, "--threshold", "100", "--tolerance", "0.75", "-o", "-"}, err, dir / "stdout.json") ==
+          0);
   CHECK(read_text(dir / "stdout.json") == read_text(json));
   // With a light added, the CLI renders it.
   std::string text = read_text(json);

@@ -15,17 +15,22 @@ CLI::App* add_outline_command(CLI::App& app, OutlineArgs& args) {
   CLI::App* outline = app.add_subcommand(
       "outline", "Trace a PNG's alpha into occluder polygons (with holes) and write them as a scene file");
   outline->add_option("png", args.png_path, "PNG with an alpha channel (gray+alpha or RGBA, 8 or 16 bits)")->required();
-  outline->add_option("-o,--output", args.output_path,
-                      "Scene JSON to write (- for standard output): the image's size and view, no lights, one occluder per "
-                      "polygon")
+  outline
+      ->add_option(
+          "-o,--output", args.output_path,
+          "Scene JSON to write (- for standard output): the image's size and view, no lights, one occluder per "
+          "polygon")
       ->required();
   outline->add_option("--threshold", args.options.threshold, "A pixel is solid where alpha >= threshold. Default: 128")
       ->check(CLI::Range(0, 255));
-  outline->add_option("--tolerance", args.options.tolerance,
-                      "Pixels: how far an outline may stray from the solid pixels' boundary (a 45-degree staircase straightens from about 0.73). Default: 1")
+  outline
+      ->add_option("--tolerance", args.options.tolerance,
+                   "Pixels: how far an outline may stray from the solid pixels' boundary (a 45-degree staircase "
+                   "straightens from about 0.73). Default: 1")
       ->check(CLI::NonNegativeNumber);
-  outline->add_option("--max-vertices", args.options.max_vertices,
-                      "The most vertices one polygon may keep (an error names a polygon that needs more). Default: 65536")
+  outline
+      ->add_option("--max-vertices", args.options.max_vertices,
+                   "The most vertices one polygon may keep (an error names a polygon that needs more). Default: 65536")
       ->check(CLI::Range(std::size_t{3}, par2d::kMaxOutlineVertices));
   outline->add_option("--scale", args.options.scale.x, "World units per pixel (both axes). Default: 1")
       ->each([&args](const std::string&) { args.options.scale.y = args.options.scale.x; });

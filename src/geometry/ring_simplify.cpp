@@ -69,9 +69,7 @@ class VertexGrid {
   }
 
  private:
-  int column(double x) const {
-    return std::clamp(static_cast<int>(std::floor((x - lo_.x) / cell_x_)), 0, nx_ - 1);
-  }
+  int column(double x) const { return std::clamp(static_cast<int>(std::floor((x - lo_.x) / cell_x_)), 0, nx_ - 1); }
   int row(double y) const { return std::clamp(static_cast<int>(std::floor((y - lo_.y) / cell_y_)), 0, ny_ - 1); }
   std::size_t cell_of(Vec2 p) const { return static_cast<std::size_t>(row(p.y)) * nx_ + column(p.x); }
 
@@ -83,8 +81,8 @@ class VertexGrid {
 
 // Distance from q to the segment a-b; exactly 0 where q lies on it (exact orientation).
 double segment_distance(Vec2 a, Vec2 b, Vec2 q) {
-  const bool in_box = q.x >= std::min(a.x, b.x) && q.x <= std::max(a.x, b.x) && q.y >= std::min(a.y, b.y) &&
-                      q.y <= std::max(a.y, b.y);
+  const bool in_box =
+      q.x >= std::min(a.x, b.x) && q.x <= std::max(a.x, b.x) && q.y >= std::min(a.y, b.y) && q.y <= std::max(a.y, b.y);
   if (in_box && orientation(a, b, q) == 0) return 0.0;
   const double dx = b.x - a.x, dy = b.y - a.y;
   const double len2 = dx * dx + dy * dy;

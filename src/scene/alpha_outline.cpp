@@ -16,7 +16,9 @@
 namespace par2d {
 namespace {
 
-Status bad_argument(const std::string& what) { return Status(StatusCode::invalid_argument, "polygons_from_alpha: " + what); }
+Status bad_argument(const std::string& what) {
+  return Status(StatusCode::invalid_argument, "polygons_from_alpha: " + what);
+}
 
 struct Point {
   int x = 0;
@@ -30,7 +32,8 @@ struct Point {
 class SolidRuns {
  public:
   SolidRuns(const AlphaMask& mask, int threshold)
-      : width_(mask.width), height_(mask.height),
+      : width_(mask.width),
+        height_(mask.height),
         bits_(static_cast<std::size_t>(mask.width) * static_cast<std::size_t>(mask.height)) {
     row_first_.reserve(static_cast<std::size_t>(height_) + 1);
     for (int y = 0; y < height_; ++y) {
@@ -104,7 +107,7 @@ int low(int k) { return k > 0 ? 0 : -1; }
 struct TracedRing {
   std::vector<Vec2> vertices;
   std::uint32_t group = 0;
-  Point pixel;  // the solid pixel left of its first edge
+  Point pixel;         // the solid pixel left of its first edge
   double area2 = 0.0;  // twice the signed area: > 0 for an outline, < 0 for a hole
 };
 
@@ -118,7 +121,9 @@ struct TracedRing {
 class Tracer {
  public:
   explicit Tracer(SolidRuns& runs, int width, int height)
-      : runs_(runs), width_(width), height_(height),
+      : runs_(runs),
+        width_(width),
+        height_(height),
         horizontal_(static_cast<std::size_t>(width) * (static_cast<std::size_t>(height) + 1)),
         vertical_((static_cast<std::size_t>(width) + 1) * static_cast<std::size_t>(height)) {}
 
@@ -197,7 +202,8 @@ Status check_arguments(const AlphaMask& mask, const AlphaOutlineOptions& options
   if (mask.width < 1 || mask.width > kMaxImageSide || mask.height < 1 || mask.height > kMaxImageSide)
     return bad_argument("mask size " + std::to_string(mask.width) + "x" + std::to_string(mask.height) +
                         " is not an image size (1 .. " + std::to_string(kMaxImageSide) + " per side)");
-  if (mask.pixel_stride < 1) return bad_argument("mask.pixel_stride must be >= 1, got " + std::to_string(mask.pixel_stride));
+  if (mask.pixel_stride < 1)
+    return bad_argument("mask.pixel_stride must be >= 1, got " + std::to_string(mask.pixel_stride));
   if (mask.row_stride < static_cast<std::ptrdiff_t>(mask.width) * mask.pixel_stride)
     return bad_argument("mask.row_stride " + std::to_string(mask.row_stride) + " is less than width * pixel_stride (" +
                         std::to_string(static_cast<std::ptrdiff_t>(mask.width) * mask.pixel_stride) + ")");
@@ -236,8 +242,8 @@ Status polygons_from_alpha(const AlphaMask& mask, const AlphaOutlineOptions& opt
     // One polygon per group, in the order of the groups' outlines (found first: a group's top
     // row's leftmost pixel comes before any of its holes in row order).
     std::vector<std::vector<Vec2>> rings;
-    std::vector<std::size_t> polygon_of;  // per ring
-    std::vector<Point> first_pixel;       // per polygon
+    std::vector<std::size_t> polygon_of;                               // per ring
+    std::vector<Point> first_pixel;                                    // per polygon
     std::vector<std::pair<std::uint32_t, std::size_t>> group_polygon;  // sorted by group
     rings.reserve(traced.size());
     for (TracedRing& ring : traced) {

@@ -1,4 +1,5 @@
 // A PNG's alpha plane (stb_image), for polygons_from_alpha: the size checked from the header before decoding.
+#include <stb/stb_image.h>
 #include <sys/stat.h>
 
 #include <cstdint>
@@ -9,10 +10,7 @@
 #include <string>
 #include <utility>
 
-#include <stb/stb_image.h>
-
 #include "io/input_file.hpp"
-
 #include "par2d/alpha_outline.hpp"
 
 namespace par2d {
@@ -57,8 +55,8 @@ Status load_png_alpha(const std::string& path, AlphaImage& out) {
                                (channels == 1 ? " channel" : " channels") + "): an outline needs gray+alpha or RGBA");
     if (static_cast<std::uint32_t>(width) != declared_width || static_cast<std::uint32_t>(height) != declared_height)
       return bad_png(path, "cannot decode the PNG (its header is inconsistent)");
-    std::unique_ptr<unsigned char, void (*)(void*)> pixels(stbi_load_from_file(file.get(), &width, &height, &channels, 2),
-                                                           &stbi_image_free);
+    std::unique_ptr<unsigned char, void (*)(void*)> pixels(
+        stbi_load_from_file(file.get(), &width, &height, &channels, 2), &stbi_image_free);
     if (!pixels) return bad_png(path, std::string("cannot decode the PNG (") + stbi_failure_reason() + ")");
     if (static_cast<std::uint32_t>(width) != declared_width || static_cast<std::uint32_t>(height) != declared_height)
       return bad_png(path, "cannot decode the PNG (its size changed while reading)");
