@@ -169,5 +169,6 @@ par2d::Occluder parse_occluder(const py::object& dict, const std::string& name);
 
 void bind_scene(py::module_& m);     // scene.cpp: par2d.Scene, par2d.load_scene
 void bind_renderer(py::module_& m);  // renderer.cpp: par2d.Renderer
+void bind_alpha_outline(py::module_& m);  // alpha_outline.cpp: par2d.occluders_from_alpha
 
 }  // namespace par2d::python

@@ -215,6 +215,7 @@ void define_module(py::module_& m) {
       "raycast and total (docs/python.md, \"Long renders\"), total being what work_limit bounds.");
 
   bind_renderer(m);
+  bind_alpha_outline(m);
 
   m.def(
       "write_png",

@@ -27,6 +27,7 @@ FLOORS = {
 # header) with render/; the C API with capi/. A public header includes none above its own.
 PUBLIC = {
     "status.hpp": 0, "version.hpp": 0, "isa.hpp": 0, "types.hpp": 0, "scene.hpp": 0, "image_io.hpp": 0,
+    "alpha_outline.hpp": 0,
     "scene_write.hpp": 1,
     "render.hpp": 4, "renderer.hpp": 4, "par2d.hpp": 4,
     "par2d.h": 5,

@@ -21,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include "outline_command.hpp"
 #include "par2d/par2d.hpp"
 #ifdef PAR2D_HAVE_VIEWER
 #include "viewer/viewer.hpp"
@@ -616,7 +617,7 @@ int run_cli(int argc, char** argv) {
   app.footer(
       "Backends (--backend): auto (default) picks the fastest path this CPU supports, the SIMD "
       "path where available; simd, scalar (double-precision reference), raycast (brute force).\n"
-      "Run 'par2d render --help' or 'par2d bench --help' for their options.\n");
+      "Run 'par2d render --help', 'par2d bench --help' or 'par2d outline --help' for their options.\n");
   bool show_version = false;
   app.add_flag("--version", show_version, "Print the version and the detected/selected ISA");
 
@@ -659,6 +660,8 @@ int run_cli(int argc, char** argv) {
                   "proofs tried and succeeded, scalar fallbacks");
 
   CLI::App* info = app.add_subcommand("info", "Print the version, detected and selected ISA");
+  par2d::cli::OutlineArgs outline_args;
+  CLI::App* outline = par2d::cli::add_outline_command(app, outline_args);
 #ifdef PAR2D_HAVE_VIEWER
   par2d::viewer::ViewArgs view_args;
   CLI::App* view = par2d::viewer::add_view_command(app, view_args);
@@ -681,6 +684,10 @@ int run_cli(int argc, char** argv) {
     }
     if (render->parsed()) return run_render(render_common, render_args);
     if (bench->parsed()) return run_bench(bench_common, bench_args);
+    if (outline->parsed()) {
+      const par2d::Status s = par2d::cli::run_outline(outline_args, g_stdout_was_closed);
+      return s ? 0 : fail(s.message());
+    }
 #ifdef PAR2D_HAVE_VIEWER
     if (view->parsed()) {
       // An empty DISPLAY or WAYLAND_DISPLAY names no display: treated as unset, the viewer
@@ -698,7 +705,7 @@ int run_cli(int argc, char** argv) {
     // The library reports through Status; this only guards against the unexpected.
     return fail(std::string("internal error: ") + e.what());
   }
-  return fail("no command given: use render, bench or info (run 'par2d --help' for usage)",
+  return fail("no command given: use render, bench, outline or info (run 'par2d --help' for usage)",
               kExitUsage);
 }
 

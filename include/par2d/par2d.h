@@ -495,6 +495,29 @@ PAR2D_C_API par2d_status par2d_set_progress(par2d_renderer* renderer, par2d_prog
  * they start. NULL is ignored. */
 PAR2D_C_API void par2d_cancel(par2d_renderer* renderer);
 
+/* ---- Occluders from an alpha mask (docs/api.md, "Occluders from an alpha mask") ---- */
+
+/* The polygons par2d_outline_alpha traced: opaque, owned by the caller until destroyed. */
+typedef struct par2d_outline par2d_outline;
+/* Traces the solid pixels (alpha >= threshold, 0 .. 255) of a width x height alpha plane, the
+ * alpha of pixel (i, j) at alpha[j * row_stride + i * pixel_stride] (an RGBA8 image: pixel
+ * stride 4, alpha pointing at its fourth byte), into polygons with holes: one per 8-connected
+ * group of solid pixels, within `tolerance` pixels (>= 0) of the pixels' boundary, none
+ * crossing or touching another, each valid as an occluder, at most `max_vertices` (3 .. 65536)
+ * vertices each (a polygon that needs more is refused naming it). `placement` = {scale x,
+ * scale y, offset x, offset y} puts pixel-unit point p at offset + scale * p (NULL: {1, 1, 0,
+ * 0}). On success *out holds the result; on failure *out is NULL. */
+PAR2D_C_API par2d_status par2d_outline_alpha(const uint8_t* alpha, int width, int height, ptrdiff_t row_stride,
+                                             int pixel_stride, int threshold, double tolerance, size_t max_vertices,
+                                             const double* placement, par2d_outline** out);
+/* How many polygons it holds (0 for NULL). */
+PAR2D_C_API size_t par2d_outline_polygon_count(const par2d_outline* outline);
+/* Polygon `index` as a shape for par2d_add_occluder: its arrays belong to `outline` and stay
+ * valid until par2d_outline_destroy. */
+PAR2D_C_API par2d_status par2d_outline_polygon(const par2d_outline* outline, size_t index, par2d_shape* shape);
+/* Frees it; NULL is ignored. */
+PAR2D_C_API void par2d_outline_destroy(par2d_outline* outline);
+
 #ifdef __cplusplus
 }
 #endif

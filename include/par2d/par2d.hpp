@@ -1,6 +1,7 @@
 // Everything an embedding engine needs: scene model, loader, one-shot render, persistent Renderer, image files.
 #pragma once
 
+#include "par2d/alpha_outline.hpp"
 #include "par2d/image_io.hpp"
 #include "par2d/isa.hpp"
 #include "par2d/render.hpp"
