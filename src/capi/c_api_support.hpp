@@ -93,8 +93,9 @@ long long raw_enum(const E& field) noexcept {
 }
 
 // The PixelFormat a par2d_pixel_format names (the two enums list the formats in one order),
-// or null for a value outside it.
-inline const par2d::PixelFormat* pixel_format_of(par2d_pixel_format format) noexcept {
+// or null for a value outside it. Taken by reference and read as an integer (raw_enum): a C
+// caller's out-of-range value must never be loaded as the enum.
+inline const par2d::PixelFormat* pixel_format_of(const par2d_pixel_format& format) noexcept {
   static constexpr par2d::PixelFormat kFormats[] = {
       par2d::PixelFormat::rgb_f32,    par2d::PixelFormat::rgba_f32,           par2d::PixelFormat::rgba8_srgb,
       par2d::PixelFormat::bgra8_srgb, par2d::PixelFormat::rgba16f,            par2d::PixelFormat::rgba8_srgb_dithered,
