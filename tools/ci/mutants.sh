@@ -40,7 +40,7 @@ MUTANTS=(
   "moved light's old footprint not recomputed|src/render/change_tracker.cpp|s/^        mark_light\(scene, old_\[l\], nullptr, l\);\n//m"
   "moved light's layers kept|src/render/light_layers.cpp|s/for \(std::size_t b = 0; b < blocks_\.size\(\); \+\+b\) drop\(b, light\);/(void)light;/"
   "translucent boxes merged|src/world/occluder_merge.cpp|s/^    if \(o\.transmittance\[c\] != 0\.0 && o\.transmittance\[c\] != 1\.0\) return false;\n//m"
-  "an update that changes only a light's mask counts as unchanged|src/scene/same_values.cpp|s/ && a\.mask == b\.mask &&/ \&\&/"
+  "an update that changes only a light's mask counts as unchanged|src/scene/same_values.cpp|s/same_cookie\) && a\.mask == b\.mask &&/same_cookie) \&\&/"
   "validation fills holes|src/scene/scene_validate.cpp|s/^  if \(!polygon\.holes\.empty\(\)\) return true;\n//m"
   "concave partition merges across reflex angles|src/geometry/polygon_partition.cpp|s/return o > 0 \|\| \(o == 0 && !same_direction\(pa, px, py\)\);/return o < 0 || (o == 0 \&\& !same_direction(pa, px, py));/"
   "bounce radiance without its pi|src/scalar/bounce_reference.cpp|s/= kPi \* albedo\[c\] \* s\[c\];/= albedo[c] * s[c];/"
