@@ -11,12 +11,11 @@
 #include <utility>
 
 #include "io/input_file.hpp"
+#include "io/png_header.hpp"
 #include "par2d/alpha_outline.hpp"
 
 namespace par2d {
 namespace {
-
-constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
 
 Status bad_png(const std::string& path, const std::string& what) {
   return Status(StatusCode::invalid_argument, path + ": " + what);
@@ -29,23 +28,12 @@ Status load_png_alpha(const std::string& path, AlphaImage& out) {
     detail::FileHandle file(nullptr, &std::fclose);
     struct stat st {};
     if (Status s = detail::open_regular_file(path, file, st); !s.ok()) return s;
-    // The signature and the IHDR chunk's width and height, checked before anything is decoded.
-    unsigned char header[24] = {};
-    if (std::fread(header, 1, sizeof header, file.get()) != sizeof header ||
-        std::memcmp(header, kPngSignature, sizeof kPngSignature) != 0)
-      return bad_png(path, "not a PNG file");
-    constexpr unsigned char kIhdr[8] = {0, 0, 0, 13, 'I', 'H', 'D', 'R'};
-    if (std::memcmp(header + 8, kIhdr, sizeof kIhdr) != 0) return bad_png(path, "not a PNG file (no IHDR header)");
-    auto be32 = [&](int at) {
-      return (std::uint32_t{header[at]} << 24) | (std::uint32_t{header[at + 1]} << 16) |
-             (std::uint32_t{header[at + 2]} << 8) | std::uint32_t{header[at + 3]};
-    };
-    const std::uint32_t declared_width = be32(16), declared_height = be32(20);
+    std::uint32_t declared_width = 0, declared_height = 0;
+    if (auto problem = detail::read_png_size(file.get(), declared_width, declared_height)) return bad_png(path, *problem);
     if (declared_width > static_cast<std::uint32_t>(kMaxImageSide) ||
         declared_height > static_cast<std::uint32_t>(kMaxImageSide))
       return bad_png(path, "is " + std::to_string(declared_width) + "x" + std::to_string(declared_height) +
                                ", larger than any image (" + std::to_string(kMaxImageSide) + " per side)");
-    std::rewind(file.get());
     int width = 0, height = 0, channels = 0;
     if (!stbi_info_from_file(file.get(), &width, &height, &channels))
       return bad_png(path, std::string("cannot decode the PNG (") + stbi_failure_reason() + ")");

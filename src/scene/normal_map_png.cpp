@@ -14,13 +14,12 @@
 #include <stb/stb_image.h>
 
 #include "io/input_file.hpp"
+#include "io/png_header.hpp"
 
 #include "par2d/scene.hpp"
 
 namespace par2d {
 namespace {
-
-constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
 
 Status bad_map(const std::string& path, const std::string& what) {
   return Status(StatusCode::invalid_scene, path + ": " + what);
@@ -40,21 +39,9 @@ Status load_png(const std::string& path, NormalMap& out, int expected_width, int
     detail::FileHandle file(nullptr, &std::fclose);
     struct stat st {};
     if (Status s = detail::open_regular_file(path, file, st); !s.ok()) return s;
-    // The signature, then the IHDR chunk (length 13, "IHDR", width, height): the size a PNG
-    // declares is checked here, from these 24 bytes, before anything is decoded; a tiny file
-    // may declare any size.
-    unsigned char header[24] = {};
-    if (std::fread(header, 1, sizeof header, file.get()) != sizeof header ||
-        std::memcmp(header, kPngSignature, sizeof kPngSignature) != 0) {
-      return bad_map(path, "not a PNG file");
-    }
-    constexpr unsigned char kIhdr[8] = {0, 0, 0, 13, 'I', 'H', 'D', 'R'};
-    if (std::memcmp(header + 8, kIhdr, sizeof kIhdr) != 0) return bad_map(path, "not a PNG file (no IHDR header)");
-    auto be32 = [&](int at) {
-      return (std::uint32_t{header[at]} << 24) | (std::uint32_t{header[at + 1]} << 16) |
-             (std::uint32_t{header[at + 2]} << 8) | std::uint32_t{header[at + 3]};
-    };
-    const std::uint32_t declared_width = be32(16), declared_height = be32(20);
+    // The size the PNG declares is checked before anything is decoded: a tiny file may declare any size.
+    std::uint32_t declared_width = 0, declared_height = 0;
+    if (auto problem = detail::read_png_size(file.get(), declared_width, declared_height)) return bad_map(path, *problem);
     const std::string size = std::to_string(declared_width) + "x" + std::to_string(declared_height);
     if (expected_width > 0 && (declared_width != static_cast<std::uint32_t>(expected_width) ||
                                declared_height != static_cast<std::uint32_t>(expected_height))) {
@@ -64,7 +51,6 @@ Status load_png(const std::string& path, NormalMap& out, int expected_width, int
     if (declared_width > static_cast<std::uint32_t>(kMaxImageSide) ||
         declared_height > static_cast<std::uint32_t>(kMaxImageSide))
       return bad_map(path, "is " + size + ", larger than any image");
-    std::rewind(file.get());
     // stbi_info reads the header chunks only.
     int width = 0, height = 0, channels = 0;
     if (!stbi_info_from_file(file.get(), &width, &height, &channels)) {
