@@ -56,7 +56,21 @@ class Renderer {
   Status set_frame(int width, int height, const View& view);
   int width() const noexcept;
   int height() const noexcept;
+  // The world rectangle the frame shows now (set_frame's view moved by the view offset).
   const View& view() const noexcept;
+
+  // Scrolling (docs/api.md, "Scrolling"). The frame becomes a window on the pixel grid of
+  // set_frame's view (that image extended past its edges in every direction): pixel (i, j)
+  // shows the grid's pixel (x + i, y + j), sampled exactly where that pixel of the grid is.
+  // A camera that moves by whole pixels sets this; with incremental frames on, the next
+  // whole frame shifts the buffer's pixels that stay in view (frame_shift says how far) and
+  // computes only the uncovered bands and what changed in the world, byte for byte what a
+  // Renderer at that offset renders (tiles and blocks are placed on the grid). set_frame
+  // starts again at (0, 0). |x|, |y| <= 2^40 (kMaxViewOffset) and the moved view must be
+  // valid (docs/contract.md section 3); a refused offset keeps the old one.
+  Status set_view_offset(std::int64_t x, std::int64_t y);
+  std::int64_t view_offset_x() const noexcept;
+  std::int64_t view_offset_y() const noexcept;
 
   // Replaces the whole world (frame included) with a validated scene; `lights` and
   // `occluders`, when given, receive the handles in the scene's order.
@@ -157,9 +171,15 @@ class Renderer {
   std::size_t light_layer_budget() const noexcept;
   // Bytes the layers hold after the last frame (at most the budget).
   std::size_t light_layer_bytes() const noexcept;
-  // The rectangles the last successful render wrote (merged block runs, in row order; empty
-  // when an incremental frame changed nothing): the parts of the buffer to upload.
+  // The rectangles the last successful render wrote (merged block runs, in row order, then
+  // a scroll's uncovered bands; empty when an incremental frame changed nothing): the parts
+  // of the buffer to upload, after the shift below.
   const std::vector<PixelRect>& dirty_rects() const noexcept;
+  // How far the last successful render moved the buffer's pixels before writing dirty_rects
+  // (0, 0 but for an incremental frame whose view offset moved by less than the frame): a
+  // host whose texture holds the last frame moves its pixels the same way (or uploads the
+  // whole buffer), then uploads dirty_rects.
+  PixelShift frame_shift() const noexcept;
 
   // The world as a Scene: lights that emit (in the renderer's internal order), then dark
   // ones, then occluders. Rendering it with par2d::render gives the same image.

@@ -224,6 +224,8 @@ struct View {
 
 // Hard limits from docs/contract.md section 3.
 inline constexpr int kMaxImageSide = 16384;
+// The farthest a Renderer's view may be offset on its pixel grid, in pixels per axis.
+inline constexpr std::int64_t kMaxViewOffset = std::int64_t{1} << 40;
 // The most boundary pieces a scene's reflecting occluders may be cut into (section 7).
 inline constexpr double kMaxBouncePieces = 1048576.0;
 

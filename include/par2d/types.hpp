@@ -76,6 +76,12 @@ struct PixelRect {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
 };
 
+// How far an incremental frame moved the buffer's pixels (Renderer::frame_shift): pixel
+// (i, j) now holds what pixel (i + dx, j + dy) held before the frame.
+struct PixelShift {
+  int dx = 0, dy = 0;
+};
+
 // The host's buffer for a frame or a region of it: the region's top-left pixel is at `data`,
 // row r of the region starts `r * row_stride` bytes after it. Any alignment works; float
 // regions of 16 MiB or more are written with non-temporal stores (bypassing the cache) on

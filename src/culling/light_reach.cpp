@@ -108,6 +108,18 @@ void LightReachScratch::reserve_for(std::size_t occluders, std::size_t max_verti
   proof.reserve_for(occluders, max_vertices, kStripBudget);
 }
 
+double reach_farthest(const PreparedScene& scene, std::size_t light, Vec2 center, double radius) noexcept {
+  const View view = scene.visible_view();
+  double farthest = 0.0;
+  for (const Vec2 corner : {Vec2{view.x0, view.y0}, Vec2{view.x1, view.y0}, Vec2{view.x0, view.y1}, Vec2{view.x1, view.y1}})
+    farthest = std::max(farthest, length(corner - center));
+  // A ranged light reaches no point farther than its range from its shape (section 6): at
+  // distance radius + range from the center the window is 0. Proofs need go no farther.
+  const LightTerms& terms = scene.lights[light].terms;
+  if (scene.model && terms.has_range()) farthest = std::min(farthest, radius + terms.range);
+  return farthest;
+}
+
 LightReach compute_light_reach(const PreparedScene& scene, std::size_t light_index, LightReachScratch& scratch) {
   const ConvexShape& light = scene.lights[light_index].shape;
   LightReach reach;
@@ -119,23 +131,19 @@ LightReach compute_light_reach(const PreparedScene& scene, std::size_t light_ind
   } else {
     for (const Vec2 v : light.vertices) reach.radius = std::max(reach.radius, length(v - reach.center));
   }
-  const View& view = scene.view;
-  const double pixel = std::max(std::abs(view.x1 - view.x0) / scene.width, std::abs(view.y1 - view.y0) / scene.height);
-  double farthest = 0.0;
-  for (const Vec2 corner : {Vec2{view.x0, view.y0}, Vec2{view.x1, view.y0}, Vec2{view.x0, view.y1}, Vec2{view.x1, view.y1}})
-    farthest = std::max(farthest, length(corner - reach.center));
-  // A ranged light reaches no point farther than its range from its shape (section 6): at
-  // distance radius + range from the center the window is 0. Proofs need go no farther.
+  // Radii in pixels of the grid (the same wherever the view is offset on it).
+  const View& grid = scene.view;
+  const double pixel = std::max(std::abs(grid.x1 - grid.x0) / scene.width, std::abs(grid.y1 - grid.y0) / scene.height);
+  const double farthest = reach_farthest(scene, light_index, reach.center, reach.radius);
   const LightTerms& terms = scene.lights[light_index].terms;
-  if (scene.model && terms.has_range()) {
-    reach.reach.fill(reach.radius + terms.range);
-    farthest = std::min(farthest, reach.radius + terms.range);
-  }
+  if (scene.model && terms.has_range()) reach.reach.fill(reach.radius + terms.range);
   // No pixel lies beyond the farthest view corner, so larger radii would hide nothing.
   double radii[kMaxRadii];
   int count = 0;
-  for (double step = kFirstStepPixels * pixel; count < kMaxRadii && reach.radius + step <= farthest; step *= 2.0)
-    radii[count++] = reach.radius + step;
+  double step = kFirstStepPixels * pixel;
+  for (; count < kMaxRadii && reach.radius + step <= farthest; step *= 2.0) radii[count++] = reach.radius + step;
+  scratch.farthest_low = count == 0 ? -kInf : radii[count - 1];
+  scratch.farthest_high = count == kMaxRadii ? kInf : reach.radius + step;
   // Each sector's smallest radius that its proof holds for. Next to a sector open to the
   // view (every sector of a lamp in the open) the largest radius is tried first: where it
   // fails no smaller one can hold, and one proof settles the sector instead of a bisection's

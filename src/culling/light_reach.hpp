@@ -40,7 +40,16 @@ struct LightReachScratch {
   // After compute_light_reach: a box holding every region whose occluders the proofs
   // looked at (empty when none). Occluders changing outside it cannot change the reach.
   Aabb depends_on{};
+  // After compute_light_reach: the reach is the same for every frame whose reach_farthest
+  // lies in [farthest_low, farthest_high) (it only decides how many radii are tried), so a
+  // view moved by whole pixels proves it again only when that leaves the range.
+  double farthest_low = 0.0, farthest_high = 0.0;
 };
+
+// The farthest a light's reach is proven to: the farthest corner of the frame's visible view
+// from `center`, or less for a ranged light (radius + range, radius the largest distance from
+// `center` to the light's shape).
+double reach_farthest(const PreparedScene& scene, std::size_t light, Vec2 center, double radius) noexcept;
 
 // The reach of scene light `light`, proven for radii of the form radius + 8 px * 2^j, each
 // sector's smallest found by bisection (a proof for a radius holds for every larger one),

@@ -19,6 +19,8 @@ void ReachCache::light_added() {
   reach_.emplace_back();
   depends_.push_back(kEmptyBox);
   stale_.push_back(1);
+  farthest_low_.push_back(0.0);
+  farthest_high_.push_back(0.0);
 }
 
 void ReachCache::light_changed(std::size_t p) noexcept {
@@ -34,6 +36,8 @@ void ReachCache::light_erased(std::size_t p) noexcept {
   reach_.erase(reach_.begin() + at);
   depends_.erase(depends_.begin() + at);
   stale_.erase(stale_.begin() + at);
+  farthest_low_.erase(farthest_low_.begin() + at);
+  farthest_high_.erase(farthest_high_.begin() + at);
 }
 
 void ReachCache::region_changed(const Aabb& box) noexcept {
@@ -45,12 +49,25 @@ void ReachCache::region_changed(const Aabb& box) noexcept {
 
 void ReachCache::frame_changed() noexcept { std::fill(stale_.begin(), stale_.end(), 1); }
 
+void ReachCache::frame_scrolled() noexcept { scrolled_ = true; }
+
 std::size_t ReachCache::update(const PreparedScene& scene, const Scheduler& scheduler) {
   if (reset_pending_) {
     reach_.assign(reset_count_, LightReach{});
     depends_.assign(reset_count_, kEmptyBox);
     stale_.assign(reset_count_, 1);
+    farthest_low_.assign(reset_count_, 0.0);
+    farthest_high_.assign(reset_count_, 0.0);
     reset_pending_ = false;
+  }
+  if (scrolled_) {
+    // The radii end at the farthest view corner: a proof stands while their number does.
+    for (std::size_t p = 0; p < stale_.size(); ++p) {
+      if (stale_[p]) continue;
+      const double farthest = reach_farthest(scene, p, reach_[p].center, reach_[p].radius);
+      if (!(farthest_low_[p] <= farthest && farthest < farthest_high_[p])) stale_[p] = 1;
+    }
+    scrolled_ = false;
   }
   stale_list_.clear();
   for (std::size_t p = 0; p < stale_.size(); ++p) {
@@ -72,6 +89,8 @@ std::size_t ReachCache::update(const PreparedScene& scene, const Scheduler& sche
     LightReachScratch& scratch = scratch_[static_cast<std::size_t>(worker)];
     reach_[p] = compute_light_reach(scene, p, scratch);
     depends_[p] = scratch.depends_on;
+    farthest_low_[p] = scratch.farthest_low;
+    farthest_high_[p] = scratch.farthest_high;
   });
   std::fill(stale_.begin(), stale_.end(), 0);
   return stale_list_.size();

@@ -14,8 +14,10 @@
 namespace par2d::detail {
 
 // A light's reach is stale when the light changed, when the frame changed (reach radii are
-// in pixels and end at the view's corners) or when an occluder changed inside the box its
-// proofs looked at (LightReachScratch::depends_on); nothing else can change it.
+// in pixels and end at the view's corners), when the view moved on its pixel grid far enough
+// to change how many radii are tried (LightReachScratch::farthest_low/high) or when an
+// occluder changed inside the box its proofs looked at (LightReachScratch::depends_on);
+// nothing else can change it.
 class ReachCache final : public WorldObserver {
  public:
   // Proves the reach of every stale light of `scene` (the World this cache observes), in
@@ -30,6 +32,7 @@ class ReachCache final : public WorldObserver {
   void light_erased(std::size_t p) noexcept override;
   void region_changed(const Aabb& box) noexcept override;
   void frame_changed() noexcept override;
+  void frame_scrolled() noexcept override;
 
  private:
   // Set by lights_reset (which may not allocate): the arrays are resized to `reset_count_` and
@@ -41,6 +44,8 @@ class ReachCache final : public WorldObserver {
   std::vector<LightReach> reach_;
   std::vector<Aabb> depends_;
   std::vector<std::uint8_t> stale_;
+  std::vector<double> farthest_low_, farthest_high_;
+  bool scrolled_ = false;  // the view moved on its grid since the last update
   // Scratch per worker, reserved for any light of the scene (LightReachScratch::reserve_for)
   // whenever the scene's occluder count or largest vertex count grows, so that moving lights
   // anywhere allocates nothing.

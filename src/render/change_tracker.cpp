@@ -35,8 +35,9 @@ Aabb intersection(const Aabb& a, const Aabb& b) noexcept {
 }  // namespace
 
 bool FrameKey::operator==(const FrameKey& o) const noexcept {
-  return width == o.width && height == o.height && same_view(view, o.view) && scale == o.scale &&
-         extent == o.extent && model == o.model && bounce == o.bounce && data == o.data && format == o.format &&
+  return width == o.width && height == o.height && same_view(view, o.view) && scale == o.scale && far == o.far &&
+         trusted == o.trusted && extent == o.extent && model == o.model && bounce == o.bounce &&
+         scrolls == o.scrolls && data == o.data && format == o.format &&
          row_stride == o.row_stride && exposure == o.exposure && settings.spp == o.settings.spp &&
          settings.culling == o.settings.culling && settings.isa == o.settings.isa &&
          settings.shaded == o.settings.shaded && settings.sample_needs == o.settings.sample_needs &&
@@ -118,6 +119,11 @@ void ChangeTracker::frame_changed() noexcept {
   any_ = true;
 }
 
+void ChangeTracker::frame_scrolled() noexcept {
+  // Nothing to mark: plan compares the frame's offset with the last one's.
+  if (next_) next_->frame_scrolled();
+}
+
 void ChangeTracker::terms_changed() noexcept {
   if (next_) next_->terms_changed();
   full_ = true;
@@ -136,31 +142,54 @@ bool ChangeTracker::Footprint::takes_part(const Aabb& box, bool model) const noe
 // Marks every block that meets `box` (prepared coordinates), with a pixel to spare.
 void ChangeTracker::mark(const PreparedScene& scene, const Aabb& box) {
   if (empty_box(box)) return;
-  const int columns = (scene.width + kBlockSize - 1) / kBlockSize;
-  const int rows = (scene.height + kBlockSize - 1) / kBlockSize;
+  const BlockGrid grid = frame_blocks(scene);
   // Pixel coordinates of the box's sides (either axis may run either way).
-  const double sx = scene.width / (scene.view.x1 - scene.view.x0);
-  const double sy = scene.height / (scene.view.y1 - scene.view.y0);
-  double px0 = (box.min_x - scene.view.x0) * sx, px1 = (box.max_x - scene.view.x0) * sx;
-  double py0 = (box.min_y - scene.view.y0) * sy, py1 = (box.max_y - scene.view.y0) * sy;
+  const View view = scene.visible_view();
+  const double sx = scene.width / (view.x1 - view.x0);
+  const double sy = scene.height / (view.y1 - view.y0);
+  double px0 = (box.min_x - view.x0) * sx, px1 = (box.max_x - view.x0) * sx;
+  double py0 = (box.min_y - view.y0) * sy, py1 = (box.max_y - view.y0) * sy;
   if (std::isnan(px0) || std::isnan(px1) || std::isnan(py0) || std::isnan(py1)) {
-    std::fill(mask_.begin(), mask_.end(), std::uint8_t{1});
+    std::fill(mask_.begin(), mask_.end(), kBlockWhole);
     if (layered_) layers_->clear();
     return;
   }
   if (px0 > px1) std::swap(px0, px1);
   if (py0 > py1) std::swap(py0, py1);
   if (!(px1 >= -2.0 && py1 >= -2.0 && px0 <= scene.width + 2.0 && py0 <= scene.height + 2.0)) return;
-  const auto block_of = [](double p, int count) {
-    const double b = std::floor(p / kBlockSize);
+  const auto block_of = [](double p, int anchor, int count) {
+    const double b = std::floor((p + anchor) / kBlockSize);
     return static_cast<int>(std::clamp(b, 0.0, static_cast<double>(count - 1)));
   };
-  const int bx0 = block_of(px0 - 1.0, columns), bx1 = block_of(px1 + 1.0, columns);
-  const int by0 = block_of(py0 - 1.0, rows), by1 = block_of(py1 + 1.0, rows);
+  const int bx0 = block_of(px0 - 1.0, grid.ax, grid.columns), bx1 = block_of(px1 + 1.0, grid.ax, grid.columns);
+  const int by0 = block_of(py0 - 1.0, grid.ay, grid.rows), by1 = block_of(py1 + 1.0, grid.ay, grid.rows);
   for (int by = by0; by <= by1; ++by) {
-    std::fill(mask_.begin() + by * columns + bx0, mask_.begin() + by * columns + bx1 + 1, std::uint8_t{1});
+    std::fill(mask_.begin() + by * grid.columns + bx0, mask_.begin() + by * grid.columns + bx1 + 1, kBlockWhole);
     if (layered_)
-      for (int bx = bx0; bx <= bx1; ++bx) layers_->drop_block(static_cast<std::size_t>(by * columns + bx));
+      for (int bx = bx0; bx <= bx1; ++bx) layers_->drop_block(static_cast<std::size_t>(by * grid.columns + bx));
+  }
+}
+
+void ChangeTracker::plan_scroll(const PreparedScene& scene, int dx, int dy) {
+  const BlockGrid grid = frame_blocks(scene);
+  const int w = scene.width, h = scene.height;
+  // The bands, widened to the tiles that hold them (whole tiles are computed).
+  const auto tile_floor = [](int p, int anchor) { return (p + anchor) / kTileSize * kTileSize - anchor; };
+  const auto tile_ceil = [](int p, int anchor) { return (p + anchor + kTileSize - 1) / kTileSize * kTileSize - anchor; };
+  uncovered_ = UncoveredPixels{};
+  if (dx > 0) uncovered_.columns = {std::max(0, tile_floor(w - dx, grid.ax)), 0, w, h};
+  if (dx < 0) uncovered_.columns = {0, 0, std::min(w, tile_ceil(-dx, grid.ax)), h};
+  if (dy > 0) uncovered_.rows = {0, std::max(0, tile_floor(h - dy, grid.ay)), w, h};
+  if (dy < 0) uncovered_.rows = {0, 0, w, std::min(h, tile_ceil(-dy, grid.ay))};
+  for (const TileRect& band : {uncovered_.columns, uncovered_.rows}) {
+    if (band.x0 >= band.x1 || band.y0 >= band.y1) continue;
+    for (int by = grid.row_of(band.y0); by <= grid.row_of(band.y1 - 1); ++by) {
+      for (int bx = grid.column_of(band.x0); bx <= grid.column_of(band.x1 - 1); ++bx) {
+        const std::size_t b = static_cast<std::size_t>(by) * static_cast<std::size_t>(grid.columns) + static_cast<std::size_t>(bx);
+        if (mask_[b] == kBlockClean) mask_[b] = kBlockUncovered;
+        if (layered_) layers_->drop_block(b);  // its layers lack the new tiles
+      }
+    }
   }
 }
 
@@ -169,7 +198,7 @@ void ChangeTracker::mark_light(const PreparedScene& scene, const Footprint& f, c
   if (empty_box(f.influence)) return;
   const bool drop = region != nullptr && layered_;
   for (std::size_t b = 0; b < block_boxes_.size(); ++b) {
-    if (mask_[b] && !drop) continue;
+    if (mask_[b] == kBlockWhole && !drop) continue;
     const Aabb& box = block_boxes_[b];
     if (!f.takes_part(box, scene.model)) continue;
     if (region) {
@@ -178,7 +207,7 @@ void ChangeTracker::mark_light(const PreparedScene& scene, const Footprint& f, c
       reach_box = {reach_box.min_x - pixel_, reach_box.min_y - pixel_, reach_box.max_x + pixel_, reach_box.max_y + pixel_};
       if (!boxes_meet(*region, reach_box)) continue;
     }
-    mask_[b] = 1;
+    mask_[b] = kBlockWhole;
     if (drop) layers_->drop(b, light);
   }
 }
@@ -187,7 +216,7 @@ void ChangeTracker::plan_layer_fills(const PreparedScene& scene, bool full) {
   part_first_.assign(1, 0);
   part_lights_.clear();
   for (std::size_t b = 0; b < block_boxes_.size(); ++b) {
-    if (full || mask_[b]) {
+    if (full || mask_[b] == kBlockWhole) {
       for (std::size_t l = 0; l < old_.size(); ++l)
         if (old_[l].takes_part(block_boxes_[b], scene.model)) part_lights_.push_back(static_cast<std::uint32_t>(l));
     }
@@ -206,8 +235,21 @@ const std::vector<std::uint8_t>* ChangeTracker::plan(const PreparedScene& scene,
   bool full = full_ || !have_key_ || !(key == key_) || changed_.size() != lights;
   if (!full && any_ && !precise) full = true;
   if (!full && !regions_.empty() && !scene.directionals.empty()) full = true;
+  // A move on the pixel grid: the buffer's pixels shift, and only the bands it uncovers are new.
+  shift_x_ = shift_y_ = 0;
+  uncovered_ = UncoveredPixels{};
+  const std::int64_t move_x = key.grid_x - key_.grid_x, move_y = key.grid_y - key_.grid_y;
+  if (!full && (move_x != 0 || move_y != 0)) {
+    if (!key.scrolls || move_x <= -key.width || move_x >= key.width || move_y <= -key.height || move_y >= key.height) {
+      full = true;
+    } else {
+      shift_x_ = static_cast<int>(move_x);
+      shift_y_ = static_cast<int>(move_y);
+    }
+  }
 
   new_.assign(lights, Footprint{});
+  // Pixel sizes of the grid (the same at every offset on it).
   pixel_ = std::max(std::abs(scene.view.x1 - scene.view.x0) / scene.width,
                     std::abs(scene.view.y1 - scene.view.y0) / scene.height);
   if (precise) {
@@ -235,22 +277,23 @@ const std::vector<std::uint8_t>* ChangeTracker::plan(const PreparedScene& scene,
     }
   }
 
-  const int columns = (scene.width + kBlockSize - 1) / kBlockSize;
-  const int rows = (scene.height + kBlockSize - 1) / kBlockSize;
-  mask_.assign(static_cast<std::size_t>(columns) * static_cast<std::size_t>(rows), full ? 1 : 0);
+  const BlockGrid grid = frame_blocks(scene);
+  const int columns = grid.columns, rows = grid.rows;
+  mask_.assign(grid.count(), full ? kBlockWhole : kBlockClean);
   // The layers: kept only where culling says which lights take part in which block.
   layered_ = layers_ != nullptr && layers_->budget() != 0 && precise;
   if (layers_ && (!layered_ || full)) layers_->clear();
+  if (layered_ && (shift_x_ != 0 || shift_y_ != 0)) {
+    // Block (bx, by) of the new grid is grid block floor(grid_x / kBlockSize) + bx.
+    const auto block_of = [](std::int64_t p) { return (p >= 0 ? p : p - (kBlockSize - 1)) / kBlockSize; };
+    layers_->move_blocks(BlockGrid(key_.width, key_.height, key_.grid_x, key_.grid_y), grid,
+                         block_of(key.grid_x) - block_of(key_.grid_x), block_of(key.grid_y) - block_of(key_.grid_y));
+  }
   if (layered_) layers_->set_block_count(mask_.size());
+  if (!full && (shift_x_ != 0 || shift_y_ != 0)) plan_scroll(scene, shift_x_, shift_y_);
   if ((!full && any_) || layered_) {
     block_boxes_.resize(mask_.size());
-    for (int by = 0; by < rows; ++by) {
-      for (int bx = 0; bx < columns; ++bx) {
-        const TileRect block{bx * kBlockSize, by * kBlockSize, std::min((bx + 1) * kBlockSize, scene.width),
-                             std::min((by + 1) * kBlockSize, scene.height)};
-        block_boxes_[static_cast<std::size_t>(by * columns + bx)] = bounds_of(tile_corners(scene, block));
-      }
-    }
+    for (std::size_t b = 0; b < mask_.size(); ++b) block_boxes_[b] = bounds_of(tile_corners(scene, grid.block(b)));
   }
   if (!full && any_) {
     // A light changed, renumbered or with another reach: wherever it took part or takes part.
@@ -288,20 +331,27 @@ const std::vector<std::uint8_t>* ChangeTracker::plan(const PreparedScene& scene,
   any_ = false;
   key_ = key;
   have_key_ = true;
-  // The rectangles: runs of dirty blocks per block row, stacked where rows repeat a run.
+  // The rectangles, disjoint: per block row, runs of blocks computed whole and the uncovered
+  // part of each block a move uncovered (cut to the frame), each stacked on the rectangle of
+  // the row above with the same columns where that one ends on its first row.
   rects.clear();
   for (int by = 0; by < rows; ++by) {
     const std::size_t first_of_row = rects.size();
     for (int bx = 0; bx < columns;) {
-      if (!mask_[static_cast<std::size_t>(by * columns + bx)]) {
-        ++bx;
-        continue;
+      const std::uint8_t mark = mask_[static_cast<std::size_t>(by * columns + bx)];
+      TileRect piece{0, 0, 0, 0};
+      int end = bx + 1;
+      if (mark == kBlockWhole) {
+        while (end < columns && mask_[static_cast<std::size_t>(by * columns + end)] == kBlockWhole) ++end;
+        const TileRect first = grid.block(bx, by), last = grid.block(end - 1, by);
+        piece = {first.x0, first.y0, last.x1, last.y1};
+      } else if (mark == kBlockUncovered) {
+        piece = uncovered_part(grid.block(bx, by), uncovered_);
       }
-      int end = bx;
-      while (end < columns && mask_[static_cast<std::size_t>(by * columns + end)]) ++end;
-      const PixelRect run{bx * kBlockSize, by * kBlockSize, std::min(end * kBlockSize, scene.width),
-                          std::min((by + 1) * kBlockSize, scene.height)};
-      // Extend the rectangle of the row above with the same columns, if it ends on this row.
+      bx = end;
+      const PixelRect run{std::max(piece.x0, 0), std::max(piece.y0, 0), std::min(piece.x1, scene.width),
+                          std::min(piece.y1, scene.height)};
+      if (run.x0 >= run.x1 || run.y0 >= run.y1) continue;
       bool merged = false;
       for (std::size_t i = 0; i < first_of_row; ++i) {
         PixelRect& r = rects[i];
@@ -312,7 +362,6 @@ const std::vector<std::uint8_t>* ChangeTracker::plan(const PreparedScene& scene,
         }
       }
       if (!merged) rects.push_back(run);
-      bx = end;
     }
   }
   return full ? nullptr : &mask_;

@@ -17,11 +17,20 @@
 namespace par2d::detail {
 
 // Everything outside the shapes a block's pixels depend on; any difference: a full frame.
+// The view offset on the pixel grid is not part of it: a frame at another offset keeps the
+// pixels both show (ChangeTracker::plan).
 struct FrameKey {
   int width = 0, height = 0;
-  View view{};
-  double scale = 0.0, extent = 0.0;
+  View view{};  // the pixel grid's (PreparedScene::view)
+  std::int64_t grid_x = 0, grid_y = 0;  // the offset on it (compared by plan, not ==)
+  double scale = 0.0;
+  // What the scene's extent decides for every pixel: kernel coordinates clipped near the tile
+  // (TileFrame::far) and trusted culling; the extent itself only where directional lights
+  // sweep it (0 otherwise).
+  bool far = false, trusted = false;
+  double extent = 0.0;
   bool model = false, bounce = false;
+  bool scrolls = false;  // a frame at another offset may keep pixels (no bounce, directional light or normal map)
   const void* data = nullptr;
   PixelFormat format = PixelFormat::rgb_f32;
   std::ptrdiff_t row_stride = 0;
@@ -63,11 +72,19 @@ class ChangeTracker final : public WorldObserver {
   bool layered() const noexcept { return layered_; }
 
   // For a whole-frame render of `scene` with `key`: returns the mask of blocks to compute
-  // (kBlockSize blocks of the frame, row by row), or nullptr for every block; fills `rects`
-  // with the rectangles those blocks cover, merged. `reach`: the reach the frame culls with
-  // (nullptr without culling). Then records this frame as the one the host's buffer holds.
+  // (frame_blocks, row by row; kBlockWhole or kBlockUncovered), or nullptr for every block;
+  // fills `rects` with the rectangles those blocks cover, merged. `reach`: the reach the
+  // frame culls with (nullptr without culling). Then records this frame as the one the host's
+  // buffer holds.
+  // A frame whose view moved by whole pixels on the same grid (key equal but for the offset,
+  // key.scrolls, less than a frame each way) keeps what both frames show: shift() then says
+  // how far the buffer's pixels move, and uncovered() what the move shows for the first time.
   const std::vector<std::uint8_t>* plan(const PreparedScene& scene, const std::vector<LightReach>* reach,
                                         const FrameKey& key, std::vector<PixelRect>& rects);
+  // After plan: new pixel (i, j) is the last frame's pixel (i + dx, j + dy) (0, 0: no move).
+  int shift_x() const noexcept { return shift_x_; }
+  int shift_y() const noexcept { return shift_y_; }
+  const UncoveredPixels& uncovered() const noexcept { return uncovered_; }
 
   void lights_reset(std::size_t count) noexcept override;
   void light_added() override;
@@ -75,6 +92,7 @@ class ChangeTracker final : public WorldObserver {
   void light_erased(std::size_t p) noexcept override;
   void region_changed(const Aabb& box) noexcept override;
   void frame_changed() noexcept override;
+  void frame_scrolled() noexcept override;
   void light_emission_changed(std::size_t p) noexcept override;
   void occluder_renumbered(const Aabb& box) noexcept override;
   void terms_changed() noexcept override;
@@ -97,6 +115,10 @@ class ChangeTracker final : public WorldObserver {
   void region(const Aabb& box) noexcept;
   // Marks the blocks meeting `box` (and drops their layers).
   void mark(const PreparedScene& scene, const Aabb& box);
+  // For a move by (dx, dy) pixels: the uncovered bands, their blocks marked kBlockUncovered
+  // (their layers, which lack those tiles, dropped) and the layers of the blocks both frames
+  // hold renumbered.
+  void plan_scroll(const PreparedScene& scene, int dx, int dy);
   // Marks the blocks where `f` takes part and (when given) whose box joined with the light's
   // meets `region`: where an occluder in `region` may be one of the light's candidates; there,
   // light `light`'s layers are dropped.
@@ -126,6 +148,8 @@ class ChangeTracker final : public WorldObserver {
   std::vector<Aabb> block_boxes_;  // each block's box as cull_block sees it
   double pixel_ = 0.0;             // a pixel's larger side, prepared units
   std::vector<Footprint> new_;
+  int shift_x_ = 0, shift_y_ = 0;
+  UncoveredPixels uncovered_;
 };
 
 }  // namespace par2d::detail

@@ -255,19 +255,21 @@ struct FrameRun {
 
 namespace {
 
-// Calls direct(tile, part, t) for the tiles of `block` that meet the region (part: the pixels
-// inside it; t: the tile's number in the block, row by row), counting them; `direct` leaves the
-// tile's direct light in the lane's result. Then the frame's stages after it: the bounce term,
-// the store into the target, progress.
+// Calls direct(tile, part, t) for the tiles of `block` that meet its part and the region (part:
+// the tile's pixels inside the region; t: the tile's number in the block, row by row), counting
+// them; `direct` leaves the tile's direct light in the lane's result. Then the frame's stages
+// after it: the bounce term, the store into the target, progress.
 template <class Direct>
 void for_each_tile(const FrameRun& run, const PlannedBlock& block, FrameLane& lane, Direct&& direct) {
   const FramePlan& plan = run.plan;
   const TileRect& region = plan.region;
   FrameCounters& counts = lane.counts;
+  const TileRect wanted{std::max(block.part.x0, region.x0), std::max(block.part.y0, region.y0),
+                        std::min(block.part.x1, region.x1), std::min(block.part.y1, region.y1)};
   for_each_cell(block.rect, kTileSize, [&](const TileRect& tile) {
+    if (tile.x1 <= wanted.x0 || wanted.x1 <= tile.x0 || tile.y1 <= wanted.y0 || wanted.y1 <= tile.y0) return;
     const TileRect part{std::max(tile.x0, region.x0), std::max(tile.y0, region.y0), std::min(tile.x1, region.x1),
                         std::min(tile.y1, region.y1)};
-    if (part.x0 >= part.x1 || part.y0 >= part.y1) return;
     if (run.progress.watched() && run.progress.stopped()) return;
     ++counts.tiles;
     counts.pixels += static_cast<std::uint64_t>(part.x1 - part.x0) * static_cast<std::uint64_t>(part.y1 - part.y0);

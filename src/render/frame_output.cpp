@@ -94,7 +94,7 @@ void store_float_rows(const TileResult& result, int tile_x0, int tile_y0, const 
 }
 
 // 8-bit sRGB rows through the scalar encoder, at the target's exposure; kBgra: bytes B, G, R,
-// A; kDithered: the ordered dither of the pixel's place in the frame.
+// A; kDithered: the ordered dither of the pixel's place on the frame's pixel grid.
 template <bool kBgra, bool kDithered>
 void store_srgb8_rows(const TileResult& result, int tile_x0, int tile_y0, const TileRect& part,
                       const FrameTarget& target) noexcept {
@@ -112,7 +112,7 @@ void store_srgb8_rows(const TileResult& result, int tile_x0, int tile_y0, const 
                              exposure * static_cast<double>(result.rgb[1][base + static_cast<std::size_t>(i)]),
                              exposure * static_cast<double>(result.rgb[2][base + static_cast<std::size_t>(i)])};
       if constexpr (kDithered) {
-        const int b = bayer8(part.x0 + i, y);
+        const int b = bayer8(target.dither_x + part.x0 + i, target.dither_y + y);
         p[kRed] = encode_srgb8_dithered(rgb[0], b);
         p[1] = encode_srgb8_dithered(rgb[1], b);
         p[kBlue] = encode_srgb8_dithered(rgb[2], b);
@@ -220,6 +220,22 @@ bool streams_float_frame(const FrameTarget& target) noexcept {
                                   static_cast<std::size_t>(target.region.y1 - target.region.y0) *
                                   static_cast<std::size_t>(format.bytes_per_pixel);
   return frame_bytes >= kStreamingFrameBytes;
+}
+
+void shift_pixels(const FrameTarget& target, int dx, int dy) noexcept {
+  const int width = target.region.x1 - target.region.x0, height = target.region.y1 - target.region.y0;
+  const std::size_t pixel = static_cast<std::size_t>(pixel_format_info(target.format)->bytes_per_pixel);
+  const std::size_t bytes = static_cast<std::size_t>(width - std::abs(dx)) * pixel;
+  const std::size_t to = static_cast<std::size_t>(std::max(-dx, 0)) * pixel, from = static_cast<std::size_t>(std::max(dx, 0)) * pixel;
+  const auto move_row = [&](int j) {
+    std::memmove(target.data + static_cast<std::ptrdiff_t>(j) * target.row_stride + to,
+                 target.data + static_cast<std::ptrdiff_t>(j + dy) * target.row_stride + from, bytes);
+  };
+  if (dy >= 0) {
+    for (int j = 0; j + dy < height; ++j) move_row(j);
+  } else {
+    for (int j = height - 1; j + dy >= 0; --j) move_row(j);
+  }
 }
 
 void store_tile(const TileResult& result, int tile_x0, int tile_y0, const TileRect& part, const FrameTarget& target,

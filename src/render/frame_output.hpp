@@ -19,7 +19,16 @@ struct FrameTarget {
   std::ptrdiff_t row_stride = 0;
   double exposure = 1.0;
   TileRect region{0, 0, 0, 0};
+  // The frame's first pixel on the pixel grid (PreparedScene::grid_x, grid_y) modulo 8: the
+  // ordered dither follows the grid, so a pixel kept by a scrolled view keeps its bytes.
+  int dither_x = 0, dither_y = 0;
 };
+
+// Moves a whole frame's pixels (`target`, its region the frame) so that pixel (i, j) holds
+// what pixel (i + dx, j + dy) held, for every pixel whose source is in the frame (|dx| < width,
+// |dy| < height); the others keep stale values for the frame to overwrite. Row by row in the
+// order that reads each row before it is overwritten.
+void shift_pixels(const FrameTarget& target, int dx, int dy) noexcept;
 
 // Rows first_row .. + rows - 1, columns first_column .. + count - 1 of a tile's result
 // interleaved into host rows `row_stride` bytes apart starting at `host`: one ISA's vector

@@ -11,9 +11,21 @@
 
 namespace par2d::detail {
 
+TileRect uncovered_part(const TileRect& block, const UncoveredPixels& uncovered) noexcept {
+  // Both bands meet a block at the frame's corner: their box.
+  TileRect part{block.x1, block.y1, block.x0, block.y0};
+  for (const TileRect& band : {uncovered.columns, uncovered.rows}) {
+    const TileRect cut{std::max(band.x0, block.x0), std::max(band.y0, block.y0), std::min(band.x1, block.x1),
+                       std::min(band.y1, block.y1)};
+    if (cut.x0 >= cut.x1 || cut.y0 >= cut.y1) continue;
+    part = {std::min(part.x0, cut.x0), std::min(part.y0, cut.y0), std::max(part.x1, cut.x1), std::max(part.y1, cut.y1)};
+  }
+  return part;
+}
+
 void plan_frame(const PreparedScene& scene, const FrameSettings& settings, const TileRect& region,
                 const std::vector<LightReach>* reach, const std::vector<std::uint8_t>* dirty, LightLayerCache* layers,
-                FramePlan& plan) {
+                FramePlan& plan, const UncoveredPixels* uncovered) {
   plan.region = region;
   plan.spp = settings.spp;
   plan.shaded = settings.shaded;
@@ -39,35 +51,43 @@ void plan_frame(const PreparedScene& scene, const FrameSettings& settings, const
   }
 
   // The blocks of the whole frame that meet the region, row by row.
-  const int bx0 = region.x0 / kBlockSize, bx1 = (region.x1 - 1) / kBlockSize + 1;
-  const int by0 = region.y0 / kBlockSize, by1 = (region.y1 - 1) / kBlockSize + 1;
-  const int frame_columns = (scene.width + kBlockSize - 1) / kBlockSize;
+  const BlockGrid grid = frame_blocks(scene);
+  const int bx0 = grid.column_of(region.x0), bx1 = grid.column_of(region.x1 - 1) + 1;
+  const int by0 = grid.row_of(region.y0), by1 = grid.row_of(region.y1 - 1) + 1;
   plan.blocks.clear();
   plan.blocks.reserve(static_cast<std::size_t>(bx1 - bx0) * static_cast<std::size_t>(by1 - by0));
   plan.tiles = 0;
   for (int by = by0; by < by1; ++by) {
     for (int bx = bx0; bx < bx1; ++bx) {
-      const std::size_t index = static_cast<std::size_t>(by) * static_cast<std::size_t>(frame_columns) +
+      const std::size_t index = static_cast<std::size_t>(by) * static_cast<std::size_t>(grid.columns) +
                                 static_cast<std::size_t>(bx);
-      if (dirty && !(*dirty)[index]) continue;
+      const std::uint8_t mark = dirty ? (*dirty)[index] : kBlockWhole;
+      if (mark == kBlockClean) continue;
       PlannedBlock block;
-      block.rect = TileRect{bx * kBlockSize, by * kBlockSize, std::min((bx + 1) * kBlockSize, scene.width),
-                            std::min((by + 1) * kBlockSize, scene.height)};
+      block.rect = grid.block(bx, by);
+      block.part = block.rect;
       block.index = static_cast<std::uint32_t>(index);
       block.strategy = strategy;
-      if (layers) {
+      if (mark == kBlockUncovered && uncovered) {
+        const TileRect part = uncovered_part(block.rect, *uncovered);
+        if (part.x0 >= part.x1 || part.y0 >= part.y1) continue;
+        block.part = part;
+        if (strategy == BlockStrategy::layered) block.strategy = BlockStrategy::kernel;
+      } else if (layers) {
         if (layers->recombine_only(index)) {
           block.strategy = BlockStrategy::recombine;
         } else {
           block.fill_layers = layers->may_fill(index);
         }
       }
+      // The block's tiles that meet its part and the region.
+      const int x0 = std::max(block.part.x0, region.x0), x1 = std::min(block.part.x1, region.x1);
+      const int y0 = std::max(block.part.y0, region.y0), y1 = std::min(block.part.y1, region.y1);
+      if (x0 >= x1 || y0 >= y1) continue;
       plan.blocks.push_back(block);
-      // The block's tiles that meet the region.
-      const int x0 = std::max(block.rect.x0, region.x0), x1 = std::min(block.rect.x1, region.x1);
-      const int y0 = std::max(block.rect.y0, region.y0), y1 = std::min(block.rect.y1, region.y1);
-      plan.tiles += static_cast<std::uint64_t>((x1 - 1) / kTileSize - x0 / kTileSize + 1) *
-                    static_cast<std::uint64_t>((y1 - 1) / kTileSize - y0 / kTileSize + 1);
+      const auto tile_of = [](int p, int origin) { return (p - origin) / kTileSize; };
+      plan.tiles += static_cast<std::uint64_t>(tile_of(x1 - 1, block.rect.x0) - tile_of(x0, block.rect.x0) + 1) *
+                    static_cast<std::uint64_t>(tile_of(y1 - 1, block.rect.y0) - tile_of(y0, block.rect.y0) + 1);
     }
   }
 }

@@ -37,9 +37,28 @@ enum class BlockStrategy : std::uint8_t {
   no_direct,         // none (RenderOptions::bounce == only): the result starts at zero
 };
 
+// The frame's blocks on its pixel grid (BlockGrid), whole past the frame's edges; with a
+// normal map (one normal per frame pixel, padded to whole blocks) they start at the frame's
+// corner instead.
+inline BlockGrid frame_blocks(const PreparedScene& scene) noexcept {
+  if (scene.normal_source == NormalSource::map) return BlockGrid(scene.width, scene.height, 0, 0);
+  return BlockGrid(scene.width, scene.height, scene.grid_x, scene.grid_y);
+}
+
+// The pixels a view moved by whole pixels shows for the first time: a band of columns at one
+// side and a band of rows at one side (either empty).
+struct UncoveredPixels {
+  TileRect columns{0, 0, 0, 0}, rows{0, 0, 0, 0};
+};
+
+// The pixels of `block` to compute for a move's uncovered bands: the box of the bands' parts
+// in it (empty, x0 >= x1 or y0 >= y1, where they miss it). Tile-aligned where the bands are.
+TileRect uncovered_part(const TileRect& block, const UncoveredPixels& uncovered) noexcept;
+
 // One block of the frame to compute.
 struct PlannedBlock {
-  TileRect rect;             // the block's pixels (kBlockSize square, cut at the frame's edges)
+  TileRect rect;             // the block's pixels (kBlockSize square, whole past the frame's edges)
+  TileRect part;             // the pixels to compute: the tiles meeting it (and the region)
   std::uint32_t index = 0;   // its number among the whole frame's blocks, row by row
   BlockStrategy strategy = BlockStrategy::kernel;
   bool fill_layers = false;  // `layered`: the block may store the layers it lacks
@@ -72,16 +91,18 @@ struct FramePlan {
 };
 
 // Plans a frame of `scene` with `settings` storing `region` (pixels of the whole frame):
-//  - the blocks meeting the region, in frame order; with `dirty` (one flag per block of the
-//    whole frame, row by row) only the flagged ones;
+//  - the blocks meeting the region, in frame order; with `dirty` (a value per block of
+//    frame_blocks, row by row) only those not kBlockClean;
 //  - `reach`: per light, what blocks cull with when the settings cull;
 //  - `layers` (the light-layer cache, when the change tracker planned it for this frame): used
 //    only when the block's direct light is computed by a kernel (not by the scalar reference,
 //    not with the bounce term alone); then a block whose lights all have layers is
 //    recombined, the others are layered, filling layers where the cache's plan lets them;
 //  - the bounce stage, where the scene has a bounce term and the settings include it.
+//  - with `uncovered` (a view moved by whole pixels), blocks marked kBlockUncovered compute
+//    only their tiles meeting it, by the kernel (their layers, missing those tiles, are not used).
 void plan_frame(const PreparedScene& scene, const FrameSettings& settings, const TileRect& region,
                 const std::vector<LightReach>* reach, const std::vector<std::uint8_t>* dirty, LightLayerCache* layers,
-                FramePlan& plan);
+                FramePlan& plan, const UncoveredPixels* uncovered = nullptr);
 
 }  // namespace par2d::detail

@@ -39,6 +39,24 @@ void LightLayerCache::set_block_count(std::size_t blocks) {
   bytes_ = 0;
 }
 
+void LightLayerCache::move_blocks(const BlockGrid& from, const BlockGrid& to, std::int64_t dbx, std::int64_t dby) {
+  std::vector<std::vector<LightLayer>> moved(to.count());
+  if (blocks_.size() == from.count()) {
+    for (int by = 0; by < to.rows; ++by) {
+      for (int bx = 0; bx < to.columns; ++bx) {
+        const std::int64_t ox = bx + dbx, oy = by + dby;
+        if (ox < 0 || oy < 0 || ox >= from.columns || oy >= from.rows) continue;
+        moved[static_cast<std::size_t>(by) * static_cast<std::size_t>(to.columns) + static_cast<std::size_t>(bx)] =
+            std::move(blocks_[static_cast<std::size_t>(oy) * static_cast<std::size_t>(from.columns) +
+                              static_cast<std::size_t>(ox)]);
+      }
+    }
+  }
+  blocks_.swap(moved);
+  fill_.assign(blocks_.size(), 0);
+  recount();
+}
+
 void LightLayerCache::drop_light(std::size_t light) noexcept {
   for (std::size_t b = 0; b < blocks_.size(); ++b) drop(b, light);
 }
@@ -91,7 +109,7 @@ void LightLayerCache::plan_frame(const std::vector<std::uint8_t>* dirty, const s
   whole_.assign(blocks_.size(), 0);
   std::size_t planned = bytes_;
   for (std::size_t b = 0; b < blocks_.size() && b + 1 < first.size(); ++b) {
-    if (dirty && !(*dirty)[b]) continue;
+    if (dirty && (*dirty)[b] != kBlockWhole) continue;
     std::size_t missing = 0;
     for (std::uint32_t i = first[b]; i < first[b + 1]; ++i) missing += has(b, lights[i]) ? 0 : 1;
     if (missing == 0 && !directional) {

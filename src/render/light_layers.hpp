@@ -68,6 +68,9 @@ class LightLayerCache {
   // Drops, called by the change tracker while it plans a frame.
   void clear() noexcept;                            // every layer
   void set_block_count(std::size_t blocks);         // a frame of another size: every layer
+  // A view moved on its pixel grid: the layers of the blocks both grids hold follow them (new
+  // block (bx, by) is `from`'s (bx + dbx, by + dby)); the others are dropped.
+  void move_blocks(const BlockGrid& from, const BlockGrid& to, std::int64_t dbx, std::int64_t dby);
   void drop_light(std::size_t light) noexcept;      // light `light`'s layers, in every block
   void drop_lights_from(std::size_t count) noexcept;  // layers of lights numbered `count` or more
   // Light `light` was erased: its layers dropped, those of the lights above renumbered one lower.
@@ -79,8 +82,8 @@ class LightLayerCache {
   // The plan of a frame, made by the change tracker before it (so that the image does not
   // depend on which thread reaches a block first): per block, the lights that take part in
   // it (`first[b]` .. `first[b + 1]` of `lights`, in number order; blocks not rendered: none)
-  // and how many of them have no layer there. In block order, each rendered block (`dirty`
-  // null: every block) whose missing layers, at max_layer_bytes(planes) each, fit in what
+  // and how many of them have no layer there. In block order, each block rendered whole
+  // (`dirty` null: every block; else those marked kBlockWhole) whose missing layers, at max_layer_bytes(planes) each, fit in what
   // the budget leaves may store them; a block whose lights all have layers (and a scene
   // without directional lights, `directional`) is recombined from them alone, with no
   // culling and no kernel. `planes`: 3 when an occluder's transmittance differs between

@@ -16,6 +16,8 @@
 #include "render/frame_driver.hpp"
 #include "render/frame_output.hpp"
 #include "render/frame_plan.hpp"
+#include "render/block_culling.hpp"
+#include "render/kernel_shapes.hpp"
 #include "render/light_layers.hpp"
 #include "render/render_arguments.hpp"
 #include "render/work_estimate.hpp"
@@ -44,6 +46,7 @@ struct Renderer::Impl {
   detail::LightLayerCache layers;  // kept by `tracker`'s plans (budget 0: off)
   bool incremental = false;
   std::vector<PixelRect> dirty_rects;  // the last successful render's
+  PixelShift shift;                    // the last successful render's
   detail::World world;
   detail::FramePlan plan;  // this frame's (its storage kept from frame to frame)
   detail::FrameEngine engine;
@@ -117,6 +120,12 @@ Status Renderer::set_frame(int width, int height, const View& view) {
 int Renderer::width() const noexcept { return impl_->world.prepared().width; }
 int Renderer::height() const noexcept { return impl_->world.prepared().height; }
 const View& Renderer::view() const noexcept { return impl_->world.view(); }
+
+Status Renderer::set_view_offset(std::int64_t x, std::int64_t y) {
+  return guarded("set_view_offset", [&] { return impl_->world.set_view_offset(x, y); });
+}
+std::int64_t Renderer::view_offset_x() const noexcept { return impl_->world.view_offset_x(); }
+std::int64_t Renderer::view_offset_y() const noexcept { return impl_->world.view_offset_y(); }
 
 Status Renderer::set_scene(const Scene& scene, std::vector<LightHandle>* lights, std::vector<OccluderHandle>* occluders) {
   return guarded("set_scene", [&] { return impl_->world.set_scene(scene, lights, occluders); });
@@ -285,22 +294,33 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
     target.row_stride = buffer.row_stride;
     target.exposure = buffer.exposure;
     target.region = {region.x0, region.y0, region.x1, region.y1};
+    target.dither_x = static_cast<int>(scene.grid_x & 7);  // two's complement: the grid's place mod 8
+    target.dither_y = static_cast<int>(scene.grid_y & 7);
     const detail::FrameSettings settings{impl.options.spp, culling, isa, impl.options.shaded,
                                          impl.options.sample_needs, impl.options.bounce};
     const std::vector<detail::LightReach>* reach = culling ? &impl.reach.reach() : nullptr;
     const bool whole = region.x0 == 0 && region.y0 == 0 && region.x1 == width() && region.y1 == height();
     const std::vector<std::uint8_t>* dirty = nullptr;
     detail::LightLayerCache* layers = nullptr;
+    PixelShift shift;  // a scroll: the buffer's pixels move first
     if (impl.incremental && whole) {
       // Only the blocks whose inputs changed since the last whole frame into this buffer.
       detail::FrameKey key;
       key.width = scene.width;
       key.height = scene.height;
       key.view = scene.view;
+      key.grid_x = scene.grid_x;
+      key.grid_y = scene.grid_y;
       key.scale = scene.scale;
-      key.extent = scene.extent;
+      key.far = detail::tile_frame(scene, Vec2{}).far;
+      key.trusted = detail::culling_trusted(scene);
+      key.extent = scene.directionals.empty() ? 0.0 : scene.extent;
       key.model = scene.model;
       key.bounce = scene.bounce;
+      // Pixels a moved view keeps depend on the grid alone, but for the bounce stage (over the
+      // whole scene each frame), directional lights (their sweep follows the extent) and a
+      // normal map (one normal per frame pixel).
+      key.scrolls = !scene.bounce && scene.directionals.empty() && scene.normal_source != detail::NormalSource::map;
       key.data = buffer.data;
       key.format = buffer.format;
       key.row_stride = buffer.row_stride;
@@ -308,9 +328,11 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
       key.settings = settings;
       dirty = impl.tracker.plan(scene, reach, key, impl.dirty_rects);
       if (impl.tracker.layered()) layers = &impl.layers;
+      shift = PixelShift{impl.tracker.shift_x(), impl.tracker.shift_y()};
     } else {
       impl.dirty_rects.assign(1, region);
     }
+    impl.shift = PixelShift{};  // set again once the frame is complete
     // The work bound, on the pixels this frame computes (an incremental frame's changed blocks).
     double pixels = static_cast<double>(region.x1 - region.x0) * static_cast<double>(region.y1 - region.y0);
     if (dirty) {
@@ -334,9 +356,17 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
       target.row_stride = scratch_stride;
     }
     const detail::FrameControl control{&impl.progress, &impl.cancel};
+    const bool scrolled = shift.dx != 0 || shift.dy != 0;
+    detail::FrameTarget host = target;
+    host.data = static_cast<unsigned char*>(buffer.data);
+    host.row_stride = buffer.row_stride;
     bool complete = false;
     try {
-      detail::plan_frame(scene, settings, target.region, reach, dirty, layers, impl.plan);
+      // In place, the kept pixels move before the new ones are written; a watched frame moves
+      // them once it is complete (a cancelled one leaves the buffer as it was).
+      if (scrolled && !watched) detail::shift_pixels(host, shift.dx, shift.dy);
+      detail::plan_frame(scene, settings, target.region, reach, dirty, layers, impl.plan,
+                         scrolled ? &impl.tracker.uncovered() : nullptr);
       complete = impl.engine.run(impl.plan, scene, impl.scheduler, target, &impl.frame_counts, watched ? &control : nullptr);
     } catch (...) {
       impl.tracker.force_full();  // the buffer may hold part of a frame (the plan drops the layers)
@@ -347,6 +377,7 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
       return Status(StatusCode::cancelled, "render: cancelled");
     }
     if (watched) {
+      if (scrolled) detail::shift_pixels(host, shift.dx, shift.dy);
       auto* out = static_cast<unsigned char*>(buffer.data);
       for (const PixelRect& r : impl.dirty_rects) {  // in the frame, within the region
         const std::size_t row_bytes = static_cast<std::size_t>(r.x1 - r.x0) * static_cast<std::size_t>(pixel_bytes);
@@ -357,6 +388,7 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
         }
       }
     }
+    impl.shift = shift;
     ++impl.world.stats().frames;
     return {};
   });
@@ -404,6 +436,7 @@ std::size_t Renderer::light_layer_budget() const noexcept { return impl_->layers
 std::size_t Renderer::light_layer_bytes() const noexcept { return impl_->layers.bytes(); }
 void Renderer::force_full_frame() noexcept { impl_->tracker.force_full(); }
 const std::vector<PixelRect>& Renderer::dirty_rects() const noexcept { return impl_->dirty_rects; }
+PixelShift Renderer::frame_shift() const noexcept { return impl_->shift; }
 
 Scene Renderer::snapshot() const { return impl_->world.snapshot(); }
 

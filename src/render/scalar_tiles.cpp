@@ -17,10 +17,11 @@ double hash_to_unit(std::uint64_t v) noexcept {
   return static_cast<double>(v >> 11) * (1.0 / 9007199254740992.0);
 }
 
-// Calls put(i, j, channel, value) with each pixel's mean over its samples.
+// Calls put(i, j, channel, value) with each pixel's mean over its samples; pixel (i, j) is the
+// grid's (grid_x + i, grid_y + j) (sample_position).
 template <class SampleFn, class PutFn>
-void average_samples(const View& view, int width, int height, int spp, const TileRect& rect, SampleFn&& sample,
-                     PutFn&& put) {
+void average_samples(const View& view, int width, int height, std::int64_t grid_x, std::int64_t grid_y, int spp,
+                     const TileRect& rect, SampleFn&& sample, PutFn&& put) {
   const double inv_spp = 1.0 / spp;
   for (int j = rect.y0; j < rect.y1; ++j) {
     for (int i = rect.x0; i < rect.x1; ++i) {
@@ -28,7 +29,7 @@ void average_samples(const View& view, int width, int height, int spp, const Til
       for (int k = 0; k < spp; ++k) {
         double sx, sy;
         sample_offset(k, spp, sx, sy);
-        const Rgb e = sample(sample_position(view, width, height, i, j, sx, sy), i, j, k);
+        const Rgb e = sample(sample_position(view, width, height, grid_x + i, grid_y + j, sx, sy), i, j, k);
         for (int c = 0; c < 3; ++c) sum[c] += e[c];
       }
       for (int c = 0; c < 3; ++c) put(i, j, c, static_cast<float>(sum[c] * inv_spp));
@@ -50,7 +51,7 @@ void render_rect_scalar(const PreparedScene& scene, int spp, const TileRect& rec
                         const ImageView& image, bool shaded) {
   const bool shade = shading_active(scene, shaded);
   average_samples(
-      scene.view, scene.width, scene.height, spp, rect,
+      scene.view, scene.width, scene.height, scene.grid_x, scene.grid_y, spp, rect,
       [&](Vec2 x, int i, int j, int) { return scalar_sample(scene, shade, x, i, j, scratch); },
       [&](int i, int j, int c, float v) { image.data[static_cast<std::ptrdiff_t>(j) * image.row_stride + 3 * i + c] = v; });
 }
@@ -59,7 +60,7 @@ void render_tile_scalar(const PreparedScene& scene, int spp, const TileRect& rec
                         ScalarScratch& scratch, TileResult& out, bool shaded) {
   const bool shade = shading_active(scene, shaded);
   average_samples(
-      scene.view, scene.width, scene.height, spp, rect,
+      scene.view, scene.width, scene.height, scene.grid_x, scene.grid_y, spp, rect,
       [&](Vec2 x, int i, int j, int) { return scalar_sample(scene, shade, x, i, j, scratch); },
       [&](int i, int j, int c, float v) {
         out.rgb[c][static_cast<std::size_t>(j - tile_y0) * kTileSize + static_cast<std::size_t>(i - tile_x0)] = v;
@@ -68,7 +69,7 @@ void render_tile_scalar(const PreparedScene& scene, int spp, const TileRect& rec
 
 void render_rect_raycast(const Scene& scene, const RaycastRenderer& caster, int spp, int rays, const TileRect& rect,
                          const ImageView& image, bool shaded) {
-  average_samples(scene.view, scene.width, scene.height, spp, rect, [&](Vec2 x, int i, int j, int k) {
+  average_samples(scene.view, scene.width, scene.height, 0, 0, spp, rect, [&](Vec2 x, int i, int j, int k) {
     const std::uint64_t id = ((static_cast<std::uint64_t>(j) * static_cast<std::uint64_t>(scene.width) +
                                static_cast<std::uint64_t>(i))
                               << 8) |

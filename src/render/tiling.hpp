@@ -3,6 +3,8 @@
 #pragma once
 
 #include <algorithm>
+#include <cstddef>
+#include <cstdint>
 
 #include "parallel/parallel_for.hpp"
 #include "simd/tile_work.hpp"
@@ -18,6 +20,42 @@ inline constexpr int kBlockSize = kTileSize * kBlockTiles;
 struct TileRect {
   int x0, y0, x1, y1;  // pixel columns [x0, x1), rows [y0, y1)
 };
+
+// A frame's blocks, placed on its pixel grid (PreparedScene::grid_x, grid_y): block (bx, by)
+// holds the frame's pixels [bx * kBlockSize - ax, +kBlockSize) x [by * kBlockSize - ay,
+// +kBlockSize). Blocks and their tiles are whole even where the frame's edges cut them (the
+// pixels outside are computed and dropped), so which tile and block a pixel is computed in,
+// and with it every bit of its value, depends on its place on the grid alone: a view moved by
+// whole pixels finds the pixels it keeps exactly as a frame rendered there would compute them.
+struct BlockGrid {
+  int ax = 0, ay = 0;  // block (0, 0)'s corner is frame pixel (-ax, -ay); 0 <= ax, ay < kBlockSize
+  int columns = 0, rows = 0;
+
+  // Blocks of a width x height frame whose top-left pixel is grid pixel (grid_x, grid_y).
+  BlockGrid(int width, int height, std::int64_t grid_x, std::int64_t grid_y) noexcept
+      : ax(static_cast<int>(((grid_x % kBlockSize) + kBlockSize) % kBlockSize)),
+        ay(static_cast<int>(((grid_y % kBlockSize) + kBlockSize) % kBlockSize)),
+        columns((width + ax + kBlockSize - 1) / kBlockSize),
+        rows((height + ay + kBlockSize - 1) / kBlockSize) {}
+
+  std::size_t count() const noexcept { return static_cast<std::size_t>(columns) * static_cast<std::size_t>(rows); }
+  TileRect block(int bx, int by) const noexcept {
+    const int x0 = bx * kBlockSize - ax, y0 = by * kBlockSize - ay;
+    return {x0, y0, x0 + kBlockSize, y0 + kBlockSize};
+  }
+  TileRect block(std::size_t index) const noexcept {
+    return block(static_cast<int>(index % static_cast<std::size_t>(columns)),
+                 static_cast<int>(index / static_cast<std::size_t>(columns)));
+  }
+  // The column (row) of the block holding frame column x (row y), for -ax <= x.
+  int column_of(int x) const noexcept { return (x + ax) / kBlockSize; }
+  int row_of(int y) const noexcept { return (y + ay) / kBlockSize; }
+};
+
+// A dirty-block mask's values (one per block of a BlockGrid, row by row).
+inline constexpr std::uint8_t kBlockClean = 0;
+inline constexpr std::uint8_t kBlockWhole = 1;      // every pixel of the block
+inline constexpr std::uint8_t kBlockUncovered = 2;  // only the tiles a scrolled view shows anew
 
 // Calls fn(rect) for the cells of `cell` pixels covering `area`, row by row.
 template <class Fn>

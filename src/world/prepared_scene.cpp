@@ -296,12 +296,13 @@ void update_scene_bounds(PreparedScene& out) noexcept {
   for (const PreparedDirectional& d : out.directionals) out.e_max += std::max({d.emission[0], d.emission[1], d.emission[2]});
   out.e_max += std::max({out.ambient[0], out.ambient[1], out.ambient[2]});
   out.extent = 0.0;
-  const Vec2 center{0.5 * out.view.x0 + 0.5 * out.view.x1, 0.5 * out.view.y0 + 0.5 * out.view.y1};
+  const View view = out.visible_view();
+  const Vec2 center{0.5 * view.x0 + 0.5 * view.x1, 0.5 * view.y0 + 0.5 * view.y1};
   auto grow_extent = [&](Vec2 lo, Vec2 hi) {
     for (double v : {lo.x - center.x, hi.x - center.x, lo.y - center.y, hi.y - center.y})
       out.extent = std::max(out.extent, std::abs(v));
   };
-  grow_extent({out.view.x0, out.view.y0}, {out.view.x1, out.view.y1});
+  grow_extent({view.x0, view.y0}, {view.x1, view.y1});
   for (const PreparedLight& l : out.lights) grow_extent(l.shape.bounds_min, l.shape.bounds_max);
   for (const ConvexShape& o : out.occluders) grow_extent(o.bounds_min, o.bounds_max);
 }

@@ -146,7 +146,13 @@ class PairSeparators {
 // underflow or overflow.
 struct PreparedScene {
   int width = 0, height = 0;
+  // The pixel grid frames sample: the width x height image of `view` extended past its edges.
+  // The frame shows the grid's pixels (grid_x + i, grid_y + j) (a Renderer's view offset;
+  // 0, 0 otherwise), so a pixel's position, tile and block follow the grid, not the frame.
   View view;
+  std::int64_t grid_x = 0, grid_y = 0;
+  // The world rectangle the frame shows (view shifted by the grid offset).
+  View visible_view() const noexcept;
   std::vector<PreparedLight> lights;  // lights with non-zero emission only
   // Overlaps no light holds now, kept with their buffers (find_light_overlaps), and what
   // the pool of overlaps (these and the lights') is reserved for (reserve_overlaps).
@@ -231,14 +237,29 @@ void reserve_overlaps(PreparedScene& scene, const ConvexShape* light, const Conv
 void describe_overlap(const ConvexShape& light, const ConvexShape& occluder, LightOverlap& out);
 
 // World position of sample (sx, sy) in [0,1)^2 of pixel (i, j) of a width x height
-// image of `view` (docs/contract.md section 2).
-inline Vec2 sample_position(const View& view, int width, int height, int i, int j, double sx, double sy) noexcept {
-  return {view.x0 + (i + sx) * (view.x1 - view.x0) / width, view.y0 + (j + sy) * (view.y1 - view.y0) / height};
+// image of `view` (docs/contract.md section 2), the image's pixel grid extended past its
+// edges: pixel (i, j) of a frame offset by (grid_x, grid_y) on it is its pixel
+// (grid_x + i, grid_y + j). The column is one exact integer in double (|grid| <= 2^40), so a
+// pixel's position depends on its place on the grid alone, whatever the offset.
+inline Vec2 sample_position(const View& view, int width, int height, std::int64_t i, std::int64_t j, double sx,
+                            double sy) noexcept {
+  return {view.x0 + (static_cast<double>(i) + sx) * (view.x1 - view.x0) / width,
+          view.y0 + (static_cast<double>(j) + sy) * (view.y1 - view.y0) / height};
 }
 
-// The same in the prepared scene's (scaled) coordinates.
+// The same in the prepared scene's (scaled) coordinates, for pixel (i, j) of its frame.
 inline Vec2 sample_position(const PreparedScene& s, int i, int j, double sx, double sy) noexcept {
-  return sample_position(s.view, s.width, s.height, i, j, sx, sy);
+  return sample_position(s.view, s.width, s.height, s.grid_x + i, s.grid_y + j, sx, sy);
 }
+
+// The rectangle of the grid offset by (x, y) pixels: the image of `view` moved by whole pixels.
+inline View offset_view(const View& view, int width, int height, std::int64_t x, std::int64_t y) noexcept {
+  if (x == 0 && y == 0) return view;
+  const Vec2 a = sample_position(view, width, height, x, y, 0.0, 0.0);
+  const Vec2 b = sample_position(view, width, height, x + width, y + height, 0.0, 0.0);
+  return {a.x, a.y, b.x, b.y};
+}
+
+inline View PreparedScene::visible_view() const noexcept { return offset_view(view, width, height, grid_x, grid_y); }
 
 }  // namespace par2d::detail

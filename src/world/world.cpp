@@ -111,7 +111,8 @@ const Occluder& World::user_occluder(std::uint32_t slot) const noexcept {
 Status World::set_frame(int width, int height, const View& view) {
   if (auto problem = check_image_size(width, height)) return scene_error("set_frame", *problem);
   if (auto problem = check_view(view, width, height)) return scene_error("set_frame", *problem);
-  if (width == scene_.width && height == scene_.height && same_view(view, view_)) return {};  // nothing moves
+  // The same grid: back to offset 0 (whole pixels, as set_view_offset moves).
+  if (width == scene_.width && height == scene_.height && same_view(view, view_)) return set_view_offset(0, 0);
   if (globals_.normal_map && (globals_.normal_map->width != width || globals_.normal_map->height != height))
     return Status(StatusCode::invalid_argument,
                   "set_frame: the normal map is " + std::to_string(globals_.normal_map->width) + "x" +
@@ -121,6 +122,8 @@ Status World::set_frame(int width, int height, const View& view) {
   scene_.width = width;
   scene_.height = height;
   view_ = view;
+  visible_view_ = view;
+  scene_.grid_x = scene_.grid_y = 0;
   scene_.view = {view.x0 * factor_, view.y0 * factor_, view.x1 * factor_, view.y1 * factor_};
   // A mirrored view mirrors the map's normals with the image.
   if (flips && globals_.normal_map && scene_.normal_source == NormalSource::map) {
@@ -129,6 +132,30 @@ Status World::set_frame(int width, int height, const View& view) {
     scene_.normal_map = std::move(mirrored);
   }
   if (observer_) observer_->frame_changed();
+  return {};
+}
+
+Status World::set_view_offset(std::int64_t x, std::int64_t y) {
+  if (!has_frame()) return Status(StatusCode::invalid_argument, "set_view_offset: no frame size (call set_frame or set_scene first)");
+  if (x == scene_.grid_x && y == scene_.grid_y) return {};  // nothing moves
+  if (!(-kMaxViewOffset <= x && x <= kMaxViewOffset && -kMaxViewOffset <= y && y <= kMaxViewOffset))
+    return Status(StatusCode::invalid_argument, "set_view_offset: (" + std::to_string(x) + ", " + std::to_string(y) +
+                                                    ") is farther than 2^40 pixels from the frame's view");
+  const View moved = offset_view(view_, scene_.width, scene_.height, x, y);
+  if (auto problem = check_view(moved, scene_.width, scene_.height))
+    return Status(StatusCode::invalid_argument, "set_view_offset: the moved " + problem->place + " " + problem->what);
+  visible_view_ = moved;
+  scene_.grid_x = x;
+  scene_.grid_y = y;
+  // A normal map holds a normal per frame pixel: it does not move with the world, so every
+  // pixel's normal changes.
+  if (observer_) {
+    if (globals_.normal_map) {
+      observer_->frame_changed();
+    } else {
+      observer_->frame_scrolled();
+    }
+  }
   return {};
 }
 
@@ -168,6 +195,7 @@ Status World::set_scene(const Scene& scene, std::vector<LightHandle>* lights, st
   next.scene_.width = scene.width;
   next.scene_.height = scene.height;
   next.view_ = scene.view;
+  next.visible_view_ = scene.view;
   // Generations continue from this world's, so no old handle names a new object; retired slots
   // stay retired, and one whose generation would wrap retires now (see release_slot).
   next.slots_.resize(slots_.size());
@@ -247,8 +275,8 @@ void World::reprepare_all(std::shared_ptr<const WorldNormals> converted) {
     set_part_emission(p);
   }
   for (std::size_t k = 0; k < occluder_sources_.size(); ++k) make_convex_shape(occluder_sources_[k].shape, scene_.occluders[k]);
-  const double largest = std::max({largest_coordinate(), std::abs(view_.x0), std::abs(view_.x1), std::abs(view_.y0),
-                                   std::abs(view_.y1)});
+  const double largest = std::max({largest_coordinate(), std::abs(visible_view_.x0), std::abs(visible_view_.x1),
+                                   std::abs(visible_view_.y0), std::abs(visible_view_.y1)});
   factor_ = scene_scale(view_, largest);
   scene_.view = {view_.x0 * factor_, view_.y0 * factor_, view_.x1 * factor_, view_.y1 * factor_};
   scene_.scale = factor_;
@@ -635,8 +663,8 @@ Status World::remove_light(LightHandle handle) {
 const PreparedScene& World::commit() {
   // The coordinate scale follows the view and the largest coordinate (scene_scale); when
   // it changes, everything is prepared again (a zoom by a power of two, far-flung shapes).
-  const double largest = std::max({largest_coordinate() / factor_, std::abs(view_.x0), std::abs(view_.x1),
-                                   std::abs(view_.y0), std::abs(view_.y1)});
+  const double largest = std::max({largest_coordinate() / factor_, std::abs(visible_view_.x0),
+                                   std::abs(visible_view_.x1), std::abs(visible_view_.y0), std::abs(visible_view_.y1)});
   if (scene_scale(view_, largest) != factor_) reprepare_all();
   update_scene_bounds(scene_);
   if (scene_.occluder_bvh.needs_rebuild()) rebuild_index();
@@ -657,7 +685,7 @@ Scene World::snapshot() const {
   Scene out;
   out.width = scene_.width;
   out.height = scene_.height;
-  out.view = view_;
+  out.view = visible_view_;
   for (std::size_t p = 0; p < light_sources_.size(); ++p)
     if (!slots_[light_slots_[p]].internal) out.lights.push_back(user_light(light_slots_[p]));
   out.lights.insert(out.lights.end(), dark_sources_.begin(), dark_sources_.end());

@@ -27,7 +27,14 @@ class World {
   // lights_reset at once. Kept across set_scene.
   void observe(WorldObserver* observer) noexcept;
 
+  // The frame and its pixel grid (the image of `view` extended past its edges); the view
+  // offset starts at 0, 0.
   Status set_frame(int width, int height, const View& view);
+  // Shows the grid's pixels (x + i, y + j) as pixel (i, j): the view moved by whole pixels.
+  // |x|, |y| <= kMaxViewOffset, and the moved view must be valid (docs/contract.md section 3).
+  Status set_view_offset(std::int64_t x, std::int64_t y);
+  std::int64_t view_offset_x() const noexcept { return scene_.grid_x; }
+  std::int64_t view_offset_y() const noexcept { return scene_.grid_y; }
   Status set_scene(const Scene& scene, std::vector<LightHandle>* lights, std::vector<OccluderHandle>* occluders);
 
   Status add_light(const Light& light, LightHandle* handle);
@@ -55,7 +62,9 @@ class World {
   const Occluder* find_occluder(std::uint64_t id) const noexcept;
 
   bool has_frame() const noexcept { return scene_.width > 0; }
-  const View& view() const noexcept { return view_; }
+  // The view set_frame gave (the grid), and the rectangle the frame shows (it moved by the offset).
+  const View& grid_view() const noexcept { return view_; }
+  const View& view() const noexcept { return visible_view_; }
   std::size_t light_count() const noexcept {
     return light_sources_.size() - internal_lights_ + dark_sources_.size();
   }
@@ -162,7 +171,8 @@ class World {
   double largest_coordinate() const noexcept;
 
   PreparedScene scene_;
-  View view_{};        // unscaled
+  View view_{};        // unscaled: set_frame's, the pixel grid's
+  View visible_view_{};  // unscaled: view_ moved by the offset (scene_.grid_x, grid_y)
   double factor_ = 1.0;  // scene_ coordinates = world coordinates * factor_
 
   std::vector<Slot> slots_;

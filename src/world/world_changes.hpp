@@ -30,6 +30,9 @@ class WorldObserver {
   virtual void region_changed(const Aabb& box) noexcept = 0;
   // The frame's size or view changed (anything measured in pixels or bounded by the view).
   virtual void frame_changed() noexcept = 0;
+  // The view moved by whole pixels on its pixel grid (PreparedScene::grid_x, grid_y): pixels
+  // keep their positions on the grid, only the visible rectangle moved.
+  virtual void frame_scrolled() noexcept = 0;
   // Light `p`'s emission (colour, intensity) changed and nothing else: nothing geometric
   // depends on it, so the reach ignores it; pixels do (render/change_tracker.hpp).
   virtual void light_emission_changed(std::size_t /*p*/) noexcept {}
