@@ -6,7 +6,10 @@
 // SCENARIO: full (2 torches move, every pixel computed: the baseline), a (nothing changes),
 // b (2 torches move), c (8 torches flicker and 2 move), d (the door moves), s (b, and every
 // other light and occluder re-sent with the values it holds, as an engine syncing its
-// entities each frame: s against b is the re-sync's cost). LAYER_MIB: the
+// entities each frame: s against b is the re-sync's cost); the camera panning 4 pixels a
+// frame on the view's pixel grid (Renderer::set_view_offset): h (rightwards), v (downwards),
+// g (diagonally), m (diagonally while 2 torches move), p (f: every pixel computed, the
+// camera panning diagonally). LAYER_MIB: the
 // light-layer cache's budget in MiB (default 0: off); the first, untimed frame fills it.
 // SCENE.json: another level instead of the hall (levels built differently, e.g. by
 // par2d_make_grid): of its N lights the first N/32 move and the next N/8 flicker (the hall's
@@ -74,7 +77,11 @@ __attribute__((noinline)) bool timed_frames(par2d::Renderer& r, const std::vecto
                                             int frames, const par2d::Scene& scene, const Motion& motion, FrameLog& log) {
   for (int f = 1; f <= frames; ++f) {
     const auto start = std::chrono::steady_clock::now();
-    if (scenario == 'f' || scenario == 'b' || scenario == 'c' || scenario == 's') {
+    if (std::strchr("hvgmp", scenario) != nullptr) {
+      const int step = 4;
+      if (!r.set_view_offset(scenario == 'v' ? 0 : step * f, scenario == 'h' ? 0 : step * f).ok()) return false;
+    }
+    if (scenario == 'f' || scenario == 'b' || scenario == 'c' || scenario == 's' || scenario == 'm' || scenario == 'p') {
       for (int t : motion.movers)
         if (!r.update_light(torches[static_cast<std::size_t>(t)], motion.light(t, f, false)).ok()) return false;
     }
@@ -93,7 +100,7 @@ __attribute__((noinline)) bool timed_frames(par2d::Renderer& r, const std::vecto
       for (std::size_t o = 0; o < occluders.size(); ++o)
         if (!r.update_occluder(occluders[o], scene.occluders[o]).ok()) return false;
     }
-    if (scenario == 'f') r.force_full_frame();
+    if (scenario == 'f' || scenario == 'p') r.force_full_frame();
     if (!r.render(buffer).ok()) return false;
     log.seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     log.pixels += r.frame_stats().pixels;
@@ -105,8 +112,8 @@ __attribute__((noinline)) bool timed_frames(par2d::Renderer& r, const std::vecto
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 3 || argc > 6 || std::strchr("fullabcds", argv[1][0]) == nullptr) {
-    std::fprintf(stderr, "usage: %s full|a|b|c|d|s FRAMES [THREADS [LAYER_MIB [SCENE.json]]]\n", argv[0]);
+  if (argc < 3 || argc > 6 || std::strchr("fullabcdshvgmp", argv[1][0]) == nullptr) {
+    std::fprintf(stderr, "usage: %s full|a|b|c|d|s|h|v|g|m|p FRAMES [THREADS [LAYER_MIB [SCENE.json]]]\n", argv[0]);
     return 2;
   }
   const char scenario = argv[1][0];

@@ -120,6 +120,14 @@ PAR2D_C_API int par2d_renderer_threads(const par2d_renderer* renderer);
 /* The lightmap: width x height pixels showing the world rectangle view = {x0, y0, x1, y1}
  * (NULL: {0, 0, width, height}). Independent of the host's screen size. */
 PAR2D_C_API par2d_status par2d_set_frame(par2d_renderer* renderer, int width, int height, const double* view);
+/* Scrolling (docs/api.md, "Scrolling"): the frame shows pixels (x + i, y + j) of the pixel
+ * grid of par2d_set_frame's view (that image extended past its edges) as pixel (i, j). A
+ * camera that moves by whole pixels sets this; an incremental frame then shifts the pixels
+ * that stay in view (par2d_frame_shift) and computes only the uncovered bands and what changed,
+ * byte for byte a renderer's at that offset. par2d_set_frame starts again at (0, 0).
+ * |x|, |y| <= 2^40; a refused offset keeps the old one. */
+PAR2D_C_API par2d_status par2d_set_view_offset(par2d_renderer* renderer, int64_t x, int64_t y);
+PAR2D_C_API par2d_status par2d_get_view_offset(const par2d_renderer* renderer, int64_t* x, int64_t* y);
 
 /* Replaces the world (frame included) with a scene file (docs/contract.md, section 3). A
  * refused scene leaves the world as it was. The scene's normal_map path must be relative and
@@ -322,7 +330,8 @@ PAR2D_C_API const char* par2d_isa_name(par2d_isa isa);
 /* Bytes one pixel of `format` takes (12, 16, 4, 4, 8, 4, 4; 0 for a value that is no format). */
 PAR2D_C_API int par2d_bytes_per_pixel(par2d_pixel_format format);
 
-/* The frame as last set: width, height and view {x0, y0, x1, y1}; any pointer may be NULL.
+/* The frame as last set: width, height and the view it shows {x0, y0, x1, y1} (par2d_set_frame's
+ * moved by the view offset); any pointer may be NULL.
  * 0 x 0 before the first par2d_set_frame or scene. */
 PAR2D_C_API par2d_status par2d_get_frame(const par2d_renderer* renderer, int* width, int* height, double view[4]);
 
@@ -444,12 +453,17 @@ PAR2D_C_API size_t par2d_light_layer_bytes(const par2d_renderer* renderer);
 typedef struct par2d_rect {
   int x0, y0, x1, y1;
 } par2d_rect;
-/* The rectangles the last successful par2d_render wrote (merged block runs; none when an
- * incremental frame changed nothing): the parts of the buffer to upload. Copies
- * min(count, capacity) of them into `out` (NULL allowed with capacity 0) and sets *count to
- * how many there are. */
+/* The rectangles the last successful par2d_render wrote (merged block runs, then a scroll's
+ * uncovered bands; none when an incremental frame changed nothing): the parts of the buffer
+ * to upload, after the shift below. Copies min(count, capacity) of them into `out` (NULL
+ * allowed with capacity 0) and sets *count to how many there are. */
 PAR2D_C_API par2d_status par2d_dirty_rects(const par2d_renderer* renderer, par2d_rect* out, size_t capacity,
                                            size_t* count);
+/* How far the last successful par2d_render moved the buffer's pixels before writing the dirty
+ * rectangles: pixel (i, j) now holds what pixel (i + dx, j + dy) held (0, 0 but for an
+ * incremental frame whose view offset moved). A host whose texture holds the last frame moves
+ * its pixels the same way (or uploads the whole buffer), then uploads the rectangles. */
+PAR2D_C_API par2d_status par2d_frame_shift(const par2d_renderer* renderer, int* dx, int* dy);
 
 /* ---- Long frames (docs/api.md, "Long renders"): bound, watch and stop them ---- */
 

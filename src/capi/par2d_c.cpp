@@ -72,6 +72,20 @@ par2d_status par2d_set_frame(par2d_renderer* r, int width, int height, const dou
   });
 }
 
+par2d_status par2d_set_view_offset(par2d_renderer* r, int64_t x, int64_t y) {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  return guarded(fn, [&] { return to_c(fn, r->renderer.set_view_offset(x, y)); });
+}
+
+par2d_status par2d_get_view_offset(const par2d_renderer* r, int64_t* x, int64_t* y) {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (x) *x = r->renderer.view_offset_x();
+  if (y) *y = r->renderer.view_offset_y();
+  return to_c(fn, par2d::Status());
+}
+
 namespace {
 
 par2d_status load_scene(const char* fn, par2d_renderer* r, const char* path, unsigned flags) {
@@ -301,6 +315,15 @@ par2d_status par2d_dirty_rects(const par2d_renderer* r, par2d_rect* out, size_t 
   for (std::size_t i = 0; i < rects.size() && i < capacity; ++i)
     out[i] = par2d_rect{rects[i].x0, rects[i].y0, rects[i].x1, rects[i].y1};
   *count = rects.size();
+  return to_c(fn, par2d::Status());
+}
+
+par2d_status par2d_frame_shift(const par2d_renderer* r, int* dx, int* dy) {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  const par2d::PixelShift shift = r->renderer.frame_shift();
+  if (dx) *dx = shift.dx;
+  if (dy) *dy = shift.dy;
   return to_c(fn, par2d::Status());
 }
 

@@ -816,6 +816,72 @@ static par2d_shape polygon_shape(const double* xy, size_t count) {
   return shape;
 }
 
+/* Scrolling: a camera panning by whole pixels. Each incremental frame (dithered BGRA8, whose
+ * pattern follows the grid too) shifts the kept pixels, reports the shift, and equals byte for
+ * byte a second renderer's full frame at the same offset; a refused offset keeps the old one. */
+static void check_scrolling(void) {
+  enum { SW = 200, SH = 120 };
+  par2d_options options;
+  par2d_options_default(&options);
+  options.threads = 2;
+  par2d_renderer *r = NULL, *full = NULL;
+  CHECK(par2d_renderer_create(&options, &r) == PAR2D_OK);
+  CHECK(par2d_renderer_create(&options, &full) == PAR2D_OK);
+  if (r == NULL || full == NULL) return;
+  par2d_renderer* both[2] = {r, full};
+  const double warm[3] = {1.0, 0.8, 0.6};
+  const double wall_xy[8] = {60.0, 20.0, 70.0, 20.0, 70.0, 90.0, 60.0, 90.0};
+  const double view[4] = {0.0, 0.0, 100.0, 60.0}; /* half a world unit per pixel */
+  for (int i = 0; i < 2; ++i) {
+    par2d_light light;
+    par2d_occluder wall;
+    par2d_shape torch = circle_shape(40.0, 40.0, 2.0), box = polygon_shape(wall_xy, 4);
+    CHECK(par2d_set_frame(both[i], SW, SH, view) == PAR2D_OK);
+    CHECK(par2d_add_light(both[i], &torch, warm, 3.0, &light) == PAR2D_OK);
+    CHECK(par2d_add_occluder(both[i], &box, &wall) == PAR2D_OK);
+  }
+  CHECK(par2d_set_incremental(r, 1) == PAR2D_OK);
+  const size_t bytes = (size_t)SW * SH * 4;
+  unsigned char* a = malloc(bytes);
+  unsigned char* b = malloc(bytes);
+  if (a == NULL || b == NULL) return;
+  CHECK(par2d_render(r, a, PAR2D_BGRA8_SRGB_DITHERED, SW * 4, 1.0, NULL) == PAR2D_OK);
+  const int64_t path[][2] = {{4, 0}, {8, 3}, {5, 9}, {-30, 9}, {-30, -70}, {500, -70}, {503, -66}};
+  for (size_t f = 0; f < sizeof path / sizeof path[0]; ++f) {
+    int64_t x = 0, y = 0;
+    CHECK(par2d_get_view_offset(r, &x, &y) == PAR2D_OK);
+    CHECK(par2d_set_view_offset(r, path[f][0], path[f][1]) == PAR2D_OK);
+    CHECK(par2d_set_view_offset(full, path[f][0], path[f][1]) == PAR2D_OK);
+    CHECK(par2d_render(r, a, PAR2D_BGRA8_SRGB_DITHERED, SW * 4, 1.0, NULL) == PAR2D_OK);
+    CHECK(par2d_render(full, b, PAR2D_BGRA8_SRGB_DITHERED, SW * 4, 1.0, NULL) == PAR2D_OK);
+    CHECK(memcmp(a, b, bytes) == 0);
+    int dx = 99, dy = 99;
+    CHECK(par2d_frame_shift(r, &dx, &dy) == PAR2D_OK);
+    const int64_t mx = path[f][0] - x, my = path[f][1] - y;
+    const int kept = mx > -SW && mx < SW && my > -SH && my < SH;
+    CHECK(kept ? (dx == mx && dy == my) : (dx == 0 && dy == 0));
+    /* A kept frame computes the uncovered bands, widened to whole 16-pixel tiles, and no more. */
+    par2d_frame_stats stats;
+    CHECK(par2d_get_frame_stats(r, &stats) == PAR2D_OK);
+    if (kept) CHECK(stats.pixels <= (uint64_t)(abs(dx) + 16) * SH + (uint64_t)(abs(dy) + 16) * SW);
+  }
+  /* A view offset past 2^40 pixels is refused, naming the call; the offset stays. */
+  CHECK(par2d_set_view_offset(r, (int64_t)1 << 41, 0) == PAR2D_INVALID_ARGUMENT);
+  CHECK(strstr(par2d_last_error(), "par2d_set_view_offset") != NULL);
+  int64_t x = 0, y = 0;
+  CHECK(par2d_get_view_offset(r, &x, &y) == PAR2D_OK && x == 503 && y == -66);
+  CHECK(par2d_set_view_offset(NULL, 0, 0) == PAR2D_INVALID_ARGUMENT);
+  CHECK(par2d_frame_shift(NULL, NULL, NULL) == PAR2D_INVALID_ARGUMENT);
+  /* par2d_set_frame starts again at offset 0. */
+  CHECK(par2d_set_frame(r, SW, SH, view) == PAR2D_OK);
+  CHECK(par2d_get_view_offset(r, &x, &y) == PAR2D_OK && x == 0 && y == 0);
+  free(a);
+  free(b);
+  par2d_renderer_destroy(r);
+  par2d_renderer_destroy(full);
+}
+
+
 /* Every count and pointer of a par2d_shape is checked before the arrays it sizes are read: a
  * hole_count past PAR2D_MAX_POLYGON_HOLES (as in a struct that was never zeroed), hole counts
  * that overflow the total, null vertices behind holes. Each is refused, nothing crashes. */
@@ -1393,6 +1459,7 @@ int main(void) {
   CHECK(par2d_renderer_threads(r) >= 1 && par2d_renderer_threads(r) <= 2);
   CHECK(par2d_set_frame(r, W, H, NULL) == PAR2D_OK);
   check_incremental_frames();
+  check_scrolling();
   check_gpu_formats();
   check_resync_every_frame();
   check_cookies();
