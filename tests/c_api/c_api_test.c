@@ -860,10 +860,11 @@ static void check_scrolling(void) {
     const int64_t mx = path[f][0] - x, my = path[f][1] - y;
     const int kept = mx > -SW && mx < SW && my > -SH && my < SH;
     CHECK(kept ? (dx == mx && dy == my) : (dx == 0 && dy == 0));
-    /* A kept frame computes the uncovered bands, widened to whole 16-pixel tiles, and no more. */
+    /* A kept frame computes the uncovered bands, widened to whole 16-pixel tiles (and, in the
+     * 64-pixel block where a column band meets a row band, the box of both), no more. */
     par2d_frame_stats stats;
     CHECK(par2d_get_frame_stats(r, &stats) == PAR2D_OK);
-    if (kept) CHECK(stats.pixels <= (uint64_t)(abs(dx) + 16) * SH + (uint64_t)(abs(dy) + 16) * SW);
+    if (kept) CHECK(stats.pixels <= (uint64_t)(abs(dx) + 15) * SH + (uint64_t)(abs(dy) + 15) * SW + 64 * 64);
   }
   /* A view offset past 2^40 pixels is refused, naming the call; the offset stays. */
   CHECK(par2d_set_view_offset(r, (int64_t)1 << 41, 0) == PAR2D_INVALID_ARGUMENT);
