@@ -83,6 +83,33 @@ class PyRenderer {
     check(status);
   }
 
+  void set_view_offset(const py::object& x_arg, const py::object& y_arg) {
+    const auto offset = [](const py::object& arg, const char* place) -> std::int64_t {
+      const std::optional<long long> value = as_integer(arg);
+      if (!value) bad_argument(place, "must be an integer, not " + type_name(arg));
+      return *value;
+    };
+    const std::int64_t x = offset(x_arg, "x"), y = offset(y_arg, "y");
+    par2d::Status status;
+    {
+      WorldLock lock(mutex_);
+      status = renderer_.set_view_offset(x, y);
+    }
+    check(status);
+  }
+  py::tuple view_offset() const {
+    WorldLock lock(mutex_);
+    return py::make_tuple(renderer_.view_offset_x(), renderer_.view_offset_y());
+  }
+  py::tuple frame_shift() const {
+    par2d::PixelShift shift;
+    {
+      WorldLock lock(mutex_);
+      shift = renderer_.frame_shift();
+    }
+    return py::make_tuple(shift.dx, shift.dy);
+  }
+
   std::uint64_t add_light(const py::object& dict, const py::object& transform_arg) {
     const par2d::Light light = parse_light(dict, "add_light");
     const std::optional<par2d::Transform> transform = to_transform(transform_arg);
@@ -597,7 +624,16 @@ void bind_renderer(py::module_& m) {
       .def("set_scene", &PyRenderer::set_scene, py::arg("scene"),
            "Replaces the whole world (frame included); returns (light handles, occluder handles) in the scene's order.")
       .def("set_frame", &PyRenderer::set_frame, py::arg("width"), py::arg("height"), py::arg("view") = py::none(),
-           "Lightmap size and the world rectangle (x0, y0, x1, y1) it shows (default (0, 0, width, height)).")
+           "Lightmap size and the world rectangle (x0, y0, x1, y1) it shows (default (0, 0, width, height));\n"
+           "the view offset starts again at (0, 0).")
+      .def("set_view_offset", &PyRenderer::set_view_offset, py::arg("x"), py::arg("y"),
+           "Scrolling: pixel (i, j) shows pixel (x + i, y + j) of set_frame's view extended past its edges.\n"
+           "With incremental frames, a move by whole pixels shifts the kept pixels (frame_shift) and computes\n"
+           "only the uncovered bands and what changed, byte for byte a renderer's at that offset. |x|, |y| <= 2**40.")
+      .def_property_readonly("view_offset", &PyRenderer::view_offset, "(x, y): the view offset on set_frame's pixel grid.")
+      .def_property_readonly("frame_shift", &PyRenderer::frame_shift,
+                             "(dx, dy): how far the last render moved the buffer's pixels before writing dirty_rects:\n"
+                             "pixel (i, j) now holds what pixel (i + dx, j + dy) held ((0, 0) unless a scroll kept pixels).")
       .def("add_light", &PyRenderer::add_light, py::arg("light"), py::kw_only(), py::arg("transform") = py::none(),
            "Adds a light (dict); returns its handle. transform: {\"position\": (x, y), \"rotation\": degrees,\n"
            "\"scale\": s or (sx, sy)} places a shape given in its own local frame (a sprite's).")
@@ -672,8 +708,8 @@ void bind_renderer(py::module_& m) {
       .def_property_readonly("light_layer_bytes", &PyRenderer::light_layer_bytes,
                              "int: bytes the light-layer cache holds after the last render (at most the budget).")
       .def_property_readonly("dirty_rects", &PyRenderer::dirty_rects,
-                             "list of (x0, y0, x1, y1): the pixels the last render wrote (merged 64x64 blocks); empty\n"
-                             "when an incremental frame changed nothing.")
+                             "list of (x0, y0, x1, y1): the pixels the last render wrote (merged 64x64 blocks, then a\n"
+                             "scroll's uncovered bands), after frame_shift; empty when an incremental frame changed nothing.")
       .def_property_readonly("frame_stats", &PyRenderer::frame_stats,
                              "dict: what the last render computed: pixels, tiles, the light-layer cache's reused\n"
                              "and filled shares, the bounce's pieces and lit sources (docs/api.md, FrameStats).")

@@ -1,8 +1,11 @@
 #!/usr/bin/env python3
 """Runs the SDL2 + OpenGL example under Xvfb with Mesa's software GL for a number of frames
 and checks its last frame, read back from the GPU, against `par2d render` of the world it
-saved, composited on the CPU the way the example's shader does (multiply and hdr modes).
+saved, composited on the CPU the way the example's shader does (multiply and hdr modes, and
+multiply with the camera panning: the lightmap on the world's pixel grid, sampled bilinearly
+at the camera's sub-pixel remainder).
 Usage: check_lightmap_gl.py EXAMPLE PAR2D_CLI"""
+import json
 import os
 import shutil
 import subprocess
@@ -63,18 +66,28 @@ def main():
     env.pop("WAYLAND_DISPLAY", None)
     failures = []
     try:
-        for mode, exposure, tolerance in (("multiply", 1.5, 1), ("hdr", 2.0, 2)):
-            shot, sprites, scene = (os.path.join(work, f"{mode}.{ext}") for ext in ("shot.ppm", "sprites.ppm", "json"))
-            subprocess.run([example, "--mode", mode, "--frames", "30", "--exposure", str(exposure), "--screenshot", shot,
+        # The scroll run's tolerance covers the GPU's bilinear weights (8 bits in Mesa's llvmpipe).
+        for mode, exposure, tolerance in (("multiply", 1.5, 1), ("hdr", 2.0, 2), ("scroll", 1.5, 2)):
+            shot, sprites, scene, camera = (os.path.join(work, f"{mode}.{ext}")
+                                            for ext in ("shot.ppm", "sprites.ppm", "json", "camera.json"))
+            flags = ["--mode", "multiply", "--scroll", "--lightmap", camera] if mode == "scroll" else ["--mode", mode]
+            subprocess.run([example, *flags, "--frames", "30", "--exposure", str(exposure), "--screenshot", shot,
                             "--sprites", sprites, "--scene", scene], env=env, check=True, timeout=240)
             shown = read_ppm(shot).astype(np.int32)
             s = read_ppm(sprites).astype(np.float64) / 255.0
-            if mode == "multiply":
+            if mode in ("multiply", "scroll"):
                 light_png = os.path.join(work, "light.pfm")
                 subprocess.run([cli, "render", scene, "--pfm", light_png], check=True)
                 e = read_pfm(light_png).astype(np.float64)
                 # par2d's rgba8_srgb bytes: round(255 * srgb(clamp(exposure * E, 0, 1))).
                 light8 = np.rint(255.0 * to_srgb(np.clip(exposure * e, 0.0, 1.0)))
+                if mode == "scroll":
+                    # The scene's view is the last lightmap's (one pixel more than the screen each
+                    # way); screen pixel (x, y) reads it between pixels (x, y) and (x + 1, y + 1).
+                    fx, fy = json.load(open(camera))["remainder"]
+                    h, w = shown.shape[:2]
+                    light8 = ((1 - fx) * (1 - fy) * light8[:h, :w] + fx * (1 - fy) * light8[:h, 1:w + 1] +
+                              (1 - fx) * fy * light8[1:h + 1, :w] + fx * fy * light8[1:h + 1, 1:w + 1])
                 expected = np.rint(s * light8)  # the shader's sprite x light, stored as bytes
             else:
                 pfm = os.path.join(work, "light.pfm")
