@@ -3,7 +3,9 @@
 // iteration per frame, updates included: full (2 torches move, every pixel computed), a
 // (nothing changes), b (2 torches move), c (8 torches flicker, 2 move), d (the door moves),
 // s (2 torches move and every other light and occluder is re-sent with the values it has, as
-// an engine syncing its entities each frame does: s against b is what the re-sync costs).
+// an engine syncing its entities each frame does: s against b is what the re-sync costs),
+// g (the camera pans 4 px a frame diagonally on the view's pixel grid, set_view_offset),
+// m (g while 2 torches move), p (g, every pixel computed: the pan's full frame).
 // 100 frames each. Counters: median and p99 frame time, pixels recomputed per frame. Run with
 // --benchmark_filter=incremental; bench/incremental_frames.cpp is the same loop for callgrind.
 #include <benchmark/benchmark.h>
@@ -37,7 +39,9 @@ void incremental(benchmark::State& state, char scenario, int threads, std::size_
   int f = 1;
   for (auto _ : state) {
     const auto start = std::chrono::steady_clock::now();
-    if (scenario == 'f' || scenario == 'b' || scenario == 'c' || scenario == 's')
+    if ((scenario == 'g' || scenario == 'm' || scenario == 'p') && !r.set_view_offset(4 * f, 4 * f).ok())
+      return state.SkipWithError("set_view_offset failed");
+    if (scenario == 'f' || scenario == 'b' || scenario == 'c' || scenario == 's' || scenario == 'm' || scenario == 'p')
       for (int t : {5, 42}) r.update_light(torches[static_cast<std::size_t>(t)], par2d::bench::hall_torch(t, f, false));
     if (scenario == 'c') {
       for (int t = 16; t < 24; ++t) {
@@ -51,7 +55,7 @@ void incremental(benchmark::State& state, char scenario, int threads, std::size_
         if (t != 5 && t != 42) r.update_light(torches[t], hall.lights[t]);
       for (std::size_t o = 0; o < occluders.size(); ++o) r.update_occluder(occluders[o], hall.occluders[o]);
     }
-    if (scenario == 'f') r.force_full_frame();
+    if (scenario == 'f' || scenario == 'p') r.force_full_frame();
     if (!r.render(buffer).ok()) return state.SkipWithError("render failed");
     ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
     pixels_sum += static_cast<double>(r.frame_stats().pixels);
@@ -67,7 +71,8 @@ void register_incremental() {
   const struct {
     const char* name;
     char scenario;
-  } scenarios[] = {{"full", 'f'}, {"a_nothing", 'a'}, {"b_2_move", 'b'}, {"c_8_flicker_2_move", 'c'}, {"d_door", 'd'}, {"s_2_move_resync_all", 's'}};
+  } scenarios[] = {{"full", 'f'}, {"a_nothing", 'a'}, {"b_2_move", 'b'}, {"c_8_flicker_2_move", 'c'}, {"d_door", 'd'}, {"s_2_move_resync_all", 's'},
+                   {"p_pan_full", 'p'}, {"g_pan_diagonal", 'g'}, {"m_pan_2_move", 'm'}};
   // Without and (1 thread) with the light-layer cache, 64 MiB (the hall's layers take about 20).
   for (int threads : {1, 2})
     for (const std::size_t layers : {std::size_t{0}, std::size_t{64} << 20}) {

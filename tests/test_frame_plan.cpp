@@ -247,12 +247,46 @@ TEST_CASE("plan_frame: dirty flags pick the blocks in frame order; the scalar IS
       CHECK(b.index == expected[k]);
       CHECK(b.rect.x0 == static_cast<int>(expected[k] % 4) * 64);
       CHECK(b.rect.y0 == static_cast<int>(expected[k] / 4) * 64);
-      CHECK(b.rect.x1 == std::min(b.rect.x0 + 64, 200));
-      CHECK(b.rect.y1 == std::min(b.rect.y0 + 64, 140));
+      // Whole past the frame's edges (200 x 140): the pixels outside are computed and dropped.
+      CHECK(b.rect.x1 == b.rect.x0 + 64);
+      CHECK(b.rect.y1 == b.rect.y0 + 64);
+      CHECK((b.part.x0 == b.rect.x0 && b.part.y0 == b.rect.y0 && b.part.x1 == b.rect.x1 && b.part.y1 == b.rect.y1));
     }
-    // Tiles of 16 px: blocks 2 and 10 are 4 x 4 and 4 x 1 tiles, blocks 3 and 7 are 1 x 4.
+    // Tiles of 16 px meeting the frame: blocks 2 and 10 are 4 x 4 and 4 x 1 tiles, blocks 3
+    // and 7 are 1 x 4.
     CHECK(plan.tiles == 16u + 4u + 4u + 4u);
     CHECK(plan.cull_reach == &reach);
+  }
+  SUBCASE("a view offset: blocks on the pixel grid; a move's uncovered bands compute only their tiles") {
+    detail::PreparedScene moved = detail::prepare_scene(scene);
+    moved.grid_x = 70;  // block corners at grid multiples of 64: frame columns -6, 58, 122, 186
+    moved.grid_y = -3;  // rows 3, 67, 131 (and -61)
+    const detail::BlockGrid grid = detail::frame_blocks(moved);
+    CHECK(grid.ax == 6);
+    CHECK(grid.ay == 61);
+    CHECK(grid.columns == 4);  // (200 + 6) / 64, rounded up
+    CHECK(grid.rows == 4);     // (140 + 61) / 64, rounded up
+    std::vector<std::uint8_t> dirty(grid.count(), detail::kBlockClean);
+    dirty[0] = detail::kBlockWhole;
+    dirty[3] = detail::kBlockUncovered;   // column 3, row 0: the right band's
+    dirty[13] = detail::kBlockUncovered;  // column 1, row 3: the bottom band's
+    detail::UncoveredPixels uncovered;
+    uncovered.columns = {186, 0, 200, 140};
+    uncovered.rows = {0, 131, 200, 140};
+    detail::FrameSettings settings;
+    settings.isa = simd;
+    detail::plan_frame(moved, settings, frame, &reach, &dirty, nullptr, plan, &uncovered);
+    REQUIRE(plan.blocks.size() == 3);
+    CHECK((plan.blocks[0].rect.x0 == -6 && plan.blocks[0].rect.y0 == -61 && plan.blocks[0].rect.x1 == 58));
+    CHECK(plan.blocks[0].part.x1 == 58);
+    CHECK((plan.blocks[1].rect.x0 == 186 && plan.blocks[1].rect.y0 == -61));
+    CHECK((plan.blocks[1].part.x0 == 186 && plan.blocks[1].part.y0 == 0 && plan.blocks[1].part.y1 == 3));
+    CHECK((plan.blocks[2].rect.x0 == 58 && plan.blocks[2].rect.y0 == 131));
+    CHECK((plan.blocks[2].part.y0 == 131 && plan.blocks[2].part.y1 == 140 && plan.blocks[2].part.x0 == 58));
+    // Block row 0 spans rows -61..3: of its tile rows (-61, -45, -29, -13) only -13..3 meets
+    // the frame. Block 0's tiles there: columns -6, 10, 26, 42: 4; the right band's block: its
+    // first tile column (186..202): 1; the bottom band's: tile row 131..147 across 4 columns: 4.
+    CHECK(plan.tiles == 4u + 1u + 4u);
   }
   SUBCASE("the scalar ISA: every block by the reference, no layers, no culling, no kernels") {
     detail::FrameSettings settings;
