@@ -220,6 +220,12 @@ Outcome run_sequence(std::uint32_t seed, int frames, RenderOptions options, int 
     }
     options.threads = 1 + frame % 2;
     REQUIRE(r.set_options(options).ok());
+    // Now and then a watched frame (computed aside, moved and copied out once complete).
+    if (scroll && rng.chance(0.2)) {
+      r.set_progress([](const Progress&) { return true; });
+    } else {
+      r.set_progress({});
+    }
     std::memcpy(previous.data(), buffer.data(), floats * sizeof(float));
     const Status s = r.render(view);
     REQUIRE_MESSAGE(s.ok(), s.message());

@@ -40,7 +40,10 @@ void LightLayerCache::set_block_count(std::size_t blocks) {
 }
 
 void LightLayerCache::move_blocks(const BlockGrid& from, const BlockGrid& to, std::int64_t dbx, std::int64_t dby) {
-  std::vector<std::vector<LightLayer>> moved(to.count());
+  // Into the spare list (its storage kept from move to move), then swapped in.
+  std::vector<std::vector<LightLayer>>& moved = spare_;
+  moved.clear();
+  moved.resize(to.count());
   if (blocks_.size() == from.count()) {
     for (int by = 0; by < to.rows; ++by) {
       for (int bx = 0; bx < to.columns; ++bx) {
@@ -53,6 +56,7 @@ void LightLayerCache::move_blocks(const BlockGrid& from, const BlockGrid& to, st
     }
   }
   blocks_.swap(moved);
+  spare_.clear();  // the layers of blocks left behind: dropped (the list's storage stays)
   fill_.assign(blocks_.size(), 0);
   recount();
 }

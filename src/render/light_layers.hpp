@@ -112,7 +112,7 @@ class LightLayerCache {
 
   std::size_t budget_ = 0;
   std::size_t bytes_ = 0;
-  std::vector<std::vector<LightLayer>> blocks_;
+  std::vector<std::vector<LightLayer>> blocks_, spare_;
   std::vector<std::uint8_t> fill_, whole_;
   std::vector<std::uint32_t> first_, lights_;  // the plan's lists
   int planes_ = 3;
