@@ -9,7 +9,8 @@
 // entities each frame: s against b is the re-sync's cost); the camera panning 4 pixels a
 // frame on the view's pixel grid (Renderer::set_view_offset): h (rightwards), v (downwards),
 // g (diagonally), m (diagonally while 2 torches move), p (f: every pixel computed, the
-// camera panning diagonally). LAYER_MIB: the
+// camera panning diagonally); H, V, G, M: h, v, g, m into a ring buffer
+// (BufferLayout::ring: no pixel moves). LAYER_MIB: the
 // light-layer cache's budget in MiB (default 0: off); the first, untimed frame fills it.
 // SCENE.json: another level instead of the hall (levels built differently, e.g. by
 // par2d_make_grid): of its N lights the first N/32 move and the next N/8 flicker (the hall's
@@ -112,11 +113,12 @@ __attribute__((noinline)) bool timed_frames(par2d::Renderer& r, const std::vecto
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 3 || argc > 6 || std::strchr("fullabcdshvgmp", argv[1][0]) == nullptr) {
-    std::fprintf(stderr, "usage: %s full|a|b|c|d|s|h|v|g|m|p FRAMES [THREADS [LAYER_MIB [SCENE.json]]]\n", argv[0]);
+  if (argc < 3 || argc > 6 || std::strchr("fullabcdshvgmpHVGM", argv[1][0]) == nullptr) {
+    std::fprintf(stderr, "usage: %s full|a|b|c|d|s|h|v|g|m|p|H|V|G|M FRAMES [THREADS [LAYER_MIB [SCENE.json]]]\n", argv[0]);
     return 2;
   }
-  const char scenario = argv[1][0];
+  const bool ring = std::strchr("HVGM", argv[1][0]) != nullptr;
+  const char scenario = ring ? static_cast<char>(argv[1][0] - 'A' + 'a') : argv[1][0];
   const int frames = std::atoi(argv[2]);
   const int threads = argc >= 4 ? std::atoi(argv[3]) : 1;
   const std::size_t layer_mib = argc >= 5 ? static_cast<std::size_t>(std::atoi(argv[4])) : 0;
@@ -151,7 +153,8 @@ int main(int argc, char** argv) {
   std::vector<par2d::LightHandle> torches;
   std::vector<par2d::OccluderHandle> occluders;
   bool ok = r.set_options(options).ok() && r.set_scene(scene, &torches, &occluders).ok() &&
-            r.set_incremental(true).ok() && r.set_light_layer_budget(layer_mib << 20).ok() && r.render(buffer).ok();
+            r.set_incremental(true).ok() && r.set_light_layer_budget(layer_mib << 20).ok() &&
+            r.set_buffer_layout(ring ? par2d::BufferLayout::ring : par2d::BufferLayout::image).ok() && r.render(buffer).ok();
   FrameLog log;
   const std::size_t door = motion.level ? 0 : static_cast<std::size_t>(par2d::bench::hall_door_index());
   ok = ok && timed_frames(r, torches, occluders, occluders[door], scenario, buffer, frames, scene, motion, log);

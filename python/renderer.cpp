@@ -97,6 +97,16 @@ class PyRenderer {
     }
     check(status);
   }
+  void set_buffer_layout(const py::object& value) {
+    const std::string name = py::isinstance<py::str>(value) ? value.cast<std::string>() : std::string();
+    if (name != "image" && name != "ring") bad_argument("buffer_layout", "must be \"image\" or \"ring\", got " + describe(value));
+    WorldLock lock(mutex_);
+    check(renderer_.set_buffer_layout(name == "ring" ? par2d::BufferLayout::ring : par2d::BufferLayout::image));
+  }
+  std::string buffer_layout() const {
+    WorldLock lock(mutex_);
+    return renderer_.buffer_layout() == par2d::BufferLayout::ring ? "ring" : "image";
+  }
   py::tuple view_offset() const {
     WorldLock lock(mutex_);
     return py::make_tuple(renderer_.view_offset_x(), renderer_.view_offset_y());
@@ -631,6 +641,10 @@ void bind_renderer(py::module_& m) {
            "With incremental frames, a move by whole pixels shifts the kept pixels (frame_shift) and computes\n"
            "only the uncovered bands and what changed, byte for byte a renderer's at that offset. |x|, |y| <= 2**40.")
       .def_property_readonly("view_offset", &PyRenderer::view_offset, "(x, y): the view offset on set_frame's pixel grid.")
+      .def_property("buffer_layout", &PyRenderer::buffer_layout, &PyRenderer::set_buffer_layout,
+                    "\"image\" (default) or \"ring\": whole frames into out= with pixel (i, j) at ((x + i) % width,\n"
+                    "(y + j) % height), (x, y) the view offset, so a scroll moves no pixel (frame_shift stays (0, 0);\n"
+                    "dirty_rects in the array's coordinates). Region renders need \"image\".")
       .def_property_readonly("frame_shift", &PyRenderer::frame_shift,
                              "(dx, dy): how far the last render moved the buffer's pixels before writing dirty_rects:\n"
                              "pixel (i, j) now holds what pixel (i + dx, j + dy) held ((0, 0) unless a scroll kept pixels).")

@@ -128,6 +128,13 @@ PAR2D_C_API par2d_status par2d_set_frame(par2d_renderer* renderer, int width, in
  * |x|, |y| <= 2^40; a refused offset keeps the old one. */
 PAR2D_C_API par2d_status par2d_set_view_offset(par2d_renderer* renderer, int64_t x, int64_t y);
 PAR2D_C_API par2d_status par2d_get_view_offset(const par2d_renderer* renderer, int64_t* x, int64_t* y);
+/* Where whole frames go in the buffer. PAR2D_LAYOUT_IMAGE (default): pixel (i, j) at (i, j).
+ * PAR2D_LAYOUT_RING: at ((x + i) mod width, (y + j) mod height), (x, y) the view offset, so a
+ * scroll moves no byte (par2d_frame_shift stays 0, 0; the dirty rectangles are in the buffer's
+ * coordinates, split where the ring wraps): a texture sampled with wrapping at the offset
+ * shows the frame. Region renders need the image layout. */
+typedef enum par2d_buffer_layout { PAR2D_LAYOUT_IMAGE = 0, PAR2D_LAYOUT_RING = 1 } par2d_buffer_layout;
+PAR2D_C_API par2d_status par2d_set_buffer_layout(par2d_renderer* renderer, par2d_buffer_layout layout);
 
 /* Replaces the world (frame included) with a scene file (docs/contract.md, section 3). A
  * refused scene leaves the world as it was. The scene's normal_map path must be relative and

@@ -71,6 +71,13 @@ class Renderer {
   Status set_view_offset(std::int64_t x, std::int64_t y);
   std::int64_t view_offset_x() const noexcept;
   std::int64_t view_offset_y() const noexcept;
+  // Where whole frames go in the host's buffer (BufferLayout; default image). ring: pixel
+  // (i, j) at ((x + i) mod width, (y + j) mod height), (x, y) the view offset, so a scroll
+  // moves no byte (frame_shift stays 0, 0) and dirty_rects are in the buffer's coordinates,
+  // split where the ring wraps. Region renders need the image layout. A change of layout
+  // makes the next frame whole.
+  Status set_buffer_layout(BufferLayout layout);
+  BufferLayout buffer_layout() const noexcept;
 
   // Replaces the whole world (frame included) with a validated scene; `lights` and
   // `occluders`, when given, receive the handles in the scene's order.

@@ -76,6 +76,15 @@ struct PixelRect {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
 };
 
+// How whole frames sit in the host's buffer (Renderer::set_buffer_layout).
+enum class BufferLayout : std::uint8_t {
+  image,  // pixel (i, j) of the frame at (i, j): a plain image
+  // Pixel (i, j) at ((x + i) mod width, (y + j) mod height), (x, y) the view offset: each
+  // pixel of the view's grid has one place, so a scrolled frame moves no pixel (a texture
+  // sampled with wrapping at the offset shows the frame).
+  ring,
+};
+
 // How far an incremental frame moved the buffer's pixels (Renderer::frame_shift): pixel
 // (i, j) now holds what pixel (i + dx, j + dy) held before the frame.
 struct PixelShift {

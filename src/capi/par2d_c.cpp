@@ -78,6 +78,16 @@ par2d_status par2d_set_view_offset(par2d_renderer* r, int64_t x, int64_t y) {
   return guarded(fn, [&] { return to_c(fn, r->renderer.set_view_offset(x, y)); });
 }
 
+par2d_status par2d_set_buffer_layout(par2d_renderer* r, par2d_buffer_layout layout) {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  const long long value = raw_enum(layout);  // never loaded as the enum (c_api_support.hpp)
+  if (value != PAR2D_LAYOUT_IMAGE && value != PAR2D_LAYOUT_RING)
+    return fail(fn, "layout " + std::to_string(value) + " is no par2d_buffer_layout");
+  return to_c(fn, r->renderer.set_buffer_layout(value == PAR2D_LAYOUT_RING ? par2d::BufferLayout::ring
+                                                                          : par2d::BufferLayout::image));
+}
+
 par2d_status par2d_get_view_offset(const par2d_renderer* r, int64_t* x, int64_t* y) {
   const char* const fn = __func__;
   if (r == nullptr) return fail(fn, "renderer is null");

@@ -37,7 +37,7 @@ Aabb intersection(const Aabb& a, const Aabb& b) noexcept {
 bool FrameKey::operator==(const FrameKey& o) const noexcept {
   return width == o.width && height == o.height && same_view(view, o.view) && scale == o.scale && far == o.far &&
          trusted == o.trusted && extent == o.extent && model == o.model && bounce == o.bounce &&
-         scrolls == o.scrolls && data == o.data && format == o.format &&
+         scrolls == o.scrolls && ring == o.ring && data == o.data && format == o.format &&
          row_stride == o.row_stride && exposure == o.exposure && settings.spp == o.settings.spp &&
          settings.culling == o.settings.culling && settings.isa == o.settings.isa &&
          settings.shaded == o.settings.shaded && settings.sample_needs == o.settings.sample_needs &&

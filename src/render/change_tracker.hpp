@@ -31,6 +31,7 @@ struct FrameKey {
   double extent = 0.0;
   bool model = false, bounce = false;
   bool scrolls = false;  // a frame at another offset may keep pixels (no bounce, directional light or normal map)
+  bool ring = false;     // BufferLayout::ring
   const void* data = nullptr;
   PixelFormat format = PixelFormat::rgb_f32;
   std::ptrdiff_t row_stride = 0;

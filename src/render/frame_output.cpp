@@ -240,6 +240,17 @@ void shift_pixels(const FrameTarget& target, int dx, int dy) noexcept {
 
 void store_tile(const TileResult& result, int tile_x0, int tile_y0, const TileRect& part, const FrameTarget& target,
                 const VectorTileStores& vector_stores) noexcept {
+  if (target.ring) {
+    // Each piece as an ordinary store into a target whose region is moved so that the piece's
+    // frame pixels land on their buffer pixels.
+    for_each_ring_piece(target, part, [&](const TileRect& piece, int dx, int dy) {
+      FrameTarget placed = target;
+      placed.ring = false;
+      placed.region = {target.region.x0 - dx, target.region.y0 - dy, target.region.x1 - dx, target.region.y1 - dy};
+      store_tile(result, tile_x0, tile_y0, piece, placed, vector_stores);
+    });
+    return;
+  }
   const PixelFormatInfo& format = *pixel_format_info(target.format);  // valid: checked at the API boundary
   const int count = part.x1 - part.x0, rows = part.y1 - part.y0;
   const int first_column = part.x0 - tile_x0, first_row = part.y0 - tile_y0;

@@ -1,6 +1,7 @@
 // Storing finished tiles straight into the host's buffer in its pixel format (no second pass).
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 
@@ -22,7 +23,29 @@ struct FrameTarget {
   // The frame's first pixel on the pixel grid (PreparedScene::grid_x, grid_y) modulo 8: the
   // ordered dither follows the grid, so a pixel kept by a scrolled view keeps its bytes.
   int dither_x = 0, dither_y = 0;
+  // BufferLayout::ring: the region is the whole frame and frame pixel (x, y) lives at buffer
+  // pixel ((ring_x + x) mod width, (ring_y + y) mod height), the grid pixel's place on a ring
+  // of the frame's size; stores split a tile's part where the ring wraps.
+  bool ring = false;
+  int ring_x = 0, ring_y = 0;
 };
+
+// Calls fn(piece, dx, dy) for the pieces of `rect` (frame pixels of a ring target) that stay
+// contiguous on the ring, at most four: the piece's pixels live at buffer pixels (x + dx, y + dy).
+template <class Fn>
+void for_each_ring_piece(const FrameTarget& target, const TileRect& rect, Fn&& fn) {
+  const int w = target.region.x1 - target.region.x0, h = target.region.y1 - target.region.y0;
+  const int seam_x = w - target.ring_x, seam_y = h - target.ring_y;
+  const int xs[3] = {rect.x0, std::clamp(seam_x, rect.x0, rect.x1), rect.x1};
+  const int ys[3] = {rect.y0, std::clamp(seam_y, rect.y0, rect.y1), rect.y1};
+  for (int a = 0; a < 2; ++a) {
+    for (int b = 0; b < 2; ++b) {
+      const TileRect piece{xs[b], ys[a], xs[b + 1], ys[a + 1]};
+      if (piece.x0 >= piece.x1 || piece.y0 >= piece.y1) continue;
+      fn(piece, piece.x0 < seam_x ? target.ring_x : target.ring_x - w, piece.y0 < seam_y ? target.ring_y : target.ring_y - h);
+    }
+  }
+}
 
 // Moves a whole frame's pixels (`target`, its region the frame) so that pixel (i, j) holds
 // what pixel (i + dx, j + dy) held, for every pixel whose source is in the frame (|dx| < width,

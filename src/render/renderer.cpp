@@ -45,6 +45,7 @@ struct Renderer::Impl {
   detail::ChangeTracker tracker;  // observes `world` and passes every event on to `reach`
   detail::LightLayerCache layers;  // kept by `tracker`'s plans (budget 0: off)
   bool incremental = false;
+  BufferLayout layout = BufferLayout::image;
   std::vector<PixelRect> dirty_rects;  // the last successful render's
   PixelShift shift;                    // the last successful render's
   detail::World world;
@@ -124,6 +125,14 @@ const View& Renderer::view() const noexcept { return impl_->world.view(); }
 Status Renderer::set_view_offset(std::int64_t x, std::int64_t y) {
   return guarded("set_view_offset", [&] { return impl_->world.set_view_offset(x, y); });
 }
+Status Renderer::set_buffer_layout(BufferLayout layout) {
+  if (layout != BufferLayout::image && layout != BufferLayout::ring)
+    return bad("set_buffer_layout: " + std::to_string(static_cast<int>(layout)) + " is no BufferLayout");
+  if (layout != impl_->layout) impl_->tracker.force_full();  // every pixel has another place
+  impl_->layout = layout;
+  return {};
+}
+BufferLayout Renderer::buffer_layout() const noexcept { return impl_->layout; }
 std::int64_t Renderer::view_offset_x() const noexcept { return impl_->world.view_offset_x(); }
 std::int64_t Renderer::view_offset_y() const noexcept { return impl_->world.view_offset_y(); }
 
@@ -275,6 +284,9 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
   Impl& impl = *impl_;
   if (!impl.world.has_frame()) return bad("render: no frame size (call set_frame or set_scene first)");
   if (Status s = detail::check_frame_buffer(buffer, region, width(), height(), "render"); !s.ok()) return s;
+  const bool ring = impl.layout == BufferLayout::ring;
+  if (ring && !(region.x0 == 0 && region.y0 == 0 && region.x1 == width() && region.y1 == height()))
+    return bad("render: a region render needs BufferLayout::image (the ring layout holds whole frames)");
   // A cancel request is used up by the frame it reaches, whether or not the frame stops for it.
   struct RequestUsedUp {
     std::atomic<bool>& cancel;
@@ -296,13 +308,19 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
     target.region = {region.x0, region.y0, region.x1, region.y1};
     target.dither_x = static_cast<int>(scene.grid_x & 7);  // two's complement: the grid's place mod 8
     target.dither_y = static_cast<int>(scene.grid_y & 7);
+    if (ring) {
+      target.ring = true;
+      target.ring_x = static_cast<int>(((scene.grid_x % scene.width) + scene.width) % scene.width);
+      target.ring_y = static_cast<int>(((scene.grid_y % scene.height) + scene.height) % scene.height);
+    }
     const detail::FrameSettings settings{impl.options.spp, culling, isa, impl.options.shaded,
                                          impl.options.sample_needs, impl.options.bounce};
     const std::vector<detail::LightReach>* reach = culling ? &impl.reach.reach() : nullptr;
     const bool whole = region.x0 == 0 && region.y0 == 0 && region.x1 == width() && region.y1 == height();
     const std::vector<std::uint8_t>* dirty = nullptr;
     detail::LightLayerCache* layers = nullptr;
-    PixelShift shift;  // a scroll: the buffer's pixels move first
+    PixelShift shift;       // a scroll: the buffer's pixels move first (image layout)
+    bool scrolled = false;  // a scroll keeps pixels: only its uncovered bands are planned
     if (impl.incremental && whole) {
       // Only the blocks whose inputs changed since the last whole frame into this buffer.
       detail::FrameKey key;
@@ -321,6 +339,7 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
       // whole scene each frame), directional lights (their sweep follows the extent) and a
       // normal map (one normal per frame pixel).
       key.scrolls = !scene.bounce && scene.directionals.empty() && scene.normal_source != detail::NormalSource::map;
+      key.ring = ring;
       key.data = buffer.data;
       key.format = buffer.format;
       key.row_stride = buffer.row_stride;
@@ -329,6 +348,8 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
       dirty = impl.tracker.plan(scene, reach, key, impl.dirty_rects);
       if (impl.tracker.layered()) layers = &impl.layers;
       shift = PixelShift{impl.tracker.shift_x(), impl.tracker.shift_y()};
+      if (ring) shift = PixelShift{};  // the kept pixels are where they were
+      scrolled = impl.tracker.shift_x() != 0 || impl.tracker.shift_y() != 0;
     } else {
       impl.dirty_rects.assign(1, region);
     }
@@ -354,17 +375,19 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
     if (watched) {
       target.data = impl.scratch_of(static_cast<std::size_t>(scratch_stride) * static_cast<std::size_t>(region.y1 - region.y0));
       target.row_stride = scratch_stride;
+      target.ring = false;  // the scratch holds the frame as an image; the copy places it
     }
     const detail::FrameControl control{&impl.progress, &impl.cancel};
-    const bool scrolled = shift.dx != 0 || shift.dy != 0;
+    const bool shifts = shift.dx != 0 || shift.dy != 0;
     detail::FrameTarget host = target;
     host.data = static_cast<unsigned char*>(buffer.data);
     host.row_stride = buffer.row_stride;
+    host.ring = ring;
     bool complete = false;
     try {
       // In place, the kept pixels move before the new ones are written; a watched frame moves
       // them once it is complete (a cancelled one leaves the buffer as it was).
-      if (scrolled && !watched) detail::shift_pixels(host, shift.dx, shift.dy);
+      if (shifts && !watched) detail::shift_pixels(host, shift.dx, shift.dy);
       detail::plan_frame(scene, settings, target.region, reach, dirty, layers, impl.plan,
                          scrolled ? &impl.tracker.uncovered() : nullptr);
       complete = impl.engine.run(impl.plan, scene, impl.scheduler, target, &impl.frame_counts, watched ? &control : nullptr);
@@ -377,15 +400,48 @@ Status Renderer::render(const FrameBuffer& buffer, const PixelRect& region) {
       return Status(StatusCode::cancelled, "render: cancelled");
     }
     if (watched) {
-      if (scrolled) detail::shift_pixels(host, shift.dx, shift.dy);
+      if (shifts) detail::shift_pixels(host, shift.dx, shift.dy);
       auto* out = static_cast<unsigned char*>(buffer.data);
-      for (const PixelRect& r : impl.dirty_rects) {  // in the frame, within the region
+      // A rectangle's rows from the scratch (frame layout) to the buffer, `dx`, `dy` pixels on.
+      const auto copy = [&](const detail::TileRect& r, int dx, int dy) {
         const std::size_t row_bytes = static_cast<std::size_t>(r.x1 - r.x0) * static_cast<std::size_t>(pixel_bytes);
         for (int y = r.y0; y < r.y1; ++y) {
           const std::ptrdiff_t x = static_cast<std::ptrdiff_t>(r.x0 - region.x0) * pixel_bytes;
-          std::memcpy(out + (y - region.y0) * buffer.row_stride + x, target.data + (y - region.y0) * scratch_stride + x,
-                      row_bytes);
+          std::memcpy(out + (y + dy - region.y0) * buffer.row_stride + x + static_cast<std::ptrdiff_t>(dx) * pixel_bytes,
+                      target.data + (y - region.y0) * scratch_stride + x, row_bytes);
         }
+      };
+      for (const PixelRect& r : impl.dirty_rects) {  // in the frame, within the region
+        const detail::TileRect rect{r.x0, r.y0, r.x1, r.y1};
+        if (ring) {
+          detail::for_each_ring_piece(host, rect, copy);
+        } else {
+          copy(rect, 0, 0);
+        }
+      }
+    }
+    if (ring) {
+      // The rectangles in the buffer's coordinates: the pieces that stay whole on the ring; a
+      // rectangle as wide (tall) as the frame covers every column (row) of the ring.
+      std::vector<PixelRect>& rects = impl.dirty_rects;
+      const std::size_t count = rects.size();
+      for (std::size_t i = 0; i < count; ++i) {
+        const PixelRect r = rects[i];
+        const bool wide = r.x0 == 0 && r.x1 == width(), tall = r.y0 == 0 && r.y1 == height();
+        bool first = true;
+        detail::for_each_ring_piece(host, detail::TileRect{r.x0, r.y0, r.x1, r.y1},
+                                    [&](const detail::TileRect& piece, int dx, int dy) {
+          PixelRect placed{piece.x0 + dx, piece.y0 + dy, piece.x1 + dx, piece.y1 + dy};
+          if (wide) placed.x0 = 0, placed.x1 = width();
+          if (tall) placed.y0 = 0, placed.y1 = height();
+          if ((wide && piece.x0 != r.x0) || (tall && piece.y0 != r.y0)) return;  // the same span again
+          if (first) {
+            rects[i] = placed;
+            first = false;
+          } else {
+            rects.push_back(placed);
+          }
+        });
       }
     }
     impl.shift = shift;

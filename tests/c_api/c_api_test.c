@@ -873,6 +873,29 @@ static void check_scrolling(void) {
   CHECK(par2d_get_view_offset(r, &x, &y) == PAR2D_OK && x == 503 && y == -66);
   CHECK(par2d_set_view_offset(NULL, 0, 0) == PAR2D_INVALID_ARGUMENT);
   CHECK(par2d_frame_shift(NULL, NULL, NULL) == PAR2D_INVALID_ARGUMENT);
+  /* The ring layout: frame pixel (i, j) at ((x + i) mod w, (y + j) mod h); a pan moves no byte,
+   * reports no shift, and the ring read at the offset is the full renderer's frame. */
+  CHECK(par2d_set_buffer_layout(r, PAR2D_LAYOUT_RING) == PAR2D_OK);
+  CHECK(par2d_set_buffer_layout(r, (par2d_buffer_layout)7) == PAR2D_INVALID_ARGUMENT);
+  const int64_t ring_path[][2] = {{510, -60}, {515, -52}, {400, -52}};
+  for (size_t f = 0; f < sizeof ring_path / sizeof ring_path[0]; ++f) {
+    CHECK(par2d_set_view_offset(r, ring_path[f][0], ring_path[f][1]) == PAR2D_OK);
+    CHECK(par2d_set_view_offset(full, ring_path[f][0], ring_path[f][1]) == PAR2D_OK);
+    CHECK(par2d_render(r, a, PAR2D_BGRA8_SRGB_DITHERED, SW * 4, 1.0, NULL) == PAR2D_OK);
+    CHECK(par2d_render(full, b, PAR2D_BGRA8_SRGB_DITHERED, SW * 4, 1.0, NULL) == PAR2D_OK);
+    int dx = 99, dy = 99, same = 1;
+    CHECK(par2d_frame_shift(r, &dx, &dy) == PAR2D_OK && dx == 0 && dy == 0);
+    const int rx = (int)(((ring_path[f][0] % SW) + SW) % SW), ry = (int)(((ring_path[f][1] % SH) + SH) % SH);
+    for (int y = 0; y < SH; ++y)
+      for (int x = 0; x < SW; ++x)
+        same = same && memcmp(&a[(((size_t)(ry + y) % SH) * SW + (size_t)(rx + x) % SW) * 4], &b[((size_t)y * SW + x) * 4], 4) == 0;
+    CHECK(same);
+  }
+  const int region[4] = {0, 0, 10, 10};
+  CHECK(par2d_render(r, a, PAR2D_BGRA8_SRGB_DITHERED, SW * 4, 1.0, region) == PAR2D_INVALID_ARGUMENT);
+  CHECK(strstr(par2d_last_error(), "BufferLayout::image") != NULL);
+  CHECK(par2d_set_buffer_layout(r, PAR2D_LAYOUT_IMAGE) == PAR2D_OK);
+
   /* par2d_set_frame starts again at offset 0. */
   CHECK(par2d_set_frame(r, SW, SH, view) == PAR2D_OK);
   CHECK(par2d_get_view_offset(r, &x, &y) == PAR2D_OK && x == 0 && y == 0);

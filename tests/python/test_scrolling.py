@@ -70,3 +70,26 @@ def test_bad_offsets_are_refused_and_set_frame_starts_again():
     assert r.view_offset == (5, 6)
     r.set_frame(W, H, (0, 0, 80, 48))
     assert r.view_offset == (0, 0)
+
+
+def test_a_ring_buffer_holds_each_grid_pixel_in_one_place():
+    r = world()
+    r.incremental = True
+    r.buffer_layout = "ring"
+    assert r.buffer_layout == "ring"
+    out = r.render()
+    for offset in PATH:
+        before = out.copy()
+        r.set_view_offset(*offset)
+        r.render(out=out)
+        assert r.frame_shift == (0, 0)
+        # Read at the offset, the ring is the frame a renderer at that offset renders.
+        shown = np.roll(out, (-(offset[1] % H), -(offset[0] % W)), axis=(0, 1))
+        assert np.array_equal(shown.view(np.uint8), world(offset).render().view(np.uint8))
+        written = np.zeros((H, W), dtype=bool)
+        for x0, y0, x1, y1 in r.dirty_rects:
+            assert not written[y0:y1, x0:x1].any()  # disjoint
+            written[y0:y1, x0:x1] = True
+        assert np.array_equal(out[~written], before[~written])  # nothing else moved
+    with pytest.raises(par2d.Error, match="^buffer_layout: "):
+        r.buffer_layout = "spiral"
