@@ -8,11 +8,11 @@
 // With --scroll the camera pans across a level wider and taller than the screen at a speed of
 // no whole number of pixels. The lightmap is one pixel larger than the screen and sits on the
 // world's pixel grid (Renderer::set_view_offset at the camera's whole pixels): each frame
-// computes only the bands the pan uncovers (and what the torches changed). The light texture is
-// a ring on that grid (GL_REPEAT, texel = grid pixel modulo its size), so the pixels it holds
-// never move on the GPU: only the rectangles par2d wrote are uploaded, each to where its grid
-// pixels fall on the ring, and the shader samples the ring bilinearly at the camera's sub-pixel
-// remainder, which keeps the light as smooth as the sprites under it.
+// computes only the bands the pan uncovers (and what the torches changed). Buffer and texture
+// are a ring on that grid (BufferLayout::ring; GL_REPEAT: grid pixel g at g modulo the size),
+// so no pixel ever moves: the rectangles par2d wrote are uploaded where they are, and the
+// shader samples the ring bilinearly at the camera's sub-pixel remainder, which keeps the
+// light as smooth as the sprites under it.
 // Build (installed par2d): see CMakeLists.txt here. Run: par2d_lightmap_gl [--mode multiply|hdr]
 // [--scroll] [--frames N] [--exposure E] [--screenshot OUT.ppm] [--sprites OUT.ppm]
 // [--scene OUT.json] [--lightmap OUT.json]
@@ -174,6 +174,8 @@ int main(int argc, char** argv) {
   par2d::Renderer renderer;
   if (par2d::Status s = renderer.set_frame(light_width, light_height); !s) return fail(s.message());
   if (par2d::Status s = renderer.set_incremental(true); !s) return fail(s.message());
+  if (par2d::Status s = renderer.set_buffer_layout(scroll ? par2d::BufferLayout::ring : par2d::BufferLayout::image); !s)
+    return fail(s.message());
   auto wall = [&](double x0, double y0, double x1, double y1) {
     par2d::OccluderHandle h;
     return renderer.add_occluder({par2d::Polygon{{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}}}, &h);
@@ -296,24 +298,15 @@ int main(int argc, char** argv) {
     if (!s) return fail(s.message());
 
     // Upload only what changed (the first frame: all of it; a frame where nothing moved:
-    // nothing). Buffer pixel (i, j) is grid pixel (offset + i, offset + j), at texel
-    // (offset + i, offset + j) modulo the ring's size: a rectangle splits where the ring wraps.
-    // The pixels a pan kept are already on the ring, wherever the buffer moved them.
+    // nothing). With --scroll the buffer is the ring the texture is: the rectangles are in its
+    // coordinates, and the pixels a pan kept are already where the texture has them.
     glActiveTexture(GL_TEXTURE1);
-    const auto ring = [](std::int64_t p, int size) { return static_cast<int>(((p % size) + size) % size); };
     for (const par2d::PixelRect& r : renderer.dirty_rects()) {
       uploaded += static_cast<long long>(r.x1 - r.x0) * (r.y1 - r.y0);
-      for (int y = r.y0; y < r.y1;) {
-        const int ty = ring(offset_y + y, light_height), rows = std::min(r.y1 - y, light_height - ty);
-        for (int x = r.x0; x < r.x1;) {
-          const int tx = ring(offset_x + x, light_width), columns = std::min(r.x1 - x, light_width - tx);
-          glPixelStorei(GL_UNPACK_SKIP_PIXELS, x);
-          glPixelStorei(GL_UNPACK_SKIP_ROWS, y);
-          glTexSubImage2D(GL_TEXTURE_2D, 0, tx, ty, columns, rows, GL_RGBA, hdr ? GL_FLOAT : GL_UNSIGNED_BYTE, light.data());
-          x += columns;
-        }
-        y += rows;
-      }
+      glPixelStorei(GL_UNPACK_SKIP_PIXELS, r.x0);
+      glPixelStorei(GL_UNPACK_SKIP_ROWS, r.y0);
+      glTexSubImage2D(GL_TEXTURE_2D, 0, r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0, GL_RGBA,
+                      hdr ? GL_FLOAT : GL_UNSIGNED_BYTE, light.data());
     }
     glUniform2f(camera_uniform, static_cast<float>(camera_x), static_cast<float>(camera_y));
     glClear(GL_COLOR_BUFFER_BIT);
