@@ -380,6 +380,13 @@ TEST_CASE("incremental frames over longer sequences and more levels, every ISA" 
       const Outcome o = run_sequence(seed * 7919u, frames, options, 96 + grow * static_cast<int>(seed),
                                      80 + grow * static_cast<int>(seed));
       CHECK(o.partial > 0);
+      // The same levels panned, into an image and into a ring (shorter: each frame is
+      // compared with a new renderer's).
+      const int panned = isa == Isa::scalar ? 12 : 150;
+      const BufferLayout layout = seed % 2 ? BufferLayout::image : BufferLayout::ring;
+      const Outcome p = run_sequence(seed * 104729u, panned, options, 96 + grow * static_cast<int>(seed),
+                                     80 + grow * static_cast<int>(seed), 0, true, layout);
+      CHECK(p.frames == panned);
     }
   }
 }

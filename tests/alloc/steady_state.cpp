@@ -212,6 +212,43 @@ int run_random_motion(const char* what, int threads) {
   return (g_news.load() == 0 && g_mallocs.load() == 0) ? 0 : 1;
 }
 
+// A camera panning over the level (Renderer::set_view_offset) while the torches move, with
+// incremental frames, into an image (kept pixels moved in place) or a ring buffer. The
+// warm-up pans far enough to meet the most blocks a frame of this size spans on the grid.
+int run_scrolling(const char* what, par2d::BufferLayout layout) {
+  par2d::Renderer r;
+  par2d::RenderOptions o;
+  o.threads = 2;
+  const int width = 320, height = 176;
+  std::vector<par2d::LightHandle> torches;
+  if (!r.set_options(o).ok() || !r.set_scene(par2d::bench::game_level(width, height), &torches).ok() ||
+      !r.set_incremental(true).ok() || !r.set_buffer_layout(layout).ok())
+    return 1;
+  std::vector<unsigned char> pixels(static_cast<std::size_t>(width) * height * 4);
+  const par2d::FrameBuffer buffer{pixels.data(), par2d::PixelFormat::rgba8_srgb, width * 4, 1.5};
+  bool ok = true;
+  auto pan = [&](int f, int step) {
+    for (int t = 0; t < par2d::bench::kTorches; ++t)
+      ok = ok && r.update_light(torches[static_cast<std::size_t>(t)], par2d::bench::torch_at(t, f)).ok();
+    ok = ok && r.set_view_offset(step * f, (step * f) / 2).ok() && r.render(buffer).ok();
+  };
+  for (int f = 0; f < kFrames; ++f) pan(f, 9);  // offsets up to 63: every block count
+  const int threads_before = thread_count();
+  g_news = 0;
+  g_mallocs = 0;
+  g_armed = true;
+  for (int f = kFrames; f < 3 * kFrames; ++f) pan(f, 3);
+  g_armed = false;
+  const int threads_after = thread_count();
+  std::printf("%s, %dx%d: %d panned frames: %ld operator new, %ld malloc/calloc/realloc, threads %d -> %d\n", what, width,
+              height, 2 * kFrames, g_news.load(), g_mallocs.load(), threads_before, threads_after);
+  if (!ok) {
+    std::printf("%s: a frame failed\n", what);
+    return 1;
+  }
+  return (g_news.load() == 0 && g_mallocs.load() == 0 && threads_after == threads_before) ? 0 : 1;
+}
+
 }  // namespace
 
 int main() {
@@ -241,6 +278,8 @@ int main() {
   }
   failures += run_random_motion("random motion, 1 thread", 1);
   failures += run_random_motion("random motion, 2 threads", 2);
+  failures += run_scrolling("panning, image layout", par2d::BufferLayout::image);
+  failures += run_scrolling("panning, ring layout", par2d::BufferLayout::ring);
   std::printf(failures == 0 ? "steady state: no allocation, no new thread\n" : "steady state: FAILED\n");
   return failures == 0 ? 0 : 1;
 }
