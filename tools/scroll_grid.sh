@@ -6,8 +6,9 @@
 # camera panning 4 px a frame right, down, diagonally, nothing else changing), m (g while the
 # level's first N/32 lights move, at least one), b (those lights moving, no pan: what the
 # motion alone costs), g with the light-layer cache (64 MiB) over g without it, and G and M:
-# g and m into a ring buffer (BufferLayout::ring: the kept pixels do not move). The buffer is
-# float RGB (12 bytes a pixel), the benchmark's.
+# g and m into a ring buffer (BufferLayout::ring: the kept pixels do not move), and M with the
+# light-layer cache (the lights that do not move are recombined from their layers). The buffer
+# is float RGB (12 bytes a pixel), the benchmark's.
 #
 # Usage: tools/scroll_grid.sh BUILD_DIR [OUT_DIR]     (THREADS=2, ISA=best by default)
 # Prints a markdown table (docs/performance.md, "Scrolling").
@@ -26,8 +27,8 @@ median() {
 }
 share() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.1f %%", 100 * a / b }'; }
 
-echo "| level (1920 x 1080, $threads threads) | lights, occluders | full (ms) | h | v | g | m | b (no pan) | g cached / g | G (ring) | M (ring) |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|"
+echo "| level (1920 x 1080, $threads threads) | lights, occluders | full (ms) | h | v | g | m | b (no pan) | g cached / g | G (ring) | M (ring) | M (ring, cached) |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 while IFS='|' read -r name args; do
   [[ -z $name ]] && continue
   if [[ $args == examples/* ]]; then
@@ -47,7 +48,8 @@ while IFS='|' read -r name args; do
   gc=$(median g 40 64 "$level")
   gr=$(median G 40 0 "$level")
   mr=$(median M 20 0 "$level")
-  echo "| $name | ${counts/ /, } | $full | $(share "$h" "$full") | $(share "$v" "$full") | $(share "$g" "$full") | $(share "$m" "$full") | $(share "$b" "$full") | $(awk -v a="$gc" -v b="$g" 'BEGIN { printf "%.2f", a / b }') | $(share "$gr" "$full") | $(share "$mr" "$full") |"
+  mc=$(median M 20 64 "$level")
+  echo "| $name | ${counts/ /, } | $full | $(share "$h" "$full") | $(share "$v" "$full") | $(share "$g" "$full") | $(share "$m" "$full") | $(share "$b" "$full") | $(awk -v a="$gc" -v b="$g" 'BEGIN { printf "%.2f", a / b }') | $(share "$gr" "$full") | $(share "$mr" "$full") | $(share "$mc" "$full") |"
 done <<'LEVELS'
 dungeon (examples)|examples/dungeon.json
 tilemap, 32 px cells, 64 torches, range 96|walls --tile 32 --style tilemap --torches 64 --range 96
