@@ -598,13 +598,16 @@ static void check_parity_with_the_cpp_renderer(const char* dir) {
   CHECK(par2d_render(r, other, PAR2D_RGB_F32, 40 * 12, 1.0, NULL) == PAR2D_OK);
   CHECK(memcmp(pool, other, sizeof(float) * n) == 0);
 #else
-  /* A build without TBB has no caller's arena: the mode is refused and the options kept. */
+  /* A build without TBB has no caller's arena: the mode is refused and the options kept
+   * (the scalar ISA set above among them). */
   CHECK(par2d_set_advanced_options(r, &advanced) == PAR2D_INVALID_ARGUMENT);
   CHECK(strstr(par2d_last_error(), "threading caller_arena needs par2d built with TBB") != NULL);
-  CHECK(par2d_get_advanced_options(r, &advanced) == PAR2D_OK && advanced.threading == PAR2D_THREADING_OWN_POOL);
+  CHECK(par2d_get_advanced_options(r, &advanced) == PAR2D_OK && advanced.threading == PAR2D_THREADING_OWN_POOL &&
+        advanced.isa == PAR2D_ISA_SCALAR);
+  advanced.isa = PAR2D_ISA_DEFAULT;
+  CHECK(par2d_set_advanced_options(r, &advanced) == PAR2D_OK);
   CHECK(par2d_render(r, other, PAR2D_RGB_F32, 40 * 12, 1.0, NULL) == PAR2D_OK);
   CHECK(memcmp(pool, other, sizeof(float) * n) == 0);
-  advanced.threading = PAR2D_THREADING_CALLER_ARENA;
 #endif
   advanced.isa = (par2d_isa)9;
   CHECK_ERROR(par2d_set_advanced_options(r, &advanced), PAR2D_INVALID_ARGUMENT,
