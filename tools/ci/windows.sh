@@ -38,7 +38,7 @@ fail() { echo "windows.sh: $*" >&2; exit 1; }
 # only Windows' own DLLs (the GCC runtime is linked in statically: the toolchain file).
 dump=$(x86_64-w64-mingw32-objdump -p "$out/libpar2d.dll")
 declared=$(grep -oE '^PAR2D_C_API [^(]*\(' include/par2d/par2d.h | grep -oE 'par2d_[a-z0-9_]+\($' | tr -d '(' | sort)
-exported=$(sed -n '/\[Ordinal\/Name Pointer\] Table/,/^$/p' <<<"$dump" | grep -oE 'par2d_[a-z0-9_]+$' | sort)
+exported=$(sed -n '/\[Ordinal\/Name Pointer\] Table/,/^$/p' <<<"$dump" | awk '/^[[:space:]]*\[ *[0-9]+\]/ {print $NF}' | sort)
 [[ -n $declared && $declared == "$exported" ]] ||
   fail "libpar2d.dll exports $(wc -w <<<"$exported") functions, par2d.h declares $(wc -w <<<"$declared"): $(comm -3 <(echo "$declared") <(echo "$exported") | tr '\n' ' ')"
 for binary in "$out/libpar2d.dll" "$out/game_loop.exe"; do
@@ -52,7 +52,7 @@ if [[ ! -f $NATIVE/CMakeCache.txt ]]; then
   cmake -S . -B "$NATIVE" -DPAR2D_BUILD_TESTS=OFF -DPAR2D_BUILD_BENCH=OFF >/dev/null
 fi
 cmake --build "$NATIVE" -j"$JOBS" --target par2d_shared par2d_image_diff
-cc -std=c99 -O2 -Iinclude examples/embed_c/game_loop.c -L"$NATIVE/src" -lpar2d -Wl,-rpath,"$PWD/$NATIVE/src" -lm \
+cc -std=c99 -O2 -Iinclude examples/embed_c/game_loop.c -L"$NATIVE/src" -lpar2d -Wl,-rpath,"$(cd "$NATIVE/src" && pwd)" -lm \
   -o "$out/game_loop_native"
 
 # wine: a fresh prefix in a temporary folder, its messages off. A console program needs no X server.
