@@ -19,9 +19,10 @@ set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY ONLY)
 set(CMAKE_FIND_ROOT_PATH_MODE_INCLUDE ONLY)
 set(CMAKE_FIND_ROOT_PATH_MODE_PACKAGE ONLY)
 
-# 64-bit Windows aligns the stack to 16 bytes, and GCC cannot realign it for the 32- and 64-byte
-# AVX spills its aligned moves expect, so aligned moves to the stack would fault. The assembler
-# writes every aligned vector move as its unaligned form (as fast on aligned data).
+# 64-bit Windows aligns the stack to 16 bytes, and GCC does not realign it for 32- and 64-byte
+# AVX stack slots, so an aligned move to one can fault. The assembler writes every aligned
+# vector move as its unaligned form (as fast on aligned data). Without it GCC 12 left two such
+# moves relative to rsp/rbp in the DLL (they did not fault in the gate's runs).
 set(CMAKE_C_FLAGS_INIT "-Wa,-muse-unaligned-vector-move")
 set(CMAKE_CXX_FLAGS_INIT "-Wa,-muse-unaligned-vector-move")
 # The GCC runtime (libstdc++, libgcc, winpthreads) linked in: par2d's DLL and programs need only
