@@ -1,7 +1,9 @@
 // par2d::Renderer: persistent world updates against one-shot renders, index and reach
 // bookkeeping, refused updates, pixel formats, regions and threading modes.
 #include <doctest/doctest.h>
+#if PAR2D_HAVE_TBB
 #include <tbb/task_arena.h>
+#endif
 
 #include <algorithm>
 #include <cmath>
@@ -428,6 +430,7 @@ TEST_CASE("threading: own pool of N, resolved thread count, and rendering inside
 
   o.threading = Threading::caller_arena;
   Renderer hosted;
+#if PAR2D_HAVE_TBB
   REQUIRE(hosted.set_options(o).ok());
   REQUIRE(hosted.set_scene(level).ok());
   tbb::task_arena host(3);
@@ -439,6 +442,13 @@ TEST_CASE("threading: own pool of N, resolved thread count, and rendering inside
   });
   CHECK(seen_threads == 3);
   CHECK(same_bits(image, reference));
+#else
+  // A build without TBB has no caller's arena to run in: the mode is refused, not emulated.
+  const Status refused = hosted.set_options(o);
+  CHECK(refused.code() == StatusCode::invalid_argument);
+  CHECK(refused.message() ==
+        "set_options: threading caller_arena needs par2d built with TBB (this build schedules on std::threads)");
+#endif
 }
 
 TEST_CASE("OccluderBvh updated in place (refit, insert, remove) answers as a fresh build and as brute force") {

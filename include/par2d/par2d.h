@@ -11,8 +11,17 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* What the shared library exports. On Windows: dllexport while par2d itself is built
+ * (PAR2D_BUILDING, set by its CMake), dllimport in a program using par2d's DLL, and nothing in
+ * one linking the static library (define PAR2D_STATIC; CMake's par2d target sets it). */
 #if defined(_WIN32)
+#if defined(PAR2D_STATIC)
 #define PAR2D_C_API
+#elif defined(PAR2D_BUILDING)
+#define PAR2D_C_API __declspec(dllexport)
+#else
+#define PAR2D_C_API __declspec(dllimport)
+#endif
 #else
 #define PAR2D_C_API __attribute__((visibility("default")))
 #endif
@@ -302,7 +311,8 @@ typedef enum par2d_isa {
 typedef enum par2d_threading {
   PAR2D_THREADING_OWN_POOL = 0,    /* default: the renderer's pool of par2d_options.threads workers */
   PAR2D_THREADING_CALLER_ARENA = 1 /* the TBB arena par2d_render is called from (a C++ host calling it
-                                      inside tbb::task_arena::execute); threads is ignored */
+                                      inside tbb::task_arena::execute); threads is ignored. A par2d
+                                      built without TBB refuses it: PAR2D_INVALID_ARGUMENT */
 } par2d_threading;
 
 /* Which terms of a scene with one bounce a frame outputs (docs/contract.md section 7). */

@@ -17,7 +17,8 @@ enum class Threading {
   // makes one in set_options and keeps it.
   own_pool,
   // The TBB arena render is called from: the host calls render inside its own
-  // tbb::task_arena::execute, and `threads` is ignored.
+  // tbb::task_arena::execute, and `threads` is ignored. A par2d built without TBB
+  // (docs/platforms.md) refuses it with invalid_argument.
   caller_arena,
 };
 

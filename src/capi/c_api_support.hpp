@@ -28,7 +28,10 @@ struct par2d_renderer {
 
 namespace par2d::capi {
 
-inline thread_local std::string g_last_error;
+// The calling thread's last error message (par2d_last_error). Defined once in par2d_c.cpp: an
+// inline thread_local with a constructor gets its TLS init function defined in every object
+// that uses it under MinGW's emulated TLS, which the linker then refuses as duplicates.
+extern thread_local std::string g_last_error;
 
 // The message with the C function's name in front (`par2d_add_light: shape is null`). A
 // library message that already starts with the C++ call's name (`set_ambient: ...` from

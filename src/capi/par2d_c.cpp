@@ -16,6 +16,10 @@
 #include "par2d/scene_write.hpp"
 #include "par2d/version.hpp"
 
+namespace par2d::capi {
+thread_local std::string g_last_error;
+}  // namespace par2d::capi
+
 using namespace par2d::capi;
 
 // The SONAME is the version's major.minor (src/CMakeLists.txt); par2d.h names that ABI.

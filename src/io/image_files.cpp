@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "io/file_compat.hpp"
 #include "io/output_file.hpp"
 #include "io/pixel_encoding.hpp"
 #include "par2d/image_io.hpp"
@@ -133,15 +134,15 @@ Status write_pfm_rows(detail::OutputFile& file, const ImageView& image) {
 bool same_target(const detail::OutputFile& a, const detail::OutputFile& b) {
   if (a.path() == "-" || b.path() == "-") return a.path() == b.path();
   if (a.inode() != 0 && a.inode() == b.inode() && a.device() == b.device()) return true;
-  char ra[PATH_MAX], rb[PATH_MAX];
+  std::string ra, rb;
   // Neither exists yet: the same directory (by identity) and the same name.
   const std::size_t sa = a.target().rfind('/'), sb = b.target().rfind('/');
   const std::string da = sa == std::string::npos ? "." : a.target().substr(0, sa + 1);
   const std::string db = sb == std::string::npos ? "." : b.target().substr(0, sb + 1);
   const std::string na = sa == std::string::npos ? a.target() : a.target().substr(sa + 1);
   const std::string nb = sb == std::string::npos ? b.target() : b.target().substr(sb + 1);
-  if (na != nb || ::realpath(da.c_str(), ra) == nullptr || ::realpath(db.c_str(), rb) == nullptr) return false;
-  return std::strcmp(ra, rb) == 0;
+  if (na != nb || !detail::canonical_path(da, ra) || !detail::canonical_path(db, rb)) return false;
+  return ra == rb;
 }
 
 }  // namespace
@@ -161,7 +162,7 @@ Status write_images(const std::vector<ImageOutput>& outputs, const ImageView& sh
           return {StatusCode::invalid_argument, out.path + ": image too large for PNG"};
       }
       // Checked before any file is opened: a temporary opened first could take descriptor 1.
-      if (out.path == "-" && ::fcntl(STDOUT_FILENO, F_GETFD) == -1)
+      if (out.path == "-" && detail::stdout_closed())
         return {StatusCode::io_error, "-: cannot write: standard output is closed"};
     }
     std::vector<std::unique_ptr<detail::OutputFile>> files;

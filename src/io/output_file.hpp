@@ -21,6 +21,8 @@ namespace par2d::detail {
 // Symbolic links are followed to their final target (a dangling link gets its target
 // created). A regular file the user may not write is refused, as is anything else
 // (directories, sockets).
+// On Windows (output_file_windows.cpp) the same, with what it has: always a named temporary,
+// moved over the target at commit; no links followed, no permission bits or owner copied.
 class OutputFile {
  public:
   OutputFile() = default;
@@ -53,9 +55,11 @@ class OutputFile {
   bool is_stdout_ = false;
   bool unnamed_ = false;
   bool existed_ = false;
+#ifndef _WIN32
   mode_t mode_ = 0;
   uid_t uid_ = 0;
   gid_t gid_ = 0;
+#endif
   dev_t dev_ = 0;
   ino_t ino_ = 0;
 };

@@ -2,16 +2,16 @@
 // lights' reach proofs run through for_each_index (directly, or through a Scheduler's arena).
 #pragma once
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-
 #if PAR2D_STD_THREADS
 #include <atomic>
 #include <exception>
 #include <mutex>
 #include <thread>
 #include <vector>
+#else
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 #endif
 
 namespace par2d::detail {
@@ -19,10 +19,11 @@ namespace par2d::detail {
 // Runs fn(index, worker) for every index in [0, count) on `threads` workers; `worker` in
 // [0, threads) names the calling worker, so per-worker state can live in a plain array.
 //
-// The scheduler is TBB. Builds with PAR2D_STD_THREADS (the ThreadSanitizer build) use
-// plain std::threads taking indices from an atomic counter instead: Debian's libtbb
-// is not built with TSan, so TSan cannot see TBB's synchronization, while it sees
-// std::thread's join. Everything the workers run is the same code either way.
+// The scheduler is TBB. Builds with PAR2D_STD_THREADS (builds without TBB, and the
+// ThreadSanitizer build) use plain std::threads taking indices from an atomic counter instead:
+// Debian's libtbb is not built with TSan, so TSan cannot see TBB's synchronization, while it
+// sees std::thread's join. Everything the workers run is the same code either way, and each
+// index's result depends on its index alone, so the bytes are the same.
 template <class Fn>
 void for_each_index(int count, int threads, Fn&& fn) {
 #if PAR2D_STD_THREADS

@@ -1,14 +1,18 @@
 // Where a frame's parallel work runs: a persistent TBB arena owned by the renderer, or the
-// arena the host called from. Made once (Renderer::set_options), never per frame.
+// arena the host called from. Made once (Renderer::set_options), never per frame. Builds with
+// PAR2D_STD_THREADS run the same indices on std::threads (parallel_for.hpp) instead.
 #pragma once
 
+#if !PAR2D_STD_THREADS
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#endif
 
 #include <memory>
 
 #include "par2d/types.hpp"
+#include "parallel/concurrency.hpp"
 #include "parallel/parallel_for.hpp"
 
 namespace par2d::detail {
@@ -19,8 +23,8 @@ class Scheduler {
   void configure(int threads, Threading threading) {
     threading_ = threading;
     threads_ = threads;
-    arena_.reset();
 #if !PAR2D_STD_THREADS
+    arena_.reset();
     if (threading == Threading::own_pool) {
       arena_ = std::make_unique<tbb::task_arena>(threads);
       arena_->initialize();  // its threads start now, not on the first frame
@@ -32,7 +36,7 @@ class Scheduler {
 
   // The number of distinct worker indices for_each_index may pass from this thread.
   int workers() const noexcept {
-    if (threading_ == Threading::caller_arena) return tbb::this_task_arena::max_concurrency();
+    if (threading_ == Threading::caller_arena) return calling_concurrency();
     return threads_;
   }
 
@@ -60,7 +64,9 @@ class Scheduler {
  private:
   Threading threading_ = Threading::own_pool;
   int threads_ = 0;
+#if !PAR2D_STD_THREADS
   std::unique_ptr<tbb::task_arena> arena_;
+#endif
 };
 
 }  // namespace par2d::detail

@@ -1,14 +1,13 @@
 // The argument checks every entry shares, and how options resolve to an ISA and a worker count.
 #include "render/render_arguments.hpp"
 
-#include <tbb/task_arena.h>
-
 #include <algorithm>
 #include <cmath>
 #include <string>
 #include <thread>
 
 #include "par2d/isa.hpp"
+#include "parallel/concurrency.hpp"
 
 namespace par2d {
 namespace {
@@ -22,7 +21,7 @@ namespace detail {
 
 int worker_threads(int requested) noexcept {
   const int hardware = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  if (requested == 0) return tbb::this_task_arena::max_concurrency();
+  if (requested == 0) return calling_concurrency();
   return std::min(requested, hardware);  // more only adds scheduling overhead
 }
 
@@ -40,6 +39,8 @@ Status check_options(const RenderOptions& options, const char* who) {
     return bad("unknown backend " + std::to_string(static_cast<int>(options.backend)));
   if (options.threading != Threading::own_pool && options.threading != Threading::caller_arena)
     return bad("unknown threading " + std::to_string(static_cast<int>(options.threading)));
+  if (options.threading == Threading::caller_arena && !kCallerArena)
+    return bad("threading caller_arena needs par2d built with TBB (this build schedules on std::threads)");
   if (options.bounce != BounceTerm::included && options.bounce != BounceTerm::excluded &&
       options.bounce != BounceTerm::only)
     return bad("unknown bounce term " + std::to_string(static_cast<int>(options.bounce)));
@@ -98,7 +99,7 @@ Isa resolved_isa(const RenderOptions& options) noexcept {
 }
 
 int resolved_threads(const RenderOptions& options) noexcept {
-  if (options.threading == Threading::caller_arena) return tbb::this_task_arena::max_concurrency();
+  if (options.threading == Threading::caller_arena) return detail::calling_concurrency();
   return detail::worker_threads(std::max(0, options.threads));
 }
 

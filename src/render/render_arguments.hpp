@@ -8,7 +8,8 @@
 
 namespace par2d::detail {
 
-// Workers for `requested` threads: 0 means TBB's concurrency from the calling thread; more
+// Workers for `requested` threads: 0 means the calling thread's concurrency (TBB's, or the
+// hardware threads in a build without TBB: parallel/concurrency.hpp); more
 // than the hardware threads are capped there.
 int worker_threads(int requested) noexcept;
 

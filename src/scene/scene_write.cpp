@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -14,6 +15,8 @@
 #include <variant>
 
 #include <nlohmann/json.hpp>
+
+#include "io/file_compat.hpp"
 
 namespace par2d {
 namespace {
@@ -254,12 +257,12 @@ Status save_scene_file(const std::string& path, const Scene& scene) {
   // Written to a sibling and renamed (atomic on POSIX), so an editor or the viewer's file
   // watch never sees half a scene, and a failed write leaves the old file as it was.
   const std::string temp = path + ".tmp" + std::to_string(::getpid());
-  int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | detail::kOpenFlags, 0666);
   if (fd < 0) return {StatusCode::io_error, errno_text(path, "cannot create", errno)};
   const char* bytes = text.data();
   std::size_t left = text.size();
   while (left > 0) {
-    ssize_t n = ::write(fd, bytes, left);
+    const auto n = ::write(fd, bytes, static_cast<unsigned>(std::min<std::size_t>(left, std::size_t{1} << 30)));
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) {
       int err = errno;
@@ -270,7 +273,7 @@ Status save_scene_file(const std::string& path, const Scene& scene) {
     bytes += n;
     left -= static_cast<std::size_t>(n);
   }
-  if (::close(fd) != 0 || ::rename(temp.c_str(), path.c_str()) != 0) {
+  if (::close(fd) != 0 || detail::replace_file(temp, path) != 0) {
     int err = errno;
     ::unlink(temp.c_str());
     return {StatusCode::io_error, errno_text(path, "cannot write", err)};

@@ -591,11 +591,24 @@ static void check_parity_with_the_cpp_renderer(const char* dir) {
   CHECK(par2d_get_advanced_options(r, &advanced) == PAR2D_OK && advanced.isa == PAR2D_ISA_SCALAR);
   advanced.isa = PAR2D_ISA_DEFAULT;
   advanced.threading = PAR2D_THREADING_CALLER_ARENA;
+#if PAR2D_HAVE_TBB
   CHECK(par2d_set_advanced_options(r, &advanced) == PAR2D_OK);
   CHECK(par2d_get_advanced_options(r, &advanced) == PAR2D_OK && advanced.threading == PAR2D_THREADING_CALLER_ARENA);
   /* From a plain thread the caller's arena is TBB's implicit one: the same bytes. */
   CHECK(par2d_render(r, other, PAR2D_RGB_F32, 40 * 12, 1.0, NULL) == PAR2D_OK);
   CHECK(memcmp(pool, other, sizeof(float) * n) == 0);
+#else
+  /* A build without TBB has no caller's arena: the mode is refused and the options kept
+   * (the scalar ISA set above among them). */
+  CHECK(par2d_set_advanced_options(r, &advanced) == PAR2D_INVALID_ARGUMENT);
+  CHECK(strstr(par2d_last_error(), "threading caller_arena needs par2d built with TBB") != NULL);
+  CHECK(par2d_get_advanced_options(r, &advanced) == PAR2D_OK && advanced.threading == PAR2D_THREADING_OWN_POOL &&
+        advanced.isa == PAR2D_ISA_SCALAR);
+  advanced.isa = PAR2D_ISA_DEFAULT;
+  CHECK(par2d_set_advanced_options(r, &advanced) == PAR2D_OK);
+  CHECK(par2d_render(r, other, PAR2D_RGB_F32, 40 * 12, 1.0, NULL) == PAR2D_OK);
+  CHECK(memcmp(pool, other, sizeof(float) * n) == 0);
+#endif
   advanced.isa = (par2d_isa)9;
   CHECK_ERROR(par2d_set_advanced_options(r, &advanced), PAR2D_INVALID_ARGUMENT,
               "par2d_set_advanced_options: isa 9 is not PAR2D_ISA_DEFAULT or a PAR2D_ISA_* level");
@@ -603,7 +616,11 @@ static void check_parity_with_the_cpp_renderer(const char* dir) {
   advanced.threading = (par2d_threading)5;
   CHECK_ERROR(par2d_set_advanced_options(r, &advanced), PAR2D_INVALID_ARGUMENT,
               "par2d_set_advanced_options: threading 5 is not PAR2D_THREADING_OWN_POOL or PAR2D_THREADING_CALLER_ARENA");
+#if PAR2D_HAVE_TBB
   CHECK(par2d_get_advanced_options(r, &advanced) == PAR2D_OK && advanced.threading == PAR2D_THREADING_CALLER_ARENA);
+#else
+  CHECK(par2d_get_advanced_options(r, &advanced) == PAR2D_OK && advanced.threading == PAR2D_THREADING_OWN_POOL);
+#endif
   par2d_advanced_options_default(&advanced);
   CHECK(par2d_set_advanced_options(r, &advanced) == PAR2D_OK);
   CHECK(strcmp(par2d_isa_name(PAR2D_ISA_AVX2), "avx2") == 0 && strcmp(par2d_isa_name(PAR2D_ISA_DEFAULT), "") == 0);
