@@ -190,6 +190,9 @@ class Renderer {
 
   // The world as a Scene: lights that emit (in the renderer's internal order), then dark
   // ones, then occluders. Rendering it with par2d::render gives the same image.
+  // At a view offset other than (0, 0) the snapshot's view is the one shown (view()); a
+  // render of it places its tiles on its own frame, not on this renderer's grid, so it agrees
+  // within docs/contract.md section 5 rather than bit for bit.
   Scene snapshot() const;
 
   RendererStats stats() const noexcept;
