@@ -707,7 +707,8 @@ void bind_renderer(py::module_& m) {
            "(a PNG's size is checked from its header before a pixel is decoded; before the first set_frame, any\n"
            "size up to 16384 per side).")
       .def("clear_normal_source", &PyRenderer::clear_normal_source, "No normal source: plain irradiance.")
-      .def("snapshot", &PyRenderer::snapshot, "The world as a Scene; par2d.render of it gives the same image.")
+      .def("snapshot", &PyRenderer::snapshot, "The world as a Scene; par2d.render of it gives the same image (at a view offset other than\n"
+           "(0, 0): within the contract's accuracy bound, its tiles placed on its own frame).")
       .def_property_readonly("stats", &PyRenderer::stats,
                              "dict: frames, index_builds, index_updates, reach_computations, full_prepares.")
       .def_property("incremental", &PyRenderer::incremental, &PyRenderer::set_incremental,

@@ -15,45 +15,12 @@
 
 #include "io/file_compat.hpp"
 #include "io/output_file.hpp"
+#include "io/pending_outputs.hpp"
 #include "par2d/image_io.hpp"
 
 namespace par2d {
 namespace detail {
 namespace {
-
-// Names of temporaries that exist on disk, for remove_pending_outputs(), which may run in a
-// signal handler: fixed storage, lock-free atomics, no allocation. state: 0 free, 1 being
-// filled, 2 holds a name to delete.
-constexpr int kPendingSlots = 32;
-constexpr std::size_t kNameMax = 4096;
-struct PendingSlot {
-  std::atomic<int> state{0};
-  char name[kNameMax];
-};
-PendingSlot g_pending[kPendingSlots];
-
-int claim_pending(const std::string& name) noexcept {
-  if (name.size() >= kNameMax) return -1;
-  for (int i = 0; i < kPendingSlots; ++i) {
-    int expected = 0;
-    if (!g_pending[i].state.compare_exchange_strong(expected, 1)) continue;
-    std::memcpy(g_pending[i].name, name.c_str(), name.size() + 1);
-    g_pending[i].state.store(2);
-    return i;
-  }
-  return -1;  // more outputs at once than slots: still written, only not signal-cleaned
-}
-
-void release_pending(int& slot) noexcept {
-  if (slot >= 0) g_pending[slot].state.store(0);
-  slot = -1;
-}
-
-std::string errno_text(const std::string& path, const char* what, int err) {
-  return path + ": " + what + ": " + std::strerror(err);
-}
-
-Status io_error(std::string message) { return Status(StatusCode::io_error, std::move(message)); }
 
 std::string unique_sibling(const std::string& target) {
   static std::atomic<unsigned> counter{0};

@@ -719,12 +719,7 @@ static void check_parity_with_the_cpp_renderer(const char* dir) {
  * and the result equals a full frame of a second renderer byte for byte. */
 static void check_incremental_frames(void) {
   enum { IW = 256, IH = 192 };
-  par2d_options options;
-  par2d_options_default(&options);
-  options.threads = 2;
-  par2d_renderer *r = NULL, *full = NULL;
-  CHECK(par2d_renderer_create(&options, &r) == PAR2D_OK);
-  CHECK(par2d_renderer_create(&options, &full) == PAR2D_OK);
+  par2d_renderer *r = two_thread_renderer(0, 0), *full = two_thread_renderer(0, 0);
   if (r == NULL || full == NULL) return;
   par2d_renderer* both[2] = {r, full};
   const double white[3] = {1.0, 0.9, 0.8};
@@ -838,12 +833,7 @@ static par2d_shape polygon_shape(const double* xy, size_t count) {
  * byte a second renderer's full frame at the same offset; a refused offset keeps the old one. */
 static void check_scrolling(void) {
   enum { SW = 200, SH = 120 };
-  par2d_options options;
-  par2d_options_default(&options);
-  options.threads = 2;
-  par2d_renderer *r = NULL, *full = NULL;
-  CHECK(par2d_renderer_create(&options, &r) == PAR2D_OK);
-  CHECK(par2d_renderer_create(&options, &full) == PAR2D_OK);
+  par2d_renderer *r = two_thread_renderer(0, 0), *full = two_thread_renderer(0, 0);
   if (r == NULL || full == NULL) return;
   par2d_renderer* both[2] = {r, full};
   const double warm[3] = {1.0, 0.8, 0.6};
