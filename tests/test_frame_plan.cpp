@@ -6,9 +6,11 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 #include "culling/light_reach.hpp"
+#include "culling/reach_cache.hpp"
 #include "par2d/isa.hpp"
 #include "par2d/render.hpp"
 #include "parallel/scheduler.hpp"
@@ -367,4 +369,37 @@ TEST_CASE("plan_frame with a light-layer cache: blocks fill their layers, then r
   }
 }
 
+TEST_CASE("the reach cache across view offsets: kept while the radii tried stay, proven again when they change, as a fresh proof") {
+  const Scene scene = plan_scene(61u, false);
+  detail::World world;
+  detail::ReachCache cache;
+  world.observe(&cache);
+  REQUIRE(world.set_scene(scene, nullptr, nullptr).ok());
+  detail::Scheduler scheduler;
+  scheduler.configure(1, Threading::own_pool);
+  CHECK(cache.update(world.commit(), scheduler) == world.commit().lights.size());
+  std::size_t kept = 0, proven = 0;
+  // Pans of a few pixels, then jumps far enough that the farthest view corner moves past
+  // several radii of every light.
+  for (const auto& offset : std::vector<std::pair<int, int>>{{1, 0}, {2, 1}, {3, 3}, {400, 0}, {400, 300}, {-900, -700}, {-899, -700}}) {
+    REQUIRE(world.set_view_offset(offset.first, offset.second).ok());
+    const detail::PreparedScene& prepared = world.commit();
+    const std::size_t n = cache.update(prepared, scheduler);
+    (n == 0 ? kept : proven) += 1;
+    detail::LightReachScratch scratch;
+    for (std::size_t p = 0; p < prepared.lights.size(); ++p) {
+      CAPTURE(offset.first);
+      CAPTURE(p);
+      const detail::LightReach fresh = detail::compute_light_reach(prepared, p, scratch);
+      const detail::LightReach& held = cache.reach()[p];
+      CHECK(held.reach == fresh.reach);
+      CHECK(held.nearest == fresh.nearest);
+      CHECK(held.farthest == fresh.farthest);
+    }
+  }
+  CHECK(kept > 0);    // small pans re-prove nothing
+  CHECK(proven > 0);  // far jumps re-prove some lights
+}
+
 }  // namespace par2d::test
+
