@@ -401,9 +401,20 @@ class PyRenderer {
   }
 
   // The scene-wide lighting-model terms (docs/contract.md section 6).
-  void set_bounce(const py::object& piece_arg) {
-    const double piece = to_double(piece_arg, "piece");
-    locked_check([&] { return renderer_.set_bounce(par2d::Bounce{piece}); });
+  void set_bounce(const py::object& piece_arg, const py::object& step_arg) {
+    // Either may be None: that value is kept. Converted before the lock (they may raise).
+    const std::optional<double> piece = piece_arg.is_none() ? std::nullopt : std::optional(to_double(piece_arg, "piece"));
+    const std::optional<int> step = step_arg.is_none() ? std::nullopt : std::optional(to_int(step_arg, "step"));
+    locked_check([&] {
+      par2d::Bounce bounce = renderer_.bounce();
+      if (piece) bounce.piece = *piece;
+      if (step) bounce.step = *step;
+      return renderer_.set_bounce(bounce);
+    });
+  }
+  int bounce_step() const {
+    WorldLock lock(mutex_);
+    return renderer_.bounce().step;
   }
   double bounce_piece() const {
     WorldLock lock(mutex_);
@@ -695,9 +706,11 @@ void bind_renderer(py::module_& m) {
                     "float: the most estimated work (estimate_work()['total']) a frame may have, past which render\n"
                     "raises par2d.WorkLimitError before computing a pixel; 0: none. Default 1e11.")
       .def("set_ambient", &PyRenderer::set_ambient, py::arg("rgb"), "Ambient (r, g, b), each >= 0, added to every pixel.")
-      .def("set_bounce", &PyRenderer::set_bounce, py::arg("piece"),
-           "One bounce's piece length in world units (> 0; docs/contract.md section 7).")
+      .def("set_bounce", &PyRenderer::set_bounce, py::arg("piece") = py::none(), py::arg("step") = py::none(),
+           "One bounce's piece length in world units (> 0) and coarse step in pixels (1 .. 64, 1: every pixel\n"
+           "exact); None keeps a value (docs/contract.md section 7).")
       .def_property_readonly("bounce_piece", &PyRenderer::bounce_piece, "One bounce's piece length.")
+      .def_property_readonly("bounce_step", &PyRenderer::bounce_step, "The coarse bounce's step in pixels.")
       .def("set_directional_lights", &PyRenderer::set_directional_lights, py::arg("lights"),
            "Replaces the directional lights: a list of dicts like the scene file's directional_lights.")
       .def("set_normal", &PyRenderer::set_normal, py::arg("normal"),

@@ -273,6 +273,11 @@ PAR2D_C_API par2d_status par2d_set_ambient(par2d_renderer* renderer, const doubl
  * occluder added or changed past that limit. */
 PAR2D_C_API par2d_status par2d_set_bounce(par2d_renderer* renderer, double piece);
 PAR2D_C_API par2d_status par2d_get_bounce(const par2d_renderer* renderer, double* piece);
+/* The coarse bounce's step in pixels (1 .. 64, default 1: every pixel exact; docs/contract.md
+ * section 7, "Coarse bounce"): the bounce computed at every step-th pixel of the grid and
+ * interpolated between, never across an occluder. The piece length is kept. */
+PAR2D_C_API par2d_status par2d_set_bounce_step(par2d_renderer* renderer, int step);
+PAR2D_C_API par2d_status par2d_get_bounce_step(const par2d_renderer* renderer, int* step);
 PAR2D_C_API par2d_status par2d_set_directional_lights(par2d_renderer* renderer, const par2d_directional_light* lights,
                                                       size_t count);
 /* Normal source for 2.5D shading (one at a time; each replaces the other):

@@ -231,9 +231,14 @@ inline constexpr double kMaxBouncePieces = 1048576.0;
 
 // One bounce of indirect light (docs/contract.md section 7): the boundaries of occluders with a
 // non-zero albedo are cut into pieces about `piece` world units long, each a one-sided light.
+// With `step` > 1 the bounce term is computed at the pixels of a coarser grid (every `step`-th
+// pixel of the view's pixel grid in x and y) and interpolated in between, only across lines
+// that meet no occluder (section 7, "Coarse bounce"); the direct light stays per pixel.
 struct Bounce {
   double piece = 4.0;  // > 0, world units. Default: 4.
+  int step = 1;        // 1 .. kMaxBounceStep pixels. Default: 1 (every pixel exact).
 };
+inline constexpr int kMaxBounceStep = 64;
 
 struct Scene {
   int width = 0;   // 1 .. kMaxImageSide

@@ -493,7 +493,29 @@ par2d_status par2d_set_occluder_terms(par2d_renderer* r, par2d_occluder occluder
 par2d_status par2d_set_bounce(par2d_renderer* r, double piece) {
   const char* const fn = __func__;
   if (r == nullptr) return fail(fn, "renderer is null");
-  return guarded(fn, [&] { return to_c(fn, r->renderer.set_bounce(par2d::Bounce{piece})); });
+  return guarded(fn, [&] {
+    par2d::Bounce bounce = r->renderer.bounce();
+    bounce.piece = piece;
+    return to_c(fn, r->renderer.set_bounce(bounce));
+  });
+}
+
+par2d_status par2d_set_bounce_step(par2d_renderer* r, int step) {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  return guarded(fn, [&] {
+    par2d::Bounce bounce = r->renderer.bounce();
+    bounce.step = step;
+    return to_c(fn, r->renderer.set_bounce(bounce));
+  });
+}
+
+par2d_status par2d_get_bounce_step(const par2d_renderer* r, int* step) {
+  const char* const fn = __func__;
+  if (r == nullptr) return fail(fn, "renderer is null");
+  if (step == nullptr) return fail(fn, "step is null");
+  *step = r->renderer.bounce().step;
+  return PAR2D_OK;
 }
 
 par2d_status par2d_get_bounce(const par2d_renderer* r, double* piece) {

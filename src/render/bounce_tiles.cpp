@@ -1,6 +1,9 @@
 // Sources culled per tile by the occlusion proofs that cull lights, then the exact reference.
 #include "render/bounce_tiles.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "render/block_culling.hpp"
 #include "render/kernel_shapes.hpp"
 #include "render/model_terms.hpp"
@@ -32,16 +35,17 @@ bool source_hidden(const PreparedScene& scene, const BounceSource& source, const
                                 scratch.provers.data(), scratch.provers.size(), kTileStripBudget, scratch.occlusion);
 }
 
-}  // namespace
-
-void add_bounce_tile(const PreparedScene& scene, const BounceFrame& bounce, int spp, bool shaded, bool cull,
-                     const TileRect& tile, const TileRect& part, BounceTileScratch& scratch, TileResult& out,
-                     FrameCounters& counts) {
+// The lit sources that may reach the region `corners` (box `box`), each with the occluders
+// that may stand between (scratch.sources, first, blockers); with `cull`, those proven hidden
+// from the whole region are left out. Returns the subset for bounce_irradiance (null without
+// culling: every lit source is walked, the reference).
+const BounceSourceSubset* reachable_sources(const PreparedScene& scene, const BounceFrame& bounce, bool cull,
+                                            const std::array<Vec2, 4>& corners, const Aabb& box,
+                                            BounceTileScratch& scratch, FrameCounters& counts,
+                                            BounceSourceSubset& subset) {
   scratch.sources.clear();
   scratch.first.assign(1, 0);
   scratch.blockers.clear();
-  const std::array<Vec2, 4> corners = tile_corners(scene, tile);
-  const Aabb box = bounds_of(corners);
   for (std::uint32_t s = 0; s < bounce.sources.size(); ++s) {
     const BounceSource& source = bounce.sources[s];
     if (!source.lit) continue;
@@ -55,10 +59,122 @@ void add_bounce_tile(const PreparedScene& scene, const BounceFrame& bounce, int 
     scratch.blockers.insert(scratch.blockers.end(), scratch.candidates.begin(), scratch.candidates.end());
     scratch.first.push_back(static_cast<std::uint32_t>(scratch.blockers.size()));
   }
-  if (cull && scratch.sources.empty()) return;
-  const BounceSourceSubset subset{scratch.sources.data(), scratch.sources.size(), scratch.first.data(),
-                                  scratch.blockers.data()};
+  if (!cull) return nullptr;
+  subset = BounceSourceSubset{scratch.sources.data(), scratch.sources.size(), scratch.first.data(),
+                              scratch.blockers.data()};
+  return &subset;
+}
+
+// floor(a / n) * n for a grid coordinate a and a step n >= 1.
+std::int64_t node_below(double a, int n) noexcept {
+  return static_cast<std::int64_t>(std::floor(a / n)) * n;
+}
+
+// The coarse bounce (docs/contract.md section 7, "Coarse bounce") of the samples of `part`:
+// the exact bounce at the nodes (grid pixels whose column and row are multiples of the step)
+// around each sample, weighted bilinearly, over the nodes whose segment to the sample meets
+// no occluder; the exact bounce at the sample where no node with a weight is seen.
+void add_coarse_bounce_tile(const PreparedScene& scene, const BounceFrame& bounce, int spp, bool shade, bool cull,
+                            const TileRect& tile, const TileRect& part, BounceTileScratch& scratch,
+                            TileResult& out, FrameCounters& counts) {
+  const int n = scene.bounce_step;
+  // Grid coordinates put pixel (i, j)'s center at (grid_x + i, grid_y + j); every sample of
+  // the part lies in [x0 - 0.5, x1 - 0.5) x [y0 - 0.5, y1 - 0.5), so its nodes in these ranges.
+  const std::int64_t gx0 = node_below(static_cast<double>(scene.grid_x + part.x0) - 0.5, n);
+  const std::int64_t gy0 = node_below(static_cast<double>(scene.grid_y + part.y0) - 0.5, n);
+  const std::int64_t gx1 = node_below(static_cast<double>(scene.grid_x + part.x1) - 0.5, n) + n;
+  const std::int64_t gy1 = node_below(static_cast<double>(scene.grid_y + part.y1) - 0.5, n) + n;
+  const int columns = static_cast<int>((gx1 - gx0) / n) + 1, rows = static_cast<int>((gy1 - gy0) / n) + 1;
+  // Frame pixel of node (c, r).
+  const int fx0 = static_cast<int>(gx0 - scene.grid_x), fy0 = static_cast<int>(gy0 - scene.grid_y);
+  const TileRect region{std::min(fx0, part.x0), std::min(fy0, part.y0),
+                        std::max(fx0 + (columns - 1) * n + 1, part.x1), std::max(fy0 + (rows - 1) * n + 1, part.y1)};
+  const std::array<Vec2, 4> corners = tile_corners(scene, region);
+  const Aabb box = bounds_of(corners);
+  BounceSourceSubset subset_storage;
+  const BounceSourceSubset* subset =
+      reachable_sources(scene, bounce, cull, corners, box, scratch, counts, subset_storage);
+  if (cull && subset->count == 0) return;
+  // Every occluder that may meet a segment between a sample and its nodes (all inside the
+  // region's box); the reference tests every occluder.
+  scratch.near.clear();
+  if (cull) {
+    scene.occluder_bvh.query_box(box, scratch.near);
+  } else {
+    for (std::uint32_t k = 0; k < scene.occluders.size(); ++k) scratch.near.push_back(k);
+  }
+  BounceScratch& reference = scratch.reference;
+  reference.source_walks = reference.depth_tests = 0;
+  scratch.node_value.resize(static_cast<std::size_t>(columns) * static_cast<std::size_t>(rows));
+  scratch.node_done.assign(scratch.node_value.size(), 0);
+  auto node_position = [&](int c, int r) { return sample_position(scene, fx0 + c * n, fy0 + r * n, 0.5, 0.5); };
+  auto node_value = [&](int c, int r) -> const Rgb& {
+    const std::size_t at = static_cast<std::size_t>(r) * static_cast<std::size_t>(columns) + static_cast<std::size_t>(c);
+    if (!scratch.node_done[at]) {
+      // A node past the image's edge is shaded with the nearest image pixel's normal.
+      const Vec3 normal = scene.normal_at(std::clamp(fx0 + c * n, 0, scene.width - 1),
+                                          std::clamp(fy0 + r * n, 0, scene.height - 1));
+      scratch.node_value[at] = bounce_irradiance(scene, bounce, node_position(c, r), shade ? &normal : nullptr,
+                                                 reference, subset);
+      scratch.node_done[at] = 1;
+    }
+    return scratch.node_value[at];
+  };
+  const double inv_spp = 1.0 / spp;
+  for (int j = part.y0; j < part.y1; ++j) {
+    for (int i = part.x0; i < part.x1; ++i) {
+      Rgb sum{0.0, 0.0, 0.0};
+      for (int k = 0; k < spp; ++k) {
+        double sx, sy;
+        sample_offset(k, spp, sx, sy);
+        const Vec2 at = sample_position(scene, i, j, sx, sy);
+        const double ax = static_cast<double>(scene.grid_x + i) + sx - 0.5;
+        const double ay = static_cast<double>(scene.grid_y + j) + sy - 0.5;
+        const std::int64_t nx = node_below(ax, n), ny = node_below(ay, n);
+        const double fx = (ax - static_cast<double>(nx)) / n, fy = (ay - static_cast<double>(ny)) / n;
+        const int c = static_cast<int>((nx - gx0) / n), r = static_cast<int>((ny - gy0) / n);
+        Rgb e{0.0, 0.0, 0.0};
+        double weights = 0.0;
+        for (int corner = 0; corner < 4; ++corner) {
+          const int dc = corner & 1, dr = corner >> 1;
+          const double w = (dc ? fx : 1.0 - fx) * (dr ? fy : 1.0 - fy);
+          if (!(w > 0.0)) continue;
+          if (!segment_passes(at, node_position(c + dc, r + dr), scene.occluders, scratch.near.data(),
+                              scratch.near.size()))
+            continue;
+          const Rgb& v = node_value(c + dc, r + dr);
+          for (int ch = 0; ch < 3; ++ch) e[ch] += w * v[ch];
+          weights += w;
+        }
+        if (weights > 0.0) {
+          for (int ch = 0; ch < 3; ++ch) sum[ch] += e[ch] / weights;
+        } else {
+          const Vec3 normal = scene.normal_at(i, j);
+          const Rgb exact = bounce_irradiance(scene, bounce, at, shade ? &normal : nullptr, reference, subset);
+          for (int ch = 0; ch < 3; ++ch) sum[ch] += exact[ch];
+        }
+      }
+      const std::size_t at = static_cast<std::size_t>(j - tile.y0) * kTileSize + static_cast<std::size_t>(i - tile.x0);
+      for (int c = 0; c < 3; ++c) out.rgb[c][at] += static_cast<float>(sum[c] * inv_spp);
+    }
+  }
+  counts.bounce_source_walks += reference.source_walks;
+  counts.bounce_depth_tests += reference.depth_tests;
+}
+
+}  // namespace
+
+void add_bounce_tile(const PreparedScene& scene, const BounceFrame& bounce, int spp, bool shaded, bool cull,
+                     const TileRect& tile, const TileRect& part, BounceTileScratch& scratch, TileResult& out,
+                     FrameCounters& counts) {
   const bool shade = shading_active(scene, shaded);
+  if (scene.bounce_step > 1)
+    return add_coarse_bounce_tile(scene, bounce, spp, shade, cull, tile, part, scratch, out, counts);
+  const std::array<Vec2, 4> corners = tile_corners(scene, tile);
+  BounceSourceSubset subset_storage;
+  const BounceSourceSubset* subset =
+      reachable_sources(scene, bounce, cull, corners, bounds_of(corners), scratch, counts, subset_storage);
+  if (cull && subset->count == 0) return;
   const double inv_spp = 1.0 / spp;
   BounceScratch& reference = scratch.reference;
   reference.source_walks = reference.depth_tests = 0;
@@ -70,7 +186,7 @@ void add_bounce_tile(const PreparedScene& scene, const BounceFrame& bounce, int 
         double sx, sy;
         sample_offset(k, spp, sx, sy);
         const Rgb e = bounce_irradiance(scene, bounce, sample_position(scene, i, j, sx, sy), shade ? &normal : nullptr,
-                                        reference, cull ? &subset : nullptr);
+                                        reference, subset);
         for (int c = 0; c < 3; ++c) sum[c] += e[c];
       }
       const std::size_t at = static_cast<std::size_t>(j - tile.y0) * kTileSize + static_cast<std::size_t>(i - tile.x0);

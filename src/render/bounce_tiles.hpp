@@ -25,6 +25,10 @@ struct BounceTileScratch {
   std::vector<std::uint32_t> sources, first, blockers;
   std::vector<std::uint32_t> candidates, provers;
   std::vector<Vec2> hull_points, hull;
+  // The coarse bounce: the occluders near a tile's nodes, and the nodes' values once computed.
+  std::vector<std::uint32_t> near;
+  std::vector<Rgb> node_value;
+  std::vector<unsigned char> node_done;
 };
 
 // Adds the mean over each sample of the pixels `part` (within `tile`) of the bounce term to

@@ -157,20 +157,32 @@ std::string SceneBuilder::next_place() const {
   return element_place(frame.place, frame.count);
 }
 
-void SceneBuilder::image_side(const Scalar& v, const std::string& place, bool width) {
+bool SceneBuilder::integer_in(const Scalar& v, const std::string& place, int lo, int hi, const std::string& range,
+                              int& out) {
   bool in_range = false;
   if (v.kind == Scalar::kUnsigned) {
-    in_range = v.unsigned_integer >= 1 && v.unsigned_integer <= static_cast<std::uint64_t>(kMaxImageSide);
+    in_range = v.unsigned_integer >= static_cast<std::uint64_t>(lo) && v.unsigned_integer <= static_cast<std::uint64_t>(hi);
   } else if (v.kind == Scalar::kInteger) {
-    in_range = v.integer >= 1 && v.integer <= kMaxImageSide;
+    in_range = v.integer >= lo && v.integer <= hi;
   } else if (v.kind == Scalar::kFloat) {
-    if (std::floor(v.number) != v.number) return fail(place, "expected an integer, got " + v.dump());
-    in_range = v.number >= 1.0 && v.number <= static_cast<double>(kMaxImageSide);
+    if (std::floor(v.number) != v.number) return fail(place, "expected an integer, got " + v.dump()), false;
+    in_range = v.number >= static_cast<double>(lo) && v.number <= static_cast<double>(hi);
   } else {
-    return fail(place, "expected an integer");
+    return fail(place, "expected an integer"), false;
   }
-  if (!in_range) return fail(place, detail::image_side_range_text() + ", got " + v.dump());
-  (width ? scene_.width : scene_.height) = static_cast<int>(v.number);
+  if (!in_range) return fail(place, range + ", got " + v.dump()), false;
+  out = static_cast<int>(v.number);
+  return true;
+}
+
+void SceneBuilder::bounce_step(const Scalar& v, const std::string& place) {
+  integer_in(v, place, 1, kMaxBounceStep, "must be an integer from 1 to " + std::to_string(kMaxBounceStep),
+             scene_.bounce.step);
+}
+
+void SceneBuilder::image_side(const Scalar& v, const std::string& place, bool width) {
+  if (!integer_in(v, place, 1, kMaxImageSide, detail::image_side_range_text(), width ? scene_.width : scene_.height))
+    return;
   (width ? has_width_ : has_height_) = true;
 }
 

@@ -131,6 +131,9 @@ class SceneBuilder {
   // Integer-valued numbers only (64 or 64.0), range-checked before any cast so 1e30 or
   // 2^63 cannot overflow an int.
   void image_side(const Scalar& v, const std::string& place, bool width);
+  void bounce_step(const Scalar& v, const std::string& place);
+  // Stores v in `out` when it is an integer in [lo, hi]; otherwise fails with `range` (false).
+  bool integer_in(const Scalar& v, const std::string& place, int lo, int hi, const std::string& range, int& out);
   // A 32-bit mask: integer-valued numbers only (5 or 5.0), range-checked before any cast.
   void mask_value(const Scalar& v, const std::string& place, std::uint32_t& out);
 

@@ -35,7 +35,7 @@ void SceneBuilder::check_key(const Frame& frame) {
       fail(place, "unknown key (expected width, height, view, lights, occluders, ambient, directional_lights, "
                   "normal, normal_map, bounce)");
   } else if (frame.role == Role::bounce) {
-    if (k != "piece") fail(place, "unknown key (expected piece)");
+    if (k != "piece" && k != "step") fail(place, "unknown key (expected piece, step)");
   } else if (frame.role == Role::cookie) {
     if (k != "rotation" && k != "knots") fail(place, "unknown key (expected rotation, knots)");
   } else if (frame.role == Role::shadow) {
@@ -92,7 +92,7 @@ bool SceneBuilder::scalar(const Scalar& v) {
         else if (frame.key == "ambient") fail(place, "expected [r, g, b]");
         else if (frame.key == "normal") fail(place, "expected [nx, ny, nz]");
         else if (frame.key == "normal_map") normal_map_path(v, place);
-        else if (frame.key == "bounce") fail(place, "expected {\"piece\": h}");
+        else if (frame.key == "bounce") fail(place, "expected {\"piece\": h, \"step\": n}");
         else fail(frame.key, "expected an array");
         break;
       case Role::view:
@@ -155,7 +155,8 @@ bool SceneBuilder::scalar(const Scalar& v) {
         break;
       case Role::bounce:
         if (!v.is_number()) fail(place, "expected a number");
-        else scene_.bounce.piece = v.number;
+        else if (frame.key == "piece") scene_.bounce.piece = v.number;
+        else bounce_step(v, place);
         break;
       case Role::skip: break;
     }
@@ -226,7 +227,7 @@ SceneBuilder::Role SceneBuilder::container_role(bool object, const std::string& 
       if (k == "width" || k == "height") return refuse(place, "expected an integer");
       if (k == "view") return object ? refuse("view", "expected [x0, y0, x1, y1]") : Role::view;
       if (k == "normal_map") return refuse(place, "expected a PNG file path");
-      if (k == "bounce") return object ? Role::bounce : refuse(place, "expected {\"piece\": h}");
+      if (k == "bounce") return object ? Role::bounce : refuse(place, "expected {\"piece\": h, \"step\": n}");
       if (k == "ambient") return numbers(object, place, scene_.ambient.data(), 3, "expected [r, g, b]");
       if (k == "normal") {
         has_normal_ = true;

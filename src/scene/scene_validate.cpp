@@ -456,6 +456,9 @@ MaybeProblem check_occluder(const Occluder& occluder, const std::string& place) 
 }
 
 MaybeProblem check_bounce(const Bounce& bounce) {
+  if (!(bounce.step >= 1 && bounce.step <= kMaxBounceStep))
+    return SceneProblem{"bounce.step", "must be an integer from 1 to " + std::to_string(kMaxBounceStep) + ", got " +
+                                           std::to_string(bounce.step)};
   if (std::isfinite(bounce.piece) && bounce.piece > 0.0) return std::nullopt;
   if (auto problem = check_finite(bounce.piece, "bounce.piece")) return problem;
   return SceneProblem{"bounce.piece", "must be > 0, got " + format_number(bounce.piece)};

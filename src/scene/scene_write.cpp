@@ -198,10 +198,10 @@ void put_scene_terms(std::string& out, const Scene& scene) {
     out += ",\n  \"normal_map\": ";
     out += nlohmann::json(scene.normal_map->path).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   }
-  if (scene.bounce.piece != Bounce{}.piece) {
+  if (scene.bounce.piece != Bounce{}.piece || scene.bounce.step != Bounce{}.step) {
     out += ",\n  \"bounce\": { \"piece\": ";
     put_number(out, scene.bounce.piece);
-    out += " }";
+    out += ", \"step\": " + std::to_string(scene.bounce.step) + " }";
   }
 }
 

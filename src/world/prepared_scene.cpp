@@ -256,6 +256,7 @@ void update_model_flag(PreparedScene& out) noexcept {
 void prepare_model_terms(const Scene& scene, PreparedScene& out, std::shared_ptr<const WorldNormals> converted) {
   out.ambient = scene.ambient;
   out.bounce_piece = scene.bounce.piece;
+  out.bounce_step = scene.bounce.step;
   out.directionals.clear();
   for (const DirectionalLight& d : scene.directional_lights) {
     PreparedDirectional p;

@@ -185,6 +185,7 @@ struct PreparedScene {
   // in world units, then scaled, so every path cuts them alike).
   bool bounce = false;
   double bounce_piece = 4.0;
+  int bounce_step = 1;  // the coarse bounce's grid step in pixels (1: every pixel exact)
   double scale = 1.0;
 
   // The unit surface normal (world axes) at pixel (i, j); (0, 0, 1) without a source.

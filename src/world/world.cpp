@@ -166,7 +166,7 @@ double World::bounce_pieces_of(const Occluder& occluder) const noexcept {
 
 Status World::set_bounce(const Bounce& bounce) {
   if (auto problem = check_bounce(bounce)) return refused("set_bounce", *problem);
-  if (same_value(bounce.piece, globals_.bounce.piece)) return {};  // unchanged
+  if (same_value(bounce.piece, globals_.bounce.piece) && bounce.step == globals_.bounce.step) return {};  // unchanged
   double pieces = 0.0;
   for (const Occluder& o : occluder_sources_) {
     if (o.albedo == Rgb{0.0, 0.0, 0.0}) continue;
@@ -175,6 +175,7 @@ Status World::set_bounce(const Bounce& bounce) {
   }
   globals_.bounce = bounce;
   scene_.bounce_piece = bounce.piece;
+  scene_.bounce_step = bounce.step;
   bounce_pieces_ = pieces;
   if (observer_) observer_->terms_changed();
   return {};

@@ -211,6 +211,16 @@ def test_bounce_piece_and_albedo_from_a_renderer():
         r.set_bounce(0)
     assert str(e.value) == "set_bounce: bounce.piece: must be > 0, got 0"
     assert r.bounce_piece == 0.5
+    # The coarse step, set alone (the piece length kept), like a scene's bounce.step.
+    assert r.bounce_step == 1
+    r.set_bounce(step=4)
+    assert (r.bounce_piece, r.bounce_step) == (0.5, 4)
+    np.testing.assert_array_equal(r.render(), par2d.render(dict(scene, bounce={"piece": 0.5, "step": 4})))
+    assert not np.array_equal(r.render(), par2d.render(dict(scene, bounce={"piece": 0.5})))
+    with pytest.raises(par2d.Error) as e:
+        r.set_bounce(step=65)
+    assert str(e.value) == "set_bounce: bounce.step: must be an integer from 1 to 64, got 65"
+    assert r.bounce_step == 4
 
 
 def test_the_direct_and_bounce_terms_apart():
