@@ -71,54 +71,40 @@ std::int64_t node_below(double a, int n) noexcept {
 }
 
 // The coarse bounce (docs/contract.md section 7, "Coarse bounce") of the samples of `part`:
-// the exact bounce at the nodes (grid pixels whose column and row are multiples of the step)
-// around each sample, weighted bilinearly, over the nodes whose segment to the sample meets
-// no occluder; the exact bounce at the sample where no node with a weight is seen.
-void add_coarse_bounce_tile(const PreparedScene& scene, const BounceFrame& bounce, int spp, bool shade, bool cull,
-                            const TileRect& tile, const TileRect& part, BounceTileScratch& scratch,
-                            TileResult& out, FrameCounters& counts) {
-  const int n = scene.bounce_step;
-  // Grid coordinates put pixel (i, j)'s center at (grid_x + i, grid_y + j); every sample of
-  // the part lies in [x0 - 0.5, x1 - 0.5) x [y0 - 0.5, y1 - 0.5), so its nodes in these ranges.
+// the nodes' exact bounce (computed before the tiles, compute_bounce_nodes) around each sample,
+// weighted bilinearly, over the nodes whose segment to the sample meets no occluder; the exact
+// bounce at the sample where no node with a weight is seen.
+void add_coarse_bounce_tile(const PreparedScene& scene, const BounceFrame& bounce, const BounceNodes& nodes, int spp,
+                            bool shade, bool cull, const TileRect& tile, const TileRect& part,
+                            BounceTileScratch& scratch, TileResult& out, FrameCounters& counts) {
+  const int n = nodes.step;
+  // The pixels spanning the part and its samples' nodes: every segment from a sample to one
+  // of its nodes lies inside, so only occluders whose boxes meet it may meet a segment.
   const std::int64_t gx0 = node_below(static_cast<double>(scene.grid_x + part.x0) - 0.5, n);
   const std::int64_t gy0 = node_below(static_cast<double>(scene.grid_y + part.y0) - 0.5, n);
   const std::int64_t gx1 = node_below(static_cast<double>(scene.grid_x + part.x1) - 0.5, n) + n;
   const std::int64_t gy1 = node_below(static_cast<double>(scene.grid_y + part.y1) - 0.5, n) + n;
-  const int columns = static_cast<int>((gx1 - gx0) / n) + 1, rows = static_cast<int>((gy1 - gy0) / n) + 1;
-  // Frame pixel of node (c, r).
-  const int fx0 = static_cast<int>(gx0 - scene.grid_x), fy0 = static_cast<int>(gy0 - scene.grid_y);
-  const TileRect region{std::min(fx0, part.x0), std::min(fy0, part.y0),
-                        std::max(fx0 + (columns - 1) * n + 1, part.x1), std::max(fy0 + (rows - 1) * n + 1, part.y1)};
+  const TileRect region{static_cast<int>(std::min<std::int64_t>(gx0 - scene.grid_x, part.x0)),
+                        static_cast<int>(std::min<std::int64_t>(gy0 - scene.grid_y, part.y0)),
+                        static_cast<int>(std::max<std::int64_t>(gx1 - scene.grid_x + 1, part.x1)),
+                        static_cast<int>(std::max<std::int64_t>(gy1 - scene.grid_y + 1, part.y1))};
   const std::array<Vec2, 4> corners = tile_corners(scene, region);
   const Aabb box = bounds_of(corners);
-  BounceSourceSubset subset_storage;
-  const BounceSourceSubset* subset =
-      reachable_sources(scene, bounce, cull, corners, box, scratch, counts, subset_storage);
-  if (cull && subset->count == 0) return;
-  // Every occluder that may meet a segment between a sample and its nodes (all inside the
-  // region's box); the reference tests every occluder.
   scratch.near.clear();
   if (cull) {
     scene.occluder_bvh.query_box(box, scratch.near);
   } else {
     for (std::uint32_t k = 0; k < scene.occluders.size(); ++k) scratch.near.push_back(k);
   }
+  // A sample that sees none of its nodes gets its exact bounce, over the sources culled for
+  // the part (found at the first such sample: most tiles have none).
+  BounceSourceSubset subset_storage;
+  const BounceSourceSubset* subset = nullptr;
+  bool culled = false;
   BounceScratch& reference = scratch.reference;
   reference.source_walks = reference.depth_tests = 0;
-  scratch.node_value.resize(static_cast<std::size_t>(columns) * static_cast<std::size_t>(rows));
-  scratch.node_done.assign(scratch.node_value.size(), 0);
-  auto node_position = [&](int c, int r) { return sample_position(scene, fx0 + c * n, fy0 + r * n, 0.5, 0.5); };
-  auto node_value = [&](int c, int r) -> const Rgb& {
-    const std::size_t at = static_cast<std::size_t>(r) * static_cast<std::size_t>(columns) + static_cast<std::size_t>(c);
-    if (!scratch.node_done[at]) {
-      // A node past the image's edge is shaded with the nearest image pixel's normal.
-      const Vec3 normal = scene.normal_at(std::clamp(fx0 + c * n, 0, scene.width - 1),
-                                          std::clamp(fy0 + r * n, 0, scene.height - 1));
-      scratch.node_value[at] = bounce_irradiance(scene, bounce, node_position(c, r), shade ? &normal : nullptr,
-                                                 reference, subset);
-      scratch.node_done[at] = 1;
-    }
-    return scratch.node_value[at];
+  auto node_position = [&](std::int64_t gx, std::int64_t gy) {
+    return sample_position(scene, static_cast<int>(gx - scene.grid_x), static_cast<int>(gy - scene.grid_y), 0.5, 0.5);
   };
   const double inv_spp = 1.0 / spp;
   for (int j = part.y0; j < part.y1; ++j) {
@@ -132,27 +118,33 @@ void add_coarse_bounce_tile(const PreparedScene& scene, const BounceFrame& bounc
         const double ay = static_cast<double>(scene.grid_y + j) + sy - 0.5;
         const std::int64_t nx = node_below(ax, n), ny = node_below(ay, n);
         const double fx = (ax - static_cast<double>(nx)) / n, fy = (ay - static_cast<double>(ny)) / n;
-        const int c = static_cast<int>((nx - gx0) / n), r = static_cast<int>((ny - gy0) / n);
         Rgb e{0.0, 0.0, 0.0};
         double weights = 0.0;
         for (int corner = 0; corner < 4; ++corner) {
           const int dc = corner & 1, dr = corner >> 1;
           const double w = (dc ? fx : 1.0 - fx) * (dr ? fy : 1.0 - fy);
           if (!(w > 0.0)) continue;
-          if (!segment_passes(at, node_position(c + dc, r + dr), scene.occluders, scratch.near.data(),
-                              scratch.near.size()))
+          const std::int64_t gx = nx + dc * n, gy = ny + dr * n;
+          if (!segment_passes(at, node_position(gx, gy), scene.occluders, scratch.near.data(), scratch.near.size()))
             continue;
-          const Rgb& v = node_value(c + dc, r + dr);
+          const Rgb& v = nodes.at(gx, gy);
           for (int ch = 0; ch < 3; ++ch) e[ch] += w * v[ch];
           weights += w;
         }
         if (weights > 0.0) {
           for (int ch = 0; ch < 3; ++ch) sum[ch] += e[ch] / weights;
-        } else {
-          const Vec3 normal = scene.normal_at(i, j);
-          const Rgb exact = bounce_irradiance(scene, bounce, at, shade ? &normal : nullptr, reference, subset);
-          for (int ch = 0; ch < 3; ++ch) sum[ch] += exact[ch];
+          continue;
         }
+        if (!culled) {
+          const std::array<Vec2, 4> part_corners = tile_corners(scene, part);
+          subset = reachable_sources(scene, bounce, cull, part_corners, bounds_of(part_corners), scratch, counts,
+                                     subset_storage);
+          culled = true;
+        }
+        if (subset && subset->count == 0) continue;
+        const Vec3 normal = scene.normal_at(i, j);
+        const Rgb exact = bounce_irradiance(scene, bounce, at, shade ? &normal : nullptr, reference, subset);
+        for (int ch = 0; ch < 3; ++ch) sum[ch] += exact[ch];
       }
       const std::size_t at = static_cast<std::size_t>(j - tile.y0) * kTileSize + static_cast<std::size_t>(i - tile.x0);
       for (int c = 0; c < 3; ++c) out.rgb[c][at] += static_cast<float>(sum[c] * inv_spp);
@@ -164,12 +156,62 @@ void add_coarse_bounce_tile(const PreparedScene& scene, const BounceFrame& bounc
 
 }  // namespace
 
-void add_bounce_tile(const PreparedScene& scene, const BounceFrame& bounce, int spp, bool shaded, bool cull,
-                     const TileRect& tile, const TileRect& part, BounceTileScratch& scratch, TileResult& out,
-                     FrameCounters& counts) {
+int plan_bounce_nodes(const PreparedScene& scene, const TileRect& area, BounceNodes& nodes) {
+  const int n = scene.bounce_step;
+  nodes.step = n;
+  // Every sample of the area lies in [x0 - 0.5, x1 - 0.5) x [y0 - 0.5, y1 - 0.5) in grid
+  // coordinates (pixel centers on whole numbers), so its nodes in these ranges.
+  nodes.gx0 = node_below(static_cast<double>(scene.grid_x + area.x0) - 0.5, n);
+  nodes.gy0 = node_below(static_cast<double>(scene.grid_y + area.y0) - 0.5, n);
+  nodes.columns = static_cast<int>((node_below(static_cast<double>(scene.grid_x + area.x1) - 0.5, n) - nodes.gx0) / n) + 2;
+  nodes.rows = static_cast<int>((node_below(static_cast<double>(scene.grid_y + area.y1) - 0.5, n) - nodes.gy0) / n) + 2;
+  nodes.value.resize(static_cast<std::size_t>(nodes.columns) * static_cast<std::size_t>(nodes.rows));
+  const int across = (nodes.columns + BounceNodes::kGroup - 1) / BounceNodes::kGroup;
+  const int down = (nodes.rows + BounceNodes::kGroup - 1) / BounceNodes::kGroup;
+  return across * down;
+}
+
+void compute_bounce_nodes(const PreparedScene& scene, const BounceFrame& bounce, bool shaded, bool cull,
+                          BounceNodes& nodes, int group, BounceTileScratch& scratch, FrameCounters& counts) {
+  const int n = nodes.step;
+  const int across = (nodes.columns + BounceNodes::kGroup - 1) / BounceNodes::kGroup;
+  const int c0 = group % across * BounceNodes::kGroup, r0 = group / across * BounceNodes::kGroup;
+  const int c1 = std::min(nodes.columns, c0 + BounceNodes::kGroup), r1 = std::min(nodes.rows, r0 + BounceNodes::kGroup);
+  // The frame pixels of the group's nodes, culled like a tile.
+  const int fx0 = static_cast<int>(nodes.gx0 - scene.grid_x) + c0 * n;
+  const int fy0 = static_cast<int>(nodes.gy0 - scene.grid_y) + r0 * n;
+  const TileRect pixels{fx0, fy0, fx0 + (c1 - 1 - c0) * n + 1, fy0 + (r1 - 1 - r0) * n + 1};
+  const std::array<Vec2, 4> corners = tile_corners(scene, pixels);
+  BounceSourceSubset subset_storage;
+  const BounceSourceSubset* subset =
+      reachable_sources(scene, bounce, cull, corners, bounds_of(corners), scratch, counts, subset_storage);
   const bool shade = shading_active(scene, shaded);
-  if (scene.bounce_step > 1)
-    return add_coarse_bounce_tile(scene, bounce, spp, shade, cull, tile, part, scratch, out, counts);
+  BounceScratch& reference = scratch.reference;
+  reference.source_walks = reference.depth_tests = 0;
+  for (int r = r0; r < r1; ++r) {
+    for (int c = c0; c < c1; ++c) {
+      Rgb& value = nodes.value[static_cast<std::size_t>(r) * static_cast<std::size_t>(nodes.columns) +
+                               static_cast<std::size_t>(c)];
+      if (subset && subset->count == 0) {
+        value = Rgb{0.0, 0.0, 0.0};
+        continue;
+      }
+      const int i = fx0 + (c - c0) * n, j = fy0 + (r - r0) * n;
+      // A node past the image's edge is shaded with the nearest image pixel's normal.
+      const Vec3 normal = scene.normal_at(std::clamp(i, 0, scene.width - 1), std::clamp(j, 0, scene.height - 1));
+      value = bounce_irradiance(scene, bounce, sample_position(scene, i, j, 0.5, 0.5), shade ? &normal : nullptr,
+                                reference, subset);
+    }
+  }
+  counts.bounce_source_walks += reference.source_walks;
+  counts.bounce_depth_tests += reference.depth_tests;
+}
+
+void add_bounce_tile(const PreparedScene& scene, const BounceFrame& bounce, const BounceNodes* nodes, int spp,
+                     bool shaded, bool cull, const TileRect& tile, const TileRect& part, BounceTileScratch& scratch,
+                     TileResult& out, FrameCounters& counts) {
+  const bool shade = shading_active(scene, shaded);
+  if (nodes) return add_coarse_bounce_tile(scene, bounce, *nodes, spp, shade, cull, tile, part, scratch, out, counts);
   const std::array<Vec2, 4> corners = tile_corners(scene, tile);
   BounceSourceSubset subset_storage;
   const BounceSourceSubset* subset =

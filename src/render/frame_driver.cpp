@@ -250,6 +250,7 @@ struct FrameRun {
   const FrameTarget& target;
   VectorTileStores stores;    // the plan's ISA's, for the target's format
   const BounceFrame* bounce;  // the bounce stage's pieces (plan.bounce.run)
+  const BounceNodes* nodes;   // the coarse bounce's nodes (a step above 1), else null
   FrameProgress& progress;
 };
 
@@ -275,8 +276,8 @@ void for_each_tile(const FrameRun& run, const PlannedBlock& block, FrameLane& la
     counts.pixels += static_cast<std::uint64_t>(part.x1 - part.x0) * static_cast<std::uint64_t>(part.y1 - part.y0);
     direct(tile, part, (tile.y0 - block.rect.y0) / kTileSize * kBlockTiles + (tile.x0 - block.rect.x0) / kTileSize);
     if (plan.bounce.run)
-      add_bounce_tile(run.scene, *run.bounce, plan.spp, plan.shaded, plan.bounce.cull, tile, part, lane.bounce,
-                      lane.result, counts);
+      add_bounce_tile(run.scene, *run.bounce, run.nodes, plan.spp, plan.shaded, plan.bounce.cull, tile, part,
+                      lane.bounce, lane.result, counts);
     store_tile(lane.result, tile.x0, tile.y0, part, run.target, run.stores);
     if (run.progress.watched()) run.progress.tile_finished();
   });
@@ -371,12 +372,19 @@ bool FrameEngine::run(const FramePlan& plan, const PreparedScene& scene, const S
   }
   if (progress.watched() && progress.stopped()) return false;
   const int lanes = reserve_lanes(plan, scene, scheduler);
+  const bool coarse = plan.bounce.run && scene.bounce_step > 1;
+  node_counts_ = FrameCounters{};
   if (plan.bounce.run) run_bounce_stage(scene, scheduler, lanes);
-  const FrameRun run{plan, scene, target, stores_for(plan, target), bounce_.get(), progress};
+  if (coarse) run_bounce_nodes(plan, scene, scheduler, lanes);
+  const FrameRun run{plan, scene, target, stores_for(plan, target), bounce_.get(), coarse ? bounce_nodes_.get() : nullptr,
+                     progress};
   run_lanes(run, scheduler, lanes);
   if (plan.layers) plan.layers->finish_frame();
   if (!progress.finish()) return false;
-  if (counts) *counts = sum_counters(plan, lanes);
+  if (counts) {
+    *counts = sum_counters(plan, lanes);
+    *counts += node_counts_;
+  }
   return true;
 }
 
@@ -418,6 +426,30 @@ void FrameEngine::run_bounce_stage(const PreparedScene& scene, const Scheduler& 
     bounce_radiances(scene, *bounce_, lo, hi, lanes_[static_cast<std::size_t>(lane)].scalar);
   });
   finish_bounce_frame(*bounce_);
+}
+
+// The coarse bounce's nodes for every pixel the plan's blocks store, in groups dealt to lanes
+// like blocks; their counts kept apart (run_lanes starts the lanes' counts afresh).
+void FrameEngine::run_bounce_nodes(const FramePlan& plan, const PreparedScene& scene, const Scheduler& scheduler,
+                                   int lanes) {
+  if (!bounce_nodes_) bounce_nodes_ = std::make_unique<BounceNodes>();
+  TileRect area{plan.region.x1, plan.region.y1, plan.region.x0, plan.region.y0};
+  for (const PlannedBlock& block : plan.blocks) {
+    area.x0 = std::min(area.x0, std::max(block.part.x0, plan.region.x0));
+    area.y0 = std::min(area.y0, std::max(block.part.y0, plan.region.y0));
+    area.x1 = std::max(area.x1, std::min(block.part.x1, plan.region.x1));
+    area.y1 = std::max(area.y1, std::min(block.part.y1, plan.region.y1));
+  }
+  if (area.x1 <= area.x0 || area.y1 <= area.y0) return;
+  const int groups = plan_bounce_nodes(scene, area, *bounce_nodes_);
+  std::vector<FrameCounters> counts(static_cast<std::size_t>(lanes));
+  scheduler.for_each_index(lanes, [&](int l, int) {
+    FrameLane& lane = lanes_[static_cast<std::size_t>(l)];
+    for (int g = l; g < groups; g += lanes)
+      compute_bounce_nodes(scene, *bounce_, plan.shaded, plan.bounce.cull, *bounce_nodes_, g, lane.bounce,
+                           counts[static_cast<std::size_t>(l)]);
+  });
+  for (const FrameCounters& c : counts) node_counts_ += c;
 }
 
 // The plan's ISA's vector stores (none for the scalar reference), with the sRGB buckets of the

@@ -17,7 +17,7 @@
 namespace par2d::detail {
 
 struct BounceFrame;
-struct FrameCounters;
+struct BounceNodes;
 struct FrameLane;
 struct FrameRun;
 
@@ -55,6 +55,7 @@ class FrameEngine {
   int reserve_lanes(const FramePlan& plan, const PreparedScene& scene, const Scheduler& scheduler);
   VectorTileStores stores_for(const FramePlan& plan, const FrameTarget& target);
   void run_bounce_stage(const PreparedScene& scene, const Scheduler& scheduler, int lanes);
+  void run_bounce_nodes(const FramePlan& plan, const PreparedScene& scene, const Scheduler& scheduler, int lanes);
   void run_lanes(const FrameRun& run, const Scheduler& scheduler, int lanes);
   FrameCounters sum_counters(const FramePlan& plan, int lanes) const;
 
@@ -62,6 +63,10 @@ class FrameEngine {
   // One bounce (docs/contract.md section 7): the pieces and their radiances, made each frame of
   // a scene with a reflecting occluder.
   std::unique_ptr<BounceFrame> bounce_;
+  // The coarse bounce's nodes (a step above 1), computed after the radiances, before the tiles;
+  // what computing them counted, added to the frame's counts.
+  std::unique_ptr<BounceNodes> bounce_nodes_;
+  FrameCounters node_counts_;
   SrgbBuckets srgb_;  // the last 8-bit sRGB target's exposure's, rebuilt when it changes
 };
 
