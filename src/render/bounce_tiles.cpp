@@ -159,6 +159,7 @@ void add_coarse_bounce_tile(const PreparedScene& scene, const BounceFrame& bounc
 int plan_bounce_nodes(const PreparedScene& scene, const TileRect& area, BounceNodes& nodes) {
   const int n = scene.bounce_step;
   nodes.step = n;
+  nodes.group = std::max(2, 32 / n);
   // Every sample of the area lies in [x0 - 0.5, x1 - 0.5) x [y0 - 0.5, y1 - 0.5) in grid
   // coordinates (pixel centers on whole numbers), so its nodes in these ranges.
   nodes.gx0 = node_below(static_cast<double>(scene.grid_x + area.x0) - 0.5, n);
@@ -166,17 +167,17 @@ int plan_bounce_nodes(const PreparedScene& scene, const TileRect& area, BounceNo
   nodes.columns = static_cast<int>((node_below(static_cast<double>(scene.grid_x + area.x1) - 0.5, n) - nodes.gx0) / n) + 2;
   nodes.rows = static_cast<int>((node_below(static_cast<double>(scene.grid_y + area.y1) - 0.5, n) - nodes.gy0) / n) + 2;
   nodes.value.resize(static_cast<std::size_t>(nodes.columns) * static_cast<std::size_t>(nodes.rows));
-  const int across = (nodes.columns + BounceNodes::kGroup - 1) / BounceNodes::kGroup;
-  const int down = (nodes.rows + BounceNodes::kGroup - 1) / BounceNodes::kGroup;
+  const int across = (nodes.columns + nodes.group - 1) / nodes.group;
+  const int down = (nodes.rows + nodes.group - 1) / nodes.group;
   return across * down;
 }
 
 void compute_bounce_nodes(const PreparedScene& scene, const BounceFrame& bounce, bool shaded, bool cull,
                           BounceNodes& nodes, int group, BounceTileScratch& scratch, FrameCounters& counts) {
   const int n = nodes.step;
-  const int across = (nodes.columns + BounceNodes::kGroup - 1) / BounceNodes::kGroup;
-  const int c0 = group % across * BounceNodes::kGroup, r0 = group / across * BounceNodes::kGroup;
-  const int c1 = std::min(nodes.columns, c0 + BounceNodes::kGroup), r1 = std::min(nodes.rows, r0 + BounceNodes::kGroup);
+  const int across = (nodes.columns + nodes.group - 1) / nodes.group;
+  const int c0 = group % across * nodes.group, r0 = group / across * nodes.group;
+  const int c1 = std::min(nodes.columns, c0 + nodes.group), r1 = std::min(nodes.rows, r0 + nodes.group);
   // The frame pixels of the group's nodes, culled like a tile.
   const int fx0 = static_cast<int>(nodes.gx0 - scene.grid_x) + c0 * n;
   const int fy0 = static_cast<int>(nodes.gy0 - scene.grid_y) + r0 * n;

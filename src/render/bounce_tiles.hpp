@@ -32,10 +32,11 @@ struct BounceTileScratch {
 // The coarse bounce's nodes (docs/contract.md section 7, "Coarse bounce") that a frame's
 // samples interpolate: node (c, r) is grid pixel (gx0 + c * step, gy0 + r * step), its value the
 // exact bounce at that pixel's center. Computed once per frame before the tiles, in groups of
-// kGroup x kGroup nodes culled together, so tiles sharing a node do not each compute it.
+// group x group nodes culled together (about 32 pixels across: culling over much larger regions
+// leaves more sources per node), so tiles sharing a node do not each compute it.
 struct BounceNodes {
-  static constexpr int kGroup = 16;
   int step = 1;
+  int group = 1;  // nodes per group side
   std::int64_t gx0 = 0, gy0 = 0;
   int columns = 0, rows = 0;
   std::vector<Rgb> value;  // row by row
