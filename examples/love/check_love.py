@@ -20,10 +20,11 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 HEADER = os.path.join(HERE, "..", "..", "include", "par2d", "par2d.h")
 FRAMES = 30
 EXPOSURE = 1.5  # main.lua's: the lightmap's bytes are round(255 srgb(clamp(1.5 E, 0, 1)))
-# The GPU's blend multiplies two 8-bit values and stores 8 bits: exact rounding gives
-# round(s l / 255), a blender that rounds otherwise (a shift by 8 instead of a division by
-# 255) is off by one at most. Nothing else is interpolated: the lightmap is drawn 1:1 with
-# nearest filtering, so every other error (a wrong or stale texel) shows as more than 1.
+# The GPU's blend multiplies two 8-bit values and stores 8 bits. Exact rounding gives
+# round(s l / 255); Mesa's llvmpipe computes it in floats, and a product a hair above a half
+# (196 x 188 / 255 = 144.502) can come out one step lower: 1/255 at most. Nothing else is
+# interpolated (the lightmap is drawn 1:1 with nearest filtering), so a wrong or stale texel
+# shows as more than that.
 TOLERANCE = 1
 
 
@@ -93,16 +94,18 @@ def main():
             sys.exit(f"check_love: sizes differ: screenshot {shown.shape}, sprites {s.shape}, par2d render {l.shape}")
         expected = (2 * s * l + 255) // 510  # round(s l / 255); s l / 255 is never halfway
         diff = np.abs(shown - expected)
-        lit = float((expected > 8).mean())
+        # Lit by the torches: a light byte of 96 or more (the ambient alone gives 48).
+        lit = float((l >= 96).mean())
         print(f"love: max |screenshot - composite| = {diff.max()} / 255, {(diff > 0).mean() * 100:.3f} % of "
-              f"channels differ, {lit * 100:.1f} % of channels lit")
+              f"channels differ, {lit * 100:.1f} % of channels lit by the torches")
         if diff.max() > TOLERANCE:
             y, x, c = np.unravel_index(np.argmax(diff), diff.shape)
             failures.append(f"pixel ({x}, {y}) channel {c}: shown {shown[y, x, c]}, composite {expected[y, x, c]} "
                             f"(sprite {s[y, x, c]} x light {l[y, x, c]}); {(diff > TOLERANCE).sum()} channels "
                             f"differ by more than {TOLERANCE}")
-        if lit < 0.2:
-            failures.append(f"only {lit * 100:.1f} % of channels lit: the scene is not what the check expects")
+        if lit < 0.15:
+            failures.append(f"only {lit * 100:.1f} % of channels lit by the torches: the scene is not what the "
+                            "check expects")
         # The texture must have been built from partial uploads (what the check is about): more
         # than the first frame's whole upload, less than every frame's.
         m = re.search(r"([0-9.]+) % of their texels uploaded", run.stdout)
