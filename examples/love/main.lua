@@ -104,11 +104,11 @@ local function build_world()
   -- Crates, pillars and a wall, seen from above: their tops are lit (interior "lit") and they
   -- cast shadows.
   crates = {{x = 230, y = 70}, {x = 420, y = 240}, {x = 90, y = 260}, {x = 132, y = 260}}
-  for _, c in ipairs(crates) do renderer:add_occluder(par2d.box(c.x, c.y, c.x + 40, c.y + 40).shape, "lit") end
+  for _, c in ipairs(crates) do renderer:add_occluder(par2d.box(c.x, c.y, c.x + 40, c.y + 40), "lit") end
   pillars = {{x = 330, y = 150, r = 16}, {x = 560, y = 270, r = 14}}
   for _, p in ipairs(pillars) do renderer:add_occluder(par2d.circle(p.x, p.y, p.r), "lit") end
   wall = {x0 = 280, y0 = 210, x1 = 400, y1 = 226}
-  renderer:add_occluder(par2d.box(wall.x0, wall.y0, wall.x1, wall.y1).shape, "lit")
+  renderer:add_occluder(par2d.box(wall.x0, wall.y0, wall.x1, wall.y1), "lit")
   torches = {
     {color = {1.0, 0.75, 0.45}, intensity = 22, range = 115, radius = 5},
     {color = {0.55, 0.7, 1.0}, intensity = 20, range = 125, radius = 4},

@@ -127,7 +127,7 @@ end
 
 -- A failed call raises the library's message, which starts with the function's name.
 local function check(status)
-  if status ~= M.C.PAR2D_OK then error(ffi.string(M.C.par2d_last_error()), 2) end
+  if status ~= M.C.PAR2D_OK then error(ffi.string(M.C.par2d_last_error()), 0) end
 end
 M.check = check
 
@@ -138,14 +138,18 @@ function M.circle(x, y, radius)
   return s
 end
 
--- An axis-aligned box as a polygon shape (its vertex array is referenced from the shape's
--- table, so it lives as long as the shape is used).
+-- A shape's vertex array, kept alive as long as the shape (a cdata pointer field does not keep
+-- what it points to from the garbage collector).
+local anchors = setmetatable({}, {__mode = "k"})
+
+-- An axis-aligned box as a polygon shape.
 function M.box(x0, y0, x1, y1)
   local v = ffi.new("double[8]", x0, y0, x1, y0, x1, y1, x0, y1)
   local s = ffi.new("par2d_shape")
   s.kind = M.C.PAR2D_SHAPE_POLYGON
   s.vertices, s.vertex_count = v, 4
-  return {shape = s, vertices = v}
+  anchors[s] = v
+  return s
 end
 
 local Renderer = {}
