@@ -374,7 +374,9 @@ bool FrameEngine::run(const FramePlan& plan, const PreparedScene& scene, const S
   const int lanes = reserve_lanes(plan, scene, scheduler);
   const bool coarse = plan.bounce.run && scene.bounce_step > 1;
   node_counts_ = FrameCounters{};
-  if (plan.bounce.run) run_bounce_stage(scene, scheduler, lanes);
+  if (plan.bounce.run)
+    run_bounce_stage(scene, scheduler, lanes, plan.bounce.cull,
+                     plan.bounce.cull && plan.cull_reach ? plan.cull_reach->data() : nullptr);
   if (coarse) run_bounce_nodes(plan, scene, scheduler, lanes);
   const FrameRun run{plan, scene, target, stores_for(plan, target), bounce_.get(), coarse ? bounce_nodes_.get() : nullptr,
                      progress};
@@ -416,14 +418,15 @@ int FrameEngine::reserve_lanes(const FramePlan& plan, const PreparedScene& scene
 }
 
 // The pieces' radiances first (they depend on every light and occluder), lane by lane.
-void FrameEngine::run_bounce_stage(const PreparedScene& scene, const Scheduler& scheduler, int lanes) {
+void FrameEngine::run_bounce_stage(const PreparedScene& scene, const Scheduler& scheduler, int lanes, bool cull,
+                                   const LightReach* reach) {
   if (!bounce_) bounce_ = std::make_unique<BounceFrame>();
   build_bounce_sources(scene, *bounce_);
   const std::size_t pieces = bounce_->pieces.size();
   scheduler.for_each_index(lanes, [&](int lane, int) {
     const std::size_t lo = pieces * static_cast<std::size_t>(lane) / static_cast<std::size_t>(lanes);
     const std::size_t hi = pieces * static_cast<std::size_t>(lane + 1) / static_cast<std::size_t>(lanes);
-    bounce_radiances(scene, *bounce_, lo, hi, lanes_[static_cast<std::size_t>(lane)].scalar);
+    bounce_radiances(scene, *bounce_, lo, hi, lanes_[static_cast<std::size_t>(lane)].scalar, cull, reach);
   });
   finish_bounce_frame(*bounce_);
 }

@@ -18,6 +18,7 @@ namespace par2d::detail {
 
 struct BounceFrame;
 struct BounceNodes;
+struct LightReach;
 struct FrameLane;
 struct FrameRun;
 
@@ -54,7 +55,8 @@ class FrameEngine {
   // The frame's stages, in the order run calls them.
   int reserve_lanes(const FramePlan& plan, const PreparedScene& scene, const Scheduler& scheduler);
   VectorTileStores stores_for(const FramePlan& plan, const FrameTarget& target);
-  void run_bounce_stage(const PreparedScene& scene, const Scheduler& scheduler, int lanes);
+  void run_bounce_stage(const PreparedScene& scene, const Scheduler& scheduler, int lanes, bool cull,
+                        const LightReach* reach);
   void run_bounce_nodes(const FramePlan& plan, const PreparedScene& scene, const Scheduler& scheduler, int lanes);
   void run_lanes(const FrameRun& run, const Scheduler& scheduler, int lanes);
   FrameCounters sum_counters(const FramePlan& plan, int lanes) const;

@@ -7,8 +7,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "lighting/angular_profile.hpp"
+#include "culling/light_reach.hpp"
+#include "world/occluder_bvh.hpp"
 
 namespace par2d::detail {
 namespace {
@@ -200,21 +203,35 @@ Rgb covered_integral(const PreparedScene& scene, const AngularProfile<double>& p
 // docs/contract.md section 6 at x, shaded by `normal` when not null. Occluder `skip` (when a
 // valid index) is left out, as if absent, and the ambient term only added with `ambient`: a
 // bounce piece's direct light (section 7) is taken so on its own occluder's boundary.
-Rgb model_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, ScalarScratch& scratch,
-                     std::size_t skip = static_cast<std::size_t>(-1), bool ambient = true) {
+// `choose(l, list)` fills `list` (ascending) with the occluders light l is evaluated against,
+// or returns false to leave the light out: the reference takes every occluder and every light
+// (every_occluder); a caller that knows the others add nothing passes fewer. Directional
+// lights always look at every occluder. Angular spans are computed for the occluders looked at.
+template <class Choose>
+Rgb model_irradiance_over(const PreparedScene& scene, Vec2 x, const Vec3* normal, ScalarScratch& scratch,
+                          std::size_t skip, bool ambient, Choose&& choose) {
   Rgb e = ambient ? scene.ambient : Rgb{0.0, 0.0, 0.0};
   const std::size_t occluders = scene.occluders.size();
   scratch.occluder_spans.resize(occluders);
   scratch.inside.resize(occluders);
-  for (std::size_t k = 0; k < occluders; ++k) {
-    scratch.occluder_spans[k] = angular_span(scene.occluders[k], x);
-    scratch.inside[k] = scratch.occluder_spans[k].full ? 1 : 0;
+  scratch.span_stamp.resize(occluders, 0);
+  if (++scratch.stamp == 0) {  // wrapped: forget every span
+    std::fill(scratch.span_stamp.begin(), scratch.span_stamp.end(), 0u);
+    scratch.stamp = 1;
   }
   // Left out: contains nothing, and acts on no light (its mask bits are ignored below).
   const bool skipping = skip < occluders;
-  if (skipping) scratch.inside[skip] = 0;
+  auto span_of = [&](std::size_t k) -> const AngularSpan& {
+    if (scratch.span_stamp[k] != scratch.stamp) {
+      scratch.span_stamp[k] = scratch.stamp;
+      scratch.occluder_spans[k] = angular_span(scene.occluders[k], x);
+      scratch.inside[k] = scratch.occluder_spans[k].full && !(skipping && k == skip) ? 1 : 0;
+    }
+    return scratch.occluder_spans[k];
+  };
   AngularProfile<double> profile;
-  for (const PreparedLight& light : scene.lights) {
+  for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+    const PreparedLight& light = scene.lights[l];
     const LightTerms& terms = light.terms;
     double window = 1.0;
     if (terms.has_range()) {
@@ -222,9 +239,11 @@ Rgb model_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, Sca
                             [&](double base) { return std::pow(base, terms.falloff); });
       if (!(window > 0.0)) continue;
     }
+    if (!choose(l, scratch.chosen)) continue;
     // Acting occluders containing x: t_B = 0 <= t_L along every direction.
     Rgb factor{window, window, window};
-    for (std::size_t k = 0; k < occluders; ++k) {
+    for (const std::uint32_t k : scratch.chosen) {
+      span_of(k);
       if (!scratch.inside[k] || !acts(scene.occluder_terms[k], true, terms.mask)) continue;
       for (int c = 0; c < 3; ++c) factor[c] *= scene.occluder_terms[k].transmittance[c];
     }
@@ -235,13 +254,13 @@ Rgb model_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, Sca
     scratch.piece_occluder.clear();
     // Inside the light (t_L = 0) only occluders containing x come first.
     if (!arc.full) {
-      for (std::size_t k = 0; k < occluders; ++k) {
+      for (const std::uint32_t k : scratch.chosen) {
+        const AngularSpan& span = span_of(k);
         if (scratch.inside[k] || k == skip || !acts(scene.occluder_terms[k], false, terms.mask)) continue;
-        for_each_blocked_piece(light, scene.occluders[k], k, x, arc, scratch.occluder_spans[k], scratch,
-                               [&](double lo, double hi) {
-                                 scratch.piece_lo_hi.push_back({lo, hi});
-                                 scratch.piece_occluder.push_back(static_cast<std::uint32_t>(k));
-                               });
+        for_each_blocked_piece(light, scene.occluders[k], k, x, arc, span, scratch, [&](double lo, double hi) {
+          scratch.piece_lo_hi.push_back({lo, hi});
+          scratch.piece_occluder.push_back(k);
+        });
       }
     }
     profile = AngularProfile<double>{};
@@ -259,9 +278,10 @@ Rgb model_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, Sca
     scratch.piece_lo_hi.clear();
     scratch.piece_occluder.clear();
     for (std::size_t k = 0; k < occluders; ++k) {
+      const AngularSpan& span = span_of(k);
       if (k == skip || !acts(scene.occluder_terms[k], scratch.inside[k] != 0, sun.mask)) continue;
       scratch.pieces.clear();
-      clip_to_light_arc(arc, scratch.occluder_spans[k], scratch.pieces);
+      clip_to_light_arc(arc, span, scratch.pieces);
       for (const ArcInterval& piece : scratch.pieces) {
         scratch.piece_lo_hi.push_back(piece);
         scratch.piece_occluder.push_back(static_cast<std::uint32_t>(k));
@@ -273,6 +293,17 @@ Rgb model_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, Sca
     for (int c = 0; c < 3; ++c) e[c] += sun.emission[c] * std::max(0.0, seen[c]) / kTwoPi;
   }
   return e;
+}
+
+// The reference's choice: every light against every occluder.
+Rgb model_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, ScalarScratch& scratch,
+                     std::size_t skip = static_cast<std::size_t>(-1), bool ambient = true) {
+  return model_irradiance_over(scene, x, normal, scratch, skip, ambient,
+                               [&](std::size_t, std::vector<std::uint32_t>& list) {
+                                 list.resize(scene.occluders.size());
+                                 for (std::size_t k = 0; k < list.size(); ++k) list[k] = static_cast<std::uint32_t>(k);
+                                 return true;
+                               });
 }
 
 }  // namespace
@@ -289,6 +320,39 @@ Rgb scalar_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, Sc
 
 Rgb direct_without(const PreparedScene& scene, Vec2 x, const Vec3& normal, std::size_t skip, ScalarScratch& scratch) {
   return model_irradiance(scene, x, &normal, scratch, skip, false);
+}
+
+Rgb piece_direct_light(const PreparedScene& scene, Vec2 x, Vec2 n, std::size_t skip, ScalarScratch& scratch,
+                       const LightReach* reach) {
+  const Vec3 normal{n.x, n.y, 0.0};
+  // The points just off the piece, which S_k is the limit at (a box around x: its own occluder
+  // only blocks directions of zero shading from there, so a reach that hides the box from a
+  // light, proven with that occluder among the others, hides the light from the piece too).
+  const double margin = 1e-7 * (1.0 + std::fabs(x.x) + std::fabs(x.y));
+  const Aabb near{x.x - margin, x.y - margin, x.x + margin, x.y + margin};
+  return model_irradiance_over(
+      scene, x, &normal, scratch, skip, false, [&](std::size_t l, std::vector<std::uint32_t>& list) {
+        const ConvexShape& shape = scene.lights[l].shape;
+        // A light wholly on the closed back side of the piece's line gets shading 0 at every
+        // direction toward it (s = max(0, cos a * n . dir)), and one with elevation 90 degrees
+        // everywhere: it adds nothing.
+        if (!(scene.lights[l].terms.cos_elevation > 0.0)) return false;
+        if (reach && reach[l].hides(near)) return false;
+        double front = -std::numeric_limits<double>::infinity();  // the largest n . p over the light's points p
+        if (shape.kind == ShapeKind::circle) {
+          front = dot(n, shape.vertices[0]) + shape.radius * std::hypot(n.x, n.y);
+        } else {
+          for (const Vec2 v : shape.vertices) front = std::max(front, dot(n, v));
+        }
+        if (!(front > dot(n, x))) return false;
+        // Every segment from x to the light lies in their hull: an occluder whose box misses it
+        // blocks no direction toward the light, nor contains x.
+        hull_with_shape(&x, 1, shape, scratch.hull_points, scratch.hull);
+        list.clear();
+        scene.occluder_bvh.query_convex(scratch.hull.data(), static_cast<int>(scratch.hull.size()), list);
+        std::sort(list.begin(), list.end());
+        return true;
+      });
 }
 
 void blocked_pieces(const PreparedLight& light, const ConvexShape& occluder, std::size_t k, Vec2 x, const AngularSpan& arc,

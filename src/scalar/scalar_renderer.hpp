@@ -11,6 +11,8 @@
 
 namespace par2d::detail {
 
+struct LightReach;
+
 // Reusable buffers so that evaluating a point allocates nothing once warmed up.
 struct ScalarScratch {
   std::vector<AngularSpan> occluder_spans;
@@ -24,6 +26,12 @@ struct ScalarScratch {
   std::vector<std::uint32_t> piece_occluder;
   std::vector<std::pair<double, int>> sweep;
   std::vector<std::uint32_t> active;
+  // The occluders one light is evaluated against, and which occluders' spans this point has
+  // (span_stamp[k] == stamp).
+  std::vector<std::uint32_t> chosen;
+  std::vector<std::uint32_t> span_stamp;
+  std::uint32_t stamp = 0;
+  std::vector<Vec2> hull_points, hull;
 };
 
 // E(x) of docs/contract.md section 1; with the game lighting model's terms (scene.model) those
@@ -39,6 +47,16 @@ Rgb scalar_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, Sc
 // out as if absent (docs/contract.md section 7: a piece's direct light on its own occluder's
 // boundary, approached from outside, where the shading keeps only the outward directions).
 Rgb direct_without(const PreparedScene& scene, Vec2 x, const Vec3& normal, std::size_t skip, ScalarScratch& scratch);
+
+// The same for a bounce piece's midpoint x with in-plane normal n (elevation as each light's),
+// over fewer occluders and lights: those whose absence provably changes nothing (a light
+// wholly behind the piece's line, occluders off every segment from x to a light). The sum
+// runs over the same blocked pieces in the same order, so it equals direct_without but where a
+// left-out light's shading would have rounded to a tiny non-zero value.
+// `reach` (per scene light, or null): lights whose proven reach hides the points just off the
+// piece are left out too.
+Rgb piece_direct_light(const PreparedScene& scene, Vec2 x, Vec2 n, std::size_t skip, ScalarScratch& scratch,
+                       const LightReach* reach = nullptr);
 
 // Appends to `out` the pieces (in the frame of `arc`, a part of the light's own arc seen from
 // x) that occluder k (`occluder`) is in front of, contacts counting as in front: the depth test

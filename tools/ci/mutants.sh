@@ -44,6 +44,7 @@ MUTANTS=(
   "validation fills holes|src/scene/scene_validate.cpp|s/^  if \(!polygon\.holes\.empty\(\)\) return true;\n//m"
   "concave partition merges across reflex angles|src/geometry/polygon_partition.cpp|s/return o > 0 \|\| \(o == 0 && !same_direction\(pa, px, py\)\);/return o < 0 || (o == 0 \&\& !same_direction(pa, px, py));/"
   "bounce radiance without its pi|src/scalar/bounce_reference.cpp|s/= kPi \* albedo\[c\] \* s\[c\];/= albedo[c] * s[c];/"
+  "coarse bounce interpolates across occluders|src/render/bounce_tiles.cpp|s/if \(!segment_passes\(at, node_position\(gx, gy\)/if (false \&\& !segment_passes(at, node_position(gx, gy)/"
   "a scroll keeps the pixels of the old tile grid (blocks on the frame, not the grid)|src/render/frame_plan.hpp|s/return BlockGrid\(scene\.width, scene\.height, scene\.grid_x, scene\.grid_y\);/return BlockGrid(scene.width, scene.height, 0, 0);/"
   "a scroll moves the kept pixels the wrong way|src/render/frame_output.cpp|s/for \(int j = 0; j \+ dy < height; \+\+j\) move_row\(j\);/for (int j = height - 1; j + dy >= 0 \&\& j >= 0; --j) if (j + dy < height) move_row(j);/"
   "C API swaps a shadow colour's green and blue|src/capi/par2d_c.cpp|s/\{terms->shadow_color\[0\], terms->shadow_color\[1\], terms->shadow_color\[2\]\}/{terms->shadow_color[0], terms->shadow_color[2], terms->shadow_color[1]}/"
