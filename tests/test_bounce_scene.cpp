@@ -81,9 +81,9 @@ TEST_CASE("bad albedo and bounce values are refused in one line naming the place
   check_message(scene_with(R"("bounce": {"piece": -2})"), "s.json: bounce.piece: must be > 0, got -2");
   check_message(scene_with(R"("bounce": {"piece": "4"})"), "s.json: bounce.piece: expected a number");
   check_message(scene_with(R"("bounce": {"piece": [4]})"), "s.json: bounce.piece: expected a number");
-  check_message(scene_with(R"("bounce": {"size": 4})"), "s.json: bounce.size: unknown key (expected piece)");
-  check_message(scene_with(R"("bounce": 4)"), "s.json: bounce: expected {\"piece\": h}");
-  check_message(scene_with(R"("bounce": [4])"), "s.json: bounce: expected {\"piece\": h}");
+  check_message(scene_with(R"("bounce": {"size": 4})"), "s.json: bounce.size: unknown key (expected piece, step)");
+  check_message(scene_with(R"("bounce": 4)"), "s.json: bounce: expected {\"piece\": h, \"step\": n}");
+  check_message(scene_with(R"("bounce": [4])"), "s.json: bounce: expected {\"piece\": h, \"step\": n}");
 
   // validate_scene words the same problems for scenes built in code.
   Scene built;
