@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "par2d/scene.hpp"
-#include "culling/light_reach.hpp"
+#include "render/bounce_tiles.hpp"
 #include "scalar/bounce_reference.hpp"
 #include "world/world.hpp"
 
@@ -37,9 +37,10 @@ void BM_BounceRadiances(benchmark::State& state, const char* name, bool cull, bo
     for (std::size_t l = 0; l < prepared.lights.size(); ++l)
       reaches.push_back(par2d::detail::compute_light_reach(prepared, l, reach_scratch));
   }
+  const par2d::detail::ReachHidesLights hidden(reaches.data());
   for (auto _ : state) {
     par2d::detail::bounce_radiances(prepared, frame, 0, frame.pieces.size(), scratch, cull,
-                                    reach ? reaches.data() : nullptr);
+                                    reach ? &hidden : nullptr);
     benchmark::DoNotOptimize(frame.radiance.data());
   }
   state.counters["pieces"] = static_cast<double>(frame.pieces.size());

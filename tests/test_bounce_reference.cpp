@@ -12,7 +12,7 @@
 #include "par2d/renderer.hpp"
 #include "par2d/scene.hpp"
 #include "raycast/raycast_renderer.hpp"
-#include "culling/light_reach.hpp"
+#include "render/bounce_tiles.hpp"
 #include "scalar/bounce_reference.hpp"
 #include "support/random_scenes.hpp"
 #include "support/render_checks.hpp"
@@ -424,8 +424,9 @@ void compare_radiances(const Scene& scene, bool with_reach, RadianceComparison& 
   detail::LightReachScratch reach_scratch;
   for (std::size_t l = 0; with_reach && l < prepared.lights.size(); ++l)
     reaches.push_back(detail::compute_light_reach(prepared, l, reach_scratch));
+  const detail::ReachHidesLights hidden(reaches.data());
   detail::bounce_radiances(prepared, frame, 0, frame.pieces.size(), scratch, true,
-                           with_reach ? reaches.data() : nullptr);
+                           with_reach ? &hidden : nullptr);
   const double e_max = emission_max_sum(scene);
   for (std::size_t k = 0; k < reference.size(); ++k) {
     ++out.pieces;

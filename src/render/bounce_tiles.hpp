@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "culling/light_reach.hpp"
 #include "culling/occlusion_proof.hpp"
 #include "render/frame_counters.hpp"
 #include "render/tiling.hpp"
@@ -27,6 +28,17 @@ struct BounceTileScratch {
   std::vector<Vec2> hull_points, hull;
   // The coarse bounce: the occluders near a tile's nodes, and the nodes' values once computed.
   std::vector<std::uint32_t> near;
+};
+
+// The lights' reach as the frame proved it, as the piece radiances' test of hidden lights
+// (bounce_radiances): a light hides a box beyond its reach in every sector the box spans.
+class ReachHidesLights final : public LightHiddenTest {
+ public:
+  explicit ReachHidesLights(const LightReach* reach) noexcept : reach_(reach) {}
+  bool hides(std::size_t light, const Aabb& box) const noexcept override { return reach_[light].hides(box); }
+
+ private:
+  const LightReach* reach_;  // per scene light
 };
 
 // The coarse bounce's nodes (docs/contract.md section 7, "Coarse bounce") that a frame's

@@ -420,13 +420,15 @@ int FrameEngine::reserve_lanes(const FramePlan& plan, const PreparedScene& scene
 // The pieces' radiances first (they depend on every light and occluder), lane by lane.
 void FrameEngine::run_bounce_stage(const PreparedScene& scene, const Scheduler& scheduler, int lanes, bool cull,
                                    const LightReach* reach) {
+  const ReachHidesLights reach_test(reach);
+  const LightHiddenTest* hidden = reach ? &reach_test : nullptr;
   if (!bounce_) bounce_ = std::make_unique<BounceFrame>();
   build_bounce_sources(scene, *bounce_);
   const std::size_t pieces = bounce_->pieces.size();
   scheduler.for_each_index(lanes, [&](int lane, int) {
     const std::size_t lo = pieces * static_cast<std::size_t>(lane) / static_cast<std::size_t>(lanes);
     const std::size_t hi = pieces * static_cast<std::size_t>(lane + 1) / static_cast<std::size_t>(lanes);
-    bounce_radiances(scene, *bounce_, lo, hi, lanes_[static_cast<std::size_t>(lane)].scalar, cull, reach);
+    bounce_radiances(scene, *bounce_, lo, hi, lanes_[static_cast<std::size_t>(lane)].scalar, cull, hidden);
   });
   finish_bounce_frame(*bounce_);
 }

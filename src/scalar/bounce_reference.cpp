@@ -155,7 +155,7 @@ void build_bounce_sources(const PreparedScene& scene, BounceFrame& frame) {
 }
 
 void bounce_radiances(const PreparedScene& scene, BounceFrame& frame, std::size_t first, std::size_t last,
-                      ScalarScratch& scratch, bool cull, const LightReach* reach) {
+                      ScalarScratch& scratch, bool cull, const LightHiddenTest* hidden) {
   for (const BounceSource& source : frame.sources) {
     const std::size_t lo = std::max<std::size_t>(first, source.first);
     const std::size_t hi = std::min<std::size_t>(last, source.first + source.count);
@@ -163,7 +163,7 @@ void bounce_radiances(const PreparedScene& scene, BounceFrame& frame, std::size_
     for (std::size_t k = lo; k < hi; ++k) {
       const BouncePiece& piece = frame.pieces[k];
       const Vec3 normal{piece.normal.x, piece.normal.y, 0.0};
-      const Rgb s = cull ? piece_direct_light(scene, piece.mid, piece.normal, source.occluder, scratch, reach)
+      const Rgb s = cull ? piece_direct_light(scene, piece.mid, piece.normal, source.occluder, scratch, hidden)
                          : direct_without(scene, piece.mid, normal, source.occluder, scratch);
       for (int c = 0; c < 3; ++c) frame.radiance[k][c] = kPi * albedo[c] * s[c];
     }

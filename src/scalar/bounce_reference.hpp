@@ -15,8 +15,6 @@
 
 namespace par2d::detail {
 
-struct LightReach;
-
 // A reflecting occluder: its pieces (a run of BounceFrame::pieces) and its shape as a light
 // (the shape of occluder `occluder`, with the other occluders it meets and how), so that its
 // pieces' shadows come from the same depth test as a light's. Along a direction that meets a
@@ -72,10 +70,10 @@ void build_bounce_sources(const PreparedScene& scene, BounceFrame& frame);
 
 // L_k = pi * albedo * S_k for pieces [first, last): S_k is section 6's value without ambient at
 // the piece's midpoint, its own occluder left out, shaded by the normal (n_k, 0). With `cull`,
-// each light only against the occluders near the segments to it, and not where `reach` (per
-// scene light, or null) hides it (piece_direct_light).
+// each light only against the occluders near the segments to it, and not where `hidden` (or
+// null) hides it (piece_direct_light).
 void bounce_radiances(const PreparedScene& scene, BounceFrame& frame, std::size_t first, std::size_t last,
-                      ScalarScratch& scratch, bool cull, const LightReach* reach = nullptr);
+                      ScalarScratch& scratch, bool cull, const LightHiddenTest* hidden = nullptr);
 
 // Which sources have a lit piece, once every radiance is in.
 void finish_bounce_frame(BounceFrame& frame) noexcept;

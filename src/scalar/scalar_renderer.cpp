@@ -10,7 +10,6 @@
 #include <limits>
 
 #include "lighting/angular_profile.hpp"
-#include "culling/light_reach.hpp"
 #include "world/occluder_bvh.hpp"
 
 namespace par2d::detail {
@@ -323,7 +322,7 @@ Rgb direct_without(const PreparedScene& scene, Vec2 x, const Vec3& normal, std::
 }
 
 Rgb piece_direct_light(const PreparedScene& scene, Vec2 x, Vec2 n, std::size_t skip, ScalarScratch& scratch,
-                       const LightReach* reach) {
+                       const LightHiddenTest* hidden) {
   const Vec3 normal{n.x, n.y, 0.0};
   // The points just off the piece, which S_k is the limit at (a box around x: its own occluder
   // only blocks directions of zero shading from there, so a reach that hides the box from a
@@ -337,7 +336,7 @@ Rgb piece_direct_light(const PreparedScene& scene, Vec2 x, Vec2 n, std::size_t s
         // direction toward it (s = max(0, cos a * n . dir)), and one with elevation 90 degrees
         // everywhere: it adds nothing.
         if (!(scene.lights[l].terms.cos_elevation > 0.0)) return false;
-        if (reach && reach[l].hides(near)) return false;
+        if (hidden && hidden->hides(l, near)) return false;
         double front = -std::numeric_limits<double>::infinity();  // the largest n . p over the light's points p
         if (shape.kind == ShapeKind::circle) {
           front = dot(n, shape.vertices[0]) + shape.radius * std::hypot(n.x, n.y);

@@ -6,12 +6,11 @@
 #include <utility>
 #include <vector>
 
+#include "geometry/aabb.hpp"
 #include "geometry/angular_intervals.hpp"
 #include "world/prepared_scene.hpp"
 
 namespace par2d::detail {
-
-struct LightReach;
 
 // Reusable buffers so that evaluating a point allocates nothing once warmed up.
 struct ScalarScratch {
@@ -53,10 +52,17 @@ Rgb direct_without(const PreparedScene& scene, Vec2 x, const Vec3& normal, std::
 // wholly behind the piece's line, occluders off every segment from x to a light). The sum
 // runs over the same blocked pieces in the same order, so it equals direct_without but where a
 // left-out light's shading would have rounded to a tiny non-zero value.
-// `reach` (per scene light, or null): lights whose proven reach hides the points just off the
-// piece are left out too.
+// `hidden` (or null) leaves out the lights it proves hide every point of a box around x (the
+// frame's light reach, from a room above this one).
+class LightHiddenTest {
+ public:
+  virtual bool hides(std::size_t light, const Aabb& box) const noexcept = 0;
+
+ protected:
+  ~LightHiddenTest() = default;
+};
 Rgb piece_direct_light(const PreparedScene& scene, Vec2 x, Vec2 n, std::size_t skip, ScalarScratch& scratch,
-                       const LightReach* reach = nullptr);
+                       const LightHiddenTest* hidden = nullptr);
 
 // Appends to `out` the pieces (in the frame of `arc`, a part of the light's own arc seen from
 // x) that occluder k (`occluder`) is in front of, contacts counting as in front: the depth test
