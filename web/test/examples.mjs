@@ -1,0 +1,114 @@
+// Every example scene rendered by the WebAssembly module through par2d.mjs, against the native
+// build's renders of the same file (docs/platforms.md, "WebAssembly and the playground"):
+//
+// - the SIMD128 frame (the SSE4.2 kernel) against the native SSE4.2 kernel: the same bytes;
+// - the SIMD128 frame against the native scalar reference: within docs/contract.md section 5's
+//   SIMD bound, 1e-4 * e_max per channel;
+// - the module's scalar reference against the native one: each within 1e-6 * e_max of the
+//   exact value, so within 2e-6 * e_max of each other;
+// - a refused scene: the Par2dError's message is the native CLI's message for the same file.
+//
+// Usage: node web/test/examples.mjs SITE NATIVE_BUILD   (SITE: build-wasm/web/site)
+// Exit status 0 when every check holds; each failure is printed with the example and numbers.
+import { execFileSync, spawnSync } from 'node:child_process';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath, pathToFileURL } from 'node:url';
+
+const [site, native] = process.argv.slice(2);
+if (!site || !native) {
+  console.error('usage: node web/test/examples.mjs SITE NATIVE_BUILD');
+  process.exit(2);
+}
+const repo = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
+const cli = path.resolve(native, 'tools/par2d');
+const diffTool = path.resolve(native, 'tools/par2d_image_diff');
+const { loadPar2d, Par2dError } = await import(pathToFileURL(path.resolve(site, 'par2d.mjs')).href);
+const { emissionMax, writePfm, sceneFiles } = await import('./scene_tools.mjs');
+
+const par2d = await loadPar2d();
+if (par2d.isa !== 'sse4') throw new Error(`the module's SIMD level is ${par2d.isa}, expected sse4 (SIMD128)`);
+const work = fs.mkdtempSync(path.join(os.tmpdir(), 'par2d-wasm-'));
+let failures = 0;
+const fail = (message) => {
+  ++failures;
+  console.log(`FAIL ${message}`);
+};
+
+// par2d_image_diff's numbers for two PFMs, and whether every channel is within `tolerance`.
+function imageDiff(a, b, tolerance) {
+  const run = spawnSync(diffTool, [a, b, '--tolerance', String(tolerance), '--json'], { encoding: 'utf8' });
+  if (run.status !== 0 && run.status !== 1) throw new Error(`par2d_image_diff ${a} ${b}: ${run.stderr}`);
+  return { ...JSON.parse(run.stdout), within: run.status === 0 };
+}
+
+function sameBytes(a, b) {
+  return Buffer.compare(fs.readFileSync(a), fs.readFileSync(b)) === 0;
+}
+
+const examples = fs.readdirSync(path.join(repo, 'examples')).filter((f) => f.endsWith('.json')).sort();
+if (examples.length < 10) throw new Error(`only ${examples.length} examples found`);
+console.log('example                  size        e_max   simd=sse4  simd-vs-scalar (bound)     scalar-vs-scalar (bound)');
+for (const name of examples) {
+  const file = path.join(repo, 'examples', name);
+  const json = fs.readFileSync(file, 'utf8');
+  const scene = JSON.parse(json);
+  const files = sceneFiles(scene, path.dirname(file));
+  const out = (tag) => path.join(work, `${path.basename(name, '.json')}_${tag}.pfm`);
+
+  const simd = par2d.createRenderer();
+  simd.loadScene(json, { name, files });
+  if (simd.isa !== 'sse4') fail(`${name}: the SIMD renderer runs at ${simd.isa}`);
+  writePfm(out('wasm_simd'), simd.width, simd.height, simd.renderLinear());
+  simd.dispose();
+  const scalar = par2d.createRenderer({ backend: 'scalar' });
+  scalar.loadScene(json, { name, files });
+  writePfm(out('wasm_scalar'), scalar.width, scalar.height, scalar.renderLinear());
+  scalar.dispose();
+
+  // The native CLI on the same file: the SSE4.2 kernel, and the scalar reference (any thread
+  // count gives the same bytes; the reference takes all of them).
+  execFileSync(cli, ['render', file, '--isa', 'sse4', '--backend', 'simd', '--threads', '1', '--pfm', out('native_sse4')]);
+  execFileSync(cli, ['render', file, '--backend', 'scalar', '--pfm', out('native_scalar')]);
+
+  const eMax = emissionMax(scene);
+  const identical = sameBytes(out('wasm_simd'), out('native_sse4'));
+  const simdBound = 1e-4 * eMax;
+  const simdDiff = imageDiff(out('wasm_simd'), out('native_scalar'), simdBound);
+  const scalarBound = 2e-6 * eMax;
+  const scalarDiff = imageDiff(out('wasm_scalar'), out('native_scalar'), scalarBound);
+  console.log(
+    `${name.padEnd(24)} ${`${simd.width}x${simd.height}`.padEnd(11)} ${eMax.toPrecision(4).padStart(7)}   ` +
+      `${identical ? 'identical' : 'DIFFERENT'}  ${simdDiff.max_abs.toExponential(2)} (${simdBound.toExponential(1)})` +
+      `${' '.repeat(10)}${scalarDiff.max_abs.toExponential(2)} (${scalarBound.toExponential(1)})`,
+  );
+  if (!identical) fail(`${name}: the SIMD128 frame differs from the native SSE4.2 kernel's (max ${imageDiff(out('wasm_simd'), out('native_sse4'), 0).max_abs})`);
+  if (!simdDiff.within) fail(`${name}: SIMD128 vs native scalar: ${JSON.stringify(simdDiff)} over ${simdBound}`);
+  if (!scalarDiff.within) fail(`${name}: wasm scalar vs native scalar: ${JSON.stringify(scalarDiff)} over ${scalarBound}`);
+}
+
+// A refused scene: the validator's message, as the native CLI prints it for the same file.
+const bad = JSON.parse(fs.readFileSync(path.join(repo, 'examples/lighting_spot.json'), 'utf8'));
+bad.lights[1].color = [1, -0.5, 1];
+const badFile = path.join(work, 'bad_scene.json');
+fs.writeFileSync(badFile, JSON.stringify(bad, null, 2));
+const nativeRun = spawnSync(cli, ['render', 'bad_scene.json', '--pfm', 'never.pfm'], { cwd: work, encoding: 'utf8' });
+const nativeMessage = nativeRun.stderr.trim().replace(/^par2d: /, '');
+let jsMessage = null;
+const renderer = par2d.createRenderer();
+try {
+  renderer.loadScene(fs.readFileSync(badFile, 'utf8'), { name: 'bad_scene.json' });
+} catch (e) {
+  if (!(e instanceof Par2dError)) throw e;
+  jsMessage = e.message;
+}
+console.log(`bad scene: native exit ${nativeRun.status}: ${nativeMessage}\n           par2d.mjs: ${jsMessage}`);
+if (nativeRun.status === 0 || !nativeMessage) fail('the native CLI accepted the bad scene');
+if (jsMessage !== nativeMessage) fail(`the refused scene's message differs: '${jsMessage}' vs native '${nativeMessage}'`);
+if (renderer.width !== 0) fail('a refused scene changed the renderer');
+renderer.dispose();
+
+fs.rmSync(work, { recursive: true, force: true });
+console.log(failures ? `${failures} check(s) failed` : `all ${examples.length} examples and the refused scene pass`);
+process.exit(failures ? 1 : 0);
