@@ -20,6 +20,9 @@ set(CMAKE_CXX_LINKER_LAUNCHER ${CMAKE_COMMAND} -E env NODE_PATH=/usr/share/nodej
 set(PAR2D_USE_TBB OFF CACHE BOOL "" FORCE)
 
 # par2d reports failures as statuses, some of them caught from C++ exceptions (a JSON syntax
-# error, an allocation that fails): emscripten's exception catching must be on.
-set(CMAKE_CXX_FLAGS_INIT "-fexceptions")
-set(CMAKE_EXE_LINKER_FLAGS_INIT "-fexceptions")
+# error, an allocation that fails), so exceptions must be caught. WebAssembly's own exception
+# handling (node >= 17, every current browser) costs nothing where nothing throws; emscripten's
+# older JavaScript-based catching (-fexceptions) routes every call that may throw through
+# JavaScript and made the paper.json frame about 20% slower.
+set(CMAKE_CXX_FLAGS_INIT "-fwasm-exceptions")
+set(CMAKE_EXE_LINKER_FLAGS_INIT "-fwasm-exceptions")

@@ -6,7 +6,8 @@
 //   SIMD bound, 1e-4 * e_max per channel;
 // - the module's scalar reference against the native one: each within 1e-6 * e_max of the
 //   exact value, so within 2e-6 * e_max of each other;
-// - a refused scene: the Par2dError's message is the native CLI's message for the same file.
+// - refused scenes (a bad value, a JSON syntax error): the Par2dError's message is the native
+//   CLI's message for the same file.
 //
 // Usage: node web/test/examples.mjs SITE NATIVE_BUILD   (SITE: build-wasm/web/site)
 // Exit status 0 when every check holds; each failure is printed with the example and numbers.
@@ -88,27 +89,33 @@ for (const name of examples) {
   if (!scalarDiff.within) fail(`${name}: wasm scalar vs native scalar: ${JSON.stringify(scalarDiff)} over ${scalarBound}`);
 }
 
-// A refused scene: the validator's message, as the native CLI prints it for the same file.
-const bad = JSON.parse(fs.readFileSync(path.join(repo, 'examples/lighting_spot.json'), 'utf8'));
-bad.lights[1].color = [1, -0.5, 1];
-const badFile = path.join(work, 'bad_scene.json');
-fs.writeFileSync(badFile, JSON.stringify(bad, null, 2));
-const nativeRun = spawnSync(cli, ['render', 'bad_scene.json', '--pfm', 'never.pfm'], { cwd: work, encoding: 'utf8' });
-const nativeMessage = nativeRun.stderr.trim().replace(/^par2d: /, '');
-let jsMessage = null;
+// Refused scenes: a value the validator refuses, and a JSON syntax error (caught from the JSON
+// parser's C++ exception): the message is the native CLI's for the same file.
+const spot = JSON.parse(fs.readFileSync(path.join(repo, 'examples/lighting_spot.json'), 'utf8'));
+spot.lights[1].color = [1, -0.5, 1];
+const refused = {
+  'bad_color.json': JSON.stringify(spot, null, 2),
+  'bad_syntax.json': fs.readFileSync(path.join(repo, 'examples/lighting_spot.json'), 'utf8').replace('"lights":', '"lights"'),
+};
 const renderer = par2d.createRenderer();
-try {
-  renderer.loadScene(fs.readFileSync(badFile, 'utf8'), { name: 'bad_scene.json' });
-} catch (e) {
-  if (!(e instanceof Par2dError)) throw e;
-  jsMessage = e.message;
+for (const [name, text] of Object.entries(refused)) {
+  fs.writeFileSync(path.join(work, name), text);
+  const nativeRun = spawnSync(cli, ['render', name, '--pfm', 'never.pfm'], { cwd: work, encoding: 'utf8' });
+  const nativeMessage = nativeRun.stderr.trim().replace(/^par2d: /, '');
+  let jsMessage = null;
+  try {
+    renderer.loadScene(text, { name });
+  } catch (e) {
+    if (!(e instanceof Par2dError)) throw e;
+    jsMessage = e.message;
+  }
+  console.log(`${name}: native exit ${nativeRun.status}: ${nativeMessage}\n${' '.repeat(name.length)}  par2d.mjs: ${jsMessage}`);
+  if (nativeRun.status === 0 || !nativeMessage) fail(`the native CLI accepted ${name}`);
+  if (jsMessage !== nativeMessage) fail(`${name}: the message differs: '${jsMessage}' vs native '${nativeMessage}'`);
+  if (renderer.width !== 0) fail(`${name}: a refused scene changed the renderer`);
 }
-console.log(`bad scene: native exit ${nativeRun.status}: ${nativeMessage}\n           par2d.mjs: ${jsMessage}`);
-if (nativeRun.status === 0 || !nativeMessage) fail('the native CLI accepted the bad scene');
-if (jsMessage !== nativeMessage) fail(`the refused scene's message differs: '${jsMessage}' vs native '${nativeMessage}'`);
-if (renderer.width !== 0) fail('a refused scene changed the renderer');
 renderer.dispose();
 
 fs.rmSync(work, { recursive: true, force: true });
-console.log(failures ? `${failures} check(s) failed` : `all ${examples.length} examples and the refused scene pass`);
+console.log(failures ? `${failures} check(s) failed` : `all ${examples.length} examples and the refused scenes pass`);
 process.exit(failures ? 1 : 0);
