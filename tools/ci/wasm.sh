@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # CI: builds par2d for WebAssembly with Debian's emscripten (the SSE4.2 kernel on SIMD128, and a
-# scalar-only module), then runs under node: every example against the native build's renders
-# (web/test/examples.mjs), the paper.json frame-time targets (web/test/bench.mjs), and the
-# playground in headless Chromium (web/test/playground.mjs). See docs/platforms.md,
-# "WebAssembly and the playground".
+# scalar-only module with WASM_BENCH=1), then runs under node: every example against the native
+# build's renders (web/test/examples.mjs), the playground in headless Chromium
+# (web/test/playground.mjs), and with WASM_BENCH=1 the paper.json frame-time targets
+# (web/test/bench.mjs). See docs/platforms.md, "WebAssembly and the playground".
 #
 # Usage: tools/ci/wasm.sh            (installs what it needs with apt-get; run as root)
-# Env:   JOBS (default 2), NATIVE (default build: the native build whose par2d CLI and
+# Env:   WASM_BENCH=1: also the scalar-only module and the frame-time targets (bench.mjs),
+#        JOBS (default 2), NATIVE (default build: the native build whose par2d CLI and
 #        par2d_image_diff are used; configured and built here when it has none),
 #        BENCH_JSON (optional: where bench.mjs writes its numbers).
 set -euo pipefail
@@ -30,8 +31,10 @@ command -v node >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y 
 
 cmake --preset wasm >/dev/null
 cmake --build --preset wasm -j"$JOBS"
-cmake --preset wasm-scalar >/dev/null
-cmake --build --preset wasm-scalar -j"$JOBS"
+if [[ ${WASM_BENCH:-0} == 1 ]]; then
+  cmake --preset wasm-scalar >/dev/null
+  cmake --build --preset wasm-scalar -j"$JOBS"
+fi
 if [[ ! -f $NATIVE/CMakeCache.txt ]]; then
   cmake -S . -B "$NATIVE" -DPAR2D_BUILD_TESTS=OFF -DPAR2D_BUILD_BENCH=OFF >/dev/null
 fi
@@ -46,7 +49,11 @@ fi
 
 node web/test/examples.mjs build-wasm/web/site "$NATIVE"
 t3=$(stamp)
-node web/test/bench.mjs build-wasm/web/site build-wasm-scalar/web/site "$NATIVE" --frames 20 ${BENCH_JSON:+--json "$BENCH_JSON"}
+# The frame-time targets need the scalar-only module, a second build of the library (about as
+# long as the first): WASM_BENCH=1 builds it and runs them.
+if [[ ${WASM_BENCH:-0} == 1 ]]; then
+  node web/test/bench.mjs build-wasm/web/site build-wasm-scalar/web/site "$NATIVE" --frames 20 ${BENCH_JSON:+--json "$BENCH_JSON"}
+fi
 t4=$(stamp)
 node --experimental-websocket web/test/playground.mjs build-wasm/web/site "$NATIVE"
 t5=$(stamp)

@@ -57,7 +57,8 @@ const finish = async (code) => {
   browser.kill();
   await exited;
   server.close();
-  fs.rmSync(work, { recursive: true, force: true, maxRetries: 3 });
+  // Chromium's helper processes may still be writing its profile for a moment after it exits.
+  fs.rmSync(work, { recursive: true, force: true, maxRetries: 20, retryDelay: 100 });
   process.exit(code);
 };
 const timer = setTimeout(() => {
