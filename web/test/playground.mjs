@@ -1,11 +1,12 @@
-// The playground in headless Chromium, driven over the DevTools protocol (node's WebSocket, no
-// npm package): the page loads and renders an example; its canvas holds the native SSE4.2
-// kernel's bytes and its frame is within docs/contract.md section 5 of the native scalar
-// reference; a drag moves a light and redraws only dirty rectangles, after which the canvas
+// The playground in headless Chromium, driven over the DevTools protocol (a WebSocket client
+// of its own, cdp_socket.mjs: no npm package): the page loads and renders an example; its
+// canvas holds the native SSE4.2 kernel's bytes and its frame is within docs/contract.md
+// section 5 of the native scalar reference; a drag moves a light and redraws only dirty rectangles, after which the canvas
 // equals a fresh render of the moved scene; a refused scene shows the validator's message,
-// the native CLI's for the same text, with its line marked.
+// the native CLI's for the same text, with its line marked; the menu opens a normal-mapped
+// example.
 //
-// Usage: node --experimental-websocket web/test/playground.mjs SITE NATIVE_BUILD [--screenshot PNG]
+// Usage: node web/test/playground.mjs SITE NATIVE_BUILD [--screenshot PNG]
 import { execFileSync, spawn, spawnSync } from 'node:child_process';
 import fs from 'node:fs';
 import http from 'node:http';
@@ -13,6 +14,7 @@ import os from 'node:os';
 import path from 'node:path';
 import zlib from 'node:zlib';
 import { fileURLToPath } from 'node:url';
+import { openSocket } from './cdp_socket.mjs';
 import { emissionMax, writePfm } from './scene_tools.mjs';
 
 const args = process.argv.slice(2);
@@ -20,7 +22,7 @@ const shotAt = args.indexOf('--screenshot');
 const screenshot = shotAt >= 0 ? args.splice(shotAt, 2)[1] : null;
 const [site, native] = args;
 if (!site || !native) {
-  console.error('usage: node --experimental-websocket web/test/playground.mjs SITE NATIVE_BUILD [--screenshot PNG]');
+  console.error('usage: node web/test/playground.mjs SITE NATIVE_BUILD [--screenshot PNG]');
   process.exit(2);
 }
 const repo = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
@@ -78,11 +80,7 @@ const devtools = await new Promise((resolve, reject) => {
 const port = new URL(devtools).port;
 const targets = await (await fetch(`http://127.0.0.1:${port}/json/list`)).json();
 const page = targets.find((t) => t.type === 'page');
-const socket = new WebSocket(page.webSocketDebuggerUrl);
-await new Promise((resolve, reject) => {
-  socket.onopen = resolve;
-  socket.onerror = reject;
-});
+const socket = await openSocket(page.webSocketDebuggerUrl);
 let nextId = 0;
 const pending = new Map();
 const consoleLines = [];
@@ -205,8 +203,21 @@ try {
   check(nativeRun.status !== 0 && shownError.box === nativeMessage, "the page shows the validator's message (the native CLI's)");
   check(shownError.line === expectedLine && shownError.marked === String(expectedLine), `the error's line ${expectedLine} is marked`);
 
+  // 5. The menu opens another example, one with a normal map the page fetches beside it.
+  await evaluate(`(() => { const m = document.getElementById('examples'); m.value = 'lighting_game.json';
+    m.dispatchEvent(new Event('change')); })()`);
+  await waitFor(`${P}.example === 'lighting_game.json' && ${P}.error === ''`, 'lighting_game.json from the menu');
+  const game = await evaluate(`({w: document.getElementById('frame').width, h: document.getElementById('frame').height,
+    drawn: ${P}.dirtyPixelsDrawn})`);
+  check(game.w === 960 && game.h === 540 && game.drawn === 960 * 540, 'the menu opened lighting_game.json (normal-mapped) whole');
+
   if (screenshot) {
-    await evaluate(`(() => { const e = document.getElementById('editor'); e.value = ${JSON.stringify(badText)}; })()`);
+    await evaluate(`(() => { const m = document.getElementById('examples'); m.value = '${EXAMPLE}';
+      m.dispatchEvent(new Event('change')); })()`);
+    await waitFor(`${P}.example === '${EXAMPLE}' && ${P}.error === ''`, 'the example again');
+    await evaluate(`(() => { const e = document.getElementById('editor'); e.value = ${JSON.stringify(badText)};
+      e.dispatchEvent(new Event('input')); })()`);
+    await waitFor(`${P}.error !== ''`, 'the error again');
     const shot = await send('Page.captureScreenshot', { format: 'png' });
     fs.writeFileSync(screenshot, Buffer.from(shot.data, 'base64'));
     console.log(`screenshot: ${screenshot}`);
