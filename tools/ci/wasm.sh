@@ -55,6 +55,6 @@ if [[ ${WASM_BENCH:-0} == 1 ]]; then
   node web/test/bench.mjs build-wasm/web/site build-wasm-scalar/web/site "$NATIVE" --frames 20 ${BENCH_JSON:+--json "$BENCH_JSON"}
 fi
 t4=$(stamp)
-node --experimental-websocket web/test/playground.mjs build-wasm/web/site "$NATIVE"
+node web/test/playground.mjs build-wasm/web/site "$NATIVE"
 t5=$(stamp)
 echo "wasm.sh: apt $((t1 - t0)) s, builds $((t2 - t1)) s, examples $((t3 - t2)) s, bench $((t4 - t3)) s, playground $((t5 - t4)) s"
