@@ -149,6 +149,24 @@ for (const [name, text] of Object.entries(refused)) {
 }
 renderer.dispose();
 
+// Numbers as text: the module's libc++ has no floating-point std::to_chars, so scene snapshots
+// and validator messages use src/scene/shortest_double.hpp's printf/strtod search. Every
+// coordinate must read back as the same double, over magnitudes 1e-6 to 1e6 and a few edges.
+{
+  const values = [0.1, 1 / 3, 100, 0.5, 1e21, 123456789012.5, 1e-7, -2.5e-5, 4096.000000000001];
+  let state = 12345;
+  const next = () => (state = (state * 1103515245 + 12345) % 2147483648) / 2147483648;
+  while (values.length < 3000) values.push((next() - 0.5) * 10 ** Math.floor(next() * 13 - 6));
+  const r = par2d.createRenderer();
+  r.loadScene('{"width": 16, "height": 16}');
+  for (let i = 0; i + 1 < values.length; i += 2) r.addOccluder({ circle: { center: [values[i], values[i + 1]], radius: 1 } });
+  const occluders = JSON.parse(r.snapshotJson()).occluders;
+  const wrong = occluders.filter((o, k) => o.circle.center[0] !== values[2 * k] || o.circle.center[1] !== values[2 * k + 1]);
+  console.log(`snapshot numbers: ${occluders.length} occluders written, ${wrong.length} read back different`);
+  if (occluders.length !== values.length / 2 || wrong.length) fail(`snapshot numbers: ${JSON.stringify(wrong.slice(0, 3))}`);
+  r.dispose();
+}
+
 fs.rmSync(work, { recursive: true, force: true });
 console.log(failures ? `${failures} check(s) failed` : `all ${examples.length} examples and the refused scenes pass`);
 process.exit(failures ? 1 : 0);
