@@ -1,13 +1,13 @@
-# Header-only dependencies (xsimd, nlohmann-json, stb) for a cross build to Windows, taken from
-# the build machine's Debian packages. Their directories are linked one by one into the build
-# tree, so the cross compiler sees those headers and never the rest of /usr/include (glibc's
-# headers would shadow the MinGW runtime's). The targets get the names the packages' own
-# find modules give them. stb's implementation is compiled into par2d here (src/CMakeLists.txt),
-# where a Debian build links it from libstb.
+# Header-only dependencies (xsimd, nlohmann-json, stb) for a cross build to Windows or
+# WebAssembly, taken from the build machine's Debian packages. Their directories are linked one
+# by one into the build tree, so the cross compiler sees those headers and never the rest of
+# /usr/include (glibc's headers would shadow the MinGW runtime's or emscripten's libc). The
+# targets get the names the packages' own find modules give them. stb's implementation is
+# compiled into par2d here (src/CMakeLists.txt), where a Debian build links it from libstb.
 #
-# PAR2D_HOST_HEADERS: ON by default when cross-building for Windows.
+# PAR2D_HOST_HEADERS: ON by default when cross-building for Windows or WebAssembly.
 # PAR2D_HOST_INCLUDE_DIR: where the packages' headers are (default /usr/include).
-if(CMAKE_CROSSCOMPILING AND CMAKE_SYSTEM_NAME STREQUAL "Windows")
+if(CMAKE_CROSSCOMPILING AND CMAKE_SYSTEM_NAME MATCHES "^(Windows|Emscripten)$")
   set(PAR2D_HOST_HEADERS_DEFAULT ON)
 else()
   set(PAR2D_HOST_HEADERS_DEFAULT OFF)

@@ -40,6 +40,9 @@ inline double profile_acos(double a) noexcept { return std::acos(a); }
 inline double profile_atan2(double y, double x) noexcept { return std::atan2(y, x); }
 inline double profile_sqrt(double a) noexcept { return std::sqrt(a); }
 
+// The batch forms, where xsimd has a vector architecture: a file compiled without one (the
+// scalar reference of a WebAssembly build without SIMD128) gets only the double forms above.
+#if !defined(XSIMD_NO_SUPPORTED_ARCHITECTURE)
 template <class A>
 xsimd::batch<float, A> profile_select(const xsimd::batch_bool<float, A>& m, const xsimd::batch<float, A>& a,
                                       const xsimd::batch<float, A>& b) noexcept {
@@ -77,6 +80,7 @@ template <class A>
 xsimd::batch<float, A> profile_sqrt(const xsimd::batch<float, A>& a) noexcept {
   return xsimd::sqrt(a);
 }
+#endif
 
 // A double constant as T (float batches round it to float explicitly).
 template <class T>

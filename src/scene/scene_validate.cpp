@@ -16,6 +16,7 @@
 #include "geometry/polygon_partition.hpp"
 #include "lighting/light_emission.hpp"
 #include "geometry/vec2.hpp"
+#include "scene/shortest_double.hpp"
 
 // A level holds many shapes: holes live out of line, so a polygon costs its outline's vector
 // and one pointer (tests/test_scene_loading.cpp loads 8 MB of shapes within 3x the text).
@@ -607,10 +608,7 @@ Status scene_error(std::string_view name, const SceneProblem& problem) {
 std::string format_number(double value) {
   if (std::isnan(value)) return "nan";
   if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  std::array<char, 64> buffer{};
-  const auto result = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
-  if (result.ec != std::errc()) return "?";
-  return std::string(buffer.data(), result.ptr);
+  return detail::shortest_double(value);
 }
 
 Status validate_scene(const Scene& scene, std::string_view name, NormalsCheck normals) {

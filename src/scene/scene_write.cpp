@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/file_compat.hpp"
+#include "scene/shortest_double.hpp"
 
 namespace par2d {
 namespace {
@@ -24,9 +25,7 @@ namespace {
 // Shortest decimal that reads back as the same double (std::to_chars without a precision),
 // so a written scene loads bit-identical and integers stay integers ("512", not "512.0").
 void put_number(std::string& out, double v) {
-  char buf[32];
-  auto result = std::to_chars(buf, buf + sizeof buf, v);
-  out.append(buf, result.ptr);
+  out += detail::shortest_double(v);
 }
 
 void put_point(std::string& out, const Vec2& p) {

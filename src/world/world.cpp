@@ -53,7 +53,7 @@ std::uint64_t World::make_handle(std::uint32_t slot) const noexcept {
 World::Slot* World::find(std::uint64_t id, bool occluder) noexcept {
   const std::uint64_t low = id & 0xffffffffu;
   if (low == 0 || low > slots_.size()) return nullptr;
-  Slot& slot = slots_[low - 1];
+  Slot& slot = slots_[static_cast<std::size_t>(low - 1)];  // low <= slots_.size()
   if (slot.where < 0 || slot.internal || slot.generation != (id >> 32)) return nullptr;
   if ((slot.list == kOccluder) != occluder) return nullptr;
   return &slot;
