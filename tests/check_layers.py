@@ -56,7 +56,7 @@ RENDER_BACK_ARROWS = {
     ("frame_counters.hpp", "par2d/render.hpp"): "to_frame_stats fills the public FrameStats",
     ("frame_driver.hpp", "par2d/render.hpp"): "a frame reports FrameStats and calls the host's ProgressFunction",
 }
-ARCH_SUFFIX = re.compile(r"_(x86|aarch64|generic)$")
+ARCH_SUFFIX = re.compile(r"_(x86|aarch64|generic|wasm)$")
 LIBRARIES = {"xsimd": "xsimd", "tbb": "TBB", "stb": "stb", "nlohmann": "nlohmann/json"}
 SHELLS = ("python", "tools")  # outside src/: the public API only
 MAX_LINES = 800
