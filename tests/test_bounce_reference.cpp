@@ -14,6 +14,7 @@
 #include "raycast/raycast_renderer.hpp"
 #include "render/bounce_tiles.hpp"
 #include "scalar/bounce_reference.hpp"
+#include "support/bounce_scenes.hpp"
 #include "support/random_scenes.hpp"
 #include "support/render_checks.hpp"
 #include "support/test_tiers.hpp"
@@ -31,13 +32,6 @@ Scene base_scene() {
   s.height = 24;
   s.view = {-80, -60, 80, 60};
   return s;
-}
-
-Occluder reflector(Shape shape, Rgb albedo) {
-  Occluder o;
-  o.shape = std::move(shape);
-  o.albedo = albedo;
-  return o;
 }
 
 // The prepared scene, its bounce frame, and the bounce term at points (world coordinates).
@@ -215,30 +209,7 @@ TEST_CASE("bounce: pieces buried in another occluder get nothing and light nothi
 namespace {
 
 // A scene with every kind of reflector and a translucent and an opaque occluder.
-Scene mixed_scene() {
-  Scene s = base_scene();
-  Light a;
-  a.shape = Circle{{-30, -35}, 5};
-  a.intensity = 2;
-  a.color = {1, 0.8, 0.6};
-  s.lights.push_back(a);
-  Light b;
-  b.shape = Segment{{40, -50}, {60, -40}};
-  b.color = {0.3, 0.6, 1};
-  s.lights.push_back(b);
-  s.occluders.push_back(reflector(Polygon{{{-50, 10}, {-10, 10}, {10, 10}, {10, 25}, {-50, 25}}}, {0.9, 0.6, 0.3}));
-  s.occluders.push_back(reflector(Circle{{30, 5}, 9}, {0.2, 0.8, 0.4}));
-  s.occluders.push_back(reflector(Segment{{-60, -20}, {-45, 0}}, {1, 1, 1}));
-  Occluder glass;
-  glass.shape = Circle{{0, -15}, 6};
-  glass.transmittance = {0.6, 0.3, 0.9};
-  s.occluders.push_back(glass);
-  Occluder block;
-  block.shape = Polygon{{{50, 20}, {65, 20}, {65, 35}}};
-  s.occluders.push_back(block);
-  s.bounce.piece = 7;
-  return s;
-}
+Scene mixed_scene() { return bounce_mixed_scene(); }
 
 // Worst difference of the ray caster's piece radiances (rays each) and bounce term at `points`
 // (its total minus its direct value, the same rays) from the reference, over e_max.

@@ -18,6 +18,7 @@
 #include "par2d/scene_write.hpp"
 #include "scalar/bounce_reference.hpp"
 #include "world/world.hpp"
+#include "support/bounce_scenes.hpp"
 #include "support/random_scenes.hpp"
 #include "support/render_checks.hpp"
 #include "support/test_tiers.hpp"
@@ -25,41 +26,13 @@
 namespace par2d::test {
 namespace {
 
-Occluder reflector(Shape shape, Rgb albedo) {
-  Occluder o;
-  o.shape = std::move(shape);
-  o.albedo = albedo;
-  return o;
-}
-
-// Two lights, reflecting polygons, a circle and a segment, a translucent disc and a dark
-// triangle: every kind of shape a segment to a node can meet.
+// The mixed bounce scene (every kind of shape a segment to a node can meet) at 48 x 36, its
+// view moved off the shapes' round coordinates so few segments to nodes graze a vertex exactly.
 Scene coarse_scene(int step) {
-  Scene s;
+  Scene s = bounce_mixed_scene();
   s.width = 48;
   s.height = 36;
-  // Off the shapes' round coordinates, so few segments to nodes graze a vertex exactly.
   s.view = {-80.1234, -60.0771, 79.8766, 59.9229};
-  Light a;
-  a.shape = Circle{{-30, -35}, 5};
-  a.intensity = 2;
-  a.color = {1, 0.8, 0.6};
-  s.lights.push_back(a);
-  Light b;
-  b.shape = Segment{{40, -50}, {60, -40}};
-  b.color = {0.3, 0.6, 1};
-  s.lights.push_back(b);
-  s.occluders.push_back(reflector(Polygon{{{-50, 10}, {-10, 10}, {10, 10}, {10, 25}, {-50, 25}}}, {0.9, 0.6, 0.3}));
-  s.occluders.push_back(reflector(Circle{{30, 5}, 9}, {0.2, 0.8, 0.4}));
-  s.occluders.push_back(reflector(Segment{{-60, -20}, {-45, 0}}, {1, 1, 1}));
-  Occluder glass;
-  glass.shape = Circle{{0, -15}, 6};
-  glass.transmittance = {0.6, 0.3, 0.9};
-  s.occluders.push_back(glass);
-  Occluder block;
-  block.shape = Polygon{{{50, 20}, {65, 20}, {65, 35}}};
-  s.occluders.push_back(block);
-  s.bounce.piece = 7;
   s.bounce.step = step;
   return s;
 }

@@ -29,6 +29,12 @@ struct CompiledKernels {
 };
 CompiledKernels compiled_kernels() noexcept;
 
+// A kernel_table_<arch>.cpp's table as CompiledKernels.
+template <std::size_t N>
+constexpr CompiledKernels compiled_kernels_of(const KernelSet (&table)[N]) noexcept {
+  return {table, N};
+}
+
 // The kernels for `isa`, or null for Isa::scalar (the scalar path is the reference renderer)
 // and for levels not compiled for this architecture.
 const KernelSet* kernels_for(Isa isa) noexcept;

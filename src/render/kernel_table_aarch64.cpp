@@ -18,12 +18,8 @@ constexpr KernelTestHooks kTestHooks[] = {
 
 }  // namespace
 
-const KernelTestHooks* kernel_test_hooks_for(Isa isa) noexcept {
-  for (const KernelTestHooks& hooks : kTestHooks)
-    if (hooks.isa == isa) return &hooks;
-  return nullptr;
-}
+const KernelTestHooks* kernel_test_hooks_for(Isa isa) noexcept { return find_test_hooks(kTestHooks, isa); }
 
-CompiledKernels compiled_kernels() noexcept { return {kKernels, sizeof(kKernels) / sizeof(kKernels[0])}; }
+CompiledKernels compiled_kernels() noexcept { return compiled_kernels_of(kKernels); }
 
 }  // namespace par2d::detail

@@ -24,4 +24,12 @@ struct KernelTestHooks {
 // kernel table in kernel_table_<arch>.cpp.
 const KernelTestHooks* kernel_test_hooks_for(Isa isa) noexcept;
 
+// The row of `isa` in a kernel_table_<arch>.cpp's table of hooks, or null.
+template <std::size_t N>
+const KernelTestHooks* find_test_hooks(const KernelTestHooks (&table)[N], Isa isa) noexcept {
+  for (const KernelTestHooks& hooks : table)
+    if (hooks.isa == isa) return &hooks;
+  return nullptr;
+}
+
 }  // namespace par2d::detail
