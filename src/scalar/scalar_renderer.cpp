@@ -202,9 +202,9 @@ Rgb covered_integral(const PreparedScene& scene, const AngularProfile<double>& p
 // docs/contract.md section 6 at x, shaded by `normal` when not null. Occluder `skip` (when a
 // valid index) is left out, as if absent, and the ambient term only added with `ambient`: a
 // bounce piece's direct light (section 7) is taken so on its own occluder's boundary.
-// `choose(l, list)` fills `list` (ascending) with the occluders light l is evaluated against,
-// or returns false to leave the light out: the reference takes every occluder and every light
-// (every_occluder); a caller that knows the others add nothing passes fewer. Directional
+// `choose(l)` gives the occluders light l is evaluated against (ascending), or null to leave
+// the light out: the reference takes every occluder and every light; a caller that knows the
+// others add nothing passes fewer. Directional
 // lights always look at every occluder. Angular spans are computed for the occluders looked at.
 template <class Choose>
 Rgb model_irradiance_over(const PreparedScene& scene, Vec2 x, const Vec3* normal, ScalarScratch& scratch,
@@ -238,10 +238,11 @@ Rgb model_irradiance_over(const PreparedScene& scene, Vec2 x, const Vec3* normal
                             [&](double base) { return std::pow(base, terms.falloff); });
       if (!(window > 0.0)) continue;
     }
-    if (!choose(l, scratch.chosen)) continue;
+    const std::vector<std::uint32_t>* chosen = choose(l);
+    if (!chosen) continue;
     // Acting occluders containing x: t_B = 0 <= t_L along every direction.
     Rgb factor{window, window, window};
-    for (const std::uint32_t k : scratch.chosen) {
+    for (const std::uint32_t k : *chosen) {
       span_of(k);
       if (!scratch.inside[k] || !acts(scene.occluder_terms[k], true, terms.mask)) continue;
       for (int c = 0; c < 3; ++c) factor[c] *= scene.occluder_terms[k].transmittance[c];
@@ -253,7 +254,7 @@ Rgb model_irradiance_over(const PreparedScene& scene, Vec2 x, const Vec3* normal
     scratch.piece_occluder.clear();
     // Inside the light (t_L = 0) only occluders containing x come first.
     if (!arc.full) {
-      for (const std::uint32_t k : scratch.chosen) {
+      for (const std::uint32_t k : *chosen) {
         const AngularSpan& span = span_of(k);
         if (scratch.inside[k] || k == skip || !acts(scene.occluder_terms[k], false, terms.mask)) continue;
         for_each_blocked_piece(light, scene.occluders[k], k, x, arc, span, scratch, [&](double lo, double hi) {
@@ -297,12 +298,13 @@ Rgb model_irradiance_over(const PreparedScene& scene, Vec2 x, const Vec3* normal
 // The reference's choice: every light against every occluder.
 Rgb model_irradiance(const PreparedScene& scene, Vec2 x, const Vec3* normal, ScalarScratch& scratch,
                      std::size_t skip = static_cast<std::size_t>(-1), bool ambient = true) {
-  return model_irradiance_over(scene, x, normal, scratch, skip, ambient,
-                               [&](std::size_t, std::vector<std::uint32_t>& list) {
-                                 list.resize(scene.occluders.size());
-                                 for (std::size_t k = 0; k < list.size(); ++k) list[k] = static_cast<std::uint32_t>(k);
-                                 return true;
-                               });
+  // Every occluder's index, kept from point to point while the count stays.
+  std::vector<std::uint32_t>& every = scratch.every_occluder;
+  if (every.size() != scene.occluders.size()) {
+    every.resize(scene.occluders.size());
+    for (std::size_t k = 0; k < every.size(); ++k) every[k] = static_cast<std::uint32_t>(k);
+  }
+  return model_irradiance_over(scene, x, normal, scratch, skip, ambient, [&](std::size_t) { return &every; });
 }
 
 }  // namespace
@@ -330,27 +332,28 @@ Rgb piece_direct_light(const PreparedScene& scene, Vec2 x, Vec2 n, std::size_t s
   const double margin = 1e-7 * (1.0 + std::fabs(x.x) + std::fabs(x.y));
   const Aabb near{x.x - margin, x.y - margin, x.x + margin, x.y + margin};
   return model_irradiance_over(
-      scene, x, &normal, scratch, skip, false, [&](std::size_t l, std::vector<std::uint32_t>& list) {
+      scene, x, &normal, scratch, skip, false, [&](std::size_t l) -> const std::vector<std::uint32_t>* {
         const ConvexShape& shape = scene.lights[l].shape;
         // A light wholly on the closed back side of the piece's line gets shading 0 at every
         // direction toward it (s = max(0, cos a * n . dir)), and one with elevation 90 degrees
         // everywhere: it adds nothing.
-        if (!(scene.lights[l].terms.cos_elevation > 0.0)) return false;
-        if (hidden && hidden->hides(l, near)) return false;
+        if (!(scene.lights[l].terms.cos_elevation > 0.0)) return nullptr;
+        if (hidden && hidden->hides(l, near)) return nullptr;
         double front = -std::numeric_limits<double>::infinity();  // the largest n . p over the light's points p
         if (shape.kind == ShapeKind::circle) {
           front = dot(n, shape.vertices[0]) + shape.radius * std::hypot(n.x, n.y);
         } else {
           for (const Vec2 v : shape.vertices) front = std::max(front, dot(n, v));
         }
-        if (!(front > dot(n, x))) return false;
+        if (!(front > dot(n, x))) return nullptr;
         // Every segment from x to the light lies in their hull: an occluder whose box misses it
         // blocks no direction toward the light, nor contains x.
         hull_with_shape(&x, 1, shape, scratch.hull_points, scratch.hull);
+        std::vector<std::uint32_t>& list = scratch.chosen;
         list.clear();
         scene.occluder_bvh.query_convex(scratch.hull.data(), static_cast<int>(scratch.hull.size()), list);
         std::sort(list.begin(), list.end());
-        return true;
+        return &list;
       });
 }
 

@@ -27,7 +27,7 @@ struct ScalarScratch {
   std::vector<std::uint32_t> active;
   // The occluders one light is evaluated against, and which occluders' spans this point has
   // (span_stamp[k] == stamp).
-  std::vector<std::uint32_t> chosen;
+  std::vector<std::uint32_t> chosen, every_occluder;
   std::vector<std::uint32_t> span_stamp;
   std::uint32_t stamp = 0;
   std::vector<Vec2> hull_points, hull;
