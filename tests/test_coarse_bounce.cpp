@@ -277,3 +277,58 @@ TEST_CASE("coarse bounce: bounce.step in scene files and the C API") {
 }
 
 }  // namespace par2d::test
+
+namespace par2d::test {
+
+TEST_CASE("coarse bounce: a node is shaded with its own pixel's normal") {
+  // A normal map of varied in-plane slopes: on a node row, pixels between two nodes that both
+  // see them blend the nodes' exact bounce as the exact (step 1) frame has it at those nodes,
+  // each shaded by its own normal, not by the pixel's.
+  Scene scene = coarse_scene(4);
+  NormalMap map;
+  map.width = scene.width;
+  map.height = scene.height;
+  map.normals.resize(static_cast<std::size_t>(scene.width) * scene.height * 3);
+  for (int j = 0; j < scene.height; ++j)
+    for (int i = 0; i < scene.width; ++i) {
+      const double a = 0.7 * i + 1.3 * j;
+      const double nx = 0.8 * std::cos(a), ny = 0.8 * std::sin(a), nz = 0.6;
+      float* n = &map.normals[(static_cast<std::size_t>(j) * scene.width + i) * 3];
+      n[0] = static_cast<float>(nx);
+      n[1] = static_cast<float>(ny);
+      n[2] = static_cast<float>(nz);
+    }
+  scene.normal_map = map;
+  RenderOptions options = options_for(Backend::scalar);
+  options.bounce = BounceTerm::only;
+  const RenderedImage coarse = render_or_fail(scene, options);
+  Scene exact_scene = scene;
+  exact_scene.bounce.step = 1;
+  const RenderedImage exact = render_or_fail(exact_scene, options);
+  const double e_max = emission_max_sum(scene);
+  auto at = [&](const RenderedImage& img, int i, int j, int c) {
+    return static_cast<double>(img.pixels[(static_cast<std::size_t>(j) * scene.width + i) * 3 + c]);
+  };
+  int checked = 0;
+  double worst = 0.0;
+  for (int j = 0; j < scene.height; j += 4)
+    for (int i = 0; i + 4 < scene.width; ++i) {
+      if (i % 4 == 0) continue;
+      const int n0 = i / 4 * 4;
+      const Vec2 x = world_at(scene, i + 0.5, j + 0.5);
+      const Vec2 a = world_at(scene, n0 + 0.5, j + 0.5), b = world_at(scene, n0 + 4.5, j + 0.5);
+      double clear = 1e300;
+      for (const Occluder& o : scene.occluders)
+        clear = std::min({clear, clearance(o.shape, x, a), clearance(o.shape, x, b)});
+      if (clear <= 1e-6) continue;  // a node hidden (or nearly): not the blend this case checks
+      const double f = (i - n0) / 4.0;
+      for (int c = 0; c < 3; ++c)
+        worst = std::max(worst, std::fabs(at(coarse, i, j, c) - ((1 - f) * at(exact, n0, j, c) + f * at(exact, n0 + 4, j, c))) / e_max);
+      ++checked;
+    }
+  MESSAGE(checked << " pixels between two seen nodes; worst " << worst << " e_max");
+  CHECK(checked > 100);
+  CHECK(worst <= 1e-6);
+}
+
+}  // namespace par2d::test
