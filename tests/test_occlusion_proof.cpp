@@ -211,6 +211,60 @@ int unblocked_segments(const Field& field, PortableRandom& rng, int trial) {
   return refuted;
 }
 
+// A tilemap wall across the way: 1..3 columns (mostly one) of axis-aligned cells between the rectangle
+// [0, 10]^2 and a light 60..120 to its right, each column's cells touching exactly (most
+// seams), overlapping, or apart by a crack of 1e-4..1.5 (its points kept for the brute
+// force); then the whole field turned by 0..3 quarter turns about the rectangle's center.
+Field random_tilemap_field(PortableRandom& rng) {
+  Field field;
+  Scene& scene = field.scene;
+  const int turn = rng.integer(0, 3);
+  auto turned = [&](Vec2 p) {
+    for (int k = 0; k < turn; ++k) p = {10.0 - p.y, p.x};
+    return p;
+  };
+  const Vec2 lc{rng.uniform(60.0, 120.0), rng.uniform(-30.0, 40.0)};
+  const double lr = field.lr = rng.uniform(1.0, 5.0);
+  field.lc = turned(lc);
+  if (rng.chance(0.5)) {
+    field.light_shape = Circle{field.lc, lr};
+  } else {
+    Polygon p;
+    for (int k = 0; k < 5; ++k) p.vertices.push_back(turned({lc.x + lr * std::cos(1.2566 * k), lc.y + lr * std::sin(1.2566 * k)}));
+    field.light_shape = p;
+  }
+  scene.width = 10;
+  scene.height = 10;
+  scene.view = {0, 0, 10, 10};
+  scene.lights.push_back(Light{field.light_shape, {1, 1, 1}, 1.0});
+  auto add_box = [&](Vec2 lo, Vec2 hi) {
+    const Vec2 p = turned(lo), q = turned(hi);
+    const Vec2 a{std::min(p.x, q.x), std::min(p.y, q.y)}, b{std::max(p.x, q.x), std::max(p.y, q.y)};
+    scene.occluders.push_back(Occluder{Polygon{{a, {b.x, a.y}, b, {a.x, b.y}}}});
+  };
+  double x = rng.integer(20, 40);
+  const int columns = rng.chance(0.6) ? 1 : rng.integer(2, 3);
+  for (int c = 0; c < columns; ++c) {
+    const double width = rng.integer(1, 2);
+    double y = -100.0;
+    while (y < 100.0) {
+      const double height = rng.integer(2, 8);
+      add_box({x, y}, {x + width, y + height});
+      y += height;
+      const double seam = rng.uniform();
+      if (seam < 0.1) {
+        y -= 0.5;  // the next cell overlaps this one
+      } else if (seam < 0.35) {
+        const double crack = std::max(1e-4, 1.5 * std::pow(rng.uniform(), 3.0));
+        for (const double at : {0.0, 0.5, 1.0}) field.cracks.push_back(turned({x + at * width, y + 0.5 * crack}));
+        y += crack;
+      }
+    }
+    x += width;
+  }
+  return field;
+}
+
 }  // namespace
 
 TEST_CASE("two overlapping wall pieces hide a light from a rectangle; a 1-unit gap between them does not") {
@@ -223,6 +277,44 @@ TEST_CASE("two overlapping wall pieces hide a light from a rectangle; a 1-unit g
     const auto ids = all_ids(wall.size());
     const bool hidden = detail::rect_hidden_from_light({0, 0}, {10, 10}, light, wall, ids.data(), ids.size(), 64, scratch);
     CHECK(hidden == (gap < 0.0));
+  }
+}
+
+TEST_CASE("two wall boxes that only touch along the grazing line hide the light; a hairline gap between them does not") {
+  // The boxes meet along y = 5, the one line from the light's middle to the rectangle's that
+  // runs between them: lines close to it cross the wall at a slant and enter one box or the
+  // other, so the light is hidden, yet the two shadows only touch, with no slack at all (a
+  // tilemap wall face running into the next box's face). A hairline gap lets that line through.
+  const ConvexShape light = detail::make_convex_shape(Circle{{60.0, 5.0}, 2.0});
+  detail::OcclusionProofScratch scratch;
+  for (const double gap : {0.0, 1e-3}) {
+    for (const int turn : {0, 1, 2, 3}) {  // the same layout turned by quarter turns about the rectangle's center
+      auto turned = [&](Vec2 p) {
+        for (int k = 0; k < turn; ++k) p = {10.0 - p.y, p.x};
+        return p;
+      };
+      auto box = [&](Vec2 a, Vec2 b) {
+        const Vec2 p = turned(a), q = turned(b);
+        const Vec2 lo{std::min(p.x, q.x), std::min(p.y, q.y)}, hi{std::max(p.x, q.x), std::max(p.y, q.y)};
+        return detail::make_convex_shape(Polygon{{lo, {hi.x, lo.y}, hi, {lo.x, hi.y}}});
+      };
+      const std::vector<ConvexShape> wall = {box({30, -80}, {33, 5.0 - gap / 2}), box({30, 5.0 + gap / 2}, {33, 90})};
+      const ConvexShape lamp = detail::make_convex_shape(Circle{turned({60.0, 5.0}), 2.0});
+      const auto ids = all_ids(wall.size());
+      INFO("gap ", gap, ", turned ", turn, " quarter turns");
+      CHECK(detail::rect_hidden_from_light({0, 0}, {10, 10}, lamp, wall, ids.data(), ids.size(), 64, scratch) == (gap == 0.0));
+    }
+  }
+  // Touching at a corner only (the upper box moved right by the wall's width): every line
+  // across x = 33 near y = 5 enters one box or the other, so the light is hidden; raise the
+  // upper box by a hairline and lines just above y = 5 pass between them.
+  for (const double gap : {0.0, 1e-3}) {
+    const std::vector<ConvexShape> corner = {
+        detail::make_convex_shape(Polygon{{{30, -80}, {33, -80}, {33, 5}, {30, 5}}}),
+        detail::make_convex_shape(Polygon{{{33, 5 + gap}, {36, 5 + gap}, {36, 90}, {33, 90}}})};
+    const auto ids = all_ids(corner.size());
+    INFO("corner, gap ", gap);
+    CHECK(detail::rect_hidden_from_light({0, 0}, {10, 10}, light, corner, ids.data(), ids.size(), 64, scratch) == (gap == 0.0));
   }
 }
 
@@ -287,6 +379,32 @@ TEST_CASE("every rectangle proof holds against brute-force segments and the scal
   MESSAGE(proven, " of 300 random fields proven to hide the light");
   CHECK(refuted == 0);
   CHECK(proven >= 30);  // the test must exercise proofs, not only refusals
+}
+
+TEST_CASE("every proof over tilemap walls (touching cells, hairline cracks) holds against brute-force segments and the scalar reference") {
+  PortableRandom rng(3131);
+  detail::OcclusionProofScratch scratch;
+  detail::ScalarScratch scalar;
+  int proven = 0, refuted = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Field field = random_tilemap_field(rng);
+    const ConvexShape light = detail::make_convex_shape(field.light_shape);
+    std::vector<ConvexShape> occluders;
+    for (const Occluder& o : field.scene.occluders) occluders.push_back(detail::make_convex_shape(o.shape));
+    const auto ids = all_ids(occluders.size());
+    if (!detail::rect_hidden_from_light({0, 0}, {10, 10}, light, occluders, ids.data(), ids.size(), 64, scratch)) continue;
+    ++proven;
+    refuted += unblocked_segments(field, rng, trial);
+    const auto prepared = detail::prepare_scene(field.scene);
+    const double scale = prepared.view.x1 / field.scene.view.x1;
+    for (int s = 0; s < 49; ++s) {
+      const Vec2 x{scale * 10.0 * (s % 7) / 6.0, scale * 10.0 * (s / 7) / 6.0};
+      CHECK(reference_visible(prepared, 0, x, scalar) <= 0.0);
+    }
+  }
+  MESSAGE(proven, " of 300 tilemap walls proven to hide the light");
+  CHECK(refuted == 0);
+  CHECK(proven >= 30);
 }
 
 TEST_CASE("proofs 1e7 from the origin hold for the same fields at the origin (rounding margin)") {

@@ -159,6 +159,98 @@ bool probe_passes(Vec2 a, Vec2 b, const std::vector<ConvexShape>& occluders, con
   return true;
 }
 
+// Whether the shape is an axis-aligned box: a polygon whose four vertices are the four
+// corners of its bounds (a tilemap's cells and merged runs).
+bool is_axis_box(const ConvexShape& s) noexcept {
+  if (s.kind != ShapeKind::polygon || s.vertices.size() != 4) return false;
+  unsigned corners = 0;
+  for (const Vec2 v : s.vertices) {
+    const bool right = v.x == s.bounds_max.x, top = v.y == s.bounds_max.y;
+    if ((!right && v.x != s.bounds_min.x) || (!top && v.y != s.bounds_min.y)) return false;
+    corners |= 1u << (unsigned(right) | unsigned(top) << 1);
+  }
+  return corners == 0xFu;
+}
+
+std::uint32_t group_root(std::vector<std::uint32_t>& parent, std::uint32_t k) noexcept {
+  while (parent[k] != k) k = parent[k] = parent[parent[k]];
+  return k;
+}
+
+// Joins the blockers of axis-aligned boxes that touch or overlap inside the slab into one
+// blocker each (one run of points), as segments_blocked describes.
+//
+// Why this is exact: the closed boxes' intersection, itself a box, is found from their bounds
+// by comparisons alone, so a shared edge or corner is never lost to rounding. The boxes are
+// joined only when that intersection reaches into the slab by more than `tol` along the
+// axis, which bounds the rounding of the frame's u (a few ulp of the coordinates against
+// tol = 1e-12 of their magnitude), so the clipped boxes, the parts the shadows come from,
+// share a point. A union of convex sets sharing points is connected, and the lines through
+// a pencil's point that meet a connected set form one interval, whose ends are the extreme
+// projections of the union's vertices: the joined run's interval is that union's shadow,
+// exact per pencil and conservative per strip as for a single occluder. Its ends carry the
+// rounding of its points' projections, the same as the separate blockers' ends, which the
+// cover sweep's eps already allows for.
+bool join_touching_boxes(OcclusionProofScratch& s, const std::vector<ConvexShape>& occluders, const Frame& frame,
+                         double cut, double tol) {
+  const auto blockers = static_cast<std::uint32_t>(s.blocker_first.size() - 1);
+  s.box_order.clear();
+  for (std::uint32_t k = 0; k < blockers; ++k)
+    if (is_axis_box(occluders[s.blocker_occluder[k]])) s.box_order.push_back(k);
+  if (s.box_order.size() < 2) return false;
+  const auto shape = [&](std::uint32_t k) -> const ConvexShape& { return occluders[s.blocker_occluder[k]]; };
+  std::sort(s.box_order.begin(), s.box_order.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return shape(a).bounds_min.x < shape(b).bounds_min.x; });
+  s.group_parent.resize(blockers);
+  for (std::uint32_t k = 0; k < blockers; ++k) s.group_parent[k] = k;
+  bool joined = false;
+  for (std::size_t i = 0; i < s.box_order.size(); ++i) {
+    const ConvexShape& a = shape(s.box_order[i]);
+    for (std::size_t j = i + 1; j < s.box_order.size(); ++j) {
+      const ConvexShape& b = shape(s.box_order[j]);
+      if (b.bounds_min.x > a.bounds_max.x) break;  // sorted by left edge: none further touches a
+      const double x0 = b.bounds_min.x, x1 = std::min(a.bounds_max.x, b.bounds_max.x);
+      const double y0 = std::max(a.bounds_min.y, b.bounds_min.y), y1 = std::min(a.bounds_max.y, b.bounds_max.y);
+      if (y0 > y1) continue;
+      double u_lo = kInf, u_hi = -kInf;
+      for (const Vec2 corner : {Vec2{x0, y0}, Vec2{x1, y0}, Vec2{x0, y1}, Vec2{x1, y1}}) {
+        const double u = frame.u(corner);
+        u_lo = std::min(u_lo, u);
+        u_hi = std::max(u_hi, u);
+      }
+      if (u_hi < tol || u_lo > cut - tol) continue;  // they touch outside the slab
+      const std::uint32_t ra = group_root(s.group_parent, s.box_order[i]);
+      const std::uint32_t rb = group_root(s.group_parent, s.box_order[j]);
+      if (ra == rb) continue;
+      s.group_parent[std::max(ra, rb)] = std::min(ra, rb);
+      joined = true;
+    }
+  }
+  if (!joined) return false;
+  // Each blocker's points appended under its group's root, groups in order of their roots.
+  for (std::uint32_t k = 0; k < blockers; ++k) s.group_parent[k] = group_root(s.group_parent, k);
+  s.box_order.resize(blockers);
+  for (std::uint32_t k = 0; k < blockers; ++k) s.box_order[k] = k;
+  std::stable_sort(s.box_order.begin(), s.box_order.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return s.group_parent[a] < s.group_parent[b]; });
+  s.grouped_a.clear();
+  s.grouped_c.clear();
+  s.group_first.assign(1, 0);
+  for (std::size_t i = 0; i < s.box_order.size(); ++i) {
+    const std::uint32_t k = s.box_order[i];
+    for (std::uint32_t p = s.blocker_first[k]; p < s.blocker_first[k + 1]; ++p) {
+      s.grouped_a.push_back(s.blocker_a[p]);
+      s.grouped_c.push_back(s.blocker_c[p]);
+    }
+    if (i + 1 == s.box_order.size() || s.group_parent[s.box_order[i + 1]] != s.group_parent[k])
+      s.group_first.push_back(static_cast<std::uint32_t>(s.grouped_a.size()));
+  }
+  s.blocker_a.swap(s.grouped_a);
+  s.blocker_c.swap(s.grouped_c);
+  s.blocker_first.swap(s.group_first);
+  return true;
+}
+
 }  // namespace
 
 bool segment_passes(Vec2 a, Vec2 b, const std::vector<ConvexShape>& occluders, const std::uint32_t* ids,
@@ -254,6 +346,7 @@ bool segments_blocked(const Vec2* viewer, int viewer_count, Vec2 axis, const Con
   scratch.blocker_a.clear();
   scratch.blocker_c.clear();
   scratch.blocker_first.assign(1, 0);
+  scratch.blocker_occluder.clear();
   for (std::size_t k = 0; k < count; ++k) {
     const ConvexShape& s = occluders[ids[k]];
     double u_lo = kInf, u_hi = -kInf;
@@ -300,6 +393,7 @@ bool segments_blocked(const Vec2* viewer, int viewer_count, Vec2 axis, const Con
       scratch.blocker_c.push_back(u * inv);
     }
     scratch.blocker_first.push_back(static_cast<std::uint32_t>(scratch.blocker_a.size()));
+    scratch.blocker_occluder.push_back(ids[k]);
   }
   if (scratch.blocker_first.size() == 1) return false;
 
@@ -313,10 +407,20 @@ bool segments_blocked(const Vec2* viewer, int viewer_count, Vec2 axis, const Con
   // a gap at a coarse middle pencil sooner than by proving one half to the end first.
   scratch.strips.assign(1, {q_lo, q_hi});
   int strips = 0;
+  bool joined = false;
   for (std::size_t next = 0; next < scratch.strips.size(); ++next) {
     const auto [q0, q1] = scratch.strips[next];
     if (++strips > strip_budget) return false;
     if (cover_strip(scratch, q0, q1, eps, scratch.intervals) == Cover::proven) continue;
+    // Touching boxes are joined only once a strip needs it: most proofs close on their first
+    // strips with the occluders as they are, and strips proven before stay proven (the
+    // joined shadows hold the separate ones).
+    if (!joined) {
+      joined = true;
+      if (join_touching_boxes(scratch, occluders, frame, cut, eps) &&
+          cover_strip(scratch, q0, q1, eps, scratch.intervals) == Cover::proven)
+        continue;
+    }
     const double mid = 0.5 * (q0 + q1);
     if (!(mid > q0 && mid < q1)) return false;  // cannot split further
     // The middle pencil's shadows are exact: a gap there is a line that passes every occluder.
@@ -349,6 +453,12 @@ void OcclusionProofScratch::reserve_for(std::size_t occluders, std::size_t max_v
   blocker_a.reserve(occluders * (points + 2));
   blocker_c.reserve(occluders * (points + 2));
   blocker_first.reserve(occluders + 1);
+  blocker_occluder.reserve(occluders);
+  box_order.reserve(occluders);
+  group_parent.reserve(occluders);
+  group_first.reserve(occluders + 1);
+  grouped_a.reserve(occluders * (points + 2));
+  grouped_c.reserve(occluders * (points + 2));
   intervals.reserve(occluders);
   // Each strip taken (at most strip_budget) queues two halves after the first.
   strips.reserve(1 + 2 * static_cast<std::size_t>(std::max(strip_budget, 0)));
@@ -358,8 +468,11 @@ std::size_t OcclusionProofScratch::reserved_bytes() const noexcept {
   const std::size_t doubles = light_u.capacity() + light_v.capacity() + viewer_gain.capacity() +
                               viewer_offset.capacity() + light_gain.capacity() + light_offset.capacity() +
                               light_on_side.capacity() + blocker_a.capacity() + blocker_c.capacity() +
-                              clip_u.capacity() + clip_v.capacity() + half_u.capacity() + half_v.capacity();
-  return doubles * sizeof(double) + blocker_first.capacity() * sizeof(std::uint32_t) +
+                              clip_u.capacity() + clip_v.capacity() + half_u.capacity() + half_v.capacity() +
+                              grouped_a.capacity() + grouped_c.capacity();
+  const std::size_t indices = blocker_first.capacity() + blocker_occluder.capacity() + box_order.capacity() +
+                              group_parent.capacity() + group_first.capacity();
+  return doubles * sizeof(double) + indices * sizeof(std::uint32_t) +
          (intervals.capacity() + strips.capacity()) * sizeof(std::pair<double, double>);
 }
 

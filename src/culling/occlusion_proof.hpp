@@ -19,6 +19,11 @@ struct OcclusionProofScratch {
   std::vector<double> light_on_side;               // heights of light points on the slab's far side
   std::vector<double> blocker_a, blocker_c;        // occluder point i projects to a - c * q
   std::vector<std::uint32_t> blocker_first;        // blocker k: points [first[k], first[k + 1])
+  std::vector<std::uint32_t> blocker_occluder;     // blocker k's occluder
+  // Joining blockers that touch (see segments_blocked): box blockers by their left edge, a
+  // union-find forest over the blockers, and the regrouped point runs.
+  std::vector<std::uint32_t> box_order, group_parent, group_first;
+  std::vector<double> grouped_a, grouped_c;
   std::vector<double> clip_u, clip_v, half_u, half_v;
   std::vector<std::pair<double, double>> intervals;
   std::vector<std::pair<double, double>> strips;
@@ -49,6 +54,12 @@ struct OcclusionProofScratch {
 // intervals together cover every p of a line meeting both the viewer and the light. A
 // strip that is not proven is split; a single line (p, q) at a strip's middle height that
 // meets both shapes and passes every occluder ends the search.
+//
+// Occluders that are axis-aligned boxes and touch or overlap inside the slab (closed boxes:
+// a shared edge or corner counts) are joined into one blocker first: from any point, the
+// directions toward a connected union of convex sets form one interval, bounded by its
+// points' extreme projections, so the joined shadow is exact where the separate shadows
+// would meet with no slack at all (a tilemap wall face running into the next box's face).
 //
 // Before any of that, segments from the viewer points and their mean to the light's centroid:
 // one that passes every occluder shows the light seen, and refuses the proof cheaply.

@@ -47,6 +47,7 @@ MUTANTS=(
   "coarse bounce interpolates across occluders|src/render/bounce_tiles.cpp|s/if \(!segment_passes\(at, node_position\(gx, gy\)/if (false \&\& !segment_passes(at, node_position(gx, gy)/"
   "a scroll keeps the pixels of the old tile grid (blocks on the frame, not the grid)|src/render/frame_plan.hpp|s/return BlockGrid\(scene\.width, scene\.height, scene\.grid_x, scene\.grid_y\);/return BlockGrid(scene.width, scene.height, 0, 0);/"
   "a scroll moves the kept pixels the wrong way|src/render/frame_output.cpp|s/for \(int j = 0; j \+ dy < height; \+\+j\) move_row\(j\);/for (int j = height - 1; j + dy >= 0 \&\& j >= 0; --j) if (j + dy < height) move_row(j);/"
+  "occlusion proofs join boxes a hairline apart|src/culling/occlusion_proof.cpp|s/      if \(y0 > y1\) continue;/      if (y0 > y1 + 0.5) continue;/"
   "C API swaps a shadow colour's green and blue|src/capi/par2d_c.cpp|s/\{terms->shadow_color\[0\], terms->shadow_color\[1\], terms->shadow_color\[2\]\}/{terms->shadow_color[0], terms->shadow_color[2], terms->shadow_color[1]}/"
 )
 
