@@ -194,7 +194,7 @@ void build_tile_work(const PreparedScene& scene, const TileRect& tile, int spp, 
     occluders.arc_needed.assign(occluders.used.size(), shape_major ? 0 : 1);
     for (KernelLight& kl : work.lights) {
       const KernelPair* pairs = work.pairs.data() + kl.first_pair;
-      if (kl.pair_count == 0 || (shape_major && single_pair_light(kl, pairs, kl.pair_count))) continue;
+      if (kl.pair_count == 0 || (shape_major && single_pair_light(pairs, kl.pair_count))) continue;
       if (shape_major)
         for (std::uint32_t p = 0; p < kl.pair_count; ++p) occluders.arc_needed[pairs[p].occluder] = 1;
       if (!kl.shape.clipped) assign_arc_window(kl.shape, work);

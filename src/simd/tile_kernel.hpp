@@ -1729,11 +1729,17 @@ PAR2D_KERNEL_INLINE void single_pair_sweep(const TileWork& work, const KernelLig
     const B py(sample_y[first / detail::kTileSize]);
     B lx, ly, hx, hy, ox, oy, qx, qy;
     xsimd::batch_bool<float, A> in_light, in_occluder;
-    shape_tangents<A>(work, light_shape, px, py, lx, ly, hx, hy, in_light);
+    if (light_shape.clipped)
+      clipped_tangents<A>(work, light_shape, px, py, lx, ly, hx, hy, in_light);
+    else
+      shape_tangents<A>(work, light_shape, px, py, lx, ly, hx, hy, in_light);
     shape_tangents<A>(work, occluder, px, py, ox, oy, qx, qy, in_occluder);
     const auto blocks = (xsimd::fma(nx, px, ny * py) >= line_c) & ~in_light;
-    const B visible = xsimd::select(in_light, B(kTwoPiF),
-                                    visible_past_one_occluder<A>(lx, ly, hx, hy, ox, oy, qx, qy, blocks));
+    B visible = visible_past_one_occluder<A>(lx, ly, hx, hy, ox, oy, qx, qy, blocks);
+    // A clipped light's ends may be reversed: from behind its chord's line the kept part
+    // can be out of sight, an empty arc (clipped_shape_arc's width is 0 there too).
+    if (light_shape.clipped) visible = xsimd::select(lx * hy - ly * hx < B(0.0f), B(0.0f), visible);
+    visible = xsimd::select(in_light, B(kTwoPiF), visible);
     for (int c = 0; c < 3; ++c)
       xsimd::fma(emission[c], visible, B::load_aligned(sum.rgb[c] + first)).store_aligned(sum.rgb[c] + first);
     if (occluder_may_hold_pixels) {
@@ -1759,6 +1765,25 @@ PAR2D_KERNEL_NOINLINE void round_light_single_pair(const TileWork& work, const K
   });
 }
 
+// A single-pair light overlapping a wall (KernelShape::clipped: torches), its tangents those of
+// the kept part (clipped_tangents), a round one with its kind known. Out of line like
+// round_light_single_pair.
+template <class A>
+PAR2D_KERNEL_NOINLINE void clipped_light_single_pair(const TileWork& work, const KernelLight& light,
+                                                     const KernelPair& pair, TileResult& sum, float* inside) noexcept {
+  const KernelShape& occluder = work.occluders[pair.occluder];
+  if (light.shape.kind == ShapeKind::circle) {
+    KernelShape known_light = light.shape;
+    known_light.kind = ShapeKind::circle;
+    known_light.ordered = false;
+    known_light.may_contain = true;
+    known_light.clipped = true;
+    single_pair_sweep<A>(work, light, pair, known_light, occluder, sum, inside);
+  } else {
+    single_pair_sweep<A>(work, light, pair, light.shape, occluder, sum, inside);
+  }
+}
+
 // The tile's single-pair lights (single_pair_sweep). Instantiations: both shapes tile tangent
 // pairs with their kinds known, a round light with each kind of occluder, and any other kinds
 // branched on per packet. Every pair of known kinds (25 inlined loops) took the
@@ -1767,9 +1792,11 @@ template <class A>
 PAR2D_KERNEL_NOINLINE void tile_single_pair_lights(const TileWork& work, TileResult& sum, float* inside) noexcept {
   for (const KernelLight& light : work.lights) {
     const KernelPair* pair = work.pairs.data() + light.first_pair;
-    if (!single_pair_light(light, pair, light.pair_count)) continue;
+    if (!single_pair_light(pair, light.pair_count)) continue;
     const KernelShape& occluder = work.occluders[pair->occluder];
-    if (light.shape.ordered && occluder.ordered) {
+    if (light.shape.clipped) {
+      clipped_light_single_pair<A>(work, light, *pair, sum, inside);
+    } else if (light.shape.ordered && occluder.ordered) {
       // Copies whose flags the compiler sees: shape_tangents' kind tests fold away.
       KernelShape known_light = light.shape, known_occluder = occluder;
       for (KernelShape* known : {&known_light, &known_occluder}) {
@@ -1779,7 +1806,7 @@ PAR2D_KERNEL_NOINLINE void tile_single_pair_lights(const TileWork& work, TileRes
         known->clipped = false;
       }
       single_pair_sweep<A>(work, light, *pair, known_light, known_occluder, sum, inside);
-    } else if (light.shape.kind == ShapeKind::circle && !light.shape.clipped) {
+    } else if (light.shape.kind == ShapeKind::circle) {
       round_light_single_pair<A>(work, light, *pair, sum, inside);
     } else {
       single_pair_sweep<A>(work, light, *pair, light.shape, occluder, sum, inside);
@@ -1827,7 +1854,7 @@ PAR2D_KERNEL_NOINLINE void render_plain_tile_shape_major(const TileWork& work, f
     const KernelLight& light = work.lights[l];
     const KernelPair* pairs = work.pairs.data() + light.first_pair;
     if (light.pair_count == 0) continue;  // tile_unblocked_lights
-    const bool single = single_pair_light(light, pairs, light.pair_count);
+    const bool single = single_pair_light(pairs, light.pair_count);
     // Placement new: the scratch holds floats, and its storage is reused for indices.
     if (!single) ::new (static_cast<void*>(packet_lights + packet_light_count++)) std::uint32_t(static_cast<std::uint32_t>(l));
     const unsigned char use = single ? kSinglePairUse : kPacketUse;

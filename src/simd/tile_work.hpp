@@ -101,11 +101,11 @@ struct KernelLight {
   std::uint32_t interval_count = 0;
 };
 
-// A light whose only pair in the tile is a disjoint occluder: a plain one-sample tile
+// A light (clipped or whole) whose only pair in the tile is a disjoint occluder: a plain one-sample tile
 // without cells computes its share shape-major (tile_single_pair_lights in the kernel), and
 // the occluder's arc is not needed for it.
-inline bool single_pair_light(const KernelLight& light, const KernelPair* pairs, std::size_t pair_count) noexcept {
-  return pair_count == 1 && !pairs[0].general && !light.shape.clipped;
+inline bool single_pair_light(const KernelPair* pairs, std::size_t pair_count) noexcept {
+  return pair_count == 1 && !pairs[0].general;
 }
 
 // A light's game-model terms (docs/contract.md section 6) for the model kernel, parallel to
