@@ -231,8 +231,10 @@ bool join_touching_boxes(OcclusionProofScratch& s, const std::vector<ConvexShape
   for (std::uint32_t k = 0; k < blockers; ++k) s.group_parent[k] = group_root(s.group_parent, k);
   s.box_order.resize(blockers);
   for (std::uint32_t k = 0; k < blockers; ++k) s.box_order[k] = k;
-  std::stable_sort(s.box_order.begin(), s.box_order.end(),
-                   [&](std::uint32_t a, std::uint32_t b) { return s.group_parent[a] < s.group_parent[b]; });
+  // std::sort, not std::stable_sort, which takes a buffer from the heap: a frame allocates nothing.
+  std::sort(s.box_order.begin(), s.box_order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return s.group_parent[a] != s.group_parent[b] ? s.group_parent[a] < s.group_parent[b] : a < b;
+  });
   s.grouped_a.clear();
   s.grouped_c.clear();
   s.group_first.assign(1, 0);
