@@ -1,11 +1,15 @@
 // Frame plans (render/frame_plan.hpp): what plan_frame decides per block and per stage, and
 // FrameEngine::run executing hand-edited plans, block by block, against whole frames rendered
-// through the public API with each backend.
+// through the public API with each backend; blocks dealt to lanes as they finish, and the
+// arenas schedulers keep for one another.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -22,6 +26,10 @@
 #include "support/random_scenes.hpp"
 #include "support/render_checks.hpp"
 #include "world/world.hpp"
+
+#if !PAR2D_STD_THREADS
+#include <tbb/task_arena.h>
+#endif
 
 namespace par2d::test {
 namespace {
@@ -479,5 +487,44 @@ TEST_CASE("blocks taken by the lanes as they finish: two threads give one thread
     }
   }
 }
+
+
+#if !PAR2D_STD_THREADS
+// A one-shot render makes a scheduler per frame; its arena is kept when the scheduler goes and
+// handed to the next scheduler of the same thread count (a fresh arena per frame mostly got no
+// worker thread), one scheduler at a time.
+TEST_CASE("idle arenas: an arena given back is taken by the next scheduler of its thread count, by one at a time") {
+  // Whatever earlier tests left idle is taken first, so that the pool holds only what follows.
+  std::vector<std::unique_ptr<tbb::task_arena>> earlier;
+  for (int threads = 1; threads <= 2; ++threads)
+    for (int k = 0; k < 16; ++k) earlier.push_back(detail::IdleArenas::take(threads));
+  auto two = std::make_unique<tbb::task_arena>(2);
+  two->initialize();
+  tbb::task_arena* const kept = two.get();
+  detail::IdleArenas::give(2, std::move(two));
+  std::unique_ptr<tbb::task_arena> other = detail::IdleArenas::take(1);  // another count: a new one
+  CHECK(other.get() != kept);
+  CHECK(other->max_concurrency() == 1);
+  std::unique_ptr<tbb::task_arena> again = detail::IdleArenas::take(2);
+  CHECK(again.get() == kept);
+  std::unique_ptr<tbb::task_arena> fresh = detail::IdleArenas::take(2);  // the kept one is in use
+  CHECK(fresh.get() != kept);
+  CHECK(fresh->max_concurrency() == 2);
+  // Schedulers one after another, each on the arena the last gave back: every index once,
+  // on a worker index of its own arena.
+  for (int frame = 0; frame < 40; ++frame) {
+    detail::Scheduler scheduler;
+    scheduler.configure(2, Threading::own_pool);
+    std::vector<int> seen(64, 0);
+    std::atomic<bool> outside{false};
+    scheduler.for_each_index(64, [&](int i, int worker) {
+      if (worker < 0 || worker >= 2) outside.store(true);
+      ++seen[static_cast<std::size_t>(i)];
+    });
+    CHECK_FALSE(outside.load());
+    CHECK(std::count(seen.begin(), seen.end(), 1) == 64);
+  }
+}
+#endif
 
 }  // namespace par2d::test
