@@ -23,13 +23,12 @@ namespace par2d::detail {
 
 #if !PAR2D_STD_THREADS
 // The arenas of schedulers that are gone, kept for the next scheduler of the same thread
-// count. A one-shot render (par2d::render) makes a Renderer, so a scheduler, per frame: with
-// an arena made and destroyed per frame, TBB's worker thread mostly did not join the next
-// frame's fresh arena at all (a 1920x1080 frame on 2 threads ran on one thread in most
-// frames, its other thread idle), while a kept arena gets its worker every frame. An arena
-// is used by one scheduler at a time, as when each made its own. At most kMaxIdle are kept;
-// the pool is never destroyed (its arenas would otherwise end during static destruction,
-// after TBB's own state may be gone).
+// count. A one-shot render (par2d::render) makes a Renderer, so a scheduler, per frame; TBB's
+// worker threads often do not join an arena made just after another was destroyed, leaving
+// the frame to the calling thread alone, while a kept arena gets its workers every frame
+// (docs/performance.md, "Threads"). An arena serves one scheduler at a time, as when each
+// made its own. At most kMaxIdle are kept; the pool is never destroyed (its arenas would
+// otherwise end during static destruction, after TBB's own state may be gone).
 class IdleArenas {
  public:
   static std::unique_ptr<tbb::task_arena> take(int threads) {
