@@ -1,11 +1,15 @@
 // Frame plans (render/frame_plan.hpp): what plan_frame decides per block and per stage, and
 // FrameEngine::run executing hand-edited plans, block by block, against whole frames rendered
-// through the public API with each backend.
+// through the public API with each backend; blocks dealt to lanes as they finish, and the
+// arenas schedulers keep for one another.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -13,13 +17,19 @@
 #include "culling/reach_cache.hpp"
 #include "par2d/isa.hpp"
 #include "par2d/render.hpp"
+#include "par2d/renderer.hpp"
 #include "parallel/scheduler.hpp"
 #include "render/frame_driver.hpp"
 #include "render/frame_plan.hpp"
 #include "render/kernel_table.hpp"
 #include "render/light_layers.hpp"
 #include "support/random_scenes.hpp"
+#include "support/render_checks.hpp"
 #include "world/world.hpp"
+
+#if !PAR2D_STD_THREADS
+#include <tbb/task_arena.h>
+#endif
 
 namespace par2d::test {
 namespace {
@@ -401,5 +411,122 @@ TEST_CASE("the reach cache across view offsets: kept while the radii tried stay,
   CHECK(proven > 0);  // far jumps re-prove some lights
 }
 
-}  // namespace par2d::test
 
+// The frame engine deals blocks (and the bounce stage's parts and coarse nodes) to its lanes as
+// they finish, so which lane computes which block changes from frame to frame and from run to
+// run. Whatever lane a block falls to and whatever that lane computed before, the frame's bytes
+// and counts must be those of one thread.
+TEST_CASE("blocks taken by the lanes as they finish: two threads give one thread's bytes and counts, frame after frame") {
+  std::vector<RenderOptions> variants;
+  RenderOptions scalar;
+  scalar.backend = Backend::scalar;
+  variants.push_back(scalar);
+  for (Isa isa : kernel_isas()) {
+    RenderOptions o;
+    o.backend = Backend::simd;
+    o.isa = isa;
+    variants.push_back(o);
+  }
+  struct Case {
+    std::uint32_t seed;
+    bool albedo;   // the bounce stage and its parts
+    int step;      // a coarse bounce (> 1): its nodes in groups
+    int width;     // 200: 12 blocks; 40: one block, fewer than the lanes
+    bool layered;  // incremental with a light-layer cache, a light moving each frame
+  };
+  const Case cases[] = {{71u, false, 1, 200, false}, {72u, true, 1, 200, false}, {73u, true, 4, 200, false},
+                        {74u, false, 1, 40, false},  {75u, true, 2, 40, false},  {76u, false, 1, 200, true}};
+  for (const Case& c : cases) {
+    Scene scene = plan_scene(c.seed, c.albedo);
+    scene.bounce.step = c.step;
+    scene.width = c.width;
+    scene.height = c.width == 200 ? 140 : 30;
+    scene.view = View{0.0, 0.0, static_cast<double>(scene.width), static_cast<double>(scene.height)};
+    REQUIRE(validate_scene(scene).ok());
+    for (RenderOptions options : variants) {
+      // Layers hold what a kernel computes; the scalar reference's bounce over 12 blocks is the
+      // costliest case here and deals as the kernel's does.
+      if (options.backend == Backend::scalar && (c.layered || (c.albedo && c.width == 200))) continue;
+      CAPTURE(c.seed);
+      INFO("backend ", std::string(backend_name(options.backend)), " isa ",
+           std::string(options.isa ? isa_name(*options.isa) : "-"));
+      options.sample_needs = true;
+      const std::size_t floats = static_cast<std::size_t>(scene.width) * static_cast<std::size_t>(scene.height) * 3;
+      Renderer r[2];
+      std::vector<LightHandle> handles[2];
+      std::vector<float> pixels[2] = {std::vector<float>(floats), std::vector<float>(floats)};
+      for (int i = 0; i < 2; ++i) {
+        options.threads = 1 + i;
+        REQUIRE(r[i].set_options(options).ok());
+        REQUIRE(r[i].set_scene(scene, &handles[i]).ok());
+        if (c.layered) {
+          REQUIRE(r[i].set_incremental(true).ok());
+          REQUIRE(r[i].set_light_layer_budget(std::size_t{16} << 20).ok());
+        }
+      }
+      for (int frame = 0; frame < 3; ++frame) {
+        CAPTURE(frame);
+        for (int i = 0; i < 2; ++i) {
+          if (c.layered && frame > 0) {  // one light moves a little: some blocks layered, some recombined
+            Transform t;
+            t.position = Vec2{3.0 * frame, -2.0 * frame};
+            REQUIRE(r[i].update_light(handles[i][0], scene.lights[0], t).ok());
+          }
+          REQUIRE(r[i].render(ImageView{pixels[i].data(), scene.width, scene.height, scene.width * 3}).ok());
+        }
+        CHECK(std::memcmp(pixels[0].data(), pixels[1].data(), floats * sizeof(float)) == 0);
+        const FrameCounts one = frame_counts(r[0]), two = frame_counts(r[1]);
+        CHECK(one.tiles > 0u);
+        CHECK(two.tiles == one.tiles);
+        CHECK(two.blocks == one.blocks);
+        CHECK(two.tile_lights == one.tile_lights);
+        CHECK(two.bounce_source_walks == one.bounce_source_walks);
+        CHECK(two.layer_tiles_reused == one.layer_tiles_reused);
+        CHECK(std::memcmp(static_cast<const FrameStats*>(&one), static_cast<const FrameStats*>(&two), sizeof(FrameStats)) == 0);
+        CHECK(std::memcmp(static_cast<const FrameDiagnostics*>(&one), static_cast<const FrameDiagnostics*>(&two),
+                          sizeof(FrameDiagnostics)) == 0);
+      }
+    }
+  }
+}
+
+
+#if !PAR2D_STD_THREADS
+// A one-shot render makes a scheduler per frame; its arena is kept when the scheduler goes and
+// handed to the next scheduler of the same thread count (a fresh arena per frame mostly got no
+// worker thread), one scheduler at a time.
+TEST_CASE("idle arenas: an arena given back is taken by the next scheduler of its thread count, by one at a time") {
+  // Whatever earlier tests left idle is taken first, so that the pool holds only what follows.
+  std::vector<std::unique_ptr<tbb::task_arena>> earlier;
+  for (int threads = 1; threads <= 2; ++threads)
+    for (int k = 0; k < 16; ++k) earlier.push_back(detail::IdleArenas::take(threads));
+  auto two = std::make_unique<tbb::task_arena>(2);
+  two->initialize();
+  tbb::task_arena* const kept = two.get();
+  detail::IdleArenas::give(2, std::move(two));
+  std::unique_ptr<tbb::task_arena> other = detail::IdleArenas::take(1);  // another count: a new one
+  CHECK(other.get() != kept);
+  CHECK(other->max_concurrency() == 1);
+  std::unique_ptr<tbb::task_arena> again = detail::IdleArenas::take(2);
+  CHECK(again.get() == kept);
+  std::unique_ptr<tbb::task_arena> fresh = detail::IdleArenas::take(2);  // the kept one is in use
+  CHECK(fresh.get() != kept);
+  CHECK(fresh->max_concurrency() == 2);
+  // Schedulers one after another, each on the arena the last gave back: every index once,
+  // on a worker index of its own arena.
+  for (int frame = 0; frame < 40; ++frame) {
+    detail::Scheduler scheduler;
+    scheduler.configure(2, Threading::own_pool);
+    std::vector<int> seen(64, 0);
+    std::atomic<bool> outside{false};
+    scheduler.for_each_index(64, [&](int i, int worker) {
+      if (worker < 0 || worker >= 2) outside.store(true);
+      ++seen[static_cast<std::size_t>(i)];
+    });
+    CHECK_FALSE(outside.load());
+    CHECK(std::count(seen.begin(), seen.end(), 1) == 64);
+  }
+}
+#endif
+
+}  // namespace par2d::test

@@ -26,7 +26,24 @@
 namespace par2d::detail {
 namespace {
 
-constexpr int kLanesPerWorker = 4;
+// Pieces of the bounce stage per lane, taken one at a time (deal_indices): small enough that
+// no lane is left with a long piece of the stage when the others are done.
+constexpr int kBouncePartsPerLane = 16;
+
+// fn(lane, index) for every index in [0, count) on `lanes` lanes (lane in [0, lanes), one lane
+// never on two threads at once): each lane takes the next index not yet taken until none is
+// left, so a lane whose thread is slower (a costlier part of the frame, or a core another
+// process holds) takes fewer, and the threads finish within one index of each other. What an
+// index computes must not depend on the lane that computes it.
+template <class Fn>
+void deal_indices(const Scheduler& scheduler, int lanes, std::size_t count, Fn&& fn) {
+  std::atomic<std::size_t> next{0};
+  scheduler.for_each_index(lanes, [&](int lane, int) {
+    for (std::size_t i = next.fetch_add(1, std::memory_order_relaxed); i < count;
+         i = next.fetch_add(1, std::memory_order_relaxed))
+      fn(lane, i);
+  });
+}
 
 // A block's counts, after gather_block_candidates: `tried` and `succeeded` are the proof
 // counts before it, so the differences are the block proofs. `skipped`: lights left out
@@ -390,16 +407,16 @@ bool FrameEngine::run(const FramePlan& plan, const PreparedScene& scene, const S
   return true;
 }
 
-// Blocks are dealt to lanes (lane l takes blocks l, l + lanes, ...), each lane with its own
-// buffers, and lanes to threads: which buffers serve which block does not depend on the
-// scheduler, so once a frame has sized them, the same frame never needs more (per-thread
-// buffers would meet a new, larger block whenever TBB deals blocks differently). Several
-// lanes per worker keep the load balanced.
-// Buffers are reserved for the scene's counts, not grown to each frame's need: a frame then
-// allocates nothing wherever the lights move (changed counts, a light or occluder with more
-// vertices than before, or a new size may allocate).
+// One lane per worker, each with its own buffers; the lanes take the plan's blocks one at a
+// time as they finish the last (deal_indices), so the frame ends within one block of perfect
+// balance (lanes given fixed shares of the blocks left one thread idle for up to a share at
+// the end of a frame).
+// Buffers are reserved for the scene's counts, not grown to each block's need: whichever lane
+// a block falls to, a frame then allocates nothing wherever the lights move (changed counts, a
+// light or occluder with more vertices than before, or a new size may allocate, and a tile
+// past the kernel scratch's cap grows it in the lane it falls to).
 int FrameEngine::reserve_lanes(const FramePlan& plan, const PreparedScene& scene, const Scheduler& scheduler) {
-  const int lanes = std::min(static_cast<int>(plan.blocks.size()), kLanesPerWorker * scheduler.workers());
+  const int lanes = std::min(static_cast<int>(plan.blocks.size()), scheduler.workers());
   if (lanes_.size() < static_cast<std::size_t>(lanes)) lanes_.resize(static_cast<std::size_t>(lanes));
   if (!plan.kernels) return lanes;
   const SceneBounds bounds = scene_bounds(scene);
@@ -424,10 +441,11 @@ void FrameEngine::run_bounce_stage(const PreparedScene& scene, const Scheduler& 
   const LightHiddenTest* hidden = reach ? &reach_test : nullptr;
   if (!bounce_) bounce_ = std::make_unique<BounceFrame>();
   build_bounce_sources(scene, *bounce_);
+  // Each piece's radiance depends on that piece alone: the stage in parts taken by the lanes.
   const std::size_t pieces = bounce_->pieces.size();
-  scheduler.for_each_index(lanes, [&](int lane, int) {
-    const std::size_t lo = pieces * static_cast<std::size_t>(lane) / static_cast<std::size_t>(lanes);
-    const std::size_t hi = pieces * static_cast<std::size_t>(lane + 1) / static_cast<std::size_t>(lanes);
+  const std::size_t parts = std::min(pieces, static_cast<std::size_t>(kBouncePartsPerLane) * static_cast<std::size_t>(lanes));
+  deal_indices(scheduler, lanes, parts, [&](int lane, std::size_t part) {
+    const std::size_t lo = pieces * part / parts, hi = pieces * (part + 1) / parts;
     bounce_radiances(scene, *bounce_, lo, hi, lanes_[static_cast<std::size_t>(lane)].scalar, cull, hidden);
   });
   finish_bounce_frame(*bounce_);
@@ -448,11 +466,9 @@ void FrameEngine::run_bounce_nodes(const FramePlan& plan, const PreparedScene& s
   if (area.x1 <= area.x0 || area.y1 <= area.y0) return;
   const int groups = plan_bounce_nodes(scene, area, *bounce_nodes_);
   std::vector<FrameCounters> counts(static_cast<std::size_t>(lanes));
-  scheduler.for_each_index(lanes, [&](int l, int) {
-    FrameLane& lane = lanes_[static_cast<std::size_t>(l)];
-    for (int g = l; g < groups; g += lanes)
-      compute_bounce_nodes(scene, *bounce_, plan.shaded, plan.bounce.cull, *bounce_nodes_, g, lane.bounce,
-                           counts[static_cast<std::size_t>(l)]);
+  deal_indices(scheduler, lanes, static_cast<std::size_t>(std::max(groups, 0)), [&](int l, std::size_t g) {
+    compute_bounce_nodes(scene, *bounce_, plan.shaded, plan.bounce.cull, *bounce_nodes_, static_cast<int>(g),
+                         lanes_[static_cast<std::size_t>(l)].bounce, counts[static_cast<std::size_t>(l)]);
   });
   for (const FrameCounters& c : counts) node_counts_ += c;
 }
@@ -470,18 +486,20 @@ VectorTileStores FrameEngine::stores_for(const FramePlan& plan, const FrameTarge
 }
 
 void FrameEngine::run_lanes(const FrameRun& run, const Scheduler& scheduler, int lanes) {
-  const std::size_t blocks = run.plan.blocks.size();
-  scheduler.for_each_index(lanes, [&](int l, int) {
+  for (int l = 0; l < lanes; ++l) {  // before any lane starts: a lane may take no block at all
     FrameLane& lane = lanes_[static_cast<std::size_t>(l)];
     lane.kernels = run.plan.kernels;
     lane.counts = FrameCounters{};
     lane.setup.clear_counts();
-    for (std::size_t b = static_cast<std::size_t>(l); b < blocks; b += static_cast<std::size_t>(lanes)) {
-      if (run.progress.watched() && run.progress.stopped()) continue;
-      run_block(run, run.plan.blocks[b], lane);
-    }
-    lane.counts += lane.setup.counts();
+  }
+  deal_indices(scheduler, lanes, run.plan.blocks.size(), [&](int l, std::size_t b) {
+    if (run.progress.watched() && run.progress.stopped()) return;
+    run_block(run, run.plan.blocks[b], lanes_[static_cast<std::size_t>(l)]);
   });
+  for (int l = 0; l < lanes; ++l) {
+    FrameLane& lane = lanes_[static_cast<std::size_t>(l)];
+    lane.counts += lane.setup.counts();
+  }
 }
 
 FrameCounters FrameEngine::sum_counters(const FramePlan& plan, int lanes) const {

@@ -61,7 +61,7 @@ class FrameEngine {
   void run_lanes(const FrameRun& run, const Scheduler& scheduler, int lanes);
   FrameCounters sum_counters(const FramePlan& plan, int lanes) const;
 
-  std::vector<FrameLane> lanes_;  // blocks are dealt to lanes, each with its own buffers
+  std::vector<FrameLane> lanes_;  // one per worker, each with its own buffers; blocks are dealt to them as they finish
   // One bounce (docs/contract.md section 7): the pieces and their radiances, made each frame of
   // a scene with a reflecting occluder.
   std::unique_ptr<BounceFrame> bounce_;
